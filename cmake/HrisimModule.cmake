@@ -1,0 +1,23 @@
+# Common compile settings for every hrisim target: C++20, strict warnings, and no value-changing
+# floating-point optimisations (determinism: same inputs, same bits).
+function(hrisim_target_settings target)
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -fno-fast-math)
+  if(HRISIM_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+# hrisim_module(NAME SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# One static library per module; headers live beside the sources and are included as "<module>/x.hpp".
+function(hrisim_module name)
+  cmake_parse_arguments(ARG "" "INCLUDE_ROOT" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(hrisim_${name} STATIC ${ARG_SOURCES})
+  add_library(hrisim::${name} ALIAS hrisim_${name})
+  if(NOT ARG_INCLUDE_ROOT)
+    set(ARG_INCLUDE_ROOT "${PROJECT_SOURCE_DIR}/server")
+  endif()
+  target_include_directories(hrisim_${name} PUBLIC "${ARG_INCLUDE_ROOT}")
+  target_link_libraries(hrisim_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  hrisim_target_settings(hrisim_${name})
+endfunction()

@@ -1,0 +1,34 @@
+#pragma once
+// Command-line options of `hrisim serve`: flags, then HRISIM_* environment variables, then defaults.
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "http/server.hpp"
+
+namespace hrisim::app {
+
+inline constexpr const char* kDefaultDatabase = "var/hrisim.db";
+inline constexpr const char* kDefaultScenarios = "scenarios";
+inline constexpr const char* kDefaultWebRoot = "web";
+
+struct ServeOptions {
+  http::ServerOptions server;
+  std::filesystem::path database = kDefaultDatabase;
+  std::filesystem::path scenarios = kDefaultScenarios;
+  std::filesystem::path web_root = kDefaultWebRoot;
+};
+
+/// Reads an environment variable; empty optional when unset.
+using EnvLookup = std::function<std::optional<std::string>(const std::string&)>;
+
+/// Parses the arguments after `serve`. Throws core::Error(bad_request) naming the flag or variable
+/// and what is wrong with its value.
+ServeOptions parse_serve_options(const std::vector<std::string>& args, const EnvLookup& env);
+
+/// Help text of `hrisim serve`, listing every flag with its variable and default.
+std::string serve_usage();
+
+}  // namespace hrisim::app

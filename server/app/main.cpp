@@ -1,0 +1,78 @@
+// hrisim — simulation service for testing robots among people. Entry point and subcommands.
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "app/cli.hpp"
+#include "core/error.hpp"
+#include "http/api.hpp"
+#include "storage/store.hpp"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: hrisim <command> [options]\n\n"
+    "commands:\n"
+    "  serve     start the HTTP/WebSocket server and browser UI (hrisim serve --help)\n"
+    "  version   print build and library versions as JSON\n"
+    "  help      print this text\n";
+
+int serve(const std::vector<std::string>& args) {
+  for (const std::string& arg : args) {
+    if (arg == "--help" || arg == "-h") {
+      std::fputs(hrisim::app::serve_usage().c_str(), stdout);
+      return 0;
+    }
+  }
+  const hrisim::app::ServeOptions options =
+      hrisim::app::parse_serve_options(args, [](const std::string& name) -> std::optional<std::string> {
+        const char* value = std::getenv(name.c_str());
+        return value ? std::optional<std::string>(value) : std::nullopt;
+      });
+  if (!std::filesystem::is_directory(options.scenarios)) {
+    throw hrisim::core::Error(hrisim::core::ErrorCode::bad_request,
+                              "scenario folder " + options.scenarios.string() + " does not exist");
+  }
+  if (!std::filesystem::is_directory(options.web_root)) {
+    throw hrisim::core::Error(hrisim::core::ErrorCode::bad_request,
+                              "web folder " + options.web_root.string() + " does not exist");
+  }
+
+  hrisim::storage::Store store(options.database);
+  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios});
+  hrisim::http::Server server(options.server, router);
+  std::printf("hrisim %s listening on http://%s:%u (database %s, schema version %d)\n",
+              hrisim::http::version_info()["version"].get<std::string>().c_str(), options.server.host.c_str(),
+              static_cast<unsigned>(server.port()), options.database.c_str(), store.schema_version());
+  std::fflush(stdout);
+  server.run();
+  std::printf("hrisim stopped\n");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + (argc > 1 ? 2 : argc), argv + argc);
+  const std::string command = argc > 1 ? argv[1] : "help";
+  try {
+    if (command == "serve") return serve(args);
+    if (command == "version" || command == "--version") {
+      std::printf("%s\n", hrisim::http::version_info().dump(2).c_str());
+      return 0;
+    }
+    if (command == "help" || command == "--help" || command == "-h") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    std::fprintf(stderr, "hrisim: unknown command '%s'\n\n%s", command.c_str(), kUsage);
+    return 2;
+  } catch (const hrisim::core::Error& e) {
+    std::fprintf(stderr, "hrisim: %s\n", e.what());
+    return e.code() == hrisim::core::ErrorCode::bad_request ? 2 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hrisim: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,26 @@
+#pragma once
+// The REST API of hrisim: builds the router with every endpoint, bound to the services it needs.
+#include <filesystem>
+#include <memory>
+
+#include "http/router.hpp"
+
+namespace hrisim::storage {
+class Store;
+}
+
+namespace hrisim::http {
+
+struct ApiContext {
+  storage::Store* store = nullptr;       ///< must outlive the router
+  std::filesystem::path web_root;        ///< browser UI served at /
+  std::filesystem::path scenarios_dir;   ///< bundled scenarios
+};
+
+/// Build and library versions, as served at /api/v1/version.
+nlohmann::json version_info();
+
+/// The router for `hrisim serve`: health, version, API description and the browser UI.
+std::shared_ptr<const Router> make_api_router(const ApiContext& context);
+
+}  // namespace hrisim::http

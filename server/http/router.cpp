@@ -1,0 +1,111 @@
+#include "http/router.hpp"
+
+#include <cstdio>
+#include <optional>
+
+namespace hrisim::http {
+namespace {
+
+std::vector<std::string> split_path(std::string_view path) {
+  std::vector<std::string> segments;
+  std::size_t start = 1;  // paths start with '/'
+  while (start <= path.size()) {
+    const std::size_t end = std::min(path.find('/', start), path.size());
+    segments.emplace_back(path.substr(start, end - start));
+    start = end + 1;
+  }
+  return segments;
+}
+
+std::optional<std::map<std::string, std::string>> match(const std::vector<std::string>& pattern,
+                                                        const std::vector<std::string>& segments) {
+  if (pattern.size() != segments.size()) return std::nullopt;
+  std::map<std::string, std::string> params;
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    const std::string& expected = pattern[i];
+    if (expected.size() > 2 && expected.front() == '{' && expected.back() == '}') {
+      if (segments[i].empty()) return std::nullopt;
+      params[expected.substr(1, expected.size() - 2)] = segments[i];
+    } else if (expected != segments[i]) {
+      return std::nullopt;
+    }
+  }
+  return params;
+}
+
+int hex_value(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+}  // namespace
+
+Response Response::json(int status, const nlohmann::json& value) {
+  return Response{status, "application/json", value.dump(), {}};
+}
+
+Response Response::error(const core::Error& error) { return json(core::http_status(error.code()), error.to_json()); }
+
+void Router::add(std::string method, std::string pattern, Handler handler) {
+  routes_.push_back({std::move(method), split_path(pattern), std::move(handler)});
+}
+
+Response Router::dispatch(Request request) const {
+  try {
+    const std::vector<std::string> segments = split_path(request.path);
+    std::string allowed;
+    for (const Route& route : routes_) {
+      auto params = match(route.segments, segments);
+      if (!params) continue;
+      if (route.method == request.method || (route.method == "GET" && request.method == "HEAD")) {
+        request.path_params = std::move(*params);
+        return route.handler(request);
+      }
+      allowed += (allowed.empty() ? "" : ", ") + route.method;
+    }
+    if (!allowed.empty()) {
+      Response response = Response::error(core::Error(
+          core::ErrorCode::method_not_allowed, request.method + " is not allowed on " + request.path,
+          {{"allowed", allowed}}));
+      response.headers.emplace_back("Allow", allowed);
+      return response;
+    }
+    if (fallback_) return fallback_(request);
+    return Response::error(core::Error(core::ErrorCode::not_found, "no resource at " + request.path,
+                                       {{"path", request.path}}));
+  } catch (const core::Error& e) {
+    return Response::error(e);
+  } catch (const nlohmann::json::exception& e) {
+    return Response::error(core::Error(core::ErrorCode::bad_request, std::string("invalid JSON: ") + e.what()));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hrisim: internal error on %s %s: %s\n", request.method.c_str(), request.path.c_str(),
+                 e.what());
+    return Response::error(core::Error(core::ErrorCode::internal, "internal error"));
+  }
+}
+
+std::string percent_decode(std::string_view text) {
+  std::string decoded;
+  decoded.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '%') {
+      decoded += text[i];
+      continue;
+    }
+    const int high = i + 2 < text.size() ? hex_value(text[i + 1]) : -1;
+    const int low = i + 2 < text.size() ? hex_value(text[i + 2]) : -1;
+    if (high < 0 || low < 0) {
+      throw core::Error(core::ErrorCode::bad_request, "malformed percent escape in request path",
+                        {{"offset", i}});
+    }
+    const char c = static_cast<char>(high * 16 + low);
+    if (c == '\0') throw core::Error(core::ErrorCode::bad_request, "encoded NUL in request path", {{"offset", i}});
+    decoded += c;
+    i += 2;
+  }
+  return decoded;
+}
+
+}  // namespace hrisim::http

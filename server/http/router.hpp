@@ -1,0 +1,61 @@
+#pragma once
+// Requests and responses as plain values, and a router from (method, path pattern) to handlers.
+// Free of Beast so that handlers and their tests compile without it.
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace hrisim::http {
+
+struct Request {
+  std::string method;  ///< upper case, e.g. "GET"
+  std::string path;    ///< percent-decoded path without the query
+  std::string query;   ///< raw query string, without '?'
+  std::map<std::string, std::string> headers;      ///< names in lower case
+  std::map<std::string, std::string> path_params;  ///< values of {name} segments of the matched pattern
+  std::string body;
+};
+
+struct Response {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+  std::vector<std::pair<std::string, std::string>> headers;
+
+  static Response json(int status, const nlohmann::json& value);
+  /// {"error":{code,message,details}} with the error's HTTP status.
+  static Response error(const core::Error& error);
+};
+
+using Handler = std::function<Response(const Request&)>;
+
+class Router {
+ public:
+  /// Registers a handler; pattern segments written {name} match any one segment and land in path_params.
+  void add(std::string method, std::string pattern, Handler handler);
+  /// Answers requests no pattern matches (static files); without it they get 404.
+  void set_fallback(Handler handler) { fallback_ = std::move(handler); }
+
+  /// Finds and runs the handler. Unknown path → 404, known path with another method → 405 with Allow;
+  /// a core::Error thrown by a handler becomes its JSON error, any other exception a 500.
+  Response dispatch(Request request) const;
+
+ private:
+  struct Route {
+    std::string method;
+    std::vector<std::string> segments;
+    Handler handler;
+  };
+  std::vector<Route> routes_;
+  Handler fallback_;
+};
+
+/// Decodes %XX escapes; throws core::Error(bad_request) on a malformed escape or an encoded NUL.
+std::string percent_decode(std::string_view text);
+
+}  // namespace hrisim::http

@@ -1,0 +1,346 @@
+#include "http/server.hpp"
+
+#include <atomic>
+#include <boost/asio/dispatch.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/strand.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <cctype>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "core/build_info.hpp"
+
+namespace hrisim::http {
+namespace {
+
+namespace beast = boost::beast;
+namespace bhttp = beast::http;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+
+/// After an error reply, unread request bytes are drained this long before closing, so the client
+/// reads the reply instead of a connection reset.
+constexpr std::chrono::seconds kLingerTimeout{2};
+
+class Connection;
+
+/// State shared by the listener and every connection.
+struct Shared {
+  ServerOptions options;
+  std::shared_ptr<const Router> router;
+  std::atomic<bool> stopping{false};
+  std::mutex mutex;
+  std::unordered_map<const Connection*, std::weak_ptr<Connection>> connections;
+};
+
+std::string utc_timestamp() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm parts{};
+  gmtime_r(&now, &parts);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &parts);
+  return text;
+}
+
+class Connection : public std::enable_shared_from_this<Connection> {
+ public:
+  Connection(tcp::socket&& socket, std::shared_ptr<Shared> shared)
+      : stream_(std::move(socket)), shared_(std::move(shared)) {}
+
+  ~Connection() {
+    std::lock_guard lock(shared_->mutex);
+    shared_->connections.erase(this);
+  }
+
+  void start() {
+    net::dispatch(stream_.get_executor(), beast::bind_front_handler(&Connection::read_request, shared_from_this()));
+  }
+
+  /// Answers 503 (too many connections) and closes.
+  void reject_busy() {
+    net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
+      self->busy_ = true;
+      self->send(Response::error(core::Error(core::ErrorCode::unavailable, "too many connections; retry later")),
+                 11, false, false);
+    });
+  }
+
+  /// On shutdown: a connection waiting for a request is closed; one serving a request finishes it first.
+  void shutdown_if_idle() {
+    net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
+      if (!self->busy_) self->close();
+    });
+  }
+
+ private:
+  void read_request() {
+    parser_.emplace();
+    parser_->header_limit(static_cast<std::uint32_t>(shared_->options.header_limit));
+    parser_->body_limit(shared_->options.body_limit);
+    stream_.expires_after(shared_->options.read_timeout);
+    bhttp::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&Connection::on_read, shared_from_this()));
+  }
+
+  void on_read(beast::error_code ec, std::size_t) {
+    if (ec == bhttp::error::end_of_stream || ec == beast::error::timeout || ec == net::error::operation_aborted) {
+      return close();
+    }
+    busy_ = true;
+    const unsigned version = parser_->get().version() == 10 ? 10 : 11;
+    if (ec == bhttp::error::header_limit) {
+      return send(Response::error(core::Error(core::ErrorCode::headers_too_large,
+                                              "request header fields exceed the limit",
+                                              {{"limit_bytes", shared_->options.header_limit}})),
+                  version, false, false);
+    }
+    if (ec == bhttp::error::body_limit) {
+      return send(Response::error(core::Error(core::ErrorCode::payload_too_large, "request body exceeds the limit",
+                                              {{"limit_bytes", shared_->options.body_limit}})),
+                  version, false, false);
+    }
+    if (ec) {
+      // Socket errors and a request cut short leave nobody to answer; malformed HTTP gets a 400.
+      const bool http_error = ec.category() == bhttp::make_error_code(bhttp::error::bad_method).category();
+      if (!http_error || ec == bhttp::error::partial_message) return close();
+      return send(Response::error(core::Error(core::ErrorCode::bad_request, "malformed HTTP request: " + ec.message())),
+                  version, false, false);
+    }
+    handle(parser_->release());
+  }
+
+  void handle(bhttp::request<bhttp::string_body> message) {
+    const auto started = std::chrono::steady_clock::now();
+    Request request;
+    request.method = std::string(message.method_string());
+    const std::string_view target(message.target().data(), message.target().size());
+    const std::size_t query_start = target.find('?');
+    request.query = query_start == std::string_view::npos ? "" : std::string(target.substr(query_start + 1));
+    for (const auto& field : message) {
+      std::string name(field.name_string());
+      for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      request.headers[name] = std::string(field.value());
+    }
+    request.body = std::move(message.body());
+    const bool head = message.method() == bhttp::verb::head;
+    const bool keep_alive = message.keep_alive() && !shared_->stopping;
+
+    Response response;
+    try {
+      if (target.empty() || target.front() != '/') {
+        throw core::Error(core::ErrorCode::bad_request, "request target must be an absolute path");
+      }
+      request.path = percent_decode(target.substr(0, query_start));
+      response = shared_->router->dispatch(std::move(request));
+    } catch (const core::Error& e) {
+      request.path = std::string(target.substr(0, query_start));
+      response = Response::error(e);
+    }
+    if (shared_->options.log_requests) {
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+      std::fprintf(stderr, "%s %s %s %d %.2f ms\n", utc_timestamp().c_str(), std::string(message.method_string()).c_str(),
+                   std::string(target).c_str(), response.status, ms);
+    }
+    send(std::move(response), message.version(), keep_alive, head);
+  }
+
+  void send(Response response, unsigned version, bool keep_alive, bool head) {
+    auto message = std::make_shared<bhttp::response<bhttp::string_body>>(
+        static_cast<bhttp::status>(response.status), version);
+    message->set(bhttp::field::server, std::string("hrisim/") + core::version());
+    message->set(bhttp::field::content_type, response.content_type);
+    message->set("X-Content-Type-Options", "nosniff");
+    for (const auto& [name, value] : response.headers) message->set(name, value);
+    message->keep_alive(keep_alive);
+    if (head) {
+      message->content_length(response.body.size());
+    } else {
+      message->body() = std::move(response.body);
+      message->prepare_payload();
+    }
+    stream_.expires_after(shared_->options.write_timeout);
+    bhttp::async_write(stream_, *message,
+                       [self = shared_from_this(), message, keep_alive](beast::error_code ec, std::size_t) {
+                         self->on_write(ec, keep_alive);
+                       });
+  }
+
+  void on_write(beast::error_code ec, bool keep_alive) {
+    busy_ = false;
+    if (ec) return close();
+    if (!keep_alive || shared_->stopping) return linger_close();
+    read_request();
+  }
+
+  /// Half-closes, then discards whatever the client still sends until it closes or the linger time ends.
+  void linger_close() {
+    beast::error_code ignored;
+    stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+    stream_.expires_after(kLingerTimeout);
+    drain();
+  }
+
+  void drain() {
+    stream_.async_read_some(net::buffer(discard_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return self->close();
+      self->drain();
+    });
+  }
+
+  void close() {
+    beast::error_code ignored;
+    stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
+    stream_.close();
+  }
+
+  beast::tcp_stream stream_;
+  std::shared_ptr<Shared> shared_;
+  beast::flat_buffer buffer_;
+  std::optional<bhttp::request_parser<bhttp::string_body>> parser_;
+  std::array<char, 4096> discard_{};
+  bool busy_ = false;  ///< a request is being answered (touched only on the strand)
+};
+
+class Listener : public std::enable_shared_from_this<Listener> {
+ public:
+  Listener(net::io_context& io, const tcp::endpoint& endpoint, std::shared_ptr<Shared> shared)
+      : io_(io), acceptor_(net::make_strand(io)), shared_(std::move(shared)) {
+    beast::error_code ec;
+    acceptor_.open(endpoint.protocol(), ec);
+    if (!ec) acceptor_.set_option(net::socket_base::reuse_address(true), ec);
+    if (!ec) acceptor_.bind(endpoint, ec);
+    if (!ec) acceptor_.listen(net::socket_base::max_listen_connections, ec);
+    if (ec) {
+      throw core::Error(core::ErrorCode::unavailable,
+                        "cannot listen on " + endpoint.address().to_string() + ":" + std::to_string(endpoint.port()) +
+                            ": " + ec.message(),
+                        {{"host", endpoint.address().to_string()}, {"port", endpoint.port()}});
+    }
+  }
+
+  std::uint16_t port() const { return acceptor_.local_endpoint().port(); }
+
+  void accept() {
+    acceptor_.async_accept(net::make_strand(io_), beast::bind_front_handler(&Listener::on_accept, shared_from_this()));
+  }
+
+  void close() {
+    net::dispatch(acceptor_.get_executor(), [self = shared_from_this()] {
+      beast::error_code ignored;
+      self->acceptor_.close(ignored);
+    });
+  }
+
+ private:
+  void on_accept(beast::error_code ec, tcp::socket socket) {
+    if (ec == net::error::operation_aborted || !acceptor_.is_open()) return;
+    if (ec) {
+      std::fprintf(stderr, "hrisim: accept failed: %s\n", ec.message().c_str());
+      return accept();
+    }
+    if (shared_->stopping) return;
+    auto connection = std::make_shared<Connection>(std::move(socket), shared_);
+    bool admitted = false;
+    {
+      std::lock_guard lock(shared_->mutex);
+      if (shared_->connections.size() < shared_->options.max_connections) {
+        shared_->connections.emplace(connection.get(), connection);
+        admitted = true;
+      }
+    }
+    if (admitted) {
+      connection->start();
+    } else {
+      connection->reject_busy();
+    }
+    accept();
+  }
+
+  net::io_context& io_;
+  tcp::acceptor acceptor_;
+  std::shared_ptr<Shared> shared_;
+};
+
+}  // namespace
+
+class Server::Impl {
+ public:
+  Impl(ServerOptions options, std::shared_ptr<const Router> router)
+      : threads_(options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency())),
+        io_(static_cast<int>(threads_)),
+        signals_(io_, SIGINT, SIGTERM),
+        shared_(std::make_shared<Shared>()) {
+    shared_->router = std::move(router);
+    beast::error_code ec;
+    const auto address = net::ip::make_address(options.host, ec);
+    if (ec) {
+      throw core::Error(core::ErrorCode::bad_request, "host " + options.host + " is not an IP address",
+                        {{"host", options.host}});
+    }
+    listener_ = std::make_shared<Listener>(io_, tcp::endpoint(address, options.port), shared_);
+    shared_->options = std::move(options);
+  }
+
+  std::uint16_t port() const { return listener_->port(); }
+
+  void run() {
+    signals_.async_wait([this](beast::error_code ec, int) {
+      if (!ec) begin_shutdown();
+    });
+    listener_->accept();
+    std::vector<std::thread> pool;
+    for (unsigned i = 1; i < threads_; ++i) pool.emplace_back([this] { io_.run(); });
+    io_.run();
+    for (std::thread& thread : pool) thread.join();
+  }
+
+  void stop() {
+    net::post(io_, [this] { begin_shutdown(); });
+  }
+
+ private:
+  void begin_shutdown() {
+    if (shared_->stopping.exchange(true)) return;
+    beast::error_code ignored;
+    signals_.cancel(ignored);
+    listener_->close();
+    std::vector<std::shared_ptr<Connection>> live;
+    {
+      std::lock_guard lock(shared_->mutex);
+      for (const auto& [key, weak] : shared_->connections) {
+        if (auto connection = weak.lock()) live.push_back(std::move(connection));
+      }
+    }
+    for (const auto& connection : live) connection->shutdown_if_idle();
+  }
+
+  unsigned threads_;
+  net::io_context io_;
+  net::signal_set signals_;
+  std::shared_ptr<Shared> shared_;
+  std::shared_ptr<Listener> listener_;
+};
+
+Server::Server(ServerOptions options, std::shared_ptr<const Router> router)
+    : impl_(std::make_unique<Impl>(std::move(options), std::move(router))) {}
+
+Server::~Server() = default;
+
+std::uint16_t Server::port() const { return impl_->port(); }
+
+void Server::run() { impl_->run(); }
+
+void Server::stop() { impl_->stop(); }
+
+}  // namespace hrisim::http

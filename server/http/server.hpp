@@ -1,0 +1,60 @@
+#pragma once
+// The HTTP server: accepts connections on a thread pool, reads requests within limits, hands them to
+// a Router, and shuts down gracefully. Boost.Beast stays inside server.cpp.
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "http/router.hpp"
+
+namespace hrisim::http {
+
+/// Request header fields larger than this are answered 431.
+inline constexpr std::size_t kDefaultHeaderLimit = 8 * 1024;
+/// Request bodies larger than this are answered 413.
+inline constexpr std::size_t kDefaultBodyLimit = 4 * 1024 * 1024;
+/// A request (headers and body) must arrive within this time, or the connection is closed.
+inline constexpr std::chrono::seconds kDefaultReadTimeout{30};
+/// Time allowed to send one response.
+inline constexpr std::chrono::seconds kDefaultWriteTimeout{30};
+/// Connections beyond this are answered 503 and closed.
+inline constexpr std::size_t kDefaultMaxConnections = 256;
+inline constexpr std::uint16_t kDefaultPort = 8080;
+
+struct ServerOptions {
+  std::string host = "127.0.0.1";
+  std::uint16_t port = kDefaultPort;  ///< 0 picks a free port; see Server::port()
+  std::size_t header_limit = kDefaultHeaderLimit;
+  std::size_t body_limit = kDefaultBodyLimit;
+  std::chrono::milliseconds read_timeout = kDefaultReadTimeout;
+  std::chrono::milliseconds write_timeout = kDefaultWriteTimeout;
+  std::size_t max_connections = kDefaultMaxConnections;
+  unsigned threads = 0;  ///< 0 = one per core
+  bool log_requests = true;
+};
+
+class Server {
+ public:
+  /// Binds the listening socket (throws core::Error when the address is unusable).
+  Server(ServerOptions options, std::shared_ptr<const Router> router);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  /// The bound port (useful with port 0).
+  std::uint16_t port() const;
+
+  /// Serves until SIGINT/SIGTERM or stop(): then stops accepting, lets requests in progress finish,
+  /// closes idle connections and returns.
+  void run();
+  /// Thread-safe request to shut down as on a signal.
+  void stop();
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hrisim::http

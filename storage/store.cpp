@@ -1,0 +1,233 @@
+#include "storage/store.hpp"
+
+#include <sqlite3.h>
+
+#include <bit>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/sha256.hpp"
+#include "storage/sqlite.hpp"
+
+namespace hrisim::storage {
+namespace {
+
+// SQLite integers are signed 64-bit; seeds are unsigned, so they are stored with their bits unchanged.
+std::int64_t seed_to_column(std::uint64_t seed) { return std::bit_cast<std::int64_t>(seed); }
+std::uint64_t seed_from_column(std::int64_t value) { return std::bit_cast<std::uint64_t>(value); }
+
+bool is_terminal_run_status(const std::string& status) {
+  return status == "finished" || status == "failed" || status == "cancelled";
+}
+
+ScenarioRecord read_scenario(const Statement& row) {
+  return {row.text(0), row.text(1), row.text(2), row.text(3), row.text(4), row.text(5)};
+}
+
+constexpr std::string_view kScenarioColumns = "id, name, format, source, sha256, created_at";
+
+}  // namespace
+
+Store::Store(const std::filesystem::path& path, std::span<const Migration> migrations)
+    : db_(std::make_unique<Database>(path)) {
+  migrate(*db_, migrations);
+}
+
+Store::~Store() = default;
+
+int Store::schema_version() {
+  std::lock_guard lock(mutex_);
+  return static_cast<int>(db_->scalar_integer("PRAGMA user_version"));
+}
+
+std::string Store::integrity_check() {
+  std::lock_guard lock(mutex_);
+  Statement statement = db_->prepare("PRAGMA integrity_check");
+  std::string result;
+  while (statement.step()) {
+    if (!result.empty()) result += "\n";
+    result += statement.text(0);
+  }
+  return result;
+}
+
+void Store::ping() {
+  std::lock_guard lock(mutex_);
+  db_->scalar_integer("SELECT count(*) FROM sqlite_schema");
+}
+
+StoreCounts Store::counts() {
+  std::lock_guard lock(mutex_);
+  Statement statement = db_->prepare(
+      "SELECT (SELECT count(*) FROM scenarios), (SELECT count(*) FROM runs), (SELECT count(*) FROM episodes),"
+      " (SELECT count(*) FROM metric_values), (SELECT count(*) FROM events),"
+      " (SELECT count(*) FROM trajectory_samples)");
+  statement.step();
+  return {statement.integer(0), statement.integer(1), statement.integer(2),
+          statement.integer(3), statement.integer(4), statement.integer(5)};
+}
+
+ScenarioRecord Store::put_scenario(ScenarioRecord scenario) {
+  scenario.sha256 = core::sha256_hex(scenario.source);
+  std::lock_guard lock(mutex_);
+  Statement insert = db_->prepare(
+      "INSERT INTO scenarios (id, name, format, source, sha256) VALUES (?1, ?2, ?3, ?4, ?5) RETURNING created_at");
+  insert.bind(1, scenario.id).bind(2, scenario.name).bind(3, scenario.format).bind(4, scenario.source);
+  insert.bind(5, scenario.sha256);
+  insert.step();
+  scenario.created_at = insert.text(0);
+  return scenario;
+}
+
+std::optional<ScenarioRecord> Store::scenario(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare("SELECT " + std::string(kScenarioColumns) + " FROM scenarios WHERE id = ?1");
+  select.bind(1, id);
+  if (!select.step()) return std::nullopt;
+  return read_scenario(select);
+}
+
+std::vector<ScenarioRecord> Store::scenarios(int limit, const std::string& after_id) {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare("SELECT " + std::string(kScenarioColumns) +
+                                  " FROM scenarios WHERE id > ?1 ORDER BY id LIMIT ?2");
+  select.bind(1, after_id).bind(2, std::int64_t{limit});
+  std::vector<ScenarioRecord> result;
+  while (select.step()) result.push_back(read_scenario(select));
+  return result;
+}
+
+RunRecord Store::put_run(RunRecord run) {
+  std::lock_guard lock(mutex_);
+  Statement insert = db_->prepare(
+      "INSERT INTO runs (id, scenario_id, controller, config, status) VALUES (?1, ?2, ?3, ?4, ?5)"
+      " RETURNING created_at");
+  insert.bind(1, run.id).bind(2, run.scenario_id).bind(3, run.controller).bind(4, run.config.dump());
+  insert.bind(5, run.status);
+  insert.step();
+  run.created_at = insert.text(0);
+  return run;
+}
+
+std::optional<RunRecord> Store::run(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare(
+      "SELECT id, scenario_id, controller, config, status, created_at, finished_at FROM runs WHERE id = ?1");
+  select.bind(1, id);
+  if (!select.step()) return std::nullopt;
+  return RunRecord{select.text(0),
+                   select.text(1),
+                   select.text(2),
+                   nlohmann::json::parse(select.text(3)),
+                   select.text(4),
+                   select.text(5),
+                   select.optional_text(6)};
+}
+
+void Store::set_run_status(const std::string& id, const std::string& status) {
+  std::lock_guard lock(mutex_);
+  Statement update = db_->prepare(
+      "UPDATE runs SET status = ?2,"
+      " finished_at = CASE WHEN ?3 THEN strftime('%Y-%m-%dT%H:%M:%fZ', 'now') ELSE finished_at END"
+      " WHERE id = ?1");
+  update.bind(1, id).bind(2, status).bind(3, std::int64_t{is_terminal_run_status(status)});
+  update.run();
+  if (db_->scalar_integer("SELECT changes()") == 0) {
+    throw core::Error(core::ErrorCode::not_found, "run " + id + " does not exist", {{"run_id", id}});
+  }
+}
+
+void Store::write_episode(const EpisodeRecord& episode) {
+  std::lock_guard lock(mutex_);
+  Transaction transaction(*db_);
+  Statement insert_episode = db_->prepare(
+      "INSERT INTO episodes (id, run_id, scenario_id, seed, controller, status, termination_reason, ticks, sim_time)"
+      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)");
+  insert_episode.bind(1, episode.id).bind(2, episode.run_id).bind(3, episode.scenario_id);
+  insert_episode.bind(4, seed_to_column(episode.seed)).bind(5, episode.controller).bind(6, episode.status);
+  insert_episode.bind(7, episode.termination_reason).bind(8, episode.ticks).bind(9, episode.sim_time);
+  insert_episode.run();
+
+  for (const MetricValue& metric : episode.metrics) {
+    if (metric.value && !std::isfinite(*metric.value)) {
+      throw core::Error(core::ErrorCode::bad_request,
+                        "metric " + metric.key + " of episode " + episode.id +
+                            " is not finite; store no value and a null_reason instead",
+                        {{"episode_id", episode.id}, {"metric", metric.key}});
+    }
+  }
+  Statement insert_metric =
+      db_->prepare("INSERT INTO metric_values (episode_id, key, value, null_reason) VALUES (?1, ?2, ?3, ?4)");
+  for (const MetricValue& metric : episode.metrics) {
+    insert_metric.bind(1, episode.id).bind(2, metric.key).bind(3, metric.value).bind(4, metric.null_reason);
+    insert_metric.run();
+  }
+
+  Statement insert_event = db_->prepare(
+      "INSERT INTO events (episode_id, seq, tick, time, kind, subject, data) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
+  std::int64_t seq = 0;
+  for (const EventRecord& event : episode.events) {
+    insert_event.bind(1, episode.id).bind(2, seq++).bind(3, event.tick).bind(4, event.time).bind(5, event.kind);
+    insert_event.bind(6, event.subject).bind(7, event.data.dump());
+    insert_event.run();
+  }
+
+  Statement insert_sample = db_->prepare(
+      "INSERT INTO trajectory_samples (episode_id, agent_id, tick, x, y, theta) VALUES (?1, ?2, ?3, ?4, ?5, ?6)");
+  for (const TrajectorySample& sample : episode.trajectory) {
+    insert_sample.bind(1, episode.id).bind(2, sample.agent_id).bind(3, sample.tick).bind(4, sample.x);
+    insert_sample.bind(5, sample.y).bind(6, sample.theta);
+    insert_sample.run();
+  }
+  transaction.commit();
+}
+
+std::optional<EpisodeRecord> Store::episode(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare(
+      "SELECT id, run_id, scenario_id, seed, controller, status, termination_reason, ticks, sim_time, created_at"
+      " FROM episodes WHERE id = ?1");
+  select.bind(1, id);
+  if (!select.step()) return std::nullopt;
+  EpisodeRecord episode{select.text(0),    select.optional_text(1), select.text(2),
+                        seed_from_column(select.integer(3)), select.text(4), select.text(5),
+                        select.text(6),    select.integer(7),       select.real(8),
+                        select.text(9),    {},                      {},
+                        {}};
+
+  Statement metrics = db_->prepare("SELECT key, value, null_reason FROM metric_values WHERE episode_id = ?1 ORDER BY key");
+  metrics.bind(1, id);
+  while (metrics.step()) {
+    episode.metrics.push_back({metrics.text(0), metrics.optional_real(1), metrics.optional_text(2)});
+  }
+
+  Statement events =
+      db_->prepare("SELECT tick, time, kind, subject, data FROM events WHERE episode_id = ?1 ORDER BY seq");
+  events.bind(1, id);
+  while (events.step()) {
+    episode.events.push_back(
+        {events.integer(0), events.real(1), events.text(2), events.text(3), nlohmann::json::parse(events.text(4))});
+  }
+
+  Statement samples = db_->prepare(
+      "SELECT agent_id, tick, x, y, theta FROM trajectory_samples WHERE episode_id = ?1 ORDER BY agent_id, tick");
+  samples.bind(1, id);
+  while (samples.step()) {
+    episode.trajectory.push_back(
+        {samples.text(0), samples.integer(1), samples.real(2), samples.real(3), samples.real(4)});
+  }
+  return episode;
+}
+
+std::vector<std::string> Store::episode_ids_of_run(const std::string& run_id) {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare("SELECT id FROM episodes WHERE run_id = ?1 ORDER BY rowid");
+  select.bind(1, run_id);
+  std::vector<std::string> ids;
+  while (select.step()) ids.push_back(select.text(0));
+  return ids;
+}
+
+std::string Store::sqlite_version() { return sqlite3_libversion(); }
+
+}  // namespace hrisim::storage

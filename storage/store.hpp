@@ -1,0 +1,127 @@
+#pragma once
+// The episode store: scenarios with their source, runs, and episodes with metrics, events and sampled
+// trajectories, in one SQLite file. Thread-safe; an episode is written in one transaction, so a crash
+// loses at most the episodes in flight, never a committed one.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "storage/migrations.hpp"
+
+namespace hrisim::storage {
+
+class Database;
+
+struct ScenarioRecord {
+  std::string id;
+  std::string name;
+  std::string format;  ///< "json", "imhus_xml" or "pedsim_xml"
+  std::string source;  ///< the uploaded text, byte for byte
+  std::string sha256;  ///< filled by the store from source
+  std::string created_at;  ///< RFC 3339 UTC, filled by the store
+};
+
+struct RunRecord {
+  std::string id;
+  std::string scenario_id;
+  std::string controller;
+  nlohmann::json config = nlohmann::json::object();  ///< seeds, gates, options
+  std::string status;  ///< queued, running, finished, failed, cancelled
+  std::string created_at;
+  std::optional<std::string> finished_at;
+};
+
+/// One metric of an episode: a finite value, or no value and the reason why.
+struct MetricValue {
+  std::string key;
+  std::optional<double> value;
+  std::optional<std::string> null_reason;
+};
+
+struct EventRecord {
+  std::int64_t tick = 0;
+  double time = 0.0;  ///< seconds of simulation time
+  std::string kind;   ///< e.g. "collision", "request", "step_boundary"
+  std::string subject;
+  nlohmann::json data = nlohmann::json::object();
+};
+
+struct TrajectorySample {
+  std::string agent_id;
+  std::int64_t tick = 0;
+  double x = 0.0;
+  double y = 0.0;
+  double theta = 0.0;
+};
+
+struct EpisodeRecord {
+  std::string id;
+  std::optional<std::string> run_id;  ///< empty for an episode of a live session
+  std::string scenario_id;
+  std::uint64_t seed = 0;
+  std::string controller;
+  std::string status;
+  std::string termination_reason;
+  std::int64_t ticks = 0;
+  double sim_time = 0.0;
+  std::string created_at;
+  std::vector<MetricValue> metrics;
+  std::vector<EventRecord> events;  ///< in order of occurrence
+  std::vector<TrajectorySample> trajectory;
+};
+
+/// Counts of what is stored, for health and tests.
+struct StoreCounts {
+  std::int64_t scenarios = 0, runs = 0, episodes = 0, metric_values = 0, events = 0, trajectory_samples = 0;
+};
+
+class Store {
+ public:
+  /// Opens or creates the database at path and applies `migrations` (the shipped ones by default).
+  explicit Store(const std::filesystem::path& path,
+                 std::span<const Migration> migrations = schema_migrations());
+  ~Store();
+  Store(const Store&) = delete;
+  Store& operator=(const Store&) = delete;
+
+  /// Schema version of the open file (PRAGMA user_version).
+  int schema_version();
+  /// Result of PRAGMA integrity_check: "ok" when the file is sound.
+  std::string integrity_check();
+  /// Cheap liveness probe of the connection; throws core::Error when the database does not answer.
+  void ping();
+  StoreCounts counts();
+
+  /// Stores a scenario; computes its sha256 and created_at. Returns the stored record.
+  ScenarioRecord put_scenario(ScenarioRecord scenario);
+  std::optional<ScenarioRecord> scenario(const std::string& id);
+  /// Scenarios ordered by id, at most `limit`, starting after `after_id` (paging cursor).
+  std::vector<ScenarioRecord> scenarios(int limit, const std::string& after_id = "");
+
+  RunRecord put_run(RunRecord run);
+  std::optional<RunRecord> run(const std::string& id);
+  /// Sets a run's status; a terminal status also stamps finished_at.
+  void set_run_status(const std::string& id, const std::string& status);
+
+  /// Writes the episode with all its metrics, events and trajectory in one transaction.
+  void write_episode(const EpisodeRecord& episode);
+  /// The episode with everything stored for it.
+  std::optional<EpisodeRecord> episode(const std::string& id);
+  /// Ids of a run's episodes in the order they were written.
+  std::vector<std::string> episode_ids_of_run(const std::string& run_id);
+
+  /// Version of the SQLite library in use, e.g. "3.40.1".
+  static std::string sqlite_version();
+
+ private:
+  std::mutex mutex_;
+  std::unique_ptr<Database> db_;
+};
+
+}  // namespace hrisim::storage

@@ -1,0 +1,76 @@
+#pragma once
+// Starts the real `hrisim serve` binary on a free loopback port with a temporary database, and talks
+// raw HTTP to it, so tests can send exactly the bytes a misbehaving client would.
+#include <sys/types.h>
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "support/temp_dir.hpp"
+
+namespace hrisim::testing {
+
+struct HttpReply {
+  int status = 0;
+  std::map<std::string, std::string> headers;  ///< names in lower case
+  std::string body;
+};
+
+class TestServer {
+ public:
+  /// Starts `hrisim serve --port 0` with a database in a temporary folder plus `extra_args`, and waits
+  /// until it prints the port it listens on.
+  explicit TestServer(std::vector<std::string> extra_args = {});
+  /// Sends SIGTERM and waits for the process.
+  ~TestServer();
+  TestServer(const TestServer&) = delete;
+  TestServer& operator=(const TestServer&) = delete;
+
+  std::uint16_t port() const { return port_; }
+  const std::filesystem::path& database() const { return database_; }
+  const TempDir& dir() const { return dir_; }
+
+  /// Sends SIGTERM and waits up to `limit` for the exit; returns the exit status, or -1 on time-out.
+  int terminate(std::chrono::seconds limit);
+  /// Everything the server printed on stdout so far (after terminate(): all of it).
+  std::string output();
+
+ private:
+  TempDir dir_;
+  std::filesystem::path database_;
+  pid_t pid_ = -1;
+  int stdout_fd_ = -1;
+  std::string output_;
+  std::uint16_t port_ = 0;
+};
+
+/// A blocking loopback client connection with a receive time-out.
+class RawConnection {
+ public:
+  explicit RawConnection(std::uint16_t port, std::chrono::milliseconds receive_timeout = std::chrono::seconds(10));
+  ~RawConnection();
+  RawConnection(const RawConnection&) = delete;
+  RawConnection& operator=(const RawConnection&) = delete;
+
+  /// Sends all bytes; false when the peer has closed the connection.
+  bool send(const std::string& bytes);
+  /// Reads one HTTP response (headers and Content-Length body); throws on time-out or early close.
+  HttpReply read_reply(bool head = false);
+  /// True when the server has closed the connection (reads EOF or reset within the time-out).
+  bool closed_by_peer();
+
+ private:
+  std::string receive_some();
+  int fd_ = -1;
+  std::string pending_;
+};
+
+/// One request on a fresh connection with "Connection: close".
+HttpReply http(std::uint16_t port, const std::string& method, const std::string& target, const std::string& body = "",
+               const std::string& extra_headers = "");
+
+}  // namespace hrisim::testing

@@ -1,0 +1,267 @@
+#include "storage/store.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "core/error.hpp"
+#include "storage/sqlite.hpp"
+#include "support/episodes.hpp"
+#include "support/temp_dir.hpp"
+
+namespace hrisim::storage {
+namespace {
+
+using testing::make_episode;
+using testing::make_scenario;
+using testing::TempDir;
+
+TEST(Store, NewFileIsMigratedAndSound) {
+  TempDir dir;
+  Store store(dir / "nested/folder/hrisim.db");
+  EXPECT_EQ(store.schema_version(), schema_migrations().back().version);
+  EXPECT_EQ(store.integrity_check(), "ok");
+  Database raw(dir / "nested/folder/hrisim.db");
+  EXPECT_EQ(raw.scalar_text("PRAGMA journal_mode"), "wal");
+  EXPECT_EQ(raw.scalar_integer("PRAGMA foreign_keys"), 1);
+  EXPECT_EQ(raw.scalar_integer("PRAGMA synchronous"), 1);  // NORMAL
+}
+
+TEST(Store, ScenarioRoundTripWithHash) {
+  TempDir dir;
+  Store store(dir / "db");
+  const ScenarioRecord stored = store.put_scenario(make_scenario("elevator"));
+  EXPECT_EQ(stored.sha256.size(), 64u);
+  EXPECT_FALSE(stored.created_at.empty());
+  EXPECT_EQ(stored.created_at.back(), 'Z');
+  const auto loaded = store.scenario("elevator");
+  ASSERT_TRUE(loaded);
+  EXPECT_EQ(loaded->source, make_scenario("elevator").source);
+  EXPECT_EQ(loaded->sha256, stored.sha256);
+  EXPECT_EQ(loaded->created_at, stored.created_at);
+  EXPECT_FALSE(store.scenario("missing"));
+}
+
+TEST(Store, DuplicateScenarioIsAConflict) {
+  TempDir dir;
+  Store store(dir / "db");
+  store.put_scenario(make_scenario("a"));
+  try {
+    store.put_scenario(make_scenario("a"));
+    FAIL() << "expected a conflict";
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.code(), core::ErrorCode::conflict);
+  }
+}
+
+TEST(Store, ScenarioPaging) {
+  TempDir dir;
+  Store store(dir / "db");
+  for (const char* id : {"d", "a", "c", "b", "e"}) store.put_scenario(make_scenario(id));
+  const auto first = store.scenarios(2);
+  ASSERT_EQ(first.size(), 2u);
+  EXPECT_EQ(first[0].id, "a");
+  EXPECT_EQ(first[1].id, "b");
+  const auto rest = store.scenarios(10, first.back().id);
+  ASSERT_EQ(rest.size(), 3u);
+  EXPECT_EQ(rest[0].id, "c");
+  EXPECT_EQ(rest[2].id, "e");
+}
+
+TEST(Store, EpisodeRoundTripKeepsEverything) {
+  TempDir dir;
+  Store store(dir / "db");
+  store.put_scenario(make_scenario("s"));
+  EpisodeRecord episode = make_episode("s", 7);
+  episode.seed = std::numeric_limits<std::uint64_t>::max();  // beyond SQLite's signed range
+  store.write_episode(episode);
+
+  const auto loaded = store.episode(episode.id);
+  ASSERT_TRUE(loaded);
+  EXPECT_EQ(loaded->seed, episode.seed);
+  EXPECT_FALSE(loaded->run_id);
+  EXPECT_EQ(loaded->termination_reason, "goal_reached");
+  EXPECT_EQ(loaded->ticks, episode.ticks);
+  EXPECT_DOUBLE_EQ(loaded->sim_time, episode.sim_time);
+  ASSERT_EQ(loaded->metrics.size(), episode.metrics.size());
+  for (std::size_t i = 0; i < episode.metrics.size(); ++i) {
+    EXPECT_EQ(loaded->metrics[i].key, episode.metrics[i].key);
+    EXPECT_EQ(loaded->metrics[i].value, episode.metrics[i].value);
+    EXPECT_EQ(loaded->metrics[i].null_reason, episode.metrics[i].null_reason);
+  }
+  ASSERT_EQ(loaded->events.size(), episode.events.size());
+  EXPECT_EQ(loaded->events[2].subject, "human_2");
+  EXPECT_EQ(loaded->events[2].data["part"], "leg");
+  ASSERT_EQ(loaded->trajectory.size(), episode.trajectory.size());
+  for (std::size_t i = 0; i < episode.trajectory.size(); ++i) {
+    EXPECT_EQ(loaded->trajectory[i].agent_id, episode.trajectory[i].agent_id);
+    EXPECT_EQ(loaded->trajectory[i].tick, episode.trajectory[i].tick);
+    EXPECT_EQ(loaded->trajectory[i].x, episode.trajectory[i].x);  // bit-exact doubles
+    EXPECT_EQ(loaded->trajectory[i].theta, episode.trajectory[i].theta);
+  }
+}
+
+TEST(Store, DataSurvivesReopen) {
+  TempDir dir;
+  {
+    Store store(dir / "db");
+    store.put_scenario(make_scenario("s"));
+    store.put_run({"run-1", "s", "teleop", {{"seeds", {1, 2}}}, "running", "", std::nullopt});
+    EpisodeRecord episode = make_episode("s", 1);
+    episode.run_id = "run-1";
+    store.write_episode(episode);
+    store.set_run_status("run-1", "finished");
+  }
+  Store store(dir / "db");
+  EXPECT_EQ(store.integrity_check(), "ok");
+  const auto run = store.run("run-1");
+  ASSERT_TRUE(run);
+  EXPECT_EQ(run->status, "finished");
+  EXPECT_TRUE(run->finished_at);
+  EXPECT_EQ(run->config["seeds"][1], 2);
+  EXPECT_EQ(store.episode_ids_of_run("run-1"), std::vector<std::string>{"episode-1"});
+  ASSERT_TRUE(store.episode("episode-1"));
+}
+
+TEST(Store, FailedEpisodeWriteStoresNothing) {
+  TempDir dir;
+  Store store(dir / "db");
+  store.put_scenario(make_scenario("s"));
+  EpisodeRecord episode = make_episode("s", 1);
+  episode.trajectory.push_back(episode.trajectory.front());  // duplicate key, fails last
+  EXPECT_THROW(store.write_episode(episode), core::Error);
+  const StoreCounts counts = store.counts();
+  EXPECT_EQ(counts.episodes, 0);
+  EXPECT_EQ(counts.metric_values, 0);
+  EXPECT_EQ(counts.events, 0);
+  EXPECT_EQ(counts.trajectory_samples, 0);
+}
+
+TEST(Store, EpisodeOfUnknownScenarioIsRefused) {
+  TempDir dir;
+  Store store(dir / "db");
+  try {
+    store.write_episode(make_episode("nope", 1));
+    FAIL() << "expected a foreign key conflict";
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.code(), core::ErrorCode::conflict);
+  }
+  EXPECT_EQ(store.counts().episodes, 0);
+}
+
+TEST(Store, NonFiniteMetricIsRefusedWithItsName) {
+  TempDir dir;
+  Store store(dir / "db");
+  store.put_scenario(make_scenario("s"));
+  EpisodeRecord episode = make_episode("s", 1);
+  episode.metrics[0].value = std::numeric_limits<double>::quiet_NaN();
+  try {
+    store.write_episode(episode);
+    FAIL() << "expected bad_request";
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.code(), core::ErrorCode::bad_request);
+    EXPECT_NE(std::string(e.what()).find("metric_0"), std::string::npos);
+  }
+  EXPECT_EQ(store.counts().episodes, 0);
+}
+
+TEST(Store, UnknownRunStatusUpdateIsNotFound) {
+  TempDir dir;
+  Store store(dir / "db");
+  try {
+    store.set_run_status("ghost", "finished");
+    FAIL();
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.code(), core::ErrorCode::not_found);
+  }
+}
+
+TEST(Store, InvalidRunStatusIsRefusedByTheSchema) {
+  TempDir dir;
+  Store store(dir / "db");
+  store.put_scenario(make_scenario("s"));
+  EXPECT_THROW(store.put_run({"r", "s", "teleop", {}, "exploded", "", std::nullopt}), core::Error);
+}
+
+// Migration from an older schema: a file made by the first migrations keeps its data when a newer
+// binary (here: the shipped list plus one more migration) opens it.
+TEST(Migrations, OlderFileIsUpgradedKeepingData) {
+  TempDir dir;
+  const std::vector<Migration> shipped(schema_migrations().begin(), schema_migrations().end());
+  {
+    Store store(dir / "db", shipped);
+    store.put_scenario(make_scenario("s"));
+    store.write_episode(make_episode("s", 1));
+  }
+  std::vector<Migration> newer = shipped;
+  newer.push_back({shipped.back().version + 1, "tags.sql",
+                   "CREATE TABLE episode_tags (episode_id TEXT NOT NULL REFERENCES episodes (id), tag TEXT NOT NULL);"
+                   "INSERT INTO episode_tags SELECT id, 'legacy' FROM episodes;"});
+  Store store(dir / "db", newer);
+  EXPECT_EQ(store.schema_version(), newer.back().version);
+  EXPECT_EQ(store.integrity_check(), "ok");
+  ASSERT_TRUE(store.episode("episode-1"));
+  Database raw(dir / "db");
+  EXPECT_EQ(raw.scalar_text("SELECT tag FROM episode_tags WHERE episode_id = 'episode-1'"), "legacy");
+}
+
+TEST(Migrations, EmptyFileFromAnotherToolIsMigrated) {
+  TempDir dir;
+  { Database raw(dir / "db"); }
+  Store store(dir / "db");
+  EXPECT_EQ(store.schema_version(), schema_migrations().back().version);
+}
+
+TEST(Migrations, FailingMigrationLeavesVersionAndSchemaUnchanged) {
+  TempDir dir;
+  const std::vector<Migration> shipped(schema_migrations().begin(), schema_migrations().end());
+  { Store store(dir / "db", shipped); }
+  std::vector<Migration> broken = shipped;
+  broken.push_back({shipped.back().version + 1, "broken.sql", "CREATE TABLE half (x INTEGER); SELECT * FROM nowhere;"});
+  try {
+    Store store(dir / "db", broken);
+    FAIL() << "expected the migration to fail";
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("broken.sql"), std::string::npos);
+  }
+  Database raw(dir / "db");
+  EXPECT_EQ(raw.scalar_integer("PRAGMA user_version"), shipped.back().version);
+  EXPECT_EQ(raw.scalar_integer("SELECT count(*) FROM sqlite_schema WHERE name = 'half'"), 0);
+}
+
+TEST(Migrations, NewerFileIsRefusedUntouched) {
+  TempDir dir;
+  {
+    Database raw(dir / "db");
+    raw.exec("PRAGMA user_version = 999");
+  }
+  try {
+    Store store(dir / "db");
+    FAIL() << "expected a refusal";
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("999"), std::string::npos);
+  }
+  Database raw(dir / "db");
+  EXPECT_EQ(raw.scalar_integer("PRAGMA user_version"), 999);
+  EXPECT_EQ(raw.scalar_integer("SELECT count(*) FROM sqlite_schema"), 0);
+}
+
+TEST(Migrations, ShippedListIsNumberedFromOne) {
+  const auto migrations = schema_migrations();
+  ASSERT_FALSE(migrations.empty());
+  for (std::size_t i = 0; i < migrations.size(); ++i) EXPECT_EQ(migrations[i].version, static_cast<int>(i + 1));
+}
+
+TEST(Store, UnopenablePathIsAStorageError) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "a-folder");
+  try {
+    Store store(dir / "a-folder");
+    FAIL();
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.code(), core::ErrorCode::storage);
+  }
+}
+
+}  // namespace
+}  // namespace hrisim::storage
