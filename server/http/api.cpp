@@ -4,6 +4,8 @@
 
 #include "core/build_info.hpp"
 #include "http/static_files.hpp"
+#include "render/image_codec.hpp"
+#include "render/offscreen_context.hpp"
 #include "storage/store.hpp"
 
 namespace hrisim::http {
@@ -38,7 +40,12 @@ nlohmann::json version_info() {
            {{"boost", boost_version()},
             {"eigen", core::eigen_version()},
             {"nlohmann_json", core::json_version()},
-            {"sqlite", storage::Store::sqlite_version()}}}};
+            {"opencv", render::opencv_version()},
+            {"sqlite", storage::Store::sqlite_version()}}},
+          {"opengl",
+           {{"version", render::probe_gl().version},
+            {"renderer", render::probe_gl().renderer},
+            {"vendor", render::probe_gl().vendor}}}};
 }
 
 std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
