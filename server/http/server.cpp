@@ -90,6 +90,24 @@ class Connection : public std::enable_shared_from_this<Connection> {
     parser_->header_limit(static_cast<std::uint32_t>(shared_->options.header_limit));
     parser_->body_limit(shared_->options.body_limit);
     stream_.expires_after(shared_->options.read_timeout);
+    bhttp::async_read_header(stream_, buffer_, *parser_,
+                             beast::bind_front_handler(&Connection::on_header, shared_from_this()));
+  }
+
+  /// Clients that announce a body with "Expect: 100-continue" (curl does above 1 KiB) wait for an
+  /// interim 100 before sending it; oversized bodies were already refused when the header was parsed.
+  void on_header(beast::error_code ec, std::size_t bytes) {
+    if (ec || parser_->is_done()) return on_read(ec, bytes);
+    const auto& header = parser_->get();
+    if (!beast::iequals(header[bhttp::field::expect], "100-continue")) return read_body();
+    auto interim = std::make_shared<bhttp::response<bhttp::empty_body>>(bhttp::status::continue_, header.version());
+    bhttp::async_write(stream_, *interim, [self = shared_from_this(), interim](beast::error_code write_ec, std::size_t) {
+      if (write_ec) return self->close();
+      self->read_body();
+    });
+  }
+
+  void read_body() {
     bhttp::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&Connection::on_read, shared_from_this()));
   }
 

@@ -114,6 +114,14 @@ TEST_F(ServerApi, PathTraversalIsRefused) {
   }
 }
 
+TEST_F(ServerApi, ExpectContinueGetsAnInterimReply) {
+  RawConnection connection(port());
+  connection.send("POST /api/v1/version HTTP/1.1\r\nHost: x\r\nExpect: 100-continue\r\nContent-Length: 2\r\n\r\n");
+  EXPECT_EQ(connection.read_reply().status, 100);
+  connection.send("{}");
+  EXPECT_EQ(connection.read_reply().status, 405);
+}
+
 TEST_F(ServerApi, MalformedRequestIs400) {
   RawConnection connection(port());
   connection.send("THIS IS NOT HTTP\r\n\r\n");
