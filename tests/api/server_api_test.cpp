@@ -188,30 +188,19 @@ TEST(ServerLifecycle, SigtermClosesIdleConnectionsAndTheDatabaseCleanly) {
 }
 
 TEST(ServerLifecycle, BadFlagExitsWithMessage) {
-  const std::string command = std::string(HRISIM_BINARY) + " serve --port 70000 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  char buffer[256];
-  while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  const int status = pclose(pipe);
-  EXPECT_EQ(WEXITSTATUS(status), 2);
-  EXPECT_NE(output.find("--port"), std::string::npos) << output;
+  const CommandResult result = run_command(std::string(HRISIM_BINARY) + " serve --port 70000");
+  EXPECT_EQ(result.exit_status, 2);
+  EXPECT_NE(result.output.find("--port"), std::string::npos) << result.output;
 }
 
 TEST(ServerLifecycle, PortInUseIsReported) {
   TestServer first;
-  const std::string command = std::string(HRISIM_BINARY) + " serve --port " + std::to_string(first.port()) +
-                              " --db " + (first.dir() / "other.db").string() + " --scenarios " + HRISIM_SOURCE_DIR +
-                              "/scenarios --web " + HRISIM_SOURCE_DIR + "/web 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  char buffer[256];
-  while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  const int status = pclose(pipe);
-  EXPECT_NE(WEXITSTATUS(status), 0);
-  EXPECT_NE(output.find("cannot listen"), std::string::npos) << output;
+  const CommandResult result = run_command(
+      std::string(HRISIM_BINARY) + " serve --port " + std::to_string(first.port()) + " --db " +
+      (first.dir() / "other.db").string() + " --scenarios " + HRISIM_SOURCE_DIR + "/scenarios --web " +
+      HRISIM_SOURCE_DIR + "/web");
+  EXPECT_NE(result.exit_status, 0);
+  EXPECT_NE(result.output.find("cannot listen"), std::string::npos) << result.output;
 }
 
 }  // namespace

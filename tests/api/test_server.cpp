@@ -172,6 +172,17 @@ bool RawConnection::closed_by_peer() {
   return n < 0 && errno == ECONNRESET;
 }
 
+CommandResult run_command(const std::string& command) {
+  CommandResult result;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) throw std::runtime_error("cannot run " + command);
+  char buffer[256];
+  while (fgets(buffer, sizeof buffer, pipe)) result.output += buffer;
+  const int status = pclose(pipe);
+  result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
 HttpReply http(std::uint16_t port, const std::string& method, const std::string& target, const std::string& body,
                const std::string& extra_headers) {
   RawConnection connection(port);

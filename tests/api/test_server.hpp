@@ -69,6 +69,14 @@ class RawConnection {
   std::string pending_;
 };
 
+struct CommandResult {
+  int exit_status = -1;
+  std::string output;  ///< stdout and stderr together
+};
+
+/// Runs a shell command to completion.
+CommandResult run_command(const std::string& command);
+
 /// One request on a fresh connection with "Connection: close".
 HttpReply http(std::uint16_t port, const std::string& method, const std::string& target, const std::string& body = "",
                const std::string& extra_headers = "");
