@@ -1,0 +1,53 @@
+#pragma once
+// Planar geometry in the map frame (REP 103: x forward, y left, angles counter-clockwise in radians).
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace hrisim::core {
+
+using Vec2 = Eigen::Vector2d;
+
+/// A 2D pose: position and heading.
+struct Pose2 {
+  double x = 0.0;
+  double y = 0.0;
+  double theta = 0.0;
+
+  Vec2 position() const { return {x, y}; }
+  bool operator==(const Pose2&) const = default;
+};
+
+/// Angle wrapped into (-π, π].
+inline double wrap_angle(double angle) {
+  angle = std::remainder(angle, 2.0 * std::numbers::pi);
+  return angle <= -std::numbers::pi ? angle + 2.0 * std::numbers::pi : angle;
+}
+
+/// The vector rotated by +90°.
+inline Vec2 left_normal(const Vec2& v) { return {-v.y(), v.x()}; }
+
+/// 2D cross product (z of the 3D one).
+inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Unit vector of heading theta.
+inline Vec2 heading_vector(double theta) { return {std::cos(theta), std::sin(theta)}; }
+
+/// Closest point to p on segment [a, b].
+inline Vec2 closest_point_on_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double length_squared = ab.squaredNorm();
+  if (length_squared == 0.0) return a;
+  const double t = std::clamp((p - a).dot(ab) / length_squared, 0.0, 1.0);
+  return a + t * ab;
+}
+
+/// Pose `offset` expressed in the frame of `base`, returned in the map frame.
+inline Pose2 compose(const Pose2& base, const Pose2& offset) {
+  const double c = std::cos(base.theta), s = std::sin(base.theta);
+  return {base.x + c * offset.x - s * offset.y, base.y + s * offset.x + c * offset.y,
+          wrap_angle(base.theta + offset.theta)};
+}
+
+}  // namespace hrisim::core

@@ -1,0 +1,83 @@
+#include "core/random.hpp"
+
+#include <bit>
+#include <cmath>
+#include <numbers>
+
+namespace hrisim::core {
+namespace {
+
+std::uint64_t splitmix64(std::uint64_t& x) {
+  std::uint64_t z = (x += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+__extension__ typedef unsigned __int128 uint128;  // GCC/Clang extension, accepted under -Wpedantic
+
+}  // namespace
+
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t hash) {
+  for (unsigned char c : bytes) {
+    hash ^= c;
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+Random::Random(std::uint64_t seed) : seed_(seed) {
+  std::uint64_t x = seed;
+  for (auto& word : state_) word = splitmix64(x);
+}
+
+Random Random::stream(std::string_view subsystem) const {
+  std::uint64_t mixed = seed_ ^ fnv1a(subsystem);
+  return Random(splitmix64(mixed));
+}
+
+std::uint64_t Random::next_u64() {
+  const std::uint64_t result = std::rotl(state_[1] * 5, 7) * 9;
+  const std::uint64_t t = state_[1] << 17;
+  state_[2] ^= state_[0];
+  state_[3] ^= state_[1];
+  state_[1] ^= state_[2];
+  state_[0] ^= state_[3];
+  state_[2] ^= t;
+  state_[3] = std::rotl(state_[3], 45);
+  return result;
+}
+
+double Random::uniform() { return static_cast<double>(next_u64() >> 11) * 0x1.0p-53; }
+
+double Random::uniform(double low, double high) { return low + (high - low) * uniform(); }
+
+std::uint64_t Random::below(std::uint64_t n) {
+  // Lemire's multiply-shift with rejection of the biased low range.
+  uint128 product = static_cast<uint128>(next_u64()) * n;
+  auto low = static_cast<std::uint64_t>(product);
+  if (low < n) {
+    const std::uint64_t threshold = (0 - n) % n;
+    while (low < threshold) {
+      product = static_cast<uint128>(next_u64()) * n;
+      low = static_cast<std::uint64_t>(product);
+    }
+  }
+  return static_cast<std::uint64_t>(product >> 64);
+}
+
+double Random::normal(double mean, double stddev) {
+  if (has_spare_normal_) {
+    has_spare_normal_ = false;
+    return mean + stddev * spare_normal_;
+  }
+  const double u1 = 1.0 - uniform();  // (0, 1]: log is finite
+  const double u2 = uniform();
+  const double radius = std::sqrt(-2.0 * std::log(u1));
+  const double angle = 2.0 * std::numbers::pi * u2;
+  spare_normal_ = radius * std::sin(angle);
+  has_spare_normal_ = true;
+  return mean + stddev * radius * std::cos(angle);
+}
+
+}  // namespace hrisim::core

@@ -1,0 +1,90 @@
+#include "world/path_planner.hpp"
+
+#include <gtest/gtest.h>
+
+namespace hrisim::world {
+namespace {
+
+// A 10 m × 6 m room with a wall across the middle that leaves a 1 m gap at the top.
+struct Room {
+  Room() : grid(0.05, {0, 0}, 200, 120) {
+    grid.fill_polygon({{0, 0}, {10, 0}, {10, 0.1}, {0, 0.1}});
+    grid.fill_polygon({{0, 5.9}, {10, 5.9}, {10, 6}, {0, 6}});
+    grid.fill_polygon({{0, 0}, {0.1, 0}, {0.1, 6}, {0, 6}});
+    grid.fill_polygon({{9.9, 0}, {10, 0}, {10, 6}, {9.9, 6}});
+    grid.fill_polygon({{4.9, 0}, {5.1, 0}, {5.1, 4.9}, {4.9, 4.9}});
+  }
+  OccupancyGrid grid;
+};
+
+double length(const Vec2& start, const std::vector<Vec2>& path) {
+  double total = 0.0;
+  Vec2 previous = start;
+  for (const Vec2& p : path) {
+    total += (p - previous).norm();
+    previous = p;
+  }
+  return total;
+}
+
+TEST(PathPlanner, GoesThroughTheGapWithClearance) {
+  Room room;
+  const DistanceField field(room.grid);
+  const PathPlanner planner(room.grid, field);
+  const Vec2 start(2.0, 1.0), goal(8.0, 1.0);
+  const auto path = planner.plan(start, goal, 0.3);
+  ASSERT_TRUE(path);
+  EXPECT_TRUE(path->back().isApprox(goal));
+  bool crossed_in_gap = false;
+  Vec2 previous = start;
+  for (const Vec2& p : *path) {
+    EXPECT_TRUE(planner.line_of_sight(previous, p, 0.3)) << "smoothed legs stay clear of walls";
+    if ((previous.x() < 5.0) != (p.x() < 5.0)) {
+      const double t = (5.0 - previous.x()) / (p.x() - previous.x());
+      crossed_in_gap = previous.y() + t * (p.y() - previous.y()) > 4.9 + 0.3;
+    }
+    previous = p;
+  }
+  EXPECT_TRUE(crossed_in_gap);
+  EXPECT_LT(path->size(), 6u) << "smoothing removes the grid staircase";
+  // The detour: up to the gap and back down, about 2 × √(3² + 4²) = 10 m, not the 6 m straight line.
+  EXPECT_GT(length(start, *path), 9.0);
+  EXPECT_LT(length(start, *path), 11.0);
+}
+
+TEST(PathPlanner, TooWideToPassHasNoPath) {
+  Room room;
+  const DistanceField field(room.grid);
+  const PathPlanner planner(room.grid, field);
+  EXPECT_FALSE(planner.plan({2.0, 1.0}, {8.0, 1.0}, 0.6)) << "a 1.2 m disc does not fit a 1 m gap";
+  EXPECT_TRUE(planner.plan({2.0, 1.0}, {3.0, 3.0}, 0.6)) << "but moves within its half";
+}
+
+TEST(PathPlanner, TemporaryBlockedCellsCloseTheGap) {
+  Room room;
+  const DistanceField field(room.grid);
+  const PathPlanner planner(room.grid, field);
+  std::vector<std::size_t> door;
+  for (double y = 4.9; y < 5.9; y += 0.05) door.push_back(room.grid.index(room.grid.cell_of({5.0, y + 0.01})));
+  EXPECT_FALSE(planner.plan({2.0, 1.0}, {8.0, 1.0}, 0.3, door));
+  EXPECT_TRUE(planner.plan({2.0, 1.0}, {8.0, 1.0}, 0.3)) << "the cache keeps the open-door field apart";
+}
+
+TEST(PathPlanner, StraightLineInTheOpen) {
+  Room room;
+  const DistanceField field(room.grid);
+  const PathPlanner planner(room.grid, field);
+  const auto path = planner.plan({1.0, 1.0}, {4.0, 4.0}, 0.3);
+  ASSERT_TRUE(path);
+  EXPECT_EQ(path->size(), 1u);
+}
+
+TEST(PathPlanner, OutsideTheMapHasNoPath) {
+  Room room;
+  const DistanceField field(room.grid);
+  const PathPlanner planner(room.grid, field);
+  EXPECT_FALSE(planner.plan({1.0, 1.0}, {40.0, 1.0}, 0.3));
+}
+
+}  // namespace
+}  // namespace hrisim::world
