@@ -1,0 +1,235 @@
+#include "humans/locomotion.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hrisim::humans {
+namespace {
+
+using core::cross;
+
+constexpr double kEpsilon = 1e-5;  // RVO_EPSILON
+
+bool linear_program1(const std::vector<OrcaLine>& lines, std::size_t line_no, double radius, const Vec2& optimum,
+                     bool direction_optimisation, Vec2& result) {
+  const OrcaLine& line = lines[line_no];
+  const double dot = line.point.dot(line.direction);
+  const double discriminant = dot * dot + radius * radius - line.point.squaredNorm();
+  if (discriminant < 0.0) return false;  // the max-speed circle misses the line entirely
+  const double root = std::sqrt(discriminant);
+  double t_left = -dot - root, t_right = -dot + root;
+  for (std::size_t i = 0; i < line_no; ++i) {
+    const double denominator = cross(line.direction, lines[i].direction);
+    const double numerator = cross(lines[i].direction, line.point - lines[i].point);
+    if (std::abs(denominator) <= kEpsilon) {
+      if (numerator < 0.0) return false;  // parallel and on the wrong side
+      continue;
+    }
+    const double t = numerator / denominator;
+    if (denominator >= 0.0) {
+      t_right = std::min(t_right, t);
+    } else {
+      t_left = std::max(t_left, t);
+    }
+    if (t_left > t_right) return false;
+  }
+  if (direction_optimisation) {
+    result = line.point + (optimum.dot(line.direction) > 0.0 ? t_right : t_left) * line.direction;
+  } else {
+    const double t = std::clamp(line.direction.dot(optimum - line.point), t_left, t_right);
+    result = line.point + t * line.direction;
+  }
+  return true;
+}
+
+std::size_t linear_program2(const std::vector<OrcaLine>& lines, double radius, const Vec2& optimum,
+                            bool direction_optimisation, Vec2& result) {
+  if (direction_optimisation) {
+    result = optimum * radius;
+  } else if (optimum.squaredNorm() > radius * radius) {
+    result = optimum.normalized() * radius;
+  } else {
+    result = optimum;
+  }
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (cross(lines[i].direction, lines[i].point - result) > 0.0) {
+      const Vec2 previous = result;
+      if (!linear_program1(lines, i, radius, optimum, direction_optimisation, result)) {
+        result = previous;
+        return i;
+      }
+    }
+  }
+  return lines.size();
+}
+
+void linear_program3(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, std::size_t begin_line,
+                     double radius, Vec2& result) {
+  double distance = 0.0;
+  for (std::size_t i = begin_line; i < lines.size(); ++i) {
+    if (cross(lines[i].direction, lines[i].point - result) <= distance) continue;
+    std::vector<OrcaLine> projected(lines.begin(), lines.begin() + static_cast<std::ptrdiff_t>(obstacle_lines));
+    for (std::size_t j = obstacle_lines; j < i; ++j) {
+      OrcaLine line;
+      const double determinant = cross(lines[i].direction, lines[j].direction);
+      if (std::abs(determinant) <= kEpsilon) {
+        if (lines[i].direction.dot(lines[j].direction) > 0.0) continue;  // same direction
+        line.point = 0.5 * (lines[i].point + lines[j].point);
+      } else {
+        line.point = lines[i].point +
+                     (cross(lines[j].direction, lines[i].point - lines[j].point) / determinant) * lines[i].direction;
+      }
+      line.direction = (lines[j].direction - lines[i].direction).normalized();
+      projected.push_back(line);
+    }
+    const Vec2 previous = result;
+    if (linear_program2(projected, radius, core::left_normal(lines[i].direction), true, result) < projected.size()) {
+      result = previous;  // should not happen in principle: keep the last feasible answer
+    }
+    distance = cross(lines[i].direction, lines[i].point - result);
+  }
+}
+
+/// The ORCA half-plane induced by one neighbour (RVO2's Agent::computeNewVelocity), with the given
+/// share of the avoidance (0.5 reciprocal, 1 when the other does not avoid).
+OrcaLine orca_line(const Vec2& position, const Vec2& velocity, double radius, const Vec2& other_position,
+                   const Vec2& other_velocity, double other_radius, double time_horizon, double dt,
+                   double responsibility) {
+  const Vec2 relative_position = other_position - position;
+  const Vec2 relative_velocity = velocity - other_velocity;
+  const double distance_squared = relative_position.squaredNorm();
+  const double combined_radius = radius + other_radius;
+  const double combined_radius_squared = combined_radius * combined_radius;
+  OrcaLine line;
+  Vec2 u;
+  if (distance_squared > combined_radius_squared) {
+    const double inverse_horizon = 1.0 / time_horizon;
+    const Vec2 w = relative_velocity - inverse_horizon * relative_position;  // from cut-off centre to velocity
+    const double w_length_squared = w.squaredNorm();
+    const double dot1 = w.dot(relative_position);
+    if (dot1 < 0.0 && dot1 * dot1 > combined_radius_squared * w_length_squared) {
+      const double w_length = std::sqrt(w_length_squared);  // project on the cut-off circle
+      const Vec2 unit_w = w / w_length;
+      line.direction = Vec2(unit_w.y(), -unit_w.x());
+      u = (combined_radius * inverse_horizon - w_length) * unit_w;
+    } else {
+      const double leg = std::sqrt(distance_squared - combined_radius_squared);  // project on a leg
+      if (cross(relative_position, w) > 0.0) {
+        line.direction = Vec2(relative_position.x() * leg - relative_position.y() * combined_radius,
+                              relative_position.x() * combined_radius + relative_position.y() * leg) /
+                         distance_squared;
+      } else {
+        line.direction = -Vec2(relative_position.x() * leg + relative_position.y() * combined_radius,
+                               -relative_position.x() * combined_radius + relative_position.y() * leg) /
+                         distance_squared;
+      }
+      u = relative_velocity.dot(line.direction) * line.direction - relative_velocity;
+    }
+  } else {
+    // Already overlapping: resolve within one time step.
+    const double inverse_step = 1.0 / dt;
+    const Vec2 w = relative_velocity - inverse_step * relative_position;
+    const double w_length = w.norm();
+    const Vec2 unit_w = w_length > 0.0 ? Vec2(w / w_length) : Vec2(-relative_position.normalized());
+    line.direction = Vec2(unit_w.y(), -unit_w.x());
+    u = (combined_radius * inverse_step - w_length) * unit_w;
+  }
+  line.point = velocity + responsibility * u;
+  return line;
+}
+
+}  // namespace
+
+Vec2 solve_orca(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, double max_speed,
+                const Vec2& preferred) {
+  Vec2 result;
+  const std::size_t failed = linear_program2(lines, max_speed, preferred, false, result);
+  if (failed < lines.size()) linear_program3(lines, obstacle_lines, failed, max_speed, result);
+  return result;
+}
+
+Crowd::Crowd(OrcaParams orca, SocialForceParams social_force)
+    : orca_(orca), social_force_(social_force), grid_(std::max(orca.neighbour_distance, 1.0)) {}
+
+void Crowd::compute_velocities(std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
+                               std::vector<Vec2>& velocities) {
+  positions_.resize(agents.size());
+  for (std::size_t i = 0; i < agents.size(); ++i) positions_[i] = agents[i].position;
+  grid_.rebuild(positions_);
+  velocities.resize(agents.size());
+  for (std::size_t i = 0; i < agents.size(); ++i) {
+    const CrowdAgent& agent = agents[i];
+    if (agent.controlled) {
+      velocities[i] = agent.velocity;
+    } else if (agent.avoidance == LocalAvoidance::orca) {
+      velocities[i] = orca_velocity(i, agents, obstacles, dt);
+    } else {
+      velocities[i] = social_force_velocity(i, agents, obstacles, dt);
+    }
+  }
+}
+
+Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
+                          double dt) {
+  const CrowdAgent& agent = agents[i];
+  std::vector<OrcaLine> lines;
+  std::size_t obstacle_lines = 0;
+  const double obstacle_range = agent.max_speed * orca_.obstacle_horizon + agent.radius;
+  if (const auto obstacle = obstacles(agent.position, obstacle_range)) {
+    lines.push_back(orca_line(agent.position, agent.velocity, agent.radius, *obstacle, Vec2::Zero(), 0.0,
+                              orca_.obstacle_horizon, dt, 1.0));
+    obstacle_lines = 1;
+  }
+  // The closest neighbours, ties broken by index so the choice is deterministic.
+  std::vector<std::pair<double, std::uint32_t>> neighbours;
+  grid_.for_each_within(agent.position, orca_.neighbour_distance, [&](std::uint32_t j) {
+    if (j != i) neighbours.emplace_back((agents[j].position - agent.position).squaredNorm(), j);
+  });
+  const auto kept = std::min<std::size_t>(neighbours.size(), static_cast<std::size_t>(orca_.max_neighbours));
+  std::partial_sort(neighbours.begin(), neighbours.begin() + static_cast<std::ptrdiff_t>(kept), neighbours.end());
+  for (std::size_t k = 0; k < kept; ++k) {
+    const CrowdAgent& other = agents[neighbours[k].second];
+    lines.push_back(orca_line(agent.position, agent.velocity, agent.radius, other.position, other.velocity,
+                              other.radius, orca_.time_horizon, dt, other.controlled ? 1.0 : 0.5));
+  }
+  return solve_orca(lines, obstacle_lines, agent.max_speed, agent.preferred_velocity);
+}
+
+Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
+                                  double dt) {
+  const CrowdAgent& agent = agents[i];
+  const SocialForceParams& p = social_force_;
+  const Vec2 desired = (agent.preferred_velocity - agent.velocity) / p.relaxation_time;
+
+  Vec2 social = Vec2::Zero();
+  grid_.for_each_within(agent.position, p.neighbour_distance, [&](std::uint32_t j) {
+    if (j == i) return;
+    const Vec2 difference = agents[j].position - agent.position;
+    const double distance = difference.norm();
+    if (distance == 0.0) return;
+    const Vec2 direction = difference / distance;
+    const Vec2 interaction = p.lambda * (agent.velocity - agents[j].velocity) + direction;
+    const double interaction_length = interaction.norm();
+    if (interaction_length == 0.0) return;
+    const Vec2 interaction_direction = interaction / interaction_length;
+    const double theta = std::atan2(cross(interaction_direction, direction), interaction_direction.dot(direction));
+    const double b = p.gamma * interaction_length;
+    const double velocity_amount = -std::exp(-distance / b - std::pow(p.n_prime * b * theta, 2));
+    const double angle_amount = -(theta >= 0.0 ? 1.0 : -1.0) * std::exp(-distance / b - std::pow(p.n * b * theta, 2));
+    social += velocity_amount * interaction_direction + angle_amount * core::left_normal(interaction_direction);
+  });
+
+  Vec2 obstacle_force = Vec2::Zero();
+  if (const auto obstacle = obstacles(agent.position, p.neighbour_distance)) {
+    const Vec2 away = agent.position - *obstacle;
+    const double length = away.norm();
+    if (length > 0.0) obstacle_force = std::exp(-(length - agent.radius) / p.obstacle_sigma) * away / length;
+  }
+
+  const Vec2 acceleration = p.desired_factor * desired + p.social_factor * social + p.obstacle_factor * obstacle_force;
+  Vec2 velocity = agent.velocity + acceleration * dt;
+  if (velocity.norm() > agent.max_speed) velocity = velocity.normalized() * agent.max_speed;
+  return velocity;
+}
+
+}  // namespace hrisim::humans

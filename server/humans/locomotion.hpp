@@ -1,0 +1,92 @@
+#pragma once
+// Local motion of a crowd: every agent's new velocity from its preferred velocity, its neighbours and
+// the nearest obstacle, computed for all agents before any is applied (order-independent).
+// Two models, chosen per agent: ORCA (van den Berg et al. 2011, as in RVO2) and the social force
+// model (Helbing & Molnár 1995 with Moussaïd et al. 2009's interaction term, as in pedsim).
+// Robots are part of the crowd as agents whose velocity comes from their controller: humans always
+// react to them, and under ORCA take full responsibility for avoiding them (robots do not reciprocate).
+#include <functional>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "core/math.hpp"
+#include "humans/spatial_grid.hpp"
+
+namespace hrisim::humans {
+
+enum class LocalAvoidance { orca, social_force };
+
+/// ORCA parameters; defaults as IMHuS's ORCA setup and RVO2's examples.
+struct OrcaParams {
+  double neighbour_distance = 2.0;  ///< m, neighbours considered
+  int max_neighbours = 5;           ///< closest ones kept
+  double time_horizon = 2.0;        ///< s, agents avoid collisions within this time
+  double obstacle_horizon = 1.0;    ///< s, same for static obstacles
+};
+
+/// Social force parameters; defaults are pedsim's (Moussaïd et al. 2009 for λ, γ, n, n′).
+struct SocialForceParams {
+  double desired_factor = 1.0;    ///< weight of the driving force
+  double social_factor = 2.1;     ///< weight of the interaction with other agents
+  double obstacle_factor = 10.0;  ///< weight of the obstacle repulsion
+  double obstacle_sigma = 0.8;    ///< m, decay length of the obstacle force
+  double relaxation_time = 0.5;   ///< s, time to adapt to the desired velocity
+  double lambda = 2.0;            ///< weight of the velocity difference in the interaction direction
+  double gamma = 0.35;            ///< interaction range per unit of interaction vector
+  double n = 2.0;                 ///< angular interaction decay
+  double n_prime = 3.0;           ///< velocity interaction decay
+  double neighbour_distance = 4.0;  ///< m, neighbours considered (the force is negligible beyond)
+};
+
+/// Helbing & Molnár's bound on speed relative to the preferred speed.
+inline constexpr double kMaxSpeedFactor = 1.3;
+
+struct CrowdAgent {
+  Vec2 position = Vec2::Zero();
+  Vec2 velocity = Vec2::Zero();
+  Vec2 preferred_velocity = Vec2::Zero();  ///< towards the next waypoint at the preferred speed; zero when arrived
+  double radius = 0.3;
+  double max_speed = 1.34 * kMaxSpeedFactor;
+  LocalAvoidance avoidance = LocalAvoidance::orca;
+  bool controlled = false;  ///< a robot: velocity given, not computed; others treat it as non-reciprocating
+};
+
+/// Nearest static or temporary obstacle point to p within `range`, if any.
+using ObstacleQuery = std::function<std::optional<Vec2>(const Vec2& p, double range)>;
+
+class Crowd {
+ public:
+  Crowd(OrcaParams orca = {}, SocialForceParams social_force = {});
+
+  /// New velocities for all agents (controlled agents keep theirs).
+  void compute_velocities(std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
+                          std::vector<Vec2>& velocities);
+
+  const OrcaParams& orca() const { return orca_; }
+  const SocialForceParams& social_force() const { return social_force_; }
+
+ private:
+  Vec2 orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt);
+  Vec2 social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
+                             double dt);
+
+  OrcaParams orca_;
+  SocialForceParams social_force_;
+  SpatialGrid grid_;
+  std::vector<Vec2> positions_;
+};
+
+/// One half-plane of permitted velocities: points left of the directed line (RVO2's Line).
+struct OrcaLine {
+  Vec2 point;
+  Vec2 direction;
+};
+
+/// RVO2's linear programs: the velocity closest to `preferred` (within `max_speed`) satisfying the
+/// lines, the first `obstacle_lines` of which are hard; when infeasible, the velocity that violates
+/// the soft lines least.
+Vec2 solve_orca(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, double max_speed,
+                const Vec2& preferred);
+
+}  // namespace hrisim::humans

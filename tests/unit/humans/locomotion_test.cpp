@@ -1,0 +1,158 @@
+#include "humans/locomotion.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/random.hpp"
+
+namespace hrisim::humans {
+namespace {
+
+constexpr double kDt = 1.0 / 60.0;
+constexpr double kSpeed = 1.34;
+
+std::optional<Vec2> no_obstacles(const Vec2&, double) { return std::nullopt; }
+
+/// Steps agents towards their goals with the crowd; returns the smallest centre distance between
+/// agents 0 and 1 seen on the way.
+double simulate(Crowd& crowd, std::vector<CrowdAgent>& agents, const std::vector<Vec2>& goals, double seconds,
+                const ObstacleQuery& obstacles = no_obstacles) {
+  double closest = 1e9;
+  std::vector<Vec2> velocities;
+  for (int tick = 0; tick < static_cast<int>(seconds / kDt); ++tick) {
+    for (std::size_t i = 0; i < agents.size(); ++i) {
+      if (agents[i].controlled) continue;
+      const Vec2 to_goal = goals[i] - agents[i].position;
+      const double distance = to_goal.norm();
+      agents[i].preferred_velocity = distance < 0.05 ? Vec2::Zero() : Vec2(to_goal / distance * std::min(kSpeed, distance / 0.5));
+    }
+    crowd.compute_velocities(agents, obstacles, kDt, velocities);
+    for (std::size_t i = 0; i < agents.size(); ++i) {
+      agents[i].velocity = velocities[i];
+      agents[i].position += velocities[i] * kDt;
+    }
+    closest = std::min(closest, (agents[0].position - agents[1].position).norm());
+  }
+  return closest;
+}
+
+CrowdAgent walker(Vec2 position, LocalAvoidance avoidance) {
+  CrowdAgent agent;
+  agent.position = position;
+  agent.avoidance = avoidance;
+  agent.radius = 0.3;
+  agent.max_speed = kSpeed * kMaxSpeedFactor;
+  return agent;
+}
+
+TEST(SpatialGrid, MatchesBruteForce) {
+  core::Random random(5);
+  std::vector<Vec2> points;
+  for (int i = 0; i < 500; ++i) points.emplace_back(random.uniform(-20, 20), random.uniform(-5, 5));
+  SpatialGrid grid(2.0);
+  grid.rebuild(points);
+  for (int q = 0; q < 50; ++q) {
+    const Vec2 centre(random.uniform(-22, 22), random.uniform(-6, 6));
+    std::vector<std::uint32_t> found, expected;
+    grid.for_each_within(centre, 3.0, [&](std::uint32_t i) { found.push_back(i); });
+    for (std::uint32_t i = 0; i < points.size(); ++i) {
+      if ((points[i] - centre).norm() <= 3.0) expected.push_back(i);
+    }
+    std::sort(found.begin(), found.end());
+    EXPECT_EQ(found, expected);
+  }
+}
+
+TEST(Orca, WithoutConstraintsThePreferredVelocityIsKept) {
+  EXPECT_TRUE(solve_orca({}, 0, 2.0, Vec2(1.0, 0.5)).isApprox(Vec2(1.0, 0.5)));
+  EXPECT_TRUE(solve_orca({}, 0, 1.0, Vec2(3.0, 4.0)).isApprox(Vec2(0.6, 0.8))) << "clipped to the max speed";
+}
+
+TEST(Orca, HalfPlaneProjectsThePreferredVelocity) {
+  // Permitted: left of the line through (0.5, 0) pointing +y, i.e. vx <= 0.5.
+  const Vec2 v = solve_orca({{Vec2(0.5, 0.0), Vec2(0.0, 1.0)}}, 0, 2.0, Vec2(1.0, 0.3));
+  EXPECT_NEAR(v.x(), 0.5, 1e-12);
+  EXPECT_NEAR(v.y(), 0.3, 1e-12);
+}
+
+TEST(Orca, HeadOnSwapWithoutCollision) {
+  Crowd crowd;
+  std::vector<CrowdAgent> agents{walker({-4, 0.0}, LocalAvoidance::orca), walker({4, 0.01}, LocalAvoidance::orca)};
+  const std::vector<Vec2> goals{{4, 0}, {-4, 0}};
+  const double closest = simulate(crowd, agents, goals, 12.0);
+  EXPECT_GE(closest, 0.6 - 0.02) << "the discs (0.3 m each) never overlap";
+  EXPECT_LT((agents[0].position - goals[0]).norm(), 0.2);
+  EXPECT_LT((agents[1].position - goals[1]).norm(), 0.2);
+}
+
+TEST(Orca, HumansGiveWayToANonReciprocatingRobot) {
+  Crowd crowd;
+  CrowdAgent robot = walker({-4, 0.0}, LocalAvoidance::orca);
+  robot.controlled = true;
+  robot.velocity = Vec2(0.8, 0.0);
+  std::vector<CrowdAgent> agents{robot, walker({4, 0.05}, LocalAvoidance::orca)};
+  const std::vector<Vec2> goals{{0, 0}, {-4, 0}};
+  const double closest = simulate(crowd, agents, goals, 10.0);
+  EXPECT_NEAR(agents[0].position.y(), 0.0, 1e-12) << "the robot keeps its course";
+  EXPECT_NEAR(agents[0].position.x(), -4.0 + 0.8 * static_cast<int>(10.0 / kDt) * kDt, 1e-9);
+  EXPECT_GE(closest, 0.6 - 0.02) << "the human takes all of the avoidance";
+  EXPECT_LT((agents[1].position - goals[1]).norm(), 0.2);
+}
+
+// Moussaïd's interaction term turns the two to opposite sides; with pedsim's parameters they pass with
+// their centres about 0.4 m apart (pedsim's agents have a 0.2 m radius), where without the term they
+// would walk straight through each other.
+TEST(SocialForce, HeadOnPassSwervesToOppositeSides) {
+  Crowd crowd;
+  std::vector<CrowdAgent> agents{walker({-5, 0.0}, LocalAvoidance::social_force),
+                                 walker({5, 0.05}, LocalAvoidance::social_force)};
+  const std::vector<Vec2> goals{{5, 0}, {-5, 0}};
+  const double closest = simulate(crowd, agents, goals, 6.0);  // until just after they meet
+  EXPECT_GT(closest, 0.35);
+  EXPECT_LT(agents[0].position.y(), -0.1);
+  EXPECT_GT(agents[1].position.y(), 0.1);
+
+  Crowd without_interaction(OrcaParams{}, SocialForceParams{.social_factor = 0.0});
+  std::vector<CrowdAgent> blind{walker({-5, 0.0}, LocalAvoidance::social_force),
+                                walker({5, 0.05}, LocalAvoidance::social_force)};
+  EXPECT_LT(simulate(without_interaction, blind, goals, 6.0), 0.1);
+}
+
+TEST(SocialForce, HeadOnPassReachesTheGoals) {
+  Crowd crowd;
+  std::vector<CrowdAgent> agents{walker({-5, 0.0}, LocalAvoidance::social_force),
+                                 walker({5, 0.05}, LocalAvoidance::social_force)};
+  const std::vector<Vec2> goals{{5, 0}, {-5, 0}};
+  simulate(crowd, agents, goals, 15.0);
+  EXPECT_LT((agents[0].position - goals[0]).norm(), 0.3);
+  EXPECT_LT((agents[1].position - goals[1]).norm(), 0.3);
+}
+
+// Walking straight at a wall, the agent settles where the driving force (v0 / τ = 2.68 m/s²) equals
+// the obstacle force 10·exp(−(d − r)/0.8): d − r = 0.8·ln(10 / 2.68) = 1.054 m, so d = 1.354 m.
+TEST(SocialForce, StopsBeforeAWallAtTheForceEquilibrium) {
+  Crowd crowd;
+  const ObstacleQuery wall = [](const Vec2& p, double range) -> std::optional<Vec2> {
+    if (10.0 - p.x() > range) return std::nullopt;
+    return Vec2(10.0, p.y());
+  };
+  std::vector<CrowdAgent> agents{walker({0, 0}, LocalAvoidance::social_force), walker({0, 50}, LocalAvoidance::social_force)};
+  const std::vector<Vec2> goals{{20, 0}, {0, 50}};
+  simulate(crowd, agents, goals, 30.0, wall);
+  EXPECT_NEAR(10.0 - agents[0].position.x(), 0.3 + 0.8 * std::log(10.0 / kSpeed * 0.5), 0.02);
+}
+
+TEST(Crowd, ControlledAgentsKeepTheirVelocity) {
+  Crowd crowd;
+  CrowdAgent robot = walker({0, 0}, LocalAvoidance::orca);
+  robot.controlled = true;
+  robot.velocity = Vec2(0.3, -0.2);
+  std::vector<CrowdAgent> agents{robot, walker({0.5, 0}, LocalAvoidance::social_force)};
+  std::vector<Vec2> velocities;
+  crowd.compute_velocities(agents, no_obstacles, kDt, velocities);
+  EXPECT_EQ(velocities[0], robot.velocity);
+}
+
+}  // namespace
+}  // namespace hrisim::humans
