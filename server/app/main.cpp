@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "app/cli.hpp"
+#include "app/scenario_commands.hpp"
 #include "core/error.hpp"
 #include "http/api.hpp"
 #include "storage/store.hpp"
@@ -15,6 +16,9 @@ constexpr const char* kUsage =
     "usage: hrisim <command> [options]\n\n"
     "commands:\n"
     "  serve     start the HTTP/WebSocket server and browser UI (hrisim serve --help)\n"
+    "  validate  check scenario files: hrisim validate FILE...\n"
+    "  run       run a scenario headless and print a JSON summary:\n"
+    "            hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...]\n"
     "  version   print build and library versions as JSON\n"
     "  help      print this text\n";
 
@@ -58,6 +62,8 @@ int main(int argc, char** argv) {
   const std::string command = argc > 1 ? argv[1] : "help";
   try {
     if (command == "serve") return serve(args);
+    if (command == "validate") return hrisim::app::validate_command(args);
+    if (command == "run") return hrisim::app::run_command(args);
     if (command == "version" || command == "--version") {
       std::printf("%s\n", hrisim::http::version_info().dump(2).c_str());
       return 0;

@@ -1,0 +1,170 @@
+#include "app/scenario_commands.hpp"
+
+#include <charconv>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+
+#include "core/error.hpp"
+#include "scenario/load.hpp"
+#include "sim/session.hpp"
+
+namespace hrisim::app {
+namespace {
+
+[[noreturn]] void usage_error(const std::string& message) {
+  throw core::Error(core::ErrorCode::bad_request, message);
+}
+
+double parse_seconds(const std::string& option, const std::string& text) {
+  double value = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || !(value >= 0.0)) {
+    usage_error(option + ": expected a number of seconds >= 0, got '" + text + "'");
+  }
+  return value;
+}
+
+scenario::LoadResult load(const std::string& file) {
+  return scenario::load_scenario_file(file, {{bundled_scenarios_dir()}});
+}
+
+void print_errors(const std::string& file, const std::vector<core::ValidationError>& errors) {
+  for (const auto& error : errors) {
+    std::fprintf(stderr, "%s: %s: %s\n", file.c_str(), error.pointer.empty() ? "(document)" : error.pointer.c_str(),
+                 error.message.c_str());
+  }
+}
+
+}  // namespace
+
+std::string bundled_scenarios_dir() {
+  const char* configured = std::getenv("HRISIM_SCENARIOS");
+  return configured ? configured : "scenarios";
+}
+
+int validate_command(const std::vector<std::string>& args) {
+  if (args.empty()) usage_error("usage: hrisim validate FILE...");
+  int status = 0;
+  for (const std::string& file : args) {
+    const scenario::LoadResult result = load(file);
+    if (!result.model) {
+      print_errors(file, result.errors);
+      std::fprintf(stderr, "%s: %zu error%s\n", file.c_str(), result.errors.size(), result.errors.size() == 1 ? "" : "s");
+      status = 1;
+      continue;
+    }
+    std::size_t humans = 0;
+    for (const auto& agent : result.model->agents) humans += agent.kind == scenario::AgentKind::human;
+    std::printf("%s: ok (%zu humans, %zu robots, %zu steps)\n", file.c_str(), humans,
+                result.model->agents.size() - humans, result.model->steps.size());
+  }
+  return status;
+}
+
+int run_command(const std::vector<std::string>& args) {
+  std::string file;
+  std::uint64_t seed = 0;
+  std::optional<double> max_time;
+  bool with_events = false;
+  std::vector<std::pair<double, std::string>> requests;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) usage_error(arg + " needs a value");
+      return args[++i];
+    };
+    if (arg == "--seed") {
+      const std::string& text = value();
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
+      if (ec != std::errc() || end != text.data() + text.size()) usage_error("--seed: expected a whole number, got '" + text + "'");
+    } else if (arg == "--max-time") {
+      max_time = parse_seconds("--max-time", value());
+    } else if (arg == "--events") {
+      with_events = true;
+    } else if (arg == "--request") {
+      const std::string& text = value();
+      const auto colon = text.find(':');
+      if (colon == std::string::npos) usage_error("--request: expected TIME:TASK, got '" + text + "'");
+      requests.emplace_back(parse_seconds("--request", text.substr(0, colon)), text.substr(colon + 1));
+    } else if (arg.starts_with("--")) {
+      usage_error("unknown option " + arg);
+    } else if (file.empty()) {
+      file = arg;
+    } else {
+      usage_error("unexpected argument '" + arg + "'");
+    }
+  }
+  if (file.empty()) {
+    usage_error("usage: hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...]");
+  }
+
+  const scenario::LoadResult loaded = load(file);
+  if (!loaded.model) {
+    print_errors(file, loaded.errors);
+    return 1;
+  }
+  const scenario::Model& model = *loaded.model;
+  sim::Session session(loaded.model, seed);
+  for (const auto& [time, task_name] : requests) {
+    const int task = model.find_task(task_name);
+    if (task < 0) usage_error("--request: the scenario has no task '" + task_name + "'");
+    int robot = -1;
+    for (std::size_t a = 0; a < model.agents.size() && robot < 0; ++a) {
+      if (model.agents[a].kind == scenario::AgentKind::robot) robot = static_cast<int>(a);
+    }
+    if (robot < 0) usage_error("--request: the scenario has no robot to make the request");
+    session.schedule_request(time, robot, task);
+  }
+  session.run(max_time);
+
+  const sim::State& state = session.state();
+  nlohmann::json steps = nlohmann::json::array();
+  for (std::size_t s = 0; s < model.steps.size(); ++s) {
+    const sim::StepRecord& record = state.steps[s];
+    nlohmann::json entry{{"name", model.steps[s].name}};
+    entry["started"] = record.started_tick < 0 ? nlohmann::json() : nlohmann::json(record.started_tick * model.dt);
+    entry["finished"] = record.finished_tick < 0 ? nlohmann::json() : nlohmann::json(record.finished_tick * model.dt);
+    entry["duration"] = record.finished_tick < 0 ? nlohmann::json()
+                                                 : nlohmann::json((record.finished_tick - record.started_tick) * model.dt);
+    steps.push_back(entry);
+  }
+  nlohmann::json agents = nlohmann::json::array();
+  for (std::size_t a = 0; a < model.agents.size(); ++a) {
+    const sim::AgentState& agent = state.agents[a];
+    agents.push_back({{"id", model.agents[a].id},
+                      {"x", agent.position.x()},
+                      {"y", agent.position.y()},
+                      {"theta", agent.heading},
+                      {"busy", !agent.program.empty()}});
+  }
+  std::map<std::string, int> counts;
+  for (const sim::Event& event : state.events) ++counts[event.kind];
+  const bool in_step = state.step < static_cast<int>(model.steps.size());
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(session.state_hash()));
+  nlohmann::json summary{
+      {"scenario", model.name},
+      {"seed", seed},
+      {"dt", model.dt},
+      {"ticks", state.tick},
+      {"sim_time", session.time()},
+      {"completed", state.termination == "scenario_end"},
+      {"termination", state.termination},
+      {"step", in_step ? nlohmann::json{{"index", state.step}, {"name", model.steps[state.step].name}} : nlohmann::json()},
+      {"steps", steps},
+      {"events", counts},
+      {"agents", agents},
+      {"state_hash", hash}};
+  if (with_events) {
+    nlohmann::json log = nlohmann::json::array();
+    for (const sim::Event& event : state.events) {
+      log.push_back({{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}});
+    }
+    summary["event_log"] = log;
+  }
+  std::printf("%s\n", summary.dump(2).c_str());
+  return 0;
+}
+
+}  // namespace hrisim::app

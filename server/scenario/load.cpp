@@ -1,0 +1,495 @@
+#include "scenario/load.hpp"
+
+#include <fstream>
+#include <functional>
+#include <set>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "world/ros_map.hpp"
+
+namespace hrisim::scenario {
+namespace embedded {
+extern const std::pair<std::string_view, std::string_view> kEmbedded[];
+extern const int kEmbeddedCount;
+}  // namespace embedded
+
+namespace {
+
+using nlohmann::json;
+using Errors = std::vector<core::ValidationError>;
+
+/// The member, or an empty value when absent (a reference that stays valid, unlike json::value()).
+const json& member(const json& object, const char* key) {
+  static const json kEmpty = json::object();
+  const auto found = object.find(key);
+  return found == object.end() ? kEmpty : *found;
+}
+
+Pose2 read_pose(const json& j) { return {j.at("x").get<double>(), j.at("y").get<double>(), j.value("theta", 0.0)}; }
+Vec2 read_point(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>()}; }
+
+std::vector<Vec2> rectangle(const Pose2& centre, double length, double width) {
+  std::vector<Vec2> corners;
+  for (const auto& [sx, sy] : {std::pair{1.0, 1.0}, {-1.0, 1.0}, {-1.0, -1.0}, {1.0, -1.0}}) {
+    const Pose2 corner = core::compose(centre, {sx * length / 2, sy * width / 2, 0.0});
+    corners.emplace_back(corner.x, corner.y);
+  }
+  return corners;
+}
+
+std::vector<Vec2> wall_polygon(const Vec2& from, const Vec2& to, double thickness) {
+  const Vec2 along = to - from;
+  const double length = along.norm();
+  const Vec2 middle = 0.5 * (from + to);
+  const double theta = length > 0 ? std::atan2(along.y(), along.x()) : 0.0;
+  return rectangle({middle.x(), middle.y(), theta}, std::max(length, thickness), thickness);
+}
+
+/// Names of everything the scenario declares, for resolving references.
+struct Names {
+  std::map<std::string, int> locations, social_spaces, agents, tasks;
+  std::set<std::string> robots;
+};
+
+class Loader {
+ public:
+  Loader(const json& document, const LoadOptions& options, Errors& errors)
+      : doc_(document), options_(options), errors_(errors) {}
+
+  std::shared_ptr<Model> load() {
+    auto model = build_world();
+    if (!model) return nullptr;
+    model->name = doc_.at("name");
+    model->description = doc_.value("description", "");
+    model->dt = doc_.value("dt", kDefaultDt);
+    model->time_limit = doc_.value("time_limit", kDefaultTimeLimit);
+    read_locomotion(*model);
+    read_places(*model);
+    read_agents(*model);
+    collect_task_names(*model);
+    read_tasks(*model);
+    read_steps(*model);
+    read_async(*model);
+    check_task_cycles(*model);
+    return errors_.empty() ? model : nullptr;
+  }
+
+ private:
+  void error(const std::string& pointer, const std::string& message) { errors_.push_back({pointer, message}); }
+
+  std::optional<std::filesystem::path> find_map(const std::string& name) const {
+    const std::filesystem::path path(name);
+    if (path.is_absolute()) return std::filesystem::exists(path) ? std::optional(path) : std::nullopt;
+    for (const auto& folder : options_.map_search_path) {
+      if (std::filesystem::exists(folder / path)) return folder / path;
+    }
+    return std::nullopt;
+  }
+
+  std::shared_ptr<Model> build_world() {
+    const json& world = doc_.at("world");
+    std::optional<world::OccupancyGrid> grid;
+    if (world.contains("map")) {
+      const std::string name = world["map"];
+      const auto path = find_map(name);
+      if (!path) {
+        error("/world/map", "map '" + name + "' not found (looked next to the scenario and in the bundled scenarios)");
+        return nullptr;
+      }
+      try {
+        grid = world::load_ros_map(*path);
+      } catch (const core::Error& e) {
+        error("/world/map", e.what());
+        return nullptr;
+      }
+    } else if (world.contains("bounds")) {
+      const Vec2 low = read_point(world["bounds"]["min"]), high = read_point(world["bounds"]["max"]);
+      const double resolution = world.value("resolution", world::kDefaultGridResolution);
+      if (!(high.x() > low.x() && high.y() > low.y())) {
+        error("/world/bounds", "max must be greater than min in x and y");
+        return nullptr;
+      }
+      try {
+        grid.emplace(resolution, low, static_cast<int>(std::ceil((high.x() - low.x()) / resolution)),
+                     static_cast<int>(std::ceil((high.y() - low.y()) / resolution)));
+      } catch (const core::Error& e) {
+        error("/world/bounds", e.what());
+        return nullptr;
+      }
+    } else {
+      error("/world", "needs either 'map' (a ROS map YAML file) or 'bounds'");
+      return nullptr;
+    }
+
+    std::vector<Obstacle> obstacles;
+    const json& walls = member(world, "walls");
+    for (std::size_t i = 0; i < walls.size(); ++i) {
+      obstacles.push_back({"wall " + std::to_string(i),
+                           wall_polygon(read_point(walls[i]["from"]), read_point(walls[i]["to"]), walls[i].value("thickness", 0.1)),
+                           {}});
+    }
+    const json& listed = member(world, "obstacles");
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < listed.size(); ++i) {
+      const json& entry = listed[i];
+      Obstacle obstacle{entry["name"], {}, {}};
+      if (!names.insert(obstacle.name).second) {
+        error("/world/obstacles/" + std::to_string(i) + "/name", "obstacle name '" + obstacle.name + "' is used twice");
+      }
+      Pose2 frame;
+      if (entry.contains("box")) {
+        frame = read_pose(entry["box"]);
+        obstacle.polygon = rectangle(frame, entry["box"]["length"], entry["box"]["width"]);
+      } else {
+        for (const json& point : entry["polygon"]) obstacle.polygon.push_back(read_point(point));
+        Vec2 centre = Vec2::Zero();
+        for (const Vec2& p : obstacle.polygon) centre += p / static_cast<double>(obstacle.polygon.size());
+        frame = {centre.x(), centre.y(), 0.0};
+      }
+      for (const auto& [anchor, pose] : member(entry, "anchors").items()) {
+        obstacle.anchors[anchor] = core::compose(frame, read_pose(pose));
+      }
+      obstacles.push_back(std::move(obstacle));
+    }
+    for (const Obstacle& obstacle : obstacles) grid->fill_polygon(obstacle.polygon);
+    auto model = std::make_shared<Model>(std::move(*grid));
+    model->obstacles = std::move(obstacles);
+    return model;
+  }
+
+  void read_locomotion(Model& model) {
+    const json& locomotion = member(doc_, "locomotion");
+    default_avoidance_ = locomotion.value("avoidance", "orca") == "orca" ? humans::LocalAvoidance::orca
+                                                                         : humans::LocalAvoidance::social_force;
+    model.replan_distance = locomotion.value("replan_distance", kDefaultReplanDistance);
+    const json& orca = member(locomotion, "orca");
+    model.orca.neighbour_distance = orca.value("neighbour_distance", model.orca.neighbour_distance);
+    model.orca.max_neighbours = orca.value("max_neighbours", model.orca.max_neighbours);
+    model.orca.time_horizon = orca.value("time_horizon", model.orca.time_horizon);
+    model.orca.obstacle_horizon = orca.value("obstacle_horizon", model.orca.obstacle_horizon);
+    const json& sf = member(locomotion, "social_force");
+    auto& p = model.social_force;
+    p.desired_factor = sf.value("desired_factor", p.desired_factor);
+    p.social_factor = sf.value("social_factor", p.social_factor);
+    p.obstacle_factor = sf.value("obstacle_factor", p.obstacle_factor);
+    p.obstacle_sigma = sf.value("obstacle_sigma", p.obstacle_sigma);
+    p.relaxation_time = sf.value("relaxation_time", p.relaxation_time);
+    p.lambda = sf.value("lambda", p.lambda);
+    p.gamma = sf.value("gamma", p.gamma);
+    p.n = sf.value("n", p.n);
+    p.n_prime = sf.value("n_prime", p.n_prime);
+  }
+
+  /// Errors when p is outside the map or inside an obstacle, naming the obstacle when one contains it.
+  void check_free(const Model& model, const Vec2& p, const std::string& pointer, const std::string& what) {
+    if (!model.grid.in_bounds(model.grid.cell_of(p))) {
+      error(pointer, what + " at (" + format(p) + ") is outside the map");
+      return;
+    }
+    if (!model.grid.blocked(p)) return;
+    for (const Obstacle& obstacle : model.obstacles) {
+      if (world::contains(obstacle.polygon, p)) {
+        error(pointer, what + " at (" + format(p) + ") is inside obstacle \"" + obstacle.name + "\"");
+        return;
+      }
+    }
+    error(pointer, what + " at (" + format(p) + ") is on an occupied or unknown cell of the map");
+  }
+
+  static std::string format(const Vec2& p) {
+    std::ostringstream out;
+    out << p.x() << ", " << p.y();
+    return out.str();
+  }
+
+  void read_places(Model& model) {
+    for (const auto& [name, entry] : member(doc_, "locations").items()) {
+      names_.locations[name] = static_cast<int>(model.locations.size());
+      model.locations.push_back({name, read_pose(entry), entry.value("radius", kDefaultGoalRadius)});
+      check_free(model, model.locations.back().pose.position(), "/locations/" + core::pointer_token(name),
+                 "location '" + name + "'");
+    }
+    for (const auto& [name, entry] : member(doc_, "social_spaces").items()) {
+      names_.social_spaces[name] = static_cast<int>(model.social_spaces.size());
+      SocialSpace space{name, read_pose(entry), {}};
+      for (std::size_t i = 0; i < entry["slots"].size(); ++i) {
+        space.slots.push_back(core::compose(space.centre, read_pose(entry["slots"][i])));
+        check_free(model, space.slots.back().position(),
+                   "/social_spaces/" + core::pointer_token(name) + "/slots/" + std::to_string(i),
+                   "slot " + std::to_string(i) + " of social space '" + name + "'");
+      }
+      model.social_spaces.push_back(std::move(space));
+    }
+  }
+
+  void read_agents(Model& model) {
+    for (const char* section : {"humans", "robots"}) {
+      const json list = doc_.value(section, json::array());
+      const bool is_human = std::string(section) == "humans";
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const json& entry = list[i];
+        const std::string pointer = std::string("/") + section + "/" + std::to_string(i);
+        AgentDef agent;
+        agent.id = entry["id"];
+        agent.kind = is_human ? AgentKind::human : AgentKind::robot;
+        agent.start = read_pose(entry["start"]);
+        agent.radius = entry.value("radius", kDefaultAgentRadius);
+        if (entry.contains("preferred_speed")) agent.preferred_speed = entry["preferred_speed"].get<double>();
+        agent.avoidance = !entry.contains("avoidance")             ? default_avoidance_
+                          : entry["avoidance"] == "social_force" ? humans::LocalAvoidance::social_force
+                                                                 : humans::LocalAvoidance::orca;
+        agent.type = entry.value("type", "adult");
+        if (names_.agents.contains(agent.id)) {
+          error(pointer + "/id", "agent id '" + agent.id + "' is used twice");
+        }
+        names_.agents[agent.id] = static_cast<int>(model.agents.size());
+        if (!is_human) names_.robots.insert(agent.id);
+        check_free(model, agent.start.position(), pointer + "/start", std::string(is_human ? "human" : "robot") + " '" + agent.id + "'");
+        model.agents.push_back(std::move(agent));
+      }
+    }
+  }
+
+  void collect_task_names(Model& model) {
+    for (const auto& [name, unused] : member(doc_, "tasks").items()) {
+      names_.tasks[name] = static_cast<int>(model.tasks.size());
+      model.tasks.push_back({name, {}});
+    }
+  }
+
+  int resolve(const std::map<std::string, int>& table, const std::string& name, const std::string& pointer,
+              const std::string& what) {
+    const auto found = table.find(name);
+    if (found != table.end()) return found->second;
+    std::string known;
+    for (const auto& [candidate, unused] : table) known += (known.empty() ? "" : ", ") + candidate;
+    error(pointer, "unknown " + what + " '" + name + "'" + (known.empty() ? " (none defined)" : " (known: " + known + ")"));
+    return -1;
+  }
+
+  Action read_action(const json& entry, const std::string& pointer, bool in_task) {
+    Action action;
+    action.pointer = pointer;
+    if (entry.contains("agent")) {
+      if (in_task) {
+        error(pointer + "/agent", "actions of a compound task do not name an agent: whoever runs the task acts");
+      } else {
+        action.agent = resolve(names_.agents, entry["agent"], pointer + "/agent", "agent");
+      }
+    } else if (!in_task) {
+      error(pointer, "missing required key 'agent'");
+    }
+    if (entry.contains("goto")) {
+      const json& go = entry["goto"];
+      if (go.contains("location")) {
+        action.kind = Action::Kind::go_to_location;
+        action.target = resolve(names_.locations, go["location"], pointer + "/goto/location", "location");
+        if (go.contains("offset")) action.pose = read_pose(go["offset"]);
+      } else if (go.contains("social_space")) {
+        action.kind = Action::Kind::go_to_social_space;
+        action.target = resolve(names_.social_spaces, go["social_space"], pointer + "/goto/social_space", "social space");
+      } else {
+        action.kind = Action::Kind::go_to_pose;
+        action.pose = read_pose(go["pose"]);
+        action.radius = go.value("radius", kDefaultGoalRadius);
+        check_free(*model_for_checks_, action.pose.position(), pointer + "/goto/pose", "goal pose");
+      }
+    } else if (entry.contains("wait")) {
+      const json& wait = entry["wait"];
+      if (wait.contains("duration")) {
+        action.kind = Action::Kind::wait_duration;
+        action.value = wait["duration"];
+      } else {
+        action.kind = Action::Kind::wait_message;
+        action.topic = wait["topic"];
+        action.message = wait["message"];
+      }
+    } else if (entry.contains("look_at")) {
+      const json& look = entry["look_at"];
+      if (look.contains("angle")) {
+        action.kind = Action::Kind::look_at_angle;
+        action.value = look["angle"];
+      } else if (look.contains("agent")) {
+        action.kind = Action::Kind::look_at_agent;
+        action.target = resolve(names_.agents, look["agent"], pointer + "/look_at/agent", "agent");
+      } else {
+        action.kind = Action::Kind::look_at_location;
+        action.target = resolve(names_.locations, look["location"], pointer + "/look_at/location", "location");
+      }
+    } else if (entry.contains("turn")) {
+      action.kind = entry["turn"].contains("by") ? Action::Kind::turn_by : Action::Kind::turn_to;
+      action.value = entry["turn"].contains("by") ? entry["turn"]["by"] : entry["turn"]["to"];
+    } else if (entry.contains("publish")) {
+      action.kind = Action::Kind::publish;
+      action.topic = entry["publish"]["topic"];
+      action.message = entry["publish"]["message"];
+    } else {
+      action.kind = Action::Kind::run_task;
+      action.target = resolve(names_.tasks, entry["task"], pointer + "/task", "task");
+    }
+    return action;
+  }
+
+  void read_tasks(Model& model) {
+    model_for_checks_ = &model;
+    for (const auto& [name, actions] : member(doc_, "tasks").items()) {
+      Task& task = model.tasks[static_cast<std::size_t>(names_.tasks[name])];
+      for (std::size_t i = 0; i < actions.size(); ++i) {
+        task.actions.push_back(read_action(actions[i], "/tasks/" + core::pointer_token(name) + "/" + std::to_string(i), true));
+      }
+    }
+  }
+
+  void read_steps(Model& model) {
+    const json& steps = doc_.at("steps");
+    for (std::size_t s = 0; s < steps.size(); ++s) {
+      Step step{steps[s]["name"], {}};
+      for (std::size_t i = 0; i < steps[s]["actions"].size(); ++i) {
+        const std::string pointer = "/steps/" + std::to_string(s) + "/actions/" + std::to_string(i);
+        step.actions.push_back(read_action(steps[s]["actions"][i], pointer, false));
+      }
+      model.steps.push_back(std::move(step));
+    }
+  }
+
+  void read_async(Model& model) {
+    const json& async = member(doc_, "async");
+    std::set<int> handled;
+    for (std::size_t i = 0; i < async.size(); ++i) {
+      const int task = resolve(names_.tasks, async[i]["task"], "/async/" + std::to_string(i) + "/task", "task");
+      if (task >= 0) {
+        model.async_tasks.push_back(task);
+        handled.insert(task);
+      }
+    }
+    const json& requests = member(doc_, "requests");
+    for (std::size_t i = 0; i < requests.size(); ++i) {
+      const std::string pointer = "/requests/" + std::to_string(i);
+      Request request;
+      request.time = requests[i]["time"];
+      request.task = resolve(names_.tasks, requests[i]["task"], pointer + "/task", "task");
+      if (request.task >= 0 && !handled.contains(request.task)) {
+        error(pointer + "/task", "no entry of 'async' answers task '" + requests[i]["task"].get<std::string>() + "'");
+      }
+      if (requests[i].contains("robot")) {
+        const std::string robot = requests[i]["robot"];
+        if (!names_.robots.contains(robot)) {
+          error(pointer + "/robot", "'" + robot + "' is not a robot of this scenario");
+        } else {
+          request.robot = names_.agents[robot];
+        }
+      } else if (names_.robots.empty()) {
+        error(pointer, "a request needs a robot, and the scenario has none");
+      } else {
+        request.robot = names_.agents[*names_.robots.begin()];
+        for (std::size_t a = 0; a < model.agents.size(); ++a) {
+          if (model.agents[a].kind == AgentKind::robot) {
+            request.robot = static_cast<int>(a);
+            break;
+          }
+        }
+      }
+      model.requests.push_back(request);
+    }
+    std::stable_sort(model.requests.begin(), model.requests.end(),
+                     [](const Request& a, const Request& b) { return a.time < b.time; });
+  }
+
+  void check_task_cycles(const Model& model) {
+    // Depth-first search over task → task calls; a task on the current path reached again is a cycle.
+    std::vector<int> state(model.tasks.size(), 0);  // 0 unseen, 1 on path, 2 done
+    std::function<bool(int)> visit = [&](int task) {
+      if (state[task] == 1) return true;
+      if (state[task] == 2) return false;
+      state[task] = 1;
+      for (const Action& action : model.tasks[task].actions) {
+        if (action.kind == Action::Kind::run_task && action.target >= 0 && visit(action.target)) {
+          error(action.pointer + "/task", "task '" + model.tasks[task].name + "' calls itself through '" +
+                                              model.tasks[action.target].name + "'");
+          state[task] = 2;
+          return false;
+        }
+      }
+      state[task] = 2;
+      return false;
+    };
+    for (std::size_t t = 0; t < model.tasks.size(); ++t) visit(static_cast<int>(t));
+  }
+
+  const json& doc_;
+  const LoadOptions& options_;
+  Errors& errors_;
+  Names names_;
+  humans::LocalAvoidance default_avoidance_ = humans::LocalAvoidance::orca;
+  const Model* model_for_checks_ = nullptr;
+};
+
+}  // namespace
+
+int Model::find_agent(const std::string& id) const {
+  for (std::size_t i = 0; i < agents.size(); ++i) {
+    if (agents[i].id == id) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int Model::find_task(const std::string& task_name) const {
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    if (tasks[i].name == task_name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+const core::JsonSchema& scenario_schema() {
+  static const core::JsonSchema schema = [] {
+    for (int i = 0; i < embedded::kEmbeddedCount; ++i) {
+      if (embedded::kEmbedded[i].first == "scenario.schema.json") {
+        return core::JsonSchema(json::parse(embedded::kEmbedded[i].second));
+      }
+    }
+    throw core::Error(core::ErrorCode::internal, "scenario schema is not embedded");
+  }();
+  return schema;
+}
+
+LoadResult load_scenario(const json& document, const LoadOptions& options) {
+  LoadResult result;
+  result.errors = scenario_schema().validate(document);
+  if (!result.errors.empty()) return result;  // meaning is checked on well-formed documents only
+  Loader loader(document, options, result.errors);
+  result.model = loader.load();
+  return result;
+}
+
+LoadResult load_scenario_text(std::string_view text, const LoadOptions& options) {
+  try {
+    return load_scenario(json::parse(text), options);
+  } catch (const json::parse_error& e) {
+    // Turn the byte offset into a line and column people can find.
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    const std::string message = e.what();
+    const std::size_t reason = message.find(": ", message.find("syntax error"));
+    return {nullptr, {{"", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
+                               (reason == std::string::npos ? "" : ": " + message.substr(reason + 2))}}};
+  }
+}
+
+LoadResult load_scenario_file(const std::filesystem::path& file, LoadOptions options) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return {nullptr, {{"", "cannot read " + file.string()}}};
+  std::ostringstream text;
+  text << in.rdbuf();
+  options.map_search_path.insert(options.map_search_path.begin(), file.parent_path().empty() ? "." : file.parent_path());
+  return load_scenario_text(text.str(), options);
+}
+
+}  // namespace hrisim::scenario

@@ -1,0 +1,140 @@
+#pragma once
+// A scenario compiled once into an immutable model that every session of it shares: the map with its
+// grid, distance field and planner, named locations and social spaces, the agents' definitions, the
+// compound tasks, the steps and the asynchronous responses (IMHuS semantics, DESIGN.md §1).
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/math.hpp"
+#include "humans/locomotion.hpp"
+#include "world/occupancy_grid.hpp"
+#include "world/path_planner.hpp"
+
+namespace hrisim::scenario {
+
+using core::Pose2;
+using core::Vec2;
+
+/// Default simulation step, in seconds (seed 003 §5: physics at 60 Hz).
+inline constexpr double kDefaultDt = 1.0 / 60.0;
+/// Default episode time limit, in seconds.
+inline constexpr double kDefaultTimeLimit = 300.0;
+/// Goal tolerance of a location or pose without its own radius, in metres.
+inline constexpr double kDefaultGoalRadius = 0.2;
+/// Radius of a human or robot disc without its own, in metres (ORCA's default agent radius).
+inline constexpr double kDefaultAgentRadius = 0.3;
+/// Preferred walking speed drawn per human: mean and standard deviation, m/s (pedsim, after Helbing).
+inline constexpr double kPreferredSpeedMean = 1.34;
+inline constexpr double kPreferredSpeedStddev = 0.26;
+/// Bounds of the drawn preferred speed, m/s, so no human stands still or sprints.
+inline constexpr double kPreferredSpeedMin = 0.5;
+inline constexpr double kPreferredSpeedMax = 2.0;
+/// Replan when pushed this far from the planned path, in metres.
+inline constexpr double kDefaultReplanDistance = 1.0;
+
+struct Location {
+  std::string name;
+  Pose2 pose;
+  double radius = kDefaultGoalRadius;
+};
+
+struct SocialSpace {
+  std::string name;
+  Pose2 centre;
+  std::vector<Pose2> slots;  ///< absolute poses, in the order they are taken
+};
+
+struct Obstacle {
+  std::string name;
+  std::vector<Vec2> polygon;
+  std::map<std::string, Pose2> anchors;  ///< absolute poses
+};
+
+enum class AgentKind { human, robot };
+
+struct AgentDef {
+  std::string id;
+  AgentKind kind = AgentKind::human;
+  Pose2 start;
+  double radius = kDefaultAgentRadius;
+  std::optional<double> preferred_speed;  ///< drawn per session when absent
+  humans::LocalAvoidance avoidance = humans::LocalAvoidance::orca;
+  std::string type = "adult";
+};
+
+struct Action {
+  enum class Kind {
+    go_to_location,      ///< target: location, pose: offset in the location's frame
+    go_to_social_space,  ///< target: social space; the first free slot
+    go_to_pose,          ///< pose, radius
+    wait_duration,       ///< value: seconds
+    wait_message,        ///< topic, message
+    look_at_angle,       ///< value: heading
+    look_at_agent,       ///< target: agent
+    look_at_location,    ///< target: location
+    turn_by,             ///< value: angle
+    turn_to,             ///< value: heading
+    publish,             ///< topic, message
+    run_task,            ///< target: compound task
+  };
+  Kind kind = Kind::wait_duration;
+  int agent = -1;   ///< acting agent in steps; -1 in compound tasks (the invoker acts)
+  int target = -1;  ///< index of the location, social space, agent or task
+  Pose2 pose;
+  double radius = kDefaultGoalRadius;
+  double value = 0.0;
+  std::string topic;
+  std::string message;
+  std::string pointer;  ///< where it stands in the scenario (JSON pointer), for events and errors
+};
+
+struct Task {
+  std::string name;
+  std::vector<Action> actions;
+};
+
+struct Step {
+  std::string name;
+  std::vector<Action> actions;
+};
+
+struct Request {
+  double time = 0.0;
+  int task = -1;
+  int robot = -1;
+};
+
+struct Model {
+  Model(world::OccupancyGrid grid_in) : grid(std::move(grid_in)), field(grid), planner(grid, field) {}
+  Model(const Model&) = delete;
+  Model& operator=(const Model&) = delete;
+
+  std::string name;
+  std::string description;
+  double dt = kDefaultDt;
+  double time_limit = kDefaultTimeLimit;
+
+  world::OccupancyGrid grid;
+  world::DistanceField field;
+  world::PathPlanner planner;  ///< refers to grid and field above
+  std::vector<Obstacle> obstacles;
+
+  std::vector<Location> locations;
+  std::vector<SocialSpace> social_spaces;
+  std::vector<AgentDef> agents;  ///< humans then robots, each in file order
+  std::vector<Task> tasks;
+  std::vector<Step> steps;
+  std::vector<int> async_tasks;  ///< tasks humans run when a robot requests them
+  std::vector<Request> requests;  ///< scripted robot requests, by time
+
+  humans::OrcaParams orca;
+  humans::SocialForceParams social_force;
+  double replan_distance = kDefaultReplanDistance;
+
+  int find_agent(const std::string& id) const;
+  int find_task(const std::string& name) const;
+};
+
+}  // namespace hrisim::scenario

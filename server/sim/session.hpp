@@ -1,0 +1,78 @@
+#pragma once
+// A session runs one scenario model: fixed time step, seeded randomness owned by the session, no wall
+// clock. step() advances one tick in a fixed order: inputs → choreography decides → locomotion computes
+// all new velocities → commit → observers. Same model, seed and inputs give bit-identical states.
+#include <memory>
+#include <string>
+
+#include "humans/locomotion.hpp"
+#include "scenario/model.hpp"
+#include "sim/state.hpp"
+
+namespace hrisim::sim {
+
+/// A human answers a robot request only within this distance of where the robot asked (IMHuS).
+inline constexpr double kRequestRadius = 3.0;
+/// An unanswered request is tried again this often, in seconds...
+inline constexpr double kRequestRetryPeriod = 5.0;
+/// ...until it is this old, then dropped (counted as a failure), in seconds.
+inline constexpr double kRequestTimeout = 30.0;
+/// Turning speed of humans, rad/s.
+inline constexpr double kTurnRate = 3.0;
+/// A turn or look-at is complete within this angle, rad.
+inline constexpr double kHeadingTolerance = 0.05;
+/// Humans slow down over this distance before their goal, m.
+inline constexpr double kArrivalSlowdown = 0.5;
+/// A waypoint (other than the last) counts as passed within this distance, m.
+inline constexpr double kWaypointReached = 0.3;
+/// Without a path, planning is tried again after this long, s.
+inline constexpr double kReplanRetry = 1.0;
+
+class Session {
+ public:
+  Session(std::shared_ptr<const scenario::Model> model, std::uint64_t seed);
+
+  /// Advances one tick; does nothing once finished.
+  void step();
+  /// Runs until finished or `max_time` of simulation time (the model's limit when absent).
+  void run(std::optional<double> max_time = std::nullopt);
+
+  /// A robot asks for a task now (IMHuS request): the closest idle human within 3 m answers.
+  void request(int robot, int task);
+  /// A robot will ask for a task at simulation time `time`.
+  void schedule_request(double time, int robot, int task);
+  /// Sets a robot's velocity in the map frame until changed.
+  void command_robot(int robot, const Vec2& velocity);
+
+  const State& state() const { return state_; }
+  const scenario::Model& model() const { return *model_; }
+  double time() const { return static_cast<double>(state_.tick) * model_->dt; }
+  /// Hash of everything that changes, bit for bit.
+  std::uint64_t state_hash() const;
+
+ private:
+  void start_step(int step);
+  void update_choreography();
+  void update_requests();
+  bool advance_agent(int agent);
+  bool start_action(int agent, const scenario::Action& action);
+  bool action_done(int agent, const scenario::Action& action);
+  const scenario::Action& action_of(const PendingAction& pending) const;
+  void finish_action(int agent);
+  void go_to(int agent, const Pose2& goal, double radius, bool with_heading);
+  bool plan_path(int agent);
+  void release_reservations(int agent);
+  bool slot_free(int space, int slot, int agent) const;
+  bool idle(int agent) const;
+  void locomotion();
+  void emit(std::string kind, std::string subject, nlohmann::json data = nlohmann::json::object());
+
+  std::shared_ptr<const scenario::Model> model_;
+  double time_limit_;
+  State state_;
+  humans::Crowd crowd_;
+  std::vector<humans::CrowdAgent> crowd_agents_;
+  std::vector<Vec2> velocities_;
+};
+
+}  // namespace hrisim::sim

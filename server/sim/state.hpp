@@ -1,0 +1,99 @@
+#pragma once
+// Everything about a running scenario that changes: agents, choreography progress, topics, robot
+// requests, events. Copying a State snapshots a session; the Model it runs is shared and immutable.
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/math.hpp"
+#include "core/random.hpp"
+
+namespace hrisim::sim {
+
+using core::Pose2;
+using core::Vec2;
+
+/// An action waiting or running for one agent; compound tasks are expanded when they start.
+struct PendingAction {
+  int task = -1;    ///< compound task the action belongs to, -1 for a step action
+  int index = -1;   ///< index of the action in the step or task
+  int step = -1;    ///< step it belongs to; -1 when it answers a robot request
+};
+
+struct AgentState {
+  Vec2 position = Vec2::Zero();
+  Vec2 velocity = Vec2::Zero();
+  double heading = 0.0;
+  double preferred_speed = 0.0;
+
+  std::deque<PendingAction> program;  ///< front is running (when started) or next
+  bool action_started = false;
+  std::int64_t wait_until_tick = 0;
+
+  bool navigating = false;
+  Vec2 goal = Vec2::Zero();
+  double goal_radius = 0.0;
+  std::optional<double> goal_heading;
+  std::vector<Vec2> path;
+  std::size_t path_index = 0;
+  std::int64_t replan_at_tick = -1;  ///< when no path was found, try again at this tick
+
+  std::optional<double> target_heading;  ///< turning in place towards this
+  int look_at_agent = -1;                ///< keeps facing this agent while the action runs
+
+  int reserved_location = -1;
+  int reserved_space = -1;
+  int reserved_slot = -1;
+  bool answering_request = false;
+
+  Vec2 commanded_velocity = Vec2::Zero();  ///< robots: from the controller
+};
+
+struct Event {
+  std::int64_t tick = 0;
+  double time = 0.0;
+  std::string kind;
+  std::string subject;
+  nlohmann::json data = nlohmann::json::object();
+};
+
+/// A robot request waiting for an idle human (IMHuS's asynchronous step).
+struct OpenRequest {
+  int robot = -1;
+  int task = -1;
+  Vec2 position = Vec2::Zero();  ///< the robot's position when it asked
+  std::int64_t asked_tick = 0;
+  std::int64_t next_try_tick = 0;
+};
+
+/// A robot request to be made at a given simulation time (scripted in the scenario or the command line).
+struct ScheduledRequest {
+  double time = 0.0;
+  int robot = -1;
+  int task = -1;
+};
+
+struct StepRecord {
+  std::int64_t started_tick = -1;
+  std::int64_t finished_tick = -1;
+};
+
+struct State {
+  std::int64_t tick = 0;
+  std::vector<AgentState> agents;
+  int step = 0;  ///< index of the current step; == steps.size() when all have finished
+  std::vector<StepRecord> steps;
+  std::map<std::string, std::string> topics;  ///< latest message per topic
+  std::vector<OpenRequest> requests;
+  std::vector<ScheduledRequest> scheduled;  ///< robot requests still to come, by time
+  std::vector<Event> events;
+  core::Random random;
+  bool finished = false;
+  std::string termination;  ///< "scenario_end" or "timeout" once finished
+};
+
+}  // namespace hrisim::sim
