@@ -152,31 +152,32 @@ void Session::update_requests() {
 }
 
 void Session::update_choreography() {
-  for (std::size_t a = 0; a < state_.agents.size(); ++a) advance_agent(static_cast<int>(a));
-  const int step = state_.step;
-  if (step >= static_cast<int>(model_->steps.size())) {
-    if (!state_.finished) {
-      state_.finished = true;
-      state_.termination = "scenario_end";
-      emit("scenario_finished", model_->name);
+  // A finished step hands over to the next within the same tick, so its actions start without delay.
+  for (std::size_t guard = 0; guard <= model_->steps.size(); ++guard) {
+    for (std::size_t a = 0; a < state_.agents.size(); ++a) advance_agent(static_cast<int>(a));
+    const int step = state_.step;
+    if (step >= static_cast<int>(model_->steps.size())) {
+      if (!state_.finished) {
+        state_.finished = true;
+        state_.termination = "scenario_end";
+        emit("scenario_finished", model_->name);
+      }
+      return;
     }
-    return;
-  }
-  for (const AgentState& agent : state_.agents) {
-    for (const PendingAction& pending : agent.program) {
-      if (pending.step == step) return;
+    for (const AgentState& agent : state_.agents) {
+      for (const PendingAction& pending : agent.program) {
+        if (pending.step == step) return;
+      }
     }
-  }
-  state_.steps[step].finished_tick = state_.tick;
-  emit("step_finished", model_->steps[step].name,
-       {{"index", step}, {"duration", static_cast<double>(state_.tick - state_.steps[step].started_tick) * model_->dt}});
-  if (step + 1 < static_cast<int>(model_->steps.size())) {
-    start_step(step + 1);
-  } else {
-    state_.step = step + 1;
-    state_.finished = true;
-    state_.termination = "scenario_end";
-    emit("scenario_finished", model_->name);
+    state_.steps[step].finished_tick = state_.tick;
+    emit("step_finished", model_->steps[step].name,
+         {{"index", step},
+          {"duration", static_cast<double>(state_.tick - state_.steps[step].started_tick) * model_->dt}});
+    if (step + 1 < static_cast<int>(model_->steps.size())) {
+      start_step(step + 1);
+    } else {
+      state_.step = step + 1;
+    }
   }
 }
 

@@ -1,0 +1,36 @@
+#pragma once
+// Small scenarios for tests: a 10 m × 10 m walled room plus whatever the test adds.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "scenario/load.hpp"
+
+namespace hrisim::testing {
+
+/// A room from (0, 0) to (10, 10) with a table in the middle; `extra` is merged over it.
+inline nlohmann::json room_scenario(const nlohmann::json& extra) {
+  nlohmann::json scenario = nlohmann::json::parse(R"({
+    "name": "room",
+    "time_limit": 60,
+    "world": {
+      "bounds": {"min": [-0.5, -0.5], "max": [10.5, 10.5]},
+      "walls": [{"from": [0, 0], "to": [10, 0]}, {"from": [10, 0], "to": [10, 10]},
+                {"from": [10, 10], "to": [0, 10]}, {"from": [0, 10], "to": [0, 0]}],
+      "obstacles": [{"name": "table", "box": {"x": 5, "y": 5, "length": 1.2, "width": 0.8}}]
+    },
+    "steps": []
+  })");
+  scenario.merge_patch(extra);
+  return scenario;
+}
+
+/// Loads a scenario that must be valid.
+inline std::shared_ptr<const scenario::Model> load_valid(const nlohmann::json& document) {
+  const scenario::LoadResult result = scenario::load_scenario(document, {});
+  for (const auto& error : result.errors) ADD_FAILURE() << error.pointer << ": " << error.message;
+  return result.model;
+}
+
+}  // namespace hrisim::testing

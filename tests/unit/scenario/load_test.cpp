@@ -1,0 +1,227 @@
+#include "scenario/load.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "support/scenarios.hpp"
+#include "support/temp_dir.hpp"
+
+namespace hrisim::scenario {
+namespace {
+
+using nlohmann::json;
+using testing::room_scenario;
+
+/// Errors of a document, as "pointer: message" lines.
+std::vector<std::string> errors_of(const json& document) {
+  const LoadResult result = load_scenario(document, {});
+  EXPECT_EQ(result.model == nullptr, !result.errors.empty());
+  std::vector<std::string> lines;
+  for (const auto& e : result.errors) lines.push_back(e.pointer + ": " + e.message);
+  return lines;
+}
+
+::testing::AssertionResult has_error(const std::vector<std::string>& errors, const std::string& pointer,
+                                     const std::string& fragment) {
+  for (const std::string& line : errors) {
+    if (line.starts_with(pointer + ": ") && line.find(fragment) != std::string::npos) return ::testing::AssertionSuccess();
+  }
+  std::string all;
+  for (const std::string& line : errors) all += "\n  " + line;
+  return ::testing::AssertionFailure() << "no error at " << pointer << " mentioning '" << fragment << "' in:" << all;
+}
+
+const json kPeople = json::parse(R"({
+  "locations": {"door": {"x": 1, "y": 1, "theta": 1.57}},
+  "social_spaces": {"sofa": {"x": 8, "y": 8, "slots": [{"x": 0, "y": 0}, {"x": 0.7, "y": 0}]}},
+  "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 3, "y": 2}}],
+  "robots": [{"id": "robot", "start": {"x": 2, "y": 8}}],
+  "tasks": {"fetch": [{"goto": {"location": "door"}}, {"wait": {"duration": 1}}]},
+  "steps": [{"name": "go", "actions": [{"agent": "ana", "task": "fetch"}, {"agent": "ben", "goto": {"social_space": "sofa"}}]}],
+  "async": [{"task": "fetch"}],
+  "requests": [{"time": 3, "task": "fetch"}]
+})");
+
+TEST(LoadScenario, CompilesTheModel) {
+  const auto model = testing::load_valid(room_scenario(kPeople));
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->name, "room");
+  EXPECT_DOUBLE_EQ(model->dt, kDefaultDt);
+  EXPECT_DOUBLE_EQ(model->time_limit, 60.0);
+  ASSERT_EQ(model->agents.size(), 3u);
+  EXPECT_EQ(model->agents[2].kind, AgentKind::robot);
+  EXPECT_DOUBLE_EQ(model->agents[0].radius, kDefaultAgentRadius);
+  EXPECT_FALSE(model->agents[0].preferred_speed) << "drawn per session";
+  EXPECT_DOUBLE_EQ(model->locations[0].radius, kDefaultGoalRadius);
+  EXPECT_TRUE(model->social_spaces[0].slots[1].position().isApprox(Vec2(8.7, 8.0)));
+  ASSERT_EQ(model->steps.size(), 1u);
+  EXPECT_EQ(model->steps[0].actions[0].kind, Action::Kind::run_task);
+  EXPECT_EQ(model->steps[0].actions[0].agent, 0);
+  EXPECT_EQ(model->tasks[0].actions[0].kind, Action::Kind::go_to_location);
+  EXPECT_EQ(model->requests[0].robot, 2);
+  EXPECT_TRUE(model->grid.blocked(Vec2(5.0, 5.0))) << "the table is in the grid";
+  EXPECT_TRUE(model->grid.blocked(Vec2(0.0, 5.0))) << "so are the walls";
+}
+
+TEST(LoadScenario, DefaultsFollowThePapers) {
+  const auto model = testing::load_valid(room_scenario(kPeople));
+  EXPECT_DOUBLE_EQ(model->orca.neighbour_distance, 2.0);
+  EXPECT_EQ(model->orca.max_neighbours, 5);
+  EXPECT_DOUBLE_EQ(model->orca.time_horizon, 2.0);
+  EXPECT_DOUBLE_EQ(model->orca.obstacle_horizon, 1.0);
+  EXPECT_DOUBLE_EQ(model->social_force.desired_factor, 1.0);
+  EXPECT_DOUBLE_EQ(model->social_force.social_factor, 2.1);
+  EXPECT_DOUBLE_EQ(model->social_force.obstacle_factor, 10.0);
+  EXPECT_DOUBLE_EQ(model->social_force.obstacle_sigma, 0.8);
+  EXPECT_DOUBLE_EQ(model->social_force.relaxation_time, 0.5);
+  EXPECT_DOUBLE_EQ(model->social_force.lambda, 2.0);
+  EXPECT_DOUBLE_EQ(model->social_force.gamma, 0.35);
+  EXPECT_DOUBLE_EQ(model->social_force.n, 2.0);
+  EXPECT_DOUBLE_EQ(model->social_force.n_prime, 3.0);
+  EXPECT_DOUBLE_EQ(model->replan_distance, kDefaultReplanDistance);
+  EXPECT_EQ(model->agents[0].avoidance, humans::LocalAvoidance::orca);
+}
+
+TEST(LoadScenario, InvalidJsonNamesLineAndColumn) {
+  const LoadResult result = load_scenario_text("{\n  \"name\": \"x\",\n  \"world\": {,\n}", {});
+  ASSERT_EQ(result.errors.size(), 1u);
+  EXPECT_NE(result.errors[0].message.find("line 3, column 13"), std::string::npos) << result.errors[0].message;
+}
+
+TEST(LoadScenario, StructuralErrorsAllAtOnce) {
+  json document = room_scenario(kPeople);
+  document["colour"] = "blue";
+  document["dt"] = -1;
+  document["humans"][1]["start"]["x"] = "left";
+  document["steps"][0]["actions"][1]["goto"] = {{"social_space", "sofa"}, {"speed", 2}};
+  const auto errors = errors_of(document);
+  EXPECT_TRUE(has_error(errors, "/colour", "unknown key 'colour'"));
+  EXPECT_TRUE(has_error(errors, "/dt", "must be greater than 0"));
+  EXPECT_TRUE(has_error(errors, "/humans/1/start/x", "expected number, got string"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/goto/speed", "unknown key 'speed'"));
+  EXPECT_EQ(errors.size(), 4u);
+}
+
+TEST(LoadScenario, UnknownReferencesAreNamed) {
+  json document = room_scenario(kPeople);
+  document["steps"][0]["actions"] = json::parse(R"([
+    {"agent": "zoe", "wait": {"duration": 1}},
+    {"agent": "ana", "goto": {"location": "kitchen"}},
+    {"agent": "ana", "goto": {"social_space": "bench"}},
+    {"agent": "ana", "task": "dance"},
+    {"agent": "ana", "look_at": {"agent": "nobody"}}
+  ])");
+  document["async"] = json::parse(R"([{"task": "sing"}])");
+  const auto errors = errors_of(document);
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/0/agent", "unknown agent 'zoe' (known: ana, ben, robot)"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/goto/location", "unknown location 'kitchen' (known: door)"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/2/goto/social_space", "unknown social space 'bench'"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/3/task", "unknown task 'dance'"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/4/look_at/agent", "unknown agent 'nobody'"));
+  EXPECT_TRUE(has_error(errors, "/async/0/task", "unknown task 'sing'"));
+  EXPECT_TRUE(has_error(errors, "/requests/0/task", "no entry of 'async' answers task 'fetch'"));
+}
+
+TEST(LoadScenario, PlacesInsideObstaclesOrOutsideTheMap) {
+  json document = room_scenario(kPeople);
+  document["humans"][0]["start"] = {{"x", 5.1}, {"y", 5.1}};
+  document["robots"][0]["start"] = {{"x", 20}, {"y", 2}};
+  document["locations"]["door"] = {{"x", 0.0}, {"y", 3.0}};
+  document["social_spaces"]["sofa"]["slots"][1] = {{"x", -3.0}, {"y", -3.0}};
+  document["steps"][0]["actions"][1] = json::parse(R"({"agent": "ben", "goto": {"pose": {"x": 4.9, "y": 4.9}}})");
+  const auto errors = errors_of(document);
+  EXPECT_TRUE(has_error(errors, "/humans/0/start", "human 'ana' at (5.1, 5.1) is inside obstacle \"table\""));
+  EXPECT_TRUE(has_error(errors, "/robots/0/start", "outside the map"));
+  EXPECT_TRUE(has_error(errors, "/locations/door", "inside obstacle \"wall 3\""));
+  EXPECT_TRUE(has_error(errors, "/social_spaces/sofa/slots/1", "slot 1 of social space 'sofa'"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/goto/pose", "inside obstacle \"table\""));
+}
+
+TEST(LoadScenario, DuplicateIdsAndNames) {
+  json document = room_scenario(kPeople);
+  document["robots"][0]["id"] = "ana";
+  document["world"]["obstacles"].push_back(json::parse(R"({"name": "table", "box": {"x": 2, "y": 5, "length": 1, "width": 1}})"));
+  const auto errors = errors_of(document);
+  EXPECT_TRUE(has_error(errors, "/robots/0/id", "agent id 'ana' is used twice"));
+  EXPECT_TRUE(has_error(errors, "/world/obstacles/1/name", "obstacle name 'table' is used twice"));
+}
+
+TEST(LoadScenario, AgentsInStepsButNotInTasks) {
+  json document = room_scenario(kPeople);
+  document["tasks"]["fetch"][0]["agent"] = "ana";
+  document["steps"][0]["actions"][1].erase("agent");
+  const auto errors = errors_of(document);
+  EXPECT_TRUE(has_error(errors, "/tasks/fetch/0/agent", "do not name an agent"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/1", "missing required key 'agent'"));
+}
+
+TEST(LoadScenario, TasksMayNotCallThemselves) {
+  json document = room_scenario(kPeople);
+  document["tasks"]["a"] = json::parse(R"([{"task": "b"}])");
+  document["tasks"]["b"] = json::parse(R"([{"wait": {"duration": 1}}, {"task": "a"}])");
+  const auto errors = errors_of(document);
+  EXPECT_TRUE(has_error(errors, "/tasks/b/1/task", "calls itself")) ;
+}
+
+TEST(LoadScenario, RequestsNeedARobot) {
+  json document = room_scenario(kPeople);
+  document["requests"][0]["robot"] = "ana";
+  EXPECT_TRUE(has_error(errors_of(document), "/requests/0/robot", "'ana' is not a robot"));
+  document["requests"][0].erase("robot");
+  document.erase("robots");
+  EXPECT_TRUE(has_error(errors_of(document), "/requests/0", "the scenario has none"));
+}
+
+TEST(LoadScenario, WorldNeedsAMapOrBounds) {
+  json document = room_scenario(kPeople);
+  document["world"].erase("bounds");
+  EXPECT_TRUE(has_error(errors_of(document), "/world", "needs either 'map'"));
+  document = room_scenario(kPeople);
+  document["world"]["bounds"]["max"] = {-2, 3};
+  EXPECT_TRUE(has_error(errors_of(document), "/world/bounds", "max must be greater than min"));
+  document = room_scenario(kPeople);
+  document["world"]["map"] = "nowhere.yaml";
+  EXPECT_TRUE(has_error(errors_of(document), "/world/map", "map 'nowhere.yaml' not found"));
+}
+
+TEST(LoadScenario, MapRelativeToTheScenarioFile) {
+  testing::TempDir dir;
+  std::ofstream(dir / "m.pgm", std::ios::binary) << "P5\n40 40\n255\n" << std::string(40 * 40, '\xfe');
+  std::ofstream(dir / "m.yaml") << "image: m.pgm\nresolution: 0.25\norigin: [0, 0, 0]\n";
+  json document = room_scenario(kPeople);
+  document["world"] = {{"map", "m.yaml"}};
+  std::ofstream(dir / "s.json") << document.dump();
+  const LoadResult result = load_scenario_file(dir / "s.json");
+  for (const auto& e : result.errors) ADD_FAILURE() << e.pointer << ": " << e.message;
+  ASSERT_TRUE(result.model);
+  EXPECT_EQ(result.model->grid.width(), 40);
+  EXPECT_DOUBLE_EQ(result.model->grid.resolution(), 0.25);
+}
+
+// IMHuS's own elevator map loads through a scenario, and its published poses are in free space.
+TEST(LoadScenario, ImhusElevatorMapWithItsPoses) {
+  json document = json::parse(R"({"name": "elevator map", "world": {}, "steps": [],
+    "locations": {"initial_pose1": {"x": 5, "y": -2}, "elevator_door1_button": {"x": 2, "y": 1},
+                  "center_floor2": {"x": -5, "y": 0}, "printer_floor2": {"x": -7.5, "y": 0}},
+    "social_spaces": {"elevator": {"x": 0, "y": 0, "slots": [{"x": 0.5, "y": 0.5}, {"x": 0.5, "y": -0.5},
+                      {"x": -0.5, "y": -0.5}, {"x": -0.5, "y": 0.5}, {"x": 0, "y": 0}]}}})");
+  document["world"]["map"] = std::string(HRISIM_SHARED_DIR) + "/external/imhus/elevator_map/elevator.yaml";
+  const auto model = testing::load_valid(document);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->grid.width(), 325);
+}
+
+TEST(LoadScenario, BundledScenariosAreValid) {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(HRISIM_SOURCE_DIR) + "/scenarios")) {
+    if (entry.path().extension() != ".json") continue;
+    ++count;
+    const LoadResult result = load_scenario_file(entry.path());
+    for (const auto& e : result.errors) ADD_FAILURE() << entry.path() << " " << e.pointer << ": " << e.message;
+  }
+  EXPECT_GE(count, 4);
+}
+
+}  // namespace
+}  // namespace hrisim::scenario

@@ -1,0 +1,312 @@
+#include "sim/session.hpp"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "support/scenarios.hpp"
+
+namespace hrisim::sim {
+namespace {
+
+using nlohmann::json;
+using scenario::Model;
+
+std::shared_ptr<const Model> model_of(const std::string& extra) {
+  auto model = testing::load_valid(testing::room_scenario(json::parse(extra)));
+  if (!model) throw std::runtime_error("invalid test scenario");
+  return model;
+}
+
+std::vector<const Event*> events_of(const Session& session, const std::string& kind) {
+  std::vector<const Event*> found;
+  for (const Event& event : session.state().events) {
+    if (event.kind == kind) found.push_back(&event);
+  }
+  return found;
+}
+
+double step_duration(const Session& session, int step) {
+  const StepRecord& record = session.state().steps[step];
+  return static_cast<double>(record.finished_tick - record.started_tick) * session.model().dt;
+}
+
+TEST(Session, GotoReachesTheLocationAndTakesItsHeading) {
+  Session session(model_of(R"({
+    "locations": {"window": {"x": 8, "y": 2, "theta": 1.5708, "radius": 0.2}},
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}, "preferred_speed": 1.2}],
+    "steps": [{"name": "walk", "actions": [{"agent": "ana", "goto": {"location": "window"}}]}]})"), 1);
+  session.run();
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  const AgentState& ana = session.state().agents[0];
+  EXPECT_LE((ana.position - Vec2(8, 2)).norm(), 0.2 + 1e-9);
+  EXPECT_NEAR(ana.heading, 1.5708, kHeadingTolerance);
+  // 6 m at 1.2 m/s, plus the acceleration, the slow-down before the goal and the final turn.
+  EXPECT_GT(step_duration(session, 0), 6.0 / 1.2);
+  EXPECT_LT(step_duration(session, 0), 6.0 / 1.2 + 3.0);
+}
+
+TEST(Session, GotoWalksAroundTheTable) {
+  Session session(model_of(R"({
+    "humans": [{"id": "ana", "start": {"x": 3, "y": 5}, "preferred_speed": 1.3}],
+    "steps": [{"name": "walk", "actions": [{"agent": "ana", "goto": {"pose": {"x": 7, "y": 5}}}]}]})"), 1);
+  // The table covers [4.4, 5.6] × [4.6, 5.4]; ana's disc (0.3 m) must stay off it.
+  double closest_to_table = 1e9;
+  while (!session.state().finished) {
+    session.step();
+    const Vec2 p = session.state().agents[0].position;
+    const Vec2 on_table(std::clamp(p.x(), 4.4, 5.6), std::clamp(p.y(), 4.6, 5.4));
+    closest_to_table = std::min(closest_to_table, (p - on_table).norm());
+  }
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_GT(closest_to_table, 0.3 - 0.05) << "within half a grid cell of the planned clearance";
+}
+
+TEST(Session, StepActionsStartTogetherAndTheStepEndsWithTheLast) {
+  Session session(model_of(R"({
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 2, "y": 8}}],
+    "steps": [
+      {"name": "waits", "actions": [{"agent": "ana", "wait": {"duration": 1}}, {"agent": "ben", "wait": {"duration": 2.5}}]},
+      {"name": "short", "actions": [{"agent": "ana", "wait": {"duration": 0.5}}]}]})"), 1);
+  session.run();
+  EXPECT_NEAR(step_duration(session, 0), 2.5, 1e-9);
+  EXPECT_NEAR(step_duration(session, 1), 0.5, 1e-9);
+  EXPECT_EQ(session.state().steps[1].started_tick, session.state().steps[0].finished_tick);
+  EXPECT_EQ(events_of(session, "step_started").size(), 2u);
+  EXPECT_EQ(events_of(session, "scenario_finished").size(), 1u);
+}
+
+TEST(Session, SeveralActionsOfOneAgentInAStepRunInOrder) {
+  Session session(model_of(R"({
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
+    "steps": [{"name": "s", "actions": [{"agent": "ana", "wait": {"duration": 1}}, {"agent": "ana", "wait": {"duration": 2}}]}]})"), 1);
+  session.run();
+  EXPECT_NEAR(step_duration(session, 0), 3.0, 1e-9);
+}
+
+TEST(Session, CompoundTasksRunTheirActionsInOrder) {
+  Session session(model_of(R"({
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
+    "tasks": {"inner": [{"wait": {"duration": 1}}, {"publish": {"topic": "/t", "message": "inner"}}],
+              "outer": [{"task": "inner"}, {"wait": {"duration": 0.5}}, {"publish": {"topic": "/t", "message": "outer"}}]},
+    "steps": [{"name": "s", "actions": [{"agent": "ana", "task": "outer"}]}]})"), 1);
+  session.run();
+  const auto published = events_of(session, "publish");
+  ASSERT_EQ(published.size(), 2u);
+  EXPECT_EQ(published[0]->data["message"], "inner");
+  EXPECT_NEAR(published[0]->time, 1.0, 1e-9);
+  EXPECT_EQ(published[1]->data["message"], "outer");
+  EXPECT_NEAR(published[1]->time, 1.5, 1e-9);
+  EXPECT_EQ(published[1]->subject, "ana");
+}
+
+TEST(Session, WaitForAMessageSeesTheLatestOne) {
+  Session session(model_of(R"({
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 2, "y": 8}}],
+    "steps": [
+      {"name": "early", "actions": [{"agent": "ben", "publish": {"topic": "/door", "message": "open"}}]},
+      {"name": "later", "actions": [{"agent": "ana", "wait": {"topic": "/door", "message": "open"}},
+                                    {"agent": "ben", "wait": {"duration": 2}},
+                                    {"agent": "ben", "publish": {"topic": "/door", "message": "closed"}},
+                                    {"agent": "ben", "wait": {"duration": 1}},
+                                    {"agent": "ben", "publish": {"topic": "/door", "message": "open"}}]},
+      {"name": "again", "actions": [{"agent": "ana", "wait": {"topic": "/door", "message": "closed"}}]}]})"), 1);
+  session.run(20.0);
+  EXPECT_EQ(session.state().topics.at("/door"), "open");
+  // A published state is latched: ana's first wait ends at once; the one for "closed" never does.
+  EXPECT_EQ(session.state().step, 2);
+  EXPECT_EQ(session.state().termination, "timeout");
+  EXPECT_EQ(events_of(session, "time_limit")[0]->subject, "again");
+}
+
+/// Final heading of ana (starting at heading 0) after one turning action, and how long it took.
+std::pair<double, double> turn(const std::string& action) {
+  Session session(model_of(R"({
+    "locations": {"door": {"x": 2, "y": 8}},
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2, "theta": 0}}, {"id": "ben", "start": {"x": 8, "y": 8}}],
+    "steps": [{"name": "turn", "actions": [{"agent": "ana", )" + action + R"(}]}]})"), 1);
+  session.run();
+  EXPECT_EQ(session.state().termination, "scenario_end") << action;
+  return {session.state().agents[0].heading, step_duration(session, 0)};
+}
+
+TEST(Session, TurnAndLookAt) {
+  const auto [by, by_duration] = turn(R"("turn": {"by": 1.0})");
+  EXPECT_NEAR(by, 1.0, 1e-9);
+  EXPECT_NEAR(by_duration, 1.0 / kTurnRate, 2.0 / 60.0) << "turning 1 rad at the named turn rate";
+  EXPECT_NEAR(turn(R"("turn": {"to": -2.0})").first, -2.0, 1e-9);
+  EXPECT_NEAR(turn(R"("look_at": {"angle": 3.0})").first, 3.0, 1e-9);
+  EXPECT_NEAR(turn(R"("look_at": {"location": "door"})").first, std::numbers::pi / 2, 1e-9);
+  EXPECT_NEAR(turn(R"("look_at": {"agent": "ben"})").first, std::numbers::pi / 4, 1e-9);
+  EXPECT_NEAR(turn(R"("turn": {"by": 4.0})").first, 4.0 - 2 * std::numbers::pi, 1e-9) << "headings wrap into (-pi, pi]";
+}
+
+TEST(Session, SocialSpaceSlotsAreTakenInOrder) {
+  Session session(model_of(R"({
+    "social_spaces": {"bench": {"x": 5, "y": 8, "slots": [{"x": -1, "y": 0}, {"x": 0, "y": 0}, {"x": 1, "y": 0}]}},
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 5, "y": 2}},
+               {"id": "cat", "start": {"x": 8.5, "y": 8}}],
+    "steps": [{"name": "sit", "actions": [{"agent": "ana", "goto": {"social_space": "bench"}},
+                                          {"agent": "ben", "goto": {"social_space": "bench"}}]}]})"), 1);
+  session.run();
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  // cat stands within two radii of slot 2 (6, 8)? No: 2.5 m away, so slots 0 and 1 go to ana and ben.
+  EXPECT_LE((session.state().agents[0].position - Vec2(4, 8)).norm(), 0.2 + 1e-9);
+  EXPECT_LE((session.state().agents[1].position - Vec2(5, 8)).norm(), 0.2 + 1e-9);
+  EXPECT_EQ(session.state().agents[0].reserved_slot, 0);
+  EXPECT_EQ(session.state().agents[1].reserved_slot, 1);
+}
+
+TEST(Session, OccupiedSlotIsSkipped) {
+  Session session(model_of(R"({
+    "social_spaces": {"bench": {"x": 5, "y": 8, "slots": [{"x": -1, "y": 0}, {"x": 0, "y": 0}]}},
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "sitter", "start": {"x": 4.2, "y": 8}}],
+    "steps": [{"name": "sit", "actions": [{"agent": "ana", "goto": {"social_space": "bench"}}]}]})"), 1);
+  session.run();
+  EXPECT_LE((session.state().agents[0].position - Vec2(5, 8)).norm(), 0.2 + 1e-9)
+      << "slot 0 has someone within two radii, so ana takes slot 1";
+}
+
+TEST(Session, ALocationHoldsOnePerson) {
+  Session session(model_of(R"({
+    "locations": {"spot": {"x": 5, "y": 8}},
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 8}}, {"id": "ben", "start": {"x": 8, "y": 8}}],
+    "steps": [
+      {"name": "first", "actions": [{"agent": "ana", "goto": {"location": "spot"}}]},
+      {"name": "both", "actions": [{"agent": "ben", "goto": {"location": "spot"}},
+                                   {"agent": "ana", "wait": {"duration": 3}},
+                                   {"agent": "ana", "goto": {"pose": {"x": 2, "y": 2}}}]}]})"), 1);
+  double ben_closest_while_ana_there = 1e9;
+  while (!session.state().finished) {
+    session.step();
+    const State& state = session.state();
+    if (state.step == 1 && state.agents[0].reserved_location == 0) {
+      ben_closest_while_ana_there = std::min(ben_closest_while_ana_there, (state.agents[1].position - Vec2(5, 8)).norm());
+    }
+  }
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_GT(ben_closest_while_ana_there, 2.0) << "ben waits until ana leaves the spot";
+  EXPECT_LE((session.state().agents[1].position - Vec2(5, 8)).norm(), 0.2 + 1e-9);
+}
+
+const char* kRequestScenario = R"({
+  "humans": [{"id": "near", "start": {"x": 3, "y": 2}}, {"id": "nearest", "start": {"x": 2.5, "y": 2}},
+             {"id": "far", "start": {"x": 8, "y": 8}}],
+  "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
+  "tasks": {"press": [{"look_at": {"agent": "robot"}}, {"publish": {"topic": "/button", "message": "pressed"}}]},
+  "async": [{"task": "press"}],
+  "steps": [{"name": "idle", "actions": [{"agent": "far", "wait": {"duration": 40}}]}]})";
+
+TEST(Requests, TheClosestIdleHumanWithinThreeMetresAnswers) {
+  Session session(model_of(kRequestScenario), 1);
+  session.request(3, 0);
+  session.run(5.0);
+  const auto accepted = events_of(session, "request_accepted");
+  ASSERT_EQ(accepted.size(), 1u);
+  EXPECT_EQ(accepted[0]->subject, "nearest");
+  EXPECT_EQ(accepted[0]->tick, 0);
+  EXPECT_EQ(session.state().topics.at("/button"), "pressed");
+}
+
+TEST(Requests, BusyHumansDoNotAnswerAndTheRequestIsRetriedThenDropped) {
+  Session session(model_of(R"({
+    "humans": [{"id": "busy", "start": {"x": 3, "y": 2}}, {"id": "far", "start": {"x": 8, "y": 8}}],
+    "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
+    "tasks": {"press": [{"publish": {"topic": "/button", "message": "pressed"}}]},
+    "async": [{"task": "press"}],
+    "steps": [{"name": "work", "actions": [{"agent": "busy", "wait": {"duration": 12}}, {"agent": "far", "wait": {"duration": 50}}]}]})"), 1);
+  session.request(2, 0);
+  session.run(20.0);
+  const auto accepted = events_of(session, "request_accepted");
+  ASSERT_EQ(accepted.size(), 1u) << "busy becomes idle at 12 s; the retry at 15 s finds it";
+  EXPECT_NEAR(accepted[0]->time, 15.0, 1e-9);
+
+  Session nobody(model_of(R"({
+    "humans": [{"id": "far", "start": {"x": 8, "y": 8}}],
+    "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
+    "tasks": {"press": [{"publish": {"topic": "/button", "message": "pressed"}}]},
+    "async": [{"task": "press"}],
+    "steps": [{"name": "s", "actions": [{"agent": "far", "wait": {"duration": 50}}]}]})"), 1);
+  nobody.request(1, 0);
+  nobody.run(40.0);
+  const auto dropped = events_of(nobody, "request_dropped");
+  ASSERT_EQ(dropped.size(), 1u);
+  EXPECT_NEAR(dropped[0]->time, kRequestTimeout, 1e-9);
+  EXPECT_TRUE(events_of(nobody, "request_accepted").empty());
+}
+
+TEST(Requests, UnknownAsyncTaskIsDroppedAtOnce) {
+  Session session(model_of(R"({
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
+    "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
+    "tasks": {"dance": [{"wait": {"duration": 1}}]},
+    "steps": []})"), 1);
+  session.request(1, 0);
+  const auto dropped = events_of(session, "request_dropped");
+  ASSERT_EQ(dropped.size(), 1u);
+  EXPECT_EQ(dropped[0]->tick, 0);
+}
+
+TEST(Requests, ScriptedRequestsFireAtTheirTime) {
+  json extra = json::parse(kRequestScenario);
+  extra["requests"] = json::parse(R"([{"time": 2.0, "task": "press"}])");
+  Session session(testing::load_valid(testing::room_scenario(extra)), 1);
+  session.run(5.0);
+  const auto requests = events_of(session, "request");
+  ASSERT_EQ(requests.size(), 1u);
+  EXPECT_NEAR(requests[0]->time, 2.0, 1e-9);
+}
+
+const char* kCrowd = R"({
+  "humans": [{"id": "a", "start": {"x": 1, "y": 1}}, {"id": "b", "start": {"x": 9, "y": 9}},
+             {"id": "c", "start": {"x": 1, "y": 9}, "avoidance": "social_force"}, {"id": "d", "start": {"x": 9, "y": 1}}],
+  "steps": [{"name": "swap", "actions": [
+    {"agent": "a", "goto": {"pose": {"x": 9, "y": 8.5}}}, {"agent": "b", "goto": {"pose": {"x": 1, "y": 1.5}}},
+    {"agent": "c", "goto": {"pose": {"x": 9, "y": 1.5}}}, {"agent": "d", "goto": {"pose": {"x": 1, "y": 8.5}}}]}]})";
+
+std::vector<std::uint64_t> hashes(std::uint64_t seed) {
+  Session session(model_of(kCrowd), seed);
+  std::vector<std::uint64_t> result;
+  for (int i = 0; i < 900; ++i) {
+    session.step();
+    result.push_back(session.state_hash());
+  }
+  return result;
+}
+
+TEST(Determinism, SameSeedSameHashesEveryStep) {
+  const auto first = hashes(7);
+  EXPECT_EQ(first, hashes(7));
+  EXPECT_EQ(first, hashes(7));
+}
+
+TEST(Determinism, AnotherSeedDrawsOtherSpeeds) {
+  EXPECT_NE(hashes(7).back(), hashes(8).back());
+}
+
+TEST(Determinism, TimeIsTicksTimesDt) {
+  Session session(model_of(kCrowd), 1);
+  for (int i = 0; i < 1000; ++i) session.step();
+  EXPECT_EQ(session.time(), 1000 * session.model().dt);
+}
+
+TEST(Session, DrawnSpeedsFollowTheNamedDistribution) {
+  json many = json::parse(R"({"humans": [], "steps": []})");
+  for (int i = 0; i < 400; ++i) {
+    many["humans"].push_back({{"id", "h" + std::to_string(i)}, {"start", {{"x", 1 + (i % 40) * 0.2}, {"y", 1 + (i / 40) * 0.2}}}});
+  }
+  Session session(testing::load_valid(testing::room_scenario(many)), 3);
+  double sum = 0, sum_squares = 0;
+  for (const AgentState& agent : session.state().agents) {
+    EXPECT_GE(agent.preferred_speed, scenario::kPreferredSpeedMin);
+    EXPECT_LE(agent.preferred_speed, scenario::kPreferredSpeedMax);
+    sum += agent.preferred_speed;
+    sum_squares += agent.preferred_speed * agent.preferred_speed;
+  }
+  const double mean = sum / 400, stddev = std::sqrt(sum_squares / 400 - mean * mean);
+  EXPECT_NEAR(mean, scenario::kPreferredSpeedMean, 0.04);
+  EXPECT_NEAR(stddev, scenario::kPreferredSpeedStddev, 0.04);
+}
+
+}  // namespace
+}  // namespace hrisim::sim
