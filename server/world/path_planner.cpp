@@ -5,6 +5,7 @@
 #include <deque>
 #include <limits>
 #include <queue>
+#include <tuple>
 
 namespace hrisim::world {
 namespace {
@@ -68,6 +69,9 @@ std::shared_ptr<const std::vector<float>> PathPlanner::cost_to_go(std::size_t go
       recency_.push_front(key);
       return found->second;
     }
+    if (requests_.size() > 16 * kPlannerCacheSize) requests_.clear();  // bounded memory of one-off goals
+    if (++requests_[key] < kFieldAfterRequests) return nullptr;
+    requests_.erase(key);
   }
   auto cost = std::make_shared<std::vector<float>>(grid_.size(), kUnreachable);
   using Entry = std::pair<float, std::size_t>;  // ties broken by cell index: deterministic
@@ -84,10 +88,7 @@ std::shared_ptr<const std::vector<float>> PathPlanner::cost_to_go(std::size_t go
       if (!grid_.in_bounds(next)) continue;
       const std::size_t next_index = grid_.index(next);
       if (!traversable(next_index, radius, blocked_cells)) continue;
-      if (k >= 4 && (!traversable(grid_.index({here.x + kDx[k], here.y}), radius, blocked_cells) ||
-                     !traversable(grid_.index({here.x, here.y + kDy[k]}), radius, blocked_cells))) {
-        continue;  // no cutting corners
-      }
+      if (k >= 4 && !diagonal_allowed(here, kDx[k], kDy[k], radius, blocked_cells)) continue;
       const float candidate = cost_here + kStep[k];
       if (candidate < (*cost)[next_index]) {
         (*cost)[next_index] = candidate;
@@ -105,6 +106,78 @@ std::shared_ptr<const std::vector<float>> PathPlanner::cost_to_go(std::size_t go
   return cost;
 }
 
+bool PathPlanner::diagonal_allowed(CellIndex from, int dx, int dy, double radius,
+                                   const std::vector<std::size_t>& blocked) const {
+  // No cutting corners: both orthogonal neighbours must be passable too.
+  const CellIndex side_x{from.x + dx, from.y}, side_y{from.x, from.y + dy};
+  return grid_.in_bounds(side_x) && grid_.in_bounds(side_y) && traversable(grid_.index(side_x), radius, blocked) &&
+         traversable(grid_.index(side_y), radius, blocked);
+}
+
+std::optional<std::vector<std::size_t>> PathPlanner::a_star(std::size_t start_cell, std::size_t goal_cell, double radius,
+                                                            const std::vector<std::size_t>& blocked_cells) const {
+  const CellIndex goal = grid_.cell_at(goal_cell);
+  auto heuristic = [&](std::size_t index) {
+    const CellIndex c = grid_.cell_at(index);
+    const int dx = std::abs(c.x - goal.x), dy = std::abs(c.y - goal.y);
+    return static_cast<float>(std::max(dx, dy) + (kStep[4] - 1.0f) * std::min(dx, dy));  // octile distance
+  };
+  // Per-thread scratch the size of the grid; a search stamp marks which entries are current, so
+  // nothing is cleared between searches.
+  struct Scratch {
+    std::vector<float> cost;
+    std::vector<std::uint32_t> parent;
+    std::vector<std::uint32_t> stamp;
+    std::uint32_t search = 0;
+  };
+  thread_local Scratch scratch;
+  if (scratch.stamp.size() != grid_.size()) {
+    scratch.cost.assign(grid_.size(), 0.0f);
+    scratch.parent.assign(grid_.size(), 0);
+    scratch.stamp.assign(grid_.size(), 0);
+    scratch.search = 0;
+  }
+  if (++scratch.search == 0) {  // wrapped around: forget every old stamp
+    std::fill(scratch.stamp.begin(), scratch.stamp.end(), 0);
+    scratch.search = 1;
+  }
+  const std::uint32_t search = scratch.search;
+  auto known_cost = [&](std::size_t index) {
+    return scratch.stamp[index] == search ? scratch.cost[index] : kUnreachable;
+  };
+  using Entry = std::tuple<float, float, std::size_t>;  // f, -g (deeper first on ties), cell: deterministic
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+  scratch.stamp[start_cell] = search;
+  scratch.cost[start_cell] = 0.0f;
+  open.push({heuristic(start_cell), 0.0f, start_cell});
+  while (!open.empty()) {
+    const auto [f, negative_g, index] = open.top();
+    open.pop();
+    if (-negative_g > known_cost(index)) continue;
+    if (index == goal_cell) {
+      std::vector<std::size_t> path;
+      for (std::size_t at = goal_cell; at != start_cell; at = scratch.parent[at]) path.push_back(at);
+      std::reverse(path.begin(), path.end());
+      return path;
+    }
+    const CellIndex here = grid_.cell_at(index);
+    for (int k = 0; k < 8; ++k) {
+      const CellIndex next{here.x + kDx[k], here.y + kDy[k]};
+      if (!grid_.in_bounds(next)) continue;
+      const std::size_t next_index = grid_.index(next);
+      const float candidate = -negative_g + kStep[k];
+      if (known_cost(next_index) <= candidate) continue;
+      if (!traversable(next_index, radius, blocked_cells)) continue;
+      if (k >= 4 && !diagonal_allowed(here, kDx[k], kDy[k], radius, blocked_cells)) continue;
+      scratch.stamp[next_index] = search;
+      scratch.cost[next_index] = candidate;
+      scratch.parent[next_index] = static_cast<std::uint32_t>(index);
+      open.push({candidate + heuristic(next_index), -candidate, next_index});
+    }
+  }
+  return std::nullopt;
+}
+
 std::optional<std::vector<Vec2>> PathPlanner::plan(const Vec2& start, const Vec2& goal, double radius,
                                                    const std::vector<std::size_t>& blocked_cells) const {
   std::vector<std::size_t> blocked = blocked_cells;
@@ -114,33 +187,47 @@ std::optional<std::vector<Vec2>> PathPlanner::plan(const Vec2& start, const Vec2
   const auto start_cell = nearest_traversable(grid_.index(start_index), radius, blocked);
   const auto goal_cell = nearest_traversable(grid_.index(goal_index), radius, blocked);
   if (!start_cell || !goal_cell) return std::nullopt;
-  const auto cost = cost_to_go(*goal_cell, radius, blocked);
-  if ((*cost)[*start_cell] == kUnreachable) return std::nullopt;
-
-  // Descend the cost-to-go field from the start to the goal cell.
-  std::vector<Vec2> cells;
-  std::size_t index = *start_cell;
-  while (index != *goal_cell) {
-    const CellIndex here = grid_.cell_at(index);
-    std::size_t best = index;
-    for (int k = 0; k < 8; ++k) {
-      const CellIndex next{here.x + kDx[k], here.y + kDy[k]};
-      if (grid_.in_bounds(next) && (*cost)[grid_.index(next)] < (*cost)[best]) best = grid_.index(next);
+  std::vector<std::size_t> cells;
+  if (const auto cost = cost_to_go(*goal_cell, radius, blocked)) {
+    if ((*cost)[*start_cell] == kUnreachable) return std::nullopt;
+    // Descend the cost-to-go field from the start to the goal cell.
+    std::size_t index = *start_cell;
+    while (index != *goal_cell) {
+      const CellIndex here = grid_.cell_at(index);
+      std::size_t best = index;
+      for (int k = 0; k < 8; ++k) {
+        const CellIndex next{here.x + kDx[k], here.y + kDy[k]};
+        if (grid_.in_bounds(next) && (*cost)[grid_.index(next)] < (*cost)[best]) best = grid_.index(next);
+      }
+      if (best == index) return std::nullopt;  // cannot happen on a consistent field; refuse rather than loop
+      index = best;
+      cells.push_back(index);
     }
-    if (best == index) return std::nullopt;  // cannot happen on a consistent field; refuse rather than loop
-    index = best;
-    cells.push_back(grid_.center_of(grid_.cell_at(index)));
+  } else {
+    auto searched = a_star(*start_cell, *goal_cell, radius, blocked);
+    if (!searched) return std::nullopt;
+    cells = std::move(*searched);
   }
-  cells.push_back(goal);
 
-  // Keep only the cells where the straight line of sight ends.
+  // Corners of the grid path (where its direction changes), then the goal itself.
+  std::vector<Vec2> corners;
+  for (std::size_t i = 0; i + 1 < cells.size(); ++i) {
+    const CellIndex previous = grid_.cell_at(i == 0 ? *start_cell : cells[i - 1]);
+    const CellIndex here = grid_.cell_at(cells[i]), next = grid_.cell_at(cells[i + 1]);
+    if (here.x - previous.x != next.x - here.x || here.y - previous.y != next.y - here.y) {
+      corners.push_back(grid_.center_of(here));
+    }
+  }
+  corners.push_back(goal);
+
+  // Keep only the corners where the straight line of sight ends.
   std::vector<Vec2> path;
   Vec2 anchor = start;
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const bool last = i + 1 == cells.size();
-    if (last || !line_of_sight(anchor, cells[i + 1], radius, blocked)) {
-      path.push_back(cells[i]);
-      anchor = cells[i];
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const bool last = i + 1 == corners.size();
+    if (last || !line_of_sight(anchor, corners[i + 1], radius, blocked)) {
+      path.push_back(corners[i]);
+      anchor = corners[i];
     }
   }
   return path;

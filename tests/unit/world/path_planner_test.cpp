@@ -88,3 +88,26 @@ TEST(PathPlanner, OutsideTheMapHasNoPath) {
 
 }  // namespace
 }  // namespace hrisim::world
+
+namespace hrisim::world {
+namespace {
+
+// Early requests for a goal are A* searches, later ones descend its cached field; both are shortest.
+TEST(PathPlanner, SearchAndCachedFieldAgree) {
+  Room room;
+  const DistanceField field(room.grid);
+  const PathPlanner planner(room.grid, field);
+  const Vec2 start(2.0, 1.0), goal(8.0, 1.5);
+  const auto searched = planner.plan(start, goal, 0.3);
+  for (int i = 2; i < kFieldAfterRequests; ++i) planner.plan(start, goal, 0.3);
+  const auto cached = planner.plan(start, goal, 0.3);
+  ASSERT_TRUE(searched);
+  ASSERT_TRUE(cached);
+  EXPECT_NEAR(length(start, *searched), length(start, *cached), 0.3) << "equally short up to the smoothing of grid corners";
+  const auto from_elsewhere = planner.plan({3.0, 3.0}, goal, 0.3);
+  ASSERT_TRUE(from_elsewhere);
+  EXPECT_TRUE(from_elsewhere->back().isApprox(goal));
+}
+
+}  // namespace
+}  // namespace hrisim::world

@@ -1,0 +1,146 @@
+// Crowd simulation speed: whole session steps per second (choreography, planning, locomotion) for
+// 10, 100, 1000 (and 10,000) humans, in an open room and on IMHuS's elevator map, with ORCA and with
+// the social force model. Prints one line per case: median of several repetitions.
+//   usage: humans_bench [repetitions=3] [path to shared/ for the elevator map=../shared] [case filter,
+//          e.g. "open_room social_force 1000"]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "core/random.hpp"
+#include "scenario/load.hpp"
+#include "sim/session.hpp"
+
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+/// People per square metre in the open room.
+constexpr double kRoomDensity = 0.25;
+
+/// An open square room sized for the crowd (kRoomDensity overall); two groups start in strips at
+/// opposite ends and swap sides, walk back, and do it again.
+json open_room(int humans, const std::string& avoidance) {
+  const double side = std::max(30.0, std::ceil(std::sqrt(humans / kRoomDensity)));
+  json scenario{{"name", "open_room"},
+                {"time_limit", 1e6},
+                {"locomotion", {{"avoidance", avoidance}}},
+                {"world",
+                 {{"bounds", {{"min", {-1, -1}}, {"max", {side + 1, side + 1}}}},
+                  {"resolution", side > 100 ? 0.2 : 0.1},
+                  {"walls", json::array({{{"from", {0, 0}}, {"to", {side, 0}}},
+                                         {{"from", {side, 0}}, {"to", {side, side}}},
+                                         {{"from", {side, side}}, {"to", {0, side}}},
+                                         {{"from", {0, side}}, {"to", {0, 0}}}})}}},
+                {"humans", json::array()},
+                {"steps", json::array()}};
+  for (const char* leg : {"swap", "back", "swap_again", "back_again"}) scenario["steps"].push_back({{"name", leg}, {"actions", json::array()}});
+  // Each group fills a strip a quarter of the room wide at its end, evenly spaced.
+  // Goals keep 1.5 m from the walls, beyond the 1.35 m where pedsim's wall force balances the drive.
+  const double spacing = std::min(0.8 * side, std::sqrt(side / 4.0 * side / std::ceil(humans / 2.0)));
+  const int per_column = std::max(1, static_cast<int>((side - 3.0) / spacing));
+  for (int i = 0; i < humans; ++i) {
+    const bool left = i % 2 == 0;
+    const int k = i / 2;
+    const double x = left ? 1.5 + spacing * (k / per_column) : side - 1.5 - spacing * (k / per_column);
+    const double y = 1.5 + spacing * (k % per_column);
+    const std::string id = "h" + std::to_string(i);
+    scenario["humans"].push_back({{"id", id}, {"start", {{"x", x}, {"y", y}}}});
+    scenario["steps"][0]["actions"].push_back(
+        {{"agent", id}, {"goto", {{"pose", {{"x", side - x}, {"y", y}}}, {"radius", 0.5}}}});
+    scenario["steps"][1]["actions"].push_back({{"agent", id}, {"goto", {{"pose", {{"x", x}, {"y", y}}}, {"radius", 0.5}}}});
+    scenario["steps"][2]["actions"].push_back(scenario["steps"][0]["actions"].back());
+    scenario["steps"][3]["actions"].push_back(scenario["steps"][1]["actions"].back());
+  }
+  return scenario;
+}
+
+/// IMHuS's elevator map with humans at random free places walking to other random free places.
+json elevator(int humans, const std::string& avoidance, const std::string& map, const hrisim::scenario::Model& empty) {
+  json scenario{{"name", "elevator_crowd"},
+                {"time_limit", 1e6},
+                {"locomotion", {{"avoidance", avoidance}}},
+                {"world", {{"map", map}}},
+                {"humans", json::array()},
+                {"steps", json::array()}};
+  hrisim::core::Random random(42);
+  auto free_point = [&] {
+    for (;;) {
+      const double x = random.uniform(-10, 10), y = random.uniform(-10, 10);
+      if (empty.field.distance(empty.grid, {x, y}) > 1.5) return std::pair{x, y};
+    }
+  };
+  // Several legs between random free places, so no one is done before the measurement ends.
+  constexpr int kLegs = 6;
+  for (int leg = 0; leg < kLegs; ++leg) scenario["steps"].push_back({{"name", "leg" + std::to_string(leg)}, {"actions", json::array()}});
+  for (int i = 0; i < humans; ++i) {
+    const auto [x, y] = free_point();
+    const std::string id = "h" + std::to_string(i);
+    scenario["humans"].push_back({{"id", id}, {"start", {{"x", x}, {"y", y}}}});
+    for (int leg = 0; leg < kLegs; ++leg) {
+      const auto [gx, gy] = free_point();
+      scenario["steps"][leg]["actions"].push_back({{"agent", id}, {"goto", {{"pose", {{"x", gx}, {"y", gy}}}, {"radius", 0.5}}}});
+    }
+  }
+  return scenario;
+}
+
+double steps_per_second(const std::shared_ptr<const hrisim::scenario::Model>& model, int steps) {
+  hrisim::sim::Session session(model, 1);
+  for (int i = 0; i < 30; ++i) session.step();  // first plans
+  const auto start = Clock::now();
+  for (int i = 0; i < steps; ++i) session.step();
+  if (session.state().finished) std::fprintf(stderr, "warning: the crowd finished its choreography during the measurement\n");
+  return steps / std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// Only cases whose "place avoidance humans" contains this run (all when empty).
+std::string only;
+
+void measure(const std::string& place, const std::string& avoidance, int humans, const json& document, int repetitions) {
+  if (!only.empty() && (place + " " + avoidance + " " + std::to_string(humans)).find(only) == std::string::npos) return;
+  const auto loaded = hrisim::scenario::load_scenario(document, {});
+  if (!loaded.model) {
+    std::fprintf(stderr, "invalid bench scenario: %s %s\n", loaded.errors[0].pointer.c_str(), loaded.errors[0].message.c_str());
+    std::exit(1);
+  }
+  const int steps = std::clamp(200000 / humans, 60, 3000);
+  std::vector<double> rates;
+  for (int r = 0; r < repetitions; ++r) rates.push_back(steps_per_second(loaded.model, steps));
+  std::sort(rates.begin(), rates.end());
+  const double median = rates[rates.size() / 2];
+  std::printf("%-10s %-12s %6d humans: %10.0f steps/s  %8.1fx real time  %6.2f M agent-steps/s\n", place.c_str(),
+              avoidance.c_str(), humans, median, median * loaded.model->dt, median * humans / 1e6);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int repetitions = argc > 1 ? std::atoi(argv[1]) : 3;
+  const std::string shared = argc > 2 ? argv[2] : "../shared";
+  const std::string map = shared + "/external/imhus/elevator_map/elevator.yaml";
+  if (argc > 3) only = argv[3];
+  std::printf("humans_bench: dt = 1/60 s, one thread, median of %d repetitions\n", repetitions);
+  for (const std::string avoidance : {"orca", "social_force"}) {
+    for (int humans : {10, 100, 1000}) measure("open_room", avoidance, humans, open_room(humans, avoidance), repetitions);
+  }
+  measure("open_room", "social_force", 10000, open_room(10000, "social_force"), repetitions);
+  const auto empty = hrisim::scenario::load_scenario(
+      json{{"name", "map"}, {"world", {{"map", map}}}, {"steps", json::array()}}, {});
+  if (!empty.model) {
+    std::printf("elevator map not found at %s: skipping the elevator cases\n", map.c_str());
+    return 0;
+  }
+  for (const std::string avoidance : {"orca", "social_force"}) {
+    for (int humans : {10, 100, 1000}) {
+      measure("elevator", avoidance, humans, elevator(humans, avoidance, map, *empty.model), repetitions);
+    }
+  }
+  return 0;
+}
