@@ -1,0 +1,74 @@
+// The command line as a user runs it: hrisim validate and hrisim run on real files.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "test_server.hpp"
+
+namespace hrisim::testing {
+namespace {
+
+const std::string kHrisim = HRISIM_BINARY;
+const std::string kScenarios = std::string(HRISIM_SOURCE_DIR) + "/scenarios";
+
+TEST(Cli, ValidateAcceptsTheBundledScenarios) {
+  const CommandResult result = run_command(kHrisim + " validate " + kScenarios + "/queue.json " + kScenarios + "/corridor_passing.json");
+  EXPECT_EQ(result.exit_status, 0) << result.output;
+  EXPECT_NE(result.output.find("queue.json: ok (5 humans, 1 robots, 3 steps)"), std::string::npos) << result.output;
+}
+
+TEST(Cli, ValidateListsEveryErrorWithItsPointer) {
+  TempDir dir;
+  std::ofstream(dir / "bad.json") << R"({"name": "bad", "world": {"bounds": {"min": [0, 0], "max": [5, 5]}},
+    "humans": [{"id": "ana", "start": {"x": 9, "y": 1}}],
+    "steps": [{"name": "s", "actions": [{"agent": "bob", "wait": {"duration": 1}}]}]})";
+  const CommandResult result = run_command(kHrisim + " validate " + (dir / "bad.json").string());
+  EXPECT_EQ(result.exit_status, 1);
+  EXPECT_NE(result.output.find("/humans/0/start: human 'ana' at (9, 1) is outside the map"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("/steps/0/actions/0/agent: unknown agent 'bob'"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("2 errors"), std::string::npos) << result.output;
+}
+
+TEST(Cli, RunPrintsASummaryAndIsReproducible) {
+  const std::string command = kHrisim + " run " + kScenarios + "/queue.json --seed 4 2>/dev/null";
+  const CommandResult first = run_command(command);
+  ASSERT_EQ(first.exit_status, 0) << first.output;
+  const auto summary = nlohmann::json::parse(first.output);
+  EXPECT_EQ(summary["scenario"], "queue");
+  EXPECT_EQ(summary["seed"], 4);
+  EXPECT_TRUE(summary["completed"].get<bool>());
+  EXPECT_EQ(summary["termination"], "scenario_end");
+  EXPECT_EQ(summary["steps"].size(), 3u);
+  EXPECT_EQ(summary["events"]["request_accepted"], 1);
+  EXPECT_EQ(summary["ticks"].get<std::int64_t>() * summary["dt"].get<double>(), summary["sim_time"].get<double>());
+  EXPECT_EQ(nlohmann::json::parse(run_command(command).output)["state_hash"], summary["state_hash"]);
+}
+
+TEST(Cli, RunStopsAtTheTimeLimitAndNamesTheStep) {
+  const CommandResult result = run_command(kHrisim + " run " + kScenarios + "/queue.json --max-time 2 --events 2>/dev/null");
+  ASSERT_EQ(result.exit_status, 0);
+  const auto summary = nlohmann::json::parse(result.output);
+  EXPECT_FALSE(summary["completed"].get<bool>());
+  EXPECT_EQ(summary["termination"], "timeout");
+  EXPECT_EQ(summary["step"]["name"], "line_up");
+  EXPECT_EQ(summary["event_log"].back()["kind"], "time_limit");
+}
+
+TEST(Cli, RunWithScriptedRequests) {
+  const CommandResult result = run_command(kHrisim + " run " + kScenarios + "/queue.json --request 1:help_robot --request 2:help_robot 2>/dev/null");
+  ASSERT_EQ(result.exit_status, 0);
+  EXPECT_EQ(nlohmann::json::parse(result.output)["events"]["request"], 3) << "two from the command line, one from the file";
+}
+
+TEST(Cli, BadArgumentsExitWithTwo) {
+  for (const std::string& args : std::vector<std::string>{"run", "run x.json --seed abc", "run " + kScenarios + "/queue.json --request soon",
+                                 "run " + kScenarios + "/queue.json --request 1:fly", "run a.json --colour red"}) {
+    const CommandResult result = run_command(kHrisim + " " + args);
+    EXPECT_EQ(result.exit_status, 2) << args << "\n" << result.output;
+  }
+  EXPECT_EQ(run_command(kHrisim + " run /nonexistent.json").exit_status, 1);
+}
+
+}  // namespace
+}  // namespace hrisim::testing
