@@ -19,6 +19,9 @@ constexpr const char* kUsage =
     "  validate  check scenario files: hrisim validate FILE...\n"
     "  run       run a scenario headless and print a JSON summary:\n"
     "            hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...]\n"
+    "                       [--scenario NAME] [--map FILE]   (FILE: native JSON, IMHuS or Pedsim XML)\n"
+    "  import    convert IMHuS or Pedsim XML to the native JSON on stdout:\n"
+    "            hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]\n"
     "  version   print build and library versions as JSON\n"
     "  help      print this text\n";
 
@@ -64,6 +67,7 @@ int main(int argc, char** argv) {
     if (command == "serve") return serve(args);
     if (command == "validate") return hrisim::app::validate_command(args);
     if (command == "run") return hrisim::app::run_command(args);
+    if (command == "import") return hrisim::app::import_command(args);
     if (command == "version" || command == "--version") {
       std::printf("%s\n", hrisim::http::version_info().dump(2).c_str());
       return 0;

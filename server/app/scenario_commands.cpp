@@ -5,7 +5,11 @@
 #include <cstdlib>
 #include <map>
 
+#include <fstream>
+#include <sstream>
+
 #include "core/error.hpp"
+#include "scenario/import.hpp"
 #include "scenario/load.hpp"
 #include "sim/session.hpp"
 
@@ -25,8 +29,49 @@ double parse_seconds(const std::string& option, const std::string& text) {
   return value;
 }
 
-scenario::LoadResult load(const std::string& file) {
-  return scenario::load_scenario_file(file, {{bundled_scenarios_dir()}});
+/// How an XML file is turned into a scenario.
+struct SourceOptions {
+  std::string format;  ///< "imhus", "pedsim", or empty to detect
+  std::string scenario;
+  std::optional<std::filesystem::path> map;
+};
+
+void print_messages(const std::string& file, const char* kind, const std::vector<scenario::ImportMessage>& messages) {
+  for (const auto& message : messages) {
+    std::fprintf(stderr, "%s:%s %s%s\n", file.c_str(), message.line > 0 ? (std::to_string(message.line) + ":").c_str() : "",
+                 kind, message.message.c_str());
+  }
+}
+
+/// Imports an IMHuS or Pedsim XML file; prints its warnings, and its errors when there are any.
+std::optional<scenario::ImportResult> import_file(const std::string& file, const SourceOptions& source) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    std::fprintf(stderr, "%s: cannot read the file\n", file.c_str());
+    return std::nullopt;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string format = source.format.empty() ? scenario::detect_xml_format(text.str()) : source.format;
+  if (format != "imhus" && format != "pedsim") usage_error("--from: expected imhus or pedsim, got '" + format + "'");
+  scenario::ImportOptions options{source.scenario, source.map, {bundled_scenarios_dir()},
+                                  std::filesystem::path(file).filename().string()};
+  scenario::ImportResult result = format == "imhus" ? scenario::import_imhus(text.str(), options)
+                                                    : scenario::import_pedsim(text.str(), options);
+  print_messages(file, "warning: ", result.warnings);
+  if (!result.errors.empty()) {
+    print_messages(file, "", result.errors);
+    return std::nullopt;
+  }
+  return result;
+}
+
+scenario::LoadResult load(const std::string& file, const SourceOptions& source = {}) {
+  const scenario::LoadOptions options{{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}};
+  if (std::filesystem::path(file).extension() != ".xml") return scenario::load_scenario_file(file, {{bundled_scenarios_dir()}});
+  const auto imported = import_file(file, source);
+  if (!imported) return {nullptr, {{"", "the XML file could not be imported"}}};
+  return scenario::load_scenario(nlohmann::json::parse(imported->scenario.dump()), options);
 }
 
 void print_errors(const std::string& file, const std::vector<core::ValidationError>& errors) {
@@ -68,6 +113,7 @@ int run_command(const std::vector<std::string>& args) {
   std::optional<double> max_time;
   bool with_events = false;
   std::vector<std::pair<double, std::string>> requests;
+  SourceOptions source;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
     auto value = [&]() -> const std::string& {
@@ -82,6 +128,10 @@ int run_command(const std::vector<std::string>& args) {
       max_time = parse_seconds("--max-time", value());
     } else if (arg == "--events") {
       with_events = true;
+    } else if (arg == "--scenario") {
+      source.scenario = value();
+    } else if (arg == "--map") {
+      source.map = value();
     } else if (arg == "--request") {
       const std::string& text = value();
       const auto colon = text.find(':');
@@ -96,10 +146,11 @@ int run_command(const std::vector<std::string>& args) {
     }
   }
   if (file.empty()) {
-    usage_error("usage: hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...]");
+    usage_error("usage: hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...] "
+                "[--scenario NAME] [--map FILE]");
   }
 
-  const scenario::LoadResult loaded = load(file);
+  const scenario::LoadResult loaded = load(file, source);
   if (!loaded.model) {
     print_errors(file, loaded.errors);
     return 1;
@@ -164,6 +215,36 @@ int run_command(const std::vector<std::string>& args) {
     summary["event_log"] = log;
   }
   std::printf("%s\n", summary.dump(2).c_str());
+  return 0;
+}
+
+int import_command(const std::vector<std::string>& args) {
+  std::string file;
+  SourceOptions source;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) usage_error(arg + " needs a value");
+      return args[++i];
+    };
+    if (arg == "--from") {
+      source.format = value();
+    } else if (arg == "--scenario") {
+      source.scenario = value();
+    } else if (arg == "--map") {
+      source.map = value();
+    } else if (arg.starts_with("--")) {
+      usage_error("unknown option " + arg);
+    } else if (file.empty()) {
+      file = arg;
+    } else {
+      usage_error("unexpected argument '" + arg + "'");
+    }
+  }
+  if (file.empty()) usage_error("usage: hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]");
+  const auto imported = import_file(file, source);
+  if (!imported) return 1;
+  std::printf("%s\n", imported->scenario.dump(2).c_str());
   return 0;
 }
 

@@ -48,7 +48,7 @@ std::vector<Vec2> wall_polygon(const Vec2& from, const Vec2& to, double thicknes
 
 /// Names of everything the scenario declares, for resolving references.
 struct Names {
-  std::map<std::string, int> locations, social_spaces, agents, tasks;
+  std::map<std::string, int> locations, social_spaces, agents, tasks, doors;
   std::set<std::string> robots;
 };
 
@@ -66,6 +66,7 @@ class Loader {
     model->time_limit = doc_.value("time_limit", kDefaultTimeLimit);
     read_locomotion(*model);
     read_places(*model);
+    read_elevators(*model);
     read_agents(*model);
     collect_task_names(*model);
     read_tasks(*model);
@@ -155,6 +156,16 @@ class Loader {
     for (const Obstacle& obstacle : obstacles) grid->fill_polygon(obstacle.polygon);
     auto model = std::make_shared<Model>(std::move(*grid));
     model->obstacles = std::move(obstacles);
+    const json& doors = member(world, "doors");
+    for (std::size_t i = 0; i < doors.size(); ++i) {
+      scenario::Door door{doors[i]["name"], read_point(doors[i]["from"]), read_point(doors[i]["to"]),
+                          doors[i].value("thickness", 0.1), doors[i].value("open", false)};
+      if (names_.doors.contains(door.name)) {
+        error("/world/doors/" + std::to_string(i) + "/name", "door name '" + door.name + "' is used twice");
+      }
+      names_.doors[door.name] = static_cast<int>(model->doors.size());
+      model->doors.push_back(std::move(door));
+    }
     return model;
   }
 
@@ -220,6 +231,40 @@ class Loader {
                    "slot " + std::to_string(i) + " of social space '" + name + "'");
       }
       model.social_spaces.push_back(std::move(space));
+    }
+  }
+
+  void read_elevators(Model& model) {
+    const json& elevators = member(doc_.at("world"), "elevators");
+    std::set<int> used_doors;
+    for (std::size_t e = 0; e < elevators.size(); ++e) {
+      const json& entry = elevators[e];
+      const std::string pointer = "/world/elevators/" + std::to_string(e);
+      Elevator elevator;
+      elevator.name = entry["name"];
+      elevator.topic = entry.value("topic", "/elevator");
+      for (std::size_t d = 0; d < entry["doors"].size(); ++d) {
+        const int door = resolve(names_.doors, entry["doors"][d], pointer + "/doors/" + std::to_string(d), "door");
+        if (door >= 0 && !used_doors.insert(door).second) {
+          error(pointer + "/doors/" + std::to_string(d), "door '" + model.doors[door].name + "' already belongs to an elevator");
+        }
+        elevator.doors.push_back(door);
+      }
+      const json& spaces = member(entry, "social_spaces");
+      for (std::size_t s = 0; s < spaces.size(); ++s) {
+        elevator.social_spaces.push_back(
+            resolve(names_.social_spaces, spaces[s], pointer + "/social_spaces/" + std::to_string(s), "social space"));
+      }
+      elevator.start_floor = entry.value("start_floor", 1) - 1;
+      if (elevator.start_floor >= static_cast<int>(elevator.doors.size())) {
+        error(pointer + "/start_floor", "floor " + std::to_string(elevator.start_floor + 1) + " has no door (" +
+                                            std::to_string(elevator.doors.size()) + " doors)");
+      }
+      elevator.door_speed = entry.value("door_speed", kElevatorDoorSpeed);
+      elevator.open_time = entry.value("open_time", kElevatorOpenTime);
+      elevator.travel_time = entry.value("travel_time", kElevatorTravelTime);
+      elevator.settle_time = entry.value("settle_time", kElevatorSettleTime);
+      model.elevators.push_back(std::move(elevator));
     }
   }
 

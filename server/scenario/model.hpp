@@ -52,6 +52,40 @@ struct Obstacle {
   std::map<std::string, Pose2> anchors;  ///< absolute poses
 };
 
+/// A door: a segment with thickness that blocks agents and paths while not fully open.
+struct Door {
+  std::string name;
+  Vec2 from = Vec2::Zero();
+  Vec2 to = Vec2::Zero();
+  double thickness = 0.1;
+  bool initially_open = false;
+  double width() const { return (to - from).norm(); }
+};
+
+/// IMHuS's elevator plugin: door speed, how long a door stays open, trip time and its settling.
+inline constexpr double kElevatorDoorSpeed = 0.5;
+inline constexpr double kElevatorOpenTime = 10.0;
+inline constexpr double kElevatorTravelTime = 3.0;
+inline constexpr double kElevatorSettleTime = 1.0;
+/// A door reopened for someone standing in the doorway stays open at least this long, in seconds.
+inline constexpr double kElevatorReopenHold = 2.0;
+/// Door states are published this often, in seconds (a wait sees the latest one).
+inline constexpr double kElevatorStatePeriod = 0.25;
+
+/// A cabin joining floors; door i serves floor i (IMHuS: door1 on floor 1, door2 on floor 2).
+struct Elevator {
+  std::string name;
+  std::string topic = "/elevator";
+  std::vector<int> doors;
+  std::vector<int> social_spaces;  ///< reservations cleared whenever a door has closed
+  int start_floor = 0;             ///< index into doors
+  double door_speed = kElevatorDoorSpeed;
+  double open_time = kElevatorOpenTime;
+  double travel_time = kElevatorTravelTime;
+  double settle_time = kElevatorSettleTime;
+  std::string request_topic() const { return topic + "/request"; }
+};
+
 enum class AgentKind { human, robot };
 
 struct AgentDef {
@@ -120,6 +154,8 @@ struct Model {
   world::DistanceField field;
   world::PathPlanner planner;  ///< refers to grid and field above
   std::vector<Obstacle> obstacles;
+  std::vector<Door> doors;
+  std::vector<Elevator> elevators;
 
   std::vector<Location> locations;
   std::vector<SocialSpace> social_spaces;

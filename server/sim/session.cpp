@@ -38,6 +38,18 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
     }
     state_.agents.push_back(std::move(agent));
   }
+  for (const scenario::Door& door : model_->doors) {
+    state_.doors.push_back(door.initially_open ? DoorState{DoorPhase::open, 1.0} : DoorState{});
+  }
+  for (const scenario::Elevator& elevator : model_->elevators) {
+    ElevatorState cabin;
+    cabin.floor = elevator.start_floor;
+    state_.elevators.push_back(cabin);
+    for (int door : elevator.doors) {
+      state_.doors[door] = DoorState{};
+      state_.topics[elevator.topic + "/" + model_->doors[door].name + "_state"] = "closed";
+    }
+  }
   state_.steps.resize(model_->steps.size());
   for (const scenario::Request& scripted : model_->requests) schedule_request(scripted.time, scripted.robot, scripted.task);
   if (!model_->steps.empty()) start_step(0);
@@ -76,6 +88,7 @@ void Session::step() {
     state_.scheduled.erase(state_.scheduled.begin());
     request(due.robot, due.task);
   }
+  update_environment();
   update_requests();
   update_choreography();
   if (state_.finished) return;
@@ -104,6 +117,161 @@ void Session::request(int robot, int task) {
     return;
   }
   state_.requests.push_back({robot, task, position, state_.tick, state_.tick});
+}
+
+namespace {
+
+const char* phase_name(DoorPhase phase) {
+  switch (phase) {
+    case DoorPhase::closed: return "closed";
+    case DoorPhase::opening: return "opening";
+    case DoorPhase::open: return "open";
+    case DoorPhase::closing: return "closing";
+  }
+  return "closed";
+}
+
+}  // namespace
+
+void Session::update_environment() {
+  // Requests published since the last tick reach the elevators in the order they were made.
+  for (const Message& message : state_.inbox) {
+    for (std::size_t e = 0; e < model_->elevators.size(); ++e) {
+      const scenario::Elevator& elevator = model_->elevators[e];
+      if (message.topic != elevator.request_topic()) continue;
+      int floor = -1;
+      for (std::size_t d = 0; d < elevator.doors.size(); ++d) {
+        if (message.text == model_->doors[elevator.doors[d]].name || message.text == "floor" + std::to_string(d + 1)) {
+          floor = static_cast<int>(d);
+        }
+      }
+      if (floor < 0) {
+        emit("elevator_ignored_request", elevator.name, {{"message", message.text}});
+        continue;
+      }
+      std::deque<int>& queue = state_.elevators[e].queue;
+      if (queue.empty() || queue.back() != floor) queue.push_back(floor);
+    }
+  }
+  state_.inbox.clear();
+  for (std::size_t e = 0; e < model_->elevators.size(); ++e) update_elevator(static_cast<int>(e));
+}
+
+void Session::set_door(int door, DoorPhase phase) {
+  if (state_.doors[door].phase == phase) return;
+  state_.doors[door].phase = phase;
+  for (const scenario::Elevator& elevator : model_->elevators) {
+    if (std::find(elevator.doors.begin(), elevator.doors.end(), door) == elevator.doors.end()) continue;
+    state_.topics[elevator.topic + "/" + model_->doors[door].name + "_state"] = phase_name(phase);
+  }
+  emit("door_state", model_->doors[door].name, {{"state", phase_name(phase)}});
+}
+
+void Session::update_elevator(int index) {
+  const scenario::Elevator& elevator = model_->elevators[index];
+  ElevatorState& cabin = state_.elevators[index];
+  const int door = elevator.doors[cabin.floor];
+  DoorState& door_state = state_.doors[door];
+  const double step = elevator.door_speed * model_->dt / std::max(model_->doors[door].width(), 1e-6);
+  using Phase = ElevatorState::Phase;
+  switch (cabin.phase) {
+    case Phase::idle:
+      if (cabin.queue.empty()) break;
+      if (cabin.queue.front() == cabin.floor) {
+        cabin.queue.pop_front();
+        cabin.phase = Phase::opening;
+        set_door(door, DoorPhase::opening);
+      } else {
+        cabin.destination = cabin.queue.front();
+        cabin.phase = Phase::travelling;
+        cabin.until_tick = state_.tick + static_cast<std::int64_t>(
+                                             std::llround((elevator.travel_time + elevator.settle_time) / model_->dt));
+        emit("elevator_departed", elevator.name, {{"from", cabin.floor + 1}, {"to", cabin.destination + 1}});
+      }
+      break;
+    case Phase::travelling:
+      if (state_.tick >= cabin.until_tick) {
+        cabin.floor = cabin.destination;
+        cabin.phase = Phase::idle;
+        emit("elevator_arrived", elevator.name, {{"floor", cabin.floor + 1}});
+      }
+      break;
+    case Phase::opening:
+      door_state.opening = std::min(1.0, door_state.opening + step);
+      if (door_state.opening >= 1.0) {
+        cabin.phase = Phase::open;
+        cabin.until_tick = std::max(cabin.reopened_until_tick,
+                                    state_.tick + static_cast<std::int64_t>(std::llround(elevator.open_time / model_->dt)));
+        set_door(door, DoorPhase::open);
+      }
+      break;
+    case Phase::open:
+      // Asked again for this floor: stay open longer; asked for another floor: close and go.
+      while (!cabin.queue.empty() && cabin.queue.front() == cabin.floor) {
+        cabin.queue.pop_front();
+        cabin.until_tick = state_.tick + static_cast<std::int64_t>(std::llround(elevator.open_time / model_->dt));
+      }
+      if (state_.tick >= cabin.until_tick || (!cabin.queue.empty() && state_.tick >= cabin.reopened_until_tick)) {
+        cabin.phase = Phase::closing;
+        set_door(door, DoorPhase::closing);
+      }
+      break;
+    case Phase::closing:
+      if (someone_in_doorway(door)) {
+        cabin.phase = Phase::opening;
+        cabin.reopened_until_tick =
+            state_.tick + static_cast<std::int64_t>(std::llround(scenario::kElevatorReopenHold / model_->dt));
+        set_door(door, DoorPhase::opening);
+        break;
+      }
+      door_state.opening = std::max(0.0, door_state.opening - step);
+      if (door_state.opening <= 0.0) {
+        cabin.phase = Phase::idle;
+        set_door(door, DoorPhase::closed);
+        for (AgentState& agent : state_.agents) {
+          if (std::find(elevator.social_spaces.begin(), elevator.social_spaces.end(), agent.reserved_space) !=
+              elevator.social_spaces.end()) {
+            agent.reserved_space = -1;
+            agent.reserved_slot = -1;
+          }
+        }
+      }
+      break;
+  }
+}
+
+bool Session::door_blocks(int door) const { return state_.doors[door].phase != DoorPhase::open; }
+
+bool Session::someone_in_doorway(int door) const {
+  const scenario::Door& geometry = model_->doors[door];
+  for (std::size_t a = 0; a < state_.agents.size(); ++a) {
+    const Vec2& p = state_.agents[a].position;
+    const double clearance = model_->agents[a].radius + geometry.thickness / 2;
+    if ((core::closest_point_on_segment(p, geometry.from, geometry.to) - p).norm() < clearance) return true;
+  }
+  return false;
+}
+
+std::vector<std::size_t> Session::blocked_door_cells(double radius) const {
+  std::vector<std::size_t> cells;
+  const world::OccupancyGrid& grid = model_->grid;
+  for (std::size_t d = 0; d < model_->doors.size(); ++d) {
+    if (!door_blocks(static_cast<int>(d))) continue;
+    const scenario::Door& door = model_->doors[d];
+    // Cells whose centre a disc of `radius` could not occupy without touching the closed door.
+    const double reach = radius + door.thickness / 2 + grid.resolution() / 2;
+    const world::CellIndex low = grid.cell_of(door.from.cwiseMin(door.to) - Vec2(reach, reach));
+    const world::CellIndex high = grid.cell_of(door.from.cwiseMax(door.to) + Vec2(reach, reach));
+    for (int y = std::max(low.y, 0); y <= std::min(high.y, grid.height() - 1); ++y) {
+      for (int x = std::max(low.x, 0); x <= std::min(high.x, grid.width() - 1); ++x) {
+        const Vec2 centre = grid.center_of({x, y});
+        if ((core::closest_point_on_segment(centre, door.from, door.to) - centre).norm() < reach) {
+          cells.push_back(grid.index({x, y}));
+        }
+      }
+    }
+  }
+  return cells;
 }
 
 void Session::command_robot(int robot, const Vec2& velocity) { state_.agents[robot].commanded_velocity = velocity; }
@@ -208,11 +376,13 @@ bool Session::start_action(int agent, const Action& action) {
   AgentState& state = state_.agents[agent];
   switch (action.kind) {
     case Kind::go_to_location: {
-      for (std::size_t other = 0; other < state_.agents.size(); ++other) {
+      // The location itself holds one person; a spot at an offset from it is not the location.
+      const bool at_location = action.pose == Pose2{};
+      for (std::size_t other = 0; other < state_.agents.size() && at_location; ++other) {
         if (static_cast<int>(other) != agent && state_.agents[other].reserved_location == action.target) return false;
       }
       release_reservations(agent);
-      state.reserved_location = action.target;
+      if (at_location) state.reserved_location = action.target;
       const scenario::Location& location = model_->locations[action.target];
       go_to(agent, core::compose(location.pose, action.pose), location.radius, true);
       return true;
@@ -252,6 +422,7 @@ bool Session::start_action(int agent, const Action& action) {
       return true;
     case Kind::publish:
       state_.topics[action.topic] = action.message;
+      state_.inbox.push_back({action.topic, action.message});
       emit("publish", model_->agents[agent].id, {{"topic", action.topic}, {"message", action.message}});
       return true;
     case Kind::wait_message:
@@ -307,7 +478,11 @@ bool Session::slot_free(int space, int slot, int agent) const {
   for (std::size_t other = 0; other < state_.agents.size(); ++other) {
     if (static_cast<int>(other) == agent) continue;
     const AgentState& state = state_.agents[other];
-    if (state.reserved_space == space && state.reserved_slot == slot) return false;
+    if (state.reserved_space == space) {
+      // Someone holding another slot of this space stands for that slot, even when pushed near this one.
+      if (state.reserved_slot == slot) return false;
+      continue;
+    }
     if ((state.position - position).norm() < 2.0 * model_->agents[other].radius) return false;
   }
   return true;
@@ -316,6 +491,7 @@ bool Session::slot_free(int space, int slot, int agent) const {
 void Session::go_to(int agent, const Pose2& goal, double radius, bool with_heading) {
   AgentState& state = state_.agents[agent];
   state.navigating = true;
+  state.hold.reset();
   state.goal = goal.position();
   state.goal_radius = radius;
   state.goal_heading = with_heading ? std::optional<double>(goal.theta) : std::nullopt;
@@ -326,7 +502,8 @@ void Session::go_to(int agent, const Pose2& goal, double radius, bool with_headi
 
 bool Session::plan_path(int agent) {
   AgentState& state = state_.agents[agent];
-  const auto path = model_->planner.plan(state.position, state.goal, model_->agents[agent].radius);
+  const double radius = model_->agents[agent].radius;
+  const auto path = model_->planner.plan(state.position, state.goal, radius, blocked_door_cells(radius));
   state.path_index = 0;
   if (path) {
     state.path = *path;
@@ -364,6 +541,7 @@ void Session::locomotion() {
       if (to_goal <= state.goal_radius) {
         state.navigating = false;
         state.path.clear();
+        state.hold = state.goal;
         if (state.goal_heading) state.target_heading = core::wrap_angle(*state.goal_heading);
       } else if (!state.path.empty()) {
         const Vec2 target = state.path[state.path_index];
@@ -371,6 +549,11 @@ void Session::locomotion() {
         const double speed = state.preferred_speed * (last ? std::clamp(to_goal / kArrivalSlowdown, 0.3, 1.0) : 1.0);
         preferred = (target - state.position).normalized() * speed;
       }
+    }
+    if (!state.navigating && state.hold) {
+      // Pushed aside while standing (making way in a queue): step back to the spot.
+      const Vec2 back = *state.hold - state.position;
+      if (back.norm() > kHoldTolerance) preferred = back.normalized() * std::min(kHoldSpeed, state.preferred_speed);
     }
     if (state.look_at_agent >= 0) {
       state.target_heading = direction_to(state.position, state_.agents[state.look_at_agent].position);
@@ -385,7 +568,13 @@ void Session::locomotion() {
     crowd.velocity = crowd.controlled ? (state.navigating ? preferred : state.commanded_velocity) : state.velocity;
   }
   const humans::ObstacleQuery obstacles = [this](const Vec2& p, double range) -> std::optional<Vec2> {
-    const auto nearest = model_->field.nearest_obstacle(model_->grid, p);
+    std::optional<Vec2> nearest = model_->field.nearest_obstacle(model_->grid, p);
+    for (std::size_t d = 0; d < model_->doors.size(); ++d) {
+      if (!door_blocks(static_cast<int>(d))) continue;
+      const scenario::Door& door = model_->doors[d];
+      const Vec2 on_door = core::closest_point_on_segment(p, door.from, door.to);
+      if (!nearest || (on_door - p).norm() < (*nearest - p).norm()) nearest = on_door;
+    }
     if (!nearest || (*nearest - p).norm() > range) return std::nullopt;
     return nearest;
   };
@@ -419,6 +608,10 @@ std::uint64_t Session::state_hash() const {
     hash.add(agent.reserved_location).add(agent.reserved_space).add(agent.reserved_slot);
   }
   for (const auto& [topic, message] : state_.topics) hash.add(std::string_view(topic)).add(std::string_view(message));
+  for (const DoorState& door : state_.doors) hash.add(static_cast<int>(door.phase)).add(door.opening);
+  for (const ElevatorState& cabin : state_.elevators) {
+    hash.add(static_cast<int>(cabin.phase)).add(cabin.floor).add(static_cast<std::int64_t>(cabin.queue.size()));
+  }
   hash.add(static_cast<std::int64_t>(state_.requests.size())).add(static_cast<std::int64_t>(state_.events.size()));
   for (std::uint64_t word : state_.random.state()) hash.add(word);
   return hash.value();

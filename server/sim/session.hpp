@@ -25,6 +25,10 @@ inline constexpr double kHeadingTolerance = 0.05;
 inline constexpr double kArrivalSlowdown = 0.5;
 /// A waypoint (other than the last) counts as passed within this distance, m.
 inline constexpr double kWaypointReached = 0.3;
+/// A standing agent pushed further than this from where it arrived steps back, m...
+inline constexpr double kHoldTolerance = 0.3;
+/// ...at this speed, m/s.
+inline constexpr double kHoldSpeed = 0.5;
 /// Without a path, planning is tried again after this long, s.
 inline constexpr double kReplanRetry = 1.0;
 
@@ -52,6 +56,12 @@ class Session {
 
  private:
   void start_step(int step);
+  void update_environment();
+  void update_elevator(int elevator);
+  void set_door(int door, DoorPhase phase);
+  bool door_blocks(int door) const;
+  bool someone_in_doorway(int door) const;
+  std::vector<std::size_t> blocked_door_cells(double radius) const;
   void update_choreography();
   void update_requests();
   bool advance_agent(int agent);

@@ -42,6 +42,7 @@ struct AgentState {
   std::size_t path_index = 0;
   std::int64_t replan_at_tick = -1;  ///< when no path was found, try again at this tick
 
+  std::optional<Vec2> hold;  ///< where the agent arrived last; it steps back there when pushed away
   std::optional<double> target_heading;  ///< turning in place towards this
   int look_at_agent = -1;                ///< keeps facing this agent while the action runs
 
@@ -82,12 +83,38 @@ struct StepRecord {
   std::int64_t finished_tick = -1;
 };
 
+enum class DoorPhase { closed, opening, open, closing };
+
+struct DoorState {
+  DoorPhase phase = DoorPhase::closed;
+  double opening = 0.0;  ///< 0 closed … 1 fully open
+};
+
+struct ElevatorState {
+  enum class Phase { idle, opening, open, closing, travelling };
+  Phase phase = Phase::idle;
+  int floor = 0;                    ///< the floor the cabin is at (index of its door)
+  std::deque<int> queue;            ///< requested floors, served in order
+  std::int64_t until_tick = 0;      ///< end of the open period or of the trip
+  std::int64_t reopened_until_tick = 0;  ///< a door reopened for someone in the doorway stays open until then
+  int destination = 0;              ///< floor of the trip under way
+};
+
+/// A message published during the current tick, for subscribers that need every message.
+struct Message {
+  std::string topic;
+  std::string text;
+};
+
 struct State {
   std::int64_t tick = 0;
   std::vector<AgentState> agents;
   int step = 0;  ///< index of the current step; == steps.size() when all have finished
   std::vector<StepRecord> steps;
   std::map<std::string, std::string> topics;  ///< latest message per topic
+  std::vector<Message> inbox;                 ///< messages published since the environment last read them
+  std::vector<DoorState> doors;
+  std::vector<ElevatorState> elevators;
   std::vector<OpenRequest> requests;
   std::vector<ScheduledRequest> scheduled;  ///< robot requests still to come, by time
   std::vector<Event> events;

@@ -1,0 +1,41 @@
+#pragma once
+// Importers from the formats peers publish scenarios in, to hrisim's native JSON:
+// IMHuS choreography XML (seeds 001/002) and Pedsim scenario XML. Errors and warnings carry the XML
+// line they refer to.
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace hrisim::scenario {
+
+struct ImportMessage {
+  int line = 0;  ///< 1-based line in the XML file, 0 when it concerns the whole file
+  std::string message;
+};
+
+struct ImportResult {
+  nlohmann::ordered_json scenario;  ///< native scenario; meaningful only without errors
+  std::vector<ImportMessage> errors;
+  std::vector<ImportMessage> warnings;
+};
+
+struct ImportOptions {
+  std::string scenario;                               ///< IMHuS: which scenario of the file; the first when empty
+  std::optional<std::filesystem::path> map;           ///< a ROS map YAML or a world JSON replacing the file's map
+  std::vector<std::filesystem::path> map_search_path;  ///< where IMHuS map names are looked up (maps/<name>.world.json)
+  std::string source_name;                            ///< file name, for the description
+};
+
+ImportResult import_imhus(std::string_view xml, const ImportOptions& options);
+ImportResult import_pedsim(std::string_view xml, const ImportOptions& options);
+
+/// "imhus" or "pedsim" from the document's content (Pedsim files have a single <scenario> root).
+std::string detect_xml_format(std::string_view xml);
+
+/// Reads a world for --map: a ROS map YAML becomes {"map": path}; a .json file is a world object.
+std::optional<nlohmann::ordered_json> world_from_file(const std::filesystem::path& file, std::string& error);
+
+}  // namespace hrisim::scenario

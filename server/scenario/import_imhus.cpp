@@ -1,0 +1,394 @@
+#include <tinyxml2.h>
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "core/math.hpp"
+#include "scenario/import.hpp"
+#include "scenario/xml_reader.hpp"
+
+namespace hrisim::scenario {
+namespace {
+
+using nlohmann::ordered_json;
+using tinyxml2::XMLElement;
+
+const std::set<std::string> kPrimitiveActions = {"goto_action", "wait_action", "publish_action", "lookat_action"};
+
+/// A <goals> child is a scenario when it holds steps (elements with children, or AsyncActions);
+/// a compound task holds actions only.
+bool is_scenario(const XMLElement* element) {
+  for (const XMLElement* child = element->FirstChildElement(); child; child = child->NextSiblingElement()) {
+    if (std::string(child->Name()) == "AsyncActions" || child->FirstChildElement()) return true;
+  }
+  return false;
+}
+
+/// Slots named p1, p2, ... are taken in the order of their numbers; others in document order.
+int slot_number(const XMLElement* slot) {
+  const std::string name = slot->Name();
+  int number = 0;
+  if (name.size() < 2 || name[0] != 'p') return -1;
+  const auto [end, ec] = std::from_chars(name.data() + 1, name.data() + name.size(), number);
+  return ec == std::errc() && end == name.data() + name.size() ? number : -1;
+}
+
+class ImhusImporter {
+ public:
+  ImhusImporter(const ImportOptions& options, ImportResult& result) : options_(options), reader_(result) {}
+
+  void run(const tinyxml2::XMLDocument& document) {
+    const XMLElement* goals = nullptr;
+    const XMLElement* map_name = nullptr;
+    for (const XMLElement* top = document.FirstChildElement(); top; top = top->NextSiblingElement()) {
+      const std::string name = top->Name();
+      if (name == "map_name") {
+        map_name = top;
+      } else if (name == "agents") {
+        read_agents(top);
+      } else if (name == "poses") {
+        read_poses(top);
+      } else if (name == "social_space") {
+        read_social_spaces(top);  // also accepted outside <poses>
+      } else if (name == "goals") {
+        goals = top;
+      } else if (name == "groups") {
+        reader_.warn(top, "groups are not imported yet; the scenario runs without them");
+      } else {
+        reader_.warn(top, "unknown element <" + name + "> ignored");
+      }
+    }
+    if (!goals) {
+      reader_.fail(nullptr, "no <goals> element: the file has no scenario");
+      return;
+    }
+    read_goals(goals);
+    build_world(map_name);
+  }
+
+ private:
+  void read_agents(const XMLElement* agents) {
+    for (const XMLElement* agent = agents->FirstChildElement(); agent; agent = agent->NextSiblingElement()) {
+      const std::string kind = agent->Name();
+      const auto id = reader_.text(agent, "id");
+      if (!id) continue;
+      if (kind != "human" && kind != "robot") {
+        reader_.warn(agent, "unknown agent type <" + kind + "> ignored");
+        continue;
+      }
+      if (!agent_kinds_.emplace(*id, kind).second) reader_.fail(agent, "agent '" + *id + "' is declared twice");
+      agent_order_.push_back(*id);
+    }
+  }
+
+  void read_poses(const XMLElement* parent) {
+    for (const XMLElement* pose = parent->FirstChildElement(); pose; pose = pose->NextSiblingElement()) {
+      if (std::string(pose->Name()) == "social_space") {
+        read_social_spaces(pose);
+        continue;
+      }
+      if (!pose->Attribute("id")) {
+        read_poses(pose);  // IMHuS wraps its poses in a <pose> element without attributes
+        continue;
+      }
+      const auto id = reader_.text(pose, "id");
+      const auto x = reader_.number(pose, "x"), y = reader_.number(pose, "y");
+      const double theta = reader_.optional_number(pose, "theta").value_or(0.0);
+      if (!x || !y) continue;
+      if (poses_.contains(*id)) reader_.fail(pose, "pose '" + *id + "' is defined twice");
+      poses_[*id] = core::Pose2{*x, *y, theta};
+      ordered_json location{{"x", *x}, {"y", *y}, {"theta", theta}};
+      if (const auto radius = reader_.optional_number(pose, "radius")) location["radius"] = *radius;
+      locations_[*id] = location;
+    }
+  }
+
+  void read_social_spaces(const XMLElement* parent) {
+    for (const XMLElement* space = parent->FirstChildElement(); space; space = space->NextSiblingElement()) {
+      const auto id = reader_.text(space, "id");
+      const auto x = reader_.number(space, "x"), y = reader_.number(space, "y");
+      if (!id || !x || !y) continue;
+      std::vector<const XMLElement*> slots;
+      for (const XMLElement* slot = space->FirstChildElement(); slot; slot = slot->NextSiblingElement()) slots.push_back(slot);
+      if (std::all_of(slots.begin(), slots.end(), [](const XMLElement* s) { return slot_number(s) >= 0; })) {
+        std::stable_sort(slots.begin(), slots.end(),
+                         [](const XMLElement* a, const XMLElement* b) { return slot_number(a) < slot_number(b); });
+      }
+      ordered_json native{{"x", *x}, {"y", *y}, {"slots", ordered_json::array()}};
+      for (const XMLElement* slot : slots) {
+        native["slots"].push_back({{"x", reader_.optional_number(slot, "relativeX").value_or(0.0)},
+                                   {"y", reader_.optional_number(slot, "relativeY").value_or(0.0)},
+                                   {"theta", reader_.optional_number(slot, "theta").value_or(0.0)}});
+      }
+      if (native["slots"].empty()) reader_.fail(space, "social space '" + *id + "' has no slots");
+      social_spaces_[*id] = native;
+    }
+  }
+
+  void read_goals(const XMLElement* goals) {
+    // IMHuS groups them as <compound_tasks> and <scenarios>; without those, each child is classified.
+    std::vector<const XMLElement*> scenarios;
+    for (const XMLElement* element = goals->FirstChildElement(); element; element = element->NextSiblingElement()) {
+      const std::string group = element->Name();
+      if (group == "compound_tasks" || group == "scenarios") {
+        for (const XMLElement* child = element->FirstChildElement(); child; child = child->NextSiblingElement()) {
+          if (group == "scenarios") {
+            scenarios.push_back(child);
+          } else {
+            task_elements_.emplace(child->Name(), child);
+          }
+        }
+      } else if (is_scenario(element)) {
+        scenarios.push_back(element);
+      } else {
+        task_elements_.emplace(element->Name(), element);
+      }
+    }
+    const XMLElement* chosen = nullptr;
+    std::string available;
+    for (const XMLElement* scenario : scenarios) {
+      available += (available.empty() ? "" : ", ") + std::string(scenario->Name());
+      if (!chosen && (options_.scenario.empty() || options_.scenario == scenario->Name())) chosen = scenario;
+    }
+    if (!chosen) {
+      reader_.fail(goals, options_.scenario.empty() ? "the file defines no scenario"
+                                                   : "no scenario '" + options_.scenario + "' (the file has: " + available + ")");
+      return;
+    }
+    name_ = chosen->Name();
+    for (const XMLElement* scenario : scenarios) {
+      if (std::string(scenario->Name()) == name_ + "_robot") {
+        reader_.warn(scenario, "scenario '" + name_ + "_robot' (robot choreography) is not imported yet");
+      }
+    }
+    for (const auto& [task, element] : task_elements_) {
+      ordered_json actions = ordered_json::array();
+      for (const XMLElement* action = element->FirstChildElement(); action; action = action->NextSiblingElement()) {
+        if (auto native = read_action(action, true)) actions.push_back(std::move(*native));
+      }
+      if (actions.empty()) reader_.fail(element, "compound task '" + task + "' has no actions");
+      tasks_[task] = actions;
+    }
+    for (const XMLElement* step = chosen->FirstChildElement(); step; step = step->NextSiblingElement()) {
+      if (std::string(step->Name()) == "AsyncActions") {
+        for (const XMLElement* response = step->FirstChildElement(); response; response = response->NextSiblingElement()) {
+          if (std::string(response->Name()) != "async_action_res") {
+            reader_.fail(response, "AsyncActions holds async_action_res elements, not <" + std::string(response->Name()) + ">");
+            continue;
+          }
+          if (const auto task = reader_.text(response, "taskID")) {
+            if (require_task(response, *task)) async_.push_back({{"task", *task}});
+          }
+        }
+        continue;
+      }
+      ordered_json actions = ordered_json::array();
+      for (const XMLElement* action = step->FirstChildElement(); action; action = action->NextSiblingElement()) {
+        if (auto native = read_action(action, false)) actions.push_back(std::move(*native));
+      }
+      if (actions.empty()) {
+        reader_.warn(step, "step '" + std::string(step->Name()) + "' has no actions and is left out");
+        continue;
+      }
+      steps_.push_back({{"name", step->Name()}, {"actions", actions}});
+    }
+  }
+
+  bool require_task(const XMLElement* element, const std::string& task) {
+    if (task_elements_.contains(task)) return true;
+    reader_.fail(element, "unknown compound task '" + task + "'");
+    return false;
+  }
+
+  std::optional<ordered_json> read_action(const XMLElement* action, bool in_task) {
+    const std::string tag = action->Name();
+    ordered_json native = ordered_json::object();
+    if (const char* entity = action->Attribute("entityID")) {
+      if (in_task) {
+        reader_.fail(action, "actions of a compound task do not name an entityID");
+        return std::nullopt;
+      }
+      if (!agent_kinds_.contains(entity)) {
+        reader_.fail(action, "unknown entity '" + std::string(entity) + "' (not declared in <agents>)");
+        return std::nullopt;
+      }
+      native["agent"] = entity;
+    } else if (!in_task) {
+      reader_.fail(action, "step action <" + tag + "> needs an entityID");
+      return std::nullopt;
+    }
+    if (const char* task = action->Attribute("taskID"); task && !kPrimitiveActions.contains(tag)) {
+      if (!require_task(action, task)) return std::nullopt;
+      native["task"] = task;
+    } else if (tag == "goto_action") {
+      if (!read_goto(action, native)) return std::nullopt;
+    } else if (tag == "wait_action") {
+      if (const auto duration = reader_.optional_number(action, "duration")) {
+        native["wait"] = {{"duration", *duration}};
+      } else if (action->Attribute("topic") && action->Attribute("event")) {
+        native["wait"] = {{"topic", action->Attribute("topic")}, {"message", action->Attribute("event")}};
+      } else {
+        reader_.fail(action, "wait_action needs duration, or topic and event");
+        return std::nullopt;
+      }
+    } else if (tag == "publish_action") {
+      const auto topic = reader_.text(action, "topic"), message = reader_.text(action, "msg");
+      if (!topic || !message) return std::nullopt;
+      native["publish"] = {{"topic", *topic}, {"message", *message}};
+    } else if (tag == "lookat_action") {
+      if (const auto angle = reader_.optional_number(action, "angle")) {
+        native["look_at"] = {{"angle", *angle}};
+      } else {
+        reader_.fail(action, "lookat_action needs an angle");
+        return std::nullopt;
+      }
+    } else {
+      reader_.fail(action, "unknown action <" + tag + "> (expected goto_action, wait_action, publish_action, "
+                           "lookat_action, or an element with a taskID)");
+      return std::nullopt;
+    }
+    if (!in_task && native.contains("goto")) note_first_pose(action, native);
+    return native;
+  }
+
+  bool read_goto(const XMLElement* action, ordered_json& native) {
+    if (const char* pose_id = action->Attribute("poseID")) {
+      const auto pose = poses_.find(pose_id);
+      if (pose == poses_.end()) {
+        reader_.fail(action, "unknown pose '" + std::string(pose_id) + "'");
+        return false;
+      }
+      ordered_json go{{"location", pose_id}};
+      const double dx = reader_.optional_number(action, "relativeX").value_or(0.0);
+      const double dy = reader_.optional_number(action, "relativeY").value_or(0.0);
+      const double dtheta = reader_.optional_number(action, "relativeTheta").value_or(0.0);
+      if (dx != 0.0 || dy != 0.0 || dtheta != 0.0) {
+        // IMHuS offsets are along the map axes; native offsets are in the location's frame.
+        const double c = std::cos(pose->second.theta), s = std::sin(pose->second.theta);
+        go["offset"] = {{"x", c * dx + s * dy}, {"y", -s * dx + c * dy}, {"theta", dtheta}};
+      }
+      native["goto"] = go;
+      return true;
+    }
+    if (const char* space = action->Attribute("socialSpaceID")) {
+      if (!social_spaces_.contains(space)) {
+        reader_.fail(action, "unknown social space '" + std::string(space) + "'");
+        return false;
+      }
+      native["goto"] = {{"social_space", space}};
+      return true;
+    }
+    if (action->Attribute("x") && action->Attribute("y")) {
+      const auto x = reader_.number(action, "x"), y = reader_.number(action, "y");
+      if (!x || !y) return false;
+      ordered_json go{{"pose", {{"x", *x}, {"y", *y}, {"theta", reader_.optional_number(action, "theta").value_or(0.0)}}}};
+      if (const auto radius = reader_.optional_number(action, "radius")) go["radius"] = *radius;
+      native["goto"] = go;
+      return true;
+    }
+    reader_.fail(action, "goto_action needs poseID, socialSpaceID, or x and y");
+    return false;
+  }
+
+  /// IMHuS agents appear at the pose of their first goto in the first step; hrisim starts them there.
+  void note_first_pose(const XMLElement* action, const ordered_json& native) {
+    if (!steps_.empty() || !native.contains("agent")) return;
+    const std::string agent = native["agent"];
+    if (starts_.contains(agent)) return;
+    const ordered_json& go = native["goto"];
+    if (go.contains("location") && !go.contains("offset")) {
+      const core::Pose2& pose = poses_.at(go["location"].get<std::string>());
+      starts_[agent] = {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}};
+    } else if (go.contains("pose")) {
+      starts_[agent] = go["pose"];
+    }
+    start_lines_[agent] = action->GetLineNum();
+  }
+
+  void build_world(const XMLElement* map_name) {
+    ordered_json& out = reader_.result().scenario;
+    out = ordered_json::object();
+    out["name"] = name_;
+    out["description"] = "Imported from the IMHuS choreography " +
+                         (options_.source_name.empty() ? std::string("file") : options_.source_name) + ", scenario " + name_ + ".";
+    std::string error;
+    if (options_.map) {
+      if (auto world = world_from_file(*options_.map, error)) {
+        out["world"] = *world;
+      } else {
+        reader_.fail(nullptr, error);
+      }
+    } else if (!map_name || !map_name->Attribute("name")) {
+      reader_.fail(nullptr, "no <map_name name=...>: give the map with --map");
+    } else {
+      const std::string map = map_name->Attribute("name");
+      std::optional<std::filesystem::path> found;
+      for (const auto& folder : options_.map_search_path) {
+        if (std::filesystem::exists(folder / "maps" / (map + ".world.json"))) {
+          found = folder / "maps" / (map + ".world.json");
+          break;
+        }
+      }
+      if (!found) {
+        reader_.fail(map_name, "unknown map '" + map + "': no maps/" + map + ".world.json among the bundled scenarios (use --map FILE)");
+      } else if (auto world = world_from_file(*found, error)) {
+        out["world"] = *world;
+      } else {
+        reader_.fail(map_name, error);
+      }
+    }
+    out["locations"] = locations_;
+    out["social_spaces"] = social_spaces_;
+    out["humans"] = ordered_json::array();
+    out["robots"] = ordered_json::array();
+    for (const std::string& id : agent_order_) {
+      const bool human = agent_kinds_[id] == "human";
+      ordered_json start;
+      if (starts_.contains(id)) {
+        start = starts_[id];
+      } else if (!human && (poses_.contains("initial_pose_" + id) || poses_.contains("initial_pose_robot"))) {
+        const core::Pose2& pose = poses_.at(poses_.contains("initial_pose_" + id) ? "initial_pose_" + id : "initial_pose_robot");
+        start = {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}};
+      } else {
+        reader_.fail(nullptr, std::string(human ? "human" : "robot") + " '" + id +
+                                  "' has no initial pose: give it a goto_action with a poseID in the first step" +
+                                  (human ? "" : ", or define the pose initial_pose_robot"));
+        continue;
+      }
+      out[human ? "humans" : "robots"].push_back({{"id", id}, {"start", start}});
+    }
+    out["tasks"] = tasks_;
+    out["steps"] = steps_;
+    out["async"] = async_;
+  }
+
+  const ImportOptions& options_;
+  XmlReader reader_;
+  std::string name_;
+  std::map<std::string, std::string> agent_kinds_;
+  std::vector<std::string> agent_order_;
+  std::map<std::string, core::Pose2> poses_;
+  ordered_json locations_ = ordered_json::object();
+  ordered_json social_spaces_ = ordered_json::object();
+  std::map<std::string, const XMLElement*> task_elements_;
+  ordered_json tasks_ = ordered_json::object();
+  ordered_json steps_ = ordered_json::array();
+  ordered_json async_ = ordered_json::array();
+  std::map<std::string, ordered_json> starts_;
+  std::map<std::string, int> start_lines_;
+};
+
+}  // namespace
+
+ImportResult import_imhus(std::string_view xml, const ImportOptions& options) {
+  ImportResult result;
+  tinyxml2::XMLDocument document;
+  if (!parse_xml(xml, document, result)) return result;
+  ImhusImporter(options, result).run(document);
+  return result;
+}
+
+}  // namespace hrisim::scenario

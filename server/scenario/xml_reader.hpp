@@ -1,0 +1,39 @@
+#pragma once
+// Reading attributes of XML elements with errors that name the element, the attribute and the line;
+// shared by the importers. tinyxml2 stays in the importers' .cpp files.
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "scenario/import.hpp"
+
+namespace tinyxml2 {
+class XMLDocument;
+class XMLElement;
+}  // namespace tinyxml2
+
+namespace hrisim::scenario {
+
+class XmlReader {
+ public:
+  explicit XmlReader(ImportResult& result) : result_(result) {}
+
+  ImportResult& result() { return result_; }
+  void fail(const tinyxml2::XMLElement* element, const std::string& message);
+  void warn(const tinyxml2::XMLElement* element, const std::string& message);
+
+  /// A required attribute; an error when absent.
+  std::optional<std::string> text(const tinyxml2::XMLElement* element, const char* attribute);
+  /// A required number; an error when absent or not a number.
+  std::optional<double> number(const tinyxml2::XMLElement* element, const char* attribute);
+  /// An optional number; an error (and nothing) when present but not a number.
+  std::optional<double> optional_number(const tinyxml2::XMLElement* element, const char* attribute);
+
+ private:
+  ImportResult& result_;
+};
+
+/// Parses the document; on malformed XML records the error with its line and returns false.
+bool parse_xml(std::string_view xml, tinyxml2::XMLDocument& document, ImportResult& result);
+
+}  // namespace hrisim::scenario
