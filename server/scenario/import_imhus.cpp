@@ -216,6 +216,7 @@ class ImhusImporter {
         return std::nullopt;
       }
       native["agent"] = entity;
+      acting_.insert(entity);
     } else if (!in_task) {
       reader_.fail(action, "step action <" + tag + "> needs an entityID");
       return std::nullopt;
@@ -226,7 +227,9 @@ class ImhusImporter {
     } else if (tag == "goto_action") {
       if (!read_goto(action, native)) return std::nullopt;
     } else if (tag == "wait_action") {
-      if (const auto duration = reader_.optional_number(action, "duration")) {
+      if (action->Attribute("duration")) {
+        const auto duration = reader_.optional_number(action, "duration");
+        if (!duration) return std::nullopt;
         native["wait"] = {{"duration", *duration}};
       } else if (action->Attribute("topic") && action->Attribute("event")) {
         native["wait"] = {{"topic", action->Attribute("topic")}, {"message", action->Attribute("event")}};
@@ -340,6 +343,22 @@ class ImhusImporter {
         reader_.fail(map_name, error);
       }
     }
+    // A bundled world names the social spaces its elevators clear; keep those this file defines.
+    if (out.contains("world") && out["world"].contains("elevators")) {
+      for (auto& elevator : out["world"]["elevators"]) {
+        if (!elevator.contains("social_spaces")) continue;
+        ordered_json kept = ordered_json::array();
+        for (const auto& space : elevator["social_spaces"]) {
+          if (social_spaces_.contains(space.get<std::string>())) {
+            kept.push_back(space);
+          } else {
+            reader_.warn(nullptr, "the map's elevator clears social space '" + space.get<std::string>() +
+                                      "', which this file does not define");
+          }
+        }
+        elevator["social_spaces"] = kept;
+      }
+    }
     out["locations"] = locations_;
     out["social_spaces"] = social_spaces_;
     out["humans"] = ordered_json::array();
@@ -352,6 +371,10 @@ class ImhusImporter {
       } else if (!human && (poses_.contains("initial_pose_" + id) || poses_.contains("initial_pose_robot"))) {
         const core::Pose2& pose = poses_.at(poses_.contains("initial_pose_" + id) ? "initial_pose_" + id : "initial_pose_robot");
         start = {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}};
+      } else if (!acting_.contains(id)) {
+        reader_.warn(nullptr, std::string(human ? "human" : "robot") + " '" + id + "' takes no part in scenario '" + name_ +
+                                  "' (no initial pose, no action) and is left out");
+        continue;
       } else {
         reader_.fail(nullptr, std::string(human ? "human" : "robot") + " '" + id +
                                   "' has no initial pose: give it a goto_action with a poseID in the first step" +
@@ -378,6 +401,7 @@ class ImhusImporter {
   ordered_json steps_ = ordered_json::array();
   ordered_json async_ = ordered_json::array();
   std::map<std::string, ordered_json> starts_;
+  std::set<std::string> acting_;  ///< agents some step action names
   std::map<std::string, int> start_lines_;
 };
 

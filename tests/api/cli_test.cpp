@@ -9,7 +9,8 @@
 namespace hrisim::testing {
 namespace {
 
-const std::string kHrisim = HRISIM_BINARY;
+// The bundled scenarios (and their maps) are found through HRISIM_SCENARIOS, whatever the working folder.
+const std::string kHrisim = "HRISIM_SCENARIOS=" + std::string(HRISIM_SOURCE_DIR) + "/scenarios " + HRISIM_BINARY;
 const std::string kScenarios = std::string(HRISIM_SOURCE_DIR) + "/scenarios";
 
 TEST(Cli, ValidateAcceptsTheBundledScenarios) {
@@ -31,8 +32,8 @@ TEST(Cli, ValidateListsEveryErrorWithItsPointer) {
 }
 
 TEST(Cli, RunPrintsASummaryAndIsReproducible) {
-  const std::string command = kHrisim + " run " + kScenarios + "/queue.json --seed 4 2>/dev/null";
-  const CommandResult first = run_command(command);
+  const std::string command = kHrisim + " run " + kScenarios + "/queue.json --seed 4";
+  const CommandResult first = run_command(command, false);
   ASSERT_EQ(first.exit_status, 0) << first.output;
   const auto summary = nlohmann::json::parse(first.output);
   EXPECT_EQ(summary["scenario"], "queue");
@@ -42,11 +43,11 @@ TEST(Cli, RunPrintsASummaryAndIsReproducible) {
   EXPECT_EQ(summary["steps"].size(), 3u);
   EXPECT_EQ(summary["events"]["request_accepted"], 1);
   EXPECT_EQ(summary["ticks"].get<std::int64_t>() * summary["dt"].get<double>(), summary["sim_time"].get<double>());
-  EXPECT_EQ(nlohmann::json::parse(run_command(command).output)["state_hash"], summary["state_hash"]);
+  EXPECT_EQ(nlohmann::json::parse(run_command(command, false).output)["state_hash"], summary["state_hash"]);
 }
 
 TEST(Cli, RunStopsAtTheTimeLimitAndNamesTheStep) {
-  const CommandResult result = run_command(kHrisim + " run " + kScenarios + "/queue.json --max-time 2 --events 2>/dev/null");
+  const CommandResult result = run_command(kHrisim + " run " + kScenarios + "/queue.json --max-time 2 --events", false);
   ASSERT_EQ(result.exit_status, 0);
   const auto summary = nlohmann::json::parse(result.output);
   EXPECT_FALSE(summary["completed"].get<bool>());
@@ -56,7 +57,7 @@ TEST(Cli, RunStopsAtTheTimeLimitAndNamesTheStep) {
 }
 
 TEST(Cli, RunWithScriptedRequests) {
-  const CommandResult result = run_command(kHrisim + " run " + kScenarios + "/queue.json --request 1:help_robot --request 2:help_robot 2>/dev/null");
+  const CommandResult result = run_command(kHrisim + " run " + kScenarios + "/queue.json --request 1:help_robot --request 2:help_robot", false);
   ASSERT_EQ(result.exit_status, 0);
   EXPECT_EQ(nlohmann::json::parse(result.output)["events"]["request"], 3) << "two from the command line, one from the file";
 }
@@ -68,6 +69,46 @@ TEST(Cli, BadArgumentsExitWithTwo) {
     EXPECT_EQ(result.exit_status, 2) << args << "\n" << result.output;
   }
   EXPECT_EQ(run_command(kHrisim + " run /nonexistent.json").exit_status, 1);
+}
+
+}  // namespace
+}  // namespace hrisim::testing
+
+namespace hrisim::testing {
+namespace {
+
+const std::string kFixtures = std::string(HRISIM_SOURCE_DIR) + "/tests/fixtures";
+
+TEST(CliImport, ImhusToNativeJsonOnStdout) {
+  const CommandResult result = run_command(kHrisim + " import --from imhus " + kFixtures + "/imhus/office.xml", false);
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  const auto scenario = nlohmann::json::parse(result.output);
+  EXPECT_EQ(scenario["name"], "meeting");
+  EXPECT_EQ(scenario["steps"].size(), 3u);
+  // The output is a valid native scenario.
+  TempDir dir;
+  std::ofstream(dir / "meeting.json") << result.output;
+  EXPECT_EQ(run_command(kHrisim + " validate " + (dir / "meeting.json").string()).exit_status, 0);
+}
+
+TEST(CliImport, FormatIsDetectedAndErrorsCarryLines) {
+  const CommandResult pedsim = run_command(kHrisim + " import " + kFixtures + "/pedsim/hall.xml");
+  EXPECT_EQ(pedsim.exit_status, 0);
+  EXPECT_NE(pedsim.output.find("hall.xml:20: warning: <attraction>: unsupported element"), std::string::npos) << pedsim.output;
+  TempDir dir;
+  std::ofstream(dir / "broken.xml") << "<agents>\n  <human id=\"a\"/>\n</agents>\n<goals>\n  <scenarios>\n    <s>\n      <step>\n"
+                                       "        <goto_action entityID=\"a\" poseID=\"nowhere\"/>\n      </step>\n    </s>\n  </scenarios>\n</goals>\n";
+  const CommandResult broken = run_command(kHrisim + " import " + (dir / "broken.xml").string());
+  EXPECT_EQ(broken.exit_status, 1);
+  EXPECT_NE(broken.output.find("broken.xml:8: <goto_action>: unknown pose 'nowhere'"), std::string::npos) << broken.output;
+}
+
+TEST(CliImport, RunAcceptsXmlDirectly) {
+  const CommandResult result = run_command(kHrisim + " run " + kFixtures + "/imhus/office.xml --request 1:fetch_coffee", false);
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  const auto summary = nlohmann::json::parse(result.output);
+  EXPECT_TRUE(summary["completed"].get<bool>());
+  EXPECT_EQ(summary["events"]["request_accepted"], 1);
 }
 
 }  // namespace

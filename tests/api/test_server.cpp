@@ -172,9 +172,9 @@ bool RawConnection::closed_by_peer() {
   return n < 0 && errno == ECONNRESET;
 }
 
-CommandResult run_command(const std::string& command) {
+CommandResult run_command(const std::string& command, bool with_stderr) {
   CommandResult result;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  FILE* pipe = popen((command + (with_stderr ? " 2>&1" : " 2>/dev/null")).c_str(), "r");
   if (!pipe) throw std::runtime_error("cannot run " + command);
   char buffer[256];
   while (fgets(buffer, sizeof buffer, pipe)) result.output += buffer;

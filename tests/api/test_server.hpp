@@ -74,8 +74,8 @@ struct CommandResult {
   std::string output;  ///< stdout and stderr together
 };
 
-/// Runs a shell command to completion.
-CommandResult run_command(const std::string& command);
+/// Runs a shell command to completion; its stderr joins the output unless `with_stderr` is false.
+CommandResult run_command(const std::string& command, bool with_stderr = true);
 
 /// One request on a fresh connection with "Connection: close".
 HttpReply http(std::uint16_t port, const std::string& method, const std::string& target, const std::string& body = "",

@@ -1,0 +1,229 @@
+#include "scenario/import.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "scenario/load.hpp"
+#include "sim/session.hpp"
+
+namespace hrisim::scenario {
+namespace {
+
+using nlohmann::json;
+
+std::string read(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+const std::filesystem::path kFixtures = std::filesystem::path(HRISIM_SOURCE_DIR) / "tests/fixtures";
+const std::filesystem::path kShared = HRISIM_SHARED_DIR;
+
+ImportOptions bundled(std::string scenario = "") {
+  return {std::move(scenario), std::nullopt, {std::filesystem::path(HRISIM_SOURCE_DIR) / "scenarios"}, "test.xml"};
+}
+
+std::shared_ptr<const Model> load_imported(const ImportResult& imported) {
+  for (const auto& e : imported.errors) ADD_FAILURE() << "line " << e.line << ": " << e.message;
+  const LoadResult loaded = load_scenario(json::parse(imported.scenario.dump()), {});
+  for (const auto& e : loaded.errors) ADD_FAILURE() << e.pointer << ": " << e.message;
+  return loaded.model;
+}
+
+::testing::AssertionResult has_message(const std::vector<ImportMessage>& messages, int line, const std::string& fragment) {
+  for (const auto& m : messages) {
+    if (m.line == line && m.message.find(fragment) != std::string::npos) return ::testing::AssertionSuccess();
+  }
+  std::string all;
+  for (const auto& m : messages) all += "\n  " + std::to_string(m.line) + ": " + m.message;
+  return ::testing::AssertionFailure() << "no message at line " << line << " with '" << fragment << "' in:" << all;
+}
+
+TEST(ImportImhus, OwnFixtureBecomesANativeScenario) {
+  const ImportResult imported = import_imhus(read(kFixtures / "imhus/office.xml"), bundled());
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->name, "meeting");
+  ASSERT_EQ(model->agents.size(), 4u);
+  EXPECT_EQ(model->agents[0].id, "ann");
+  EXPECT_TRUE(model->agents[0].start.position().isApprox(Vec2(4, -3))) << "agents start at their first goto";
+  EXPECT_EQ(model->agents[3].kind, AgentKind::robot);
+  EXPECT_TRUE(model->agents[3].start.position().isApprox(Vec2(6.5, 0))) << "the robot starts at initial_pose_robot";
+  ASSERT_EQ(model->steps.size(), 3u);
+  EXPECT_EQ(model->steps[1].name, "huddle_up");
+  EXPECT_EQ(model->steps[1].actions[2].kind, Action::Kind::run_task);
+  ASSERT_EQ(model->async_tasks.size(), 1u);
+  EXPECT_EQ(model->tasks[model->async_tasks[0]].name, "fetch_coffee");
+  EXPECT_DOUBLE_EQ(model->tasks[model->find_task("fetch_coffee")].actions[1].value, 2.0) << "'2.' is a number";
+  // Slots p1, p2, p3 are taken in the order of their numbers, not of the file.
+  const SocialSpace& huddle = model->social_spaces[0];
+  EXPECT_TRUE(huddle.slots[0].position().isApprox(Vec2(6.8, -6)));
+  EXPECT_TRUE(huddle.slots[2].position().isApprox(Vec2(6, -6.8)));
+  // relativeX is along the map's x axis: board (5.5, -2) + 1 m = (6.5, -2) whatever the pose's heading.
+  const Action& to_board = model->steps[2].actions[0];
+  const Pose2 goal = core::compose(model->locations[to_board.target].pose, to_board.pose);
+  EXPECT_NEAR(goal.x, 6.5, 1e-9);
+  EXPECT_NEAR(goal.y, -2.0, 1e-9);
+  EXPECT_FALSE(model->doors.empty()) << "map_name 'elevator' brings the bundled elevator world";
+}
+
+TEST(ImportImhus, ScenarioByName) {
+  const ImportResult solo = import_imhus(read(kFixtures / "imhus/office.xml"), bundled("solo"));
+  EXPECT_TRUE(has_message(solo.warnings, 0, "human 'ann' takes no part in scenario 'solo'"));
+  const auto model = load_imported(solo);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->name, "solo");
+  EXPECT_EQ(model->agents.size(), 2u) << "cy and the robot";
+  EXPECT_EQ(model->steps[0].actions[0].kind, Action::Kind::go_to_pose);
+  const ImportResult missing = import_imhus(read(kFixtures / "imhus/office.xml"), bundled("party"));
+  EXPECT_TRUE(has_message(missing.errors, 27, "no scenario 'party' (the file has: meeting, solo)"));
+}
+
+TEST(ImportImhus, ErrorsNameTheLine) {
+  std::string xml = read(kFixtures / "imhus/office.xml");
+  auto replace = [&](const std::string& from, const std::string& to) { xml.replace(xml.find(from), from.size(), to); };
+  replace(R"(poseID="window"/>)", R"(poseID="kitchen"/>)");
+  replace(R"(<hi entityID="ann" taskID="greet"/>)", R"(<hi entityID="zed" taskID="dance"/>)");
+  replace(R"(duration="1")", R"(duration="soon")");
+  replace(R"(<publish_action topic="/office/greeting" msg="hello"/>)", R"(<publish_action topic="/office/greeting"/>)");
+  replace(R"(socialSpaceID="huddle"/>
+        <goto_action entityID="bo")", R"(socialSpaceID="circle"/>
+        <goto_action entityID="bo")");
+  const ImportResult result = import_imhus(xml, bundled());
+  EXPECT_TRUE(has_message(result.errors, 34, "<goto_action>: unknown pose 'kitchen'"));
+  EXPECT_TRUE(has_message(result.errors, 51, "unknown entity 'zed'"));
+  EXPECT_TRUE(has_message(result.errors, 30, "attribute 'duration' must be a number, got 'soon'"));
+  EXPECT_TRUE(has_message(result.errors, 31, "missing attribute 'msg'"));
+  EXPECT_TRUE(has_message(result.errors, 49, "unknown social space 'circle'"));
+}
+
+TEST(ImportImhus, MalformedXmlAndUnknownMap) {
+  const ImportResult broken = import_imhus("<agents>\n  <human id=\"a\">\n</agents>\n", bundled());
+  ASSERT_EQ(broken.errors.size(), 1u);
+  EXPECT_NE(broken.errors[0].message.find("malformed XML"), std::string::npos);
+  EXPECT_GT(broken.errors[0].line, 0);
+  std::string xml = read(kFixtures / "imhus/office.xml");
+  xml.replace(xml.find("name=\"elevator\""), 15, "name=\"moon\"");
+  EXPECT_TRUE(has_message(import_imhus(xml, bundled()).errors, 3, "unknown map 'moon'"));
+}
+
+// IMHuS's published elevator choreography (reference data, read in place from ../shared/external).
+TEST(ImportImhus, RealElevatorFileImportsCompletely) {
+  const ImportResult imported = import_imhus(read(kShared / "external/imhus/elevator_goals.xml"), bundled());
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->name, "take_elevator");
+  EXPECT_EQ(model->steps.size(), 10u);
+  EXPECT_EQ(model->steps.back().name, "step3");
+  EXPECT_EQ(model->agents.size(), 7u);
+  EXPECT_EQ(model->tasks.size(), 11u);
+  EXPECT_EQ(model->async_tasks.size(), 2u);
+  ASSERT_EQ(model->social_spaces.size(), 3u);
+  EXPECT_EQ(model->social_spaces[0].slots.size(), 5u);
+  EXPECT_EQ(model->elevators.size(), 1u);
+}
+
+struct ElevatorRun {
+  bool completed;
+  std::string last_step;
+  std::vector<std::string> publications;  ///< topic=message in order
+  std::vector<std::string> accepted_by;
+};
+
+ElevatorRun run_elevator(const std::vector<double>& request_times) {
+  const ImportResult imported = import_imhus(read(kShared / "external/imhus/elevator_goals.xml"), bundled());
+  const auto model = load_imported(imported);
+  sim::Session session(model, 1);
+  const int robot = model->find_agent("tiago");
+  for (double time : request_times) session.schedule_request(time, robot, model->find_task("take_robot_floor2"));
+  session.run(240.0);
+  ElevatorRun run{session.state().termination == "scenario_end", "", {}, {}};
+  for (const sim::Event& event : session.state().events) {
+    if (event.kind == "publish") run.publications.push_back(event.data["topic"].get<std::string>() + "=" + event.data["message"].get<std::string>());
+    if (event.kind == "request_accepted") run.accepted_by.push_back(event.subject);
+    if (event.kind == "time_limit") run.last_step = event.subject;
+  }
+  return run;
+}
+
+TEST(ImportImhus, RealElevatorFileWaitsForTheRobotsRequest) {
+  const ElevatorRun alone = run_elevator({});
+  EXPECT_FALSE(alone.completed);
+  EXPECT_EQ(alone.last_step, "step") << "human6 waits for door 1, which nobody opens";
+  EXPECT_EQ(alone.publications,
+            (std::vector<std::string>{"/elevator/request=door2", "/elevator/request=floor1", "/elevator/request=floor2"}));
+}
+
+TEST(ImportImhus, RealElevatorFileCompletesWithRepeatedRobotRequests) {
+  const ElevatorRun helped = run_elevator({100.0, 130.0, 160.0});
+  EXPECT_TRUE(helped.completed);
+  ASSERT_FALSE(helped.accepted_by.empty());
+  EXPECT_EQ(helped.accepted_by[0], "human5") << "the idle human nearest the robot on floor 1";
+  EXPECT_EQ(helped.publications,
+            (std::vector<std::string>{"/elevator/request=door2", "/elevator/request=floor1", "/elevator/request=floor2",
+                                      "/elevator/request=door1", "/elevator/request=floor2"}));
+}
+
+TEST(ImportPedsim, OwnFixture) {
+  const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/hall.xml"), bundled());
+  EXPECT_TRUE(has_message(imported.warnings, 10, "waypoint 'outside' at (20.000000, 4.000000) lies outside the walls"));
+  EXPECT_TRUE(has_message(imported.warnings, 9, "waypoint 'right' is a sink"));
+  EXPECT_TRUE(has_message(imported.warnings, 20, "unsupported element <attraction> ignored"));
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  ASSERT_EQ(model->agents.size(), 5u);
+  int humans = 0;
+  for (const AgentDef& agent : model->agents) {
+    if (agent.kind != AgentKind::human) continue;
+    ++humans;
+    EXPECT_EQ(agent.avoidance, humans::LocalAvoidance::social_force);
+  }
+  EXPECT_EQ(humans, 4);
+  for (int i = 0; i < 3; ++i) {
+    const Vec2 start = model->agents[i].start.position();
+    EXPECT_GE(start.x(), 2.0);
+    EXPECT_LE(start.x(), 4.0);
+    EXPECT_GE(start.y(), 3.0);
+    EXPECT_LE(start.y(), 5.0);
+  }
+  EXPECT_EQ(model->agents[3].type, "elder");
+  EXPECT_EQ(model->agents[4].kind, AgentKind::robot);
+  EXPECT_EQ(model->steps[0].actions.size(), 3u * 2 + 1) << "the outside waypoint is dropped from routes";
+  const ImportResult again = import_pedsim(read(kFixtures / "pedsim/hall.xml"), bundled());
+  EXPECT_EQ(again.scenario.dump(), imported.scenario.dump()) << "cluster placement is reproducible";
+}
+
+TEST(ImportPedsim, ErrorsNameTheLine) {
+  std::string xml = read(kFixtures / "pedsim/hall.xml");
+  xml.replace(xml.find(R"(<addwaypoint id="outside"/>)"), 27, R"(<addwaypoint id="nowhere"/>)");
+  xml.replace(xml.find(R"(x2="12" y2="0")"), 14, R"(x2="twelve" y2="0")");
+  xml.replace(xml.find(R"(type="3")"), 8, R"(type="7")");
+  const ImportResult result = import_pedsim(xml, bundled());
+  EXPECT_TRUE(has_message(result.errors, 14, "unknown waypoint 'nowhere'"));
+  EXPECT_TRUE(has_message(result.errors, 4, "attribute 'x2' must be a number"));
+  EXPECT_TRUE(has_message(result.errors, 17, "type must be 0 (adult), 1 (child), 2 (robot) or 3 (elder)"));
+}
+
+// Pedsim's published corridor (reference data, read in place).
+TEST(ImportPedsim, RealCorridorImportsAndRuns) {
+  const ImportResult imported = import_pedsim(read(kShared / "external/pedsim/corridor.xml"), bundled());
+  EXPECT_TRUE(has_message(imported.warnings, 13, "waypoint 'robot_goal'"));
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->agents.size(), 9u);
+  sim::Session session(model, 1);
+  session.run(120.0);
+  EXPECT_EQ(session.state().termination, "scenario_end") << "the eight walkers reach east, then west";
+}
+
+TEST(DetectXmlFormat, PedsimHasOneScenarioRoot) {
+  EXPECT_EQ(detect_xml_format(read(kFixtures / "pedsim/hall.xml")), "pedsim");
+  EXPECT_EQ(detect_xml_format(read(kFixtures / "imhus/office.xml")), "imhus");
+}
+
+}  // namespace
+}  // namespace hrisim::scenario

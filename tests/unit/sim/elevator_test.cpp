@@ -1,0 +1,145 @@
+// The elevator of IMHuS's use case, on hrisim's bundled elevator world (scenarios/maps/elevator.world.json).
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "sim/session.hpp"
+#include "support/scenarios.hpp"
+
+namespace hrisim::sim {
+namespace {
+
+using nlohmann::json;
+
+json elevator_scenario(const std::string& extra) {
+  std::ifstream world_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/maps/elevator.world.json");
+  json scenario{{"name", "elevator test"}, {"world", json::parse(world_file)}, {"time_limit", 120}, {"steps", json::array()},
+                {"social_spaces", {{"elevator", {{"x", 0}, {"y", 0}, {"slots", json::array({{{"x", 0.5}, {"y", 0.5}}, {{"x", -0.5}, {"y", -0.5}}})}}}}}};
+  scenario.merge_patch(json::parse(extra));
+  return scenario;
+}
+
+struct Timeline {
+  std::vector<std::pair<double, std::string>> door_states;  ///< time, "door1 opening" ...
+  std::vector<std::pair<double, std::string>> trips;        ///< time, "departed 1->2" / "arrived 2"
+};
+
+Timeline timeline_of(const Session& session) {
+  Timeline timeline;
+  for (const Event& event : session.state().events) {
+    if (event.kind == "door_state") {
+      timeline.door_states.emplace_back(event.time, event.subject + " " + event.data["state"].get<std::string>());
+    } else if (event.kind == "elevator_departed") {
+      timeline.trips.emplace_back(event.time, "departed " + event.data["from"].dump() + "->" + event.data["to"].dump());
+    } else if (event.kind == "elevator_arrived") {
+      timeline.trips.emplace_back(event.time, "arrived " + event.data["floor"].dump());
+    }
+  }
+  return timeline;
+}
+
+constexpr double kTick = 1.0 / 60.0;
+// Doors are 1.2 m wide: 1.2 / 0.5 m/s = 2.4 s to open or close.
+constexpr double kDoorMotion = 1.2 / scenario::kElevatorDoorSpeed;
+
+TEST(Elevator, DoorOpensStaysOpenAndCloses) {
+  Session session(testing::load_valid(elevator_scenario(R"({
+    "humans": [{"id": "ann", "start": {"x": 2, "y": 1}}],
+    "steps": [{"name": "call", "actions": [{"agent": "ann", "publish": {"topic": "/elevator/request", "message": "door1"}},
+                                           {"agent": "ann", "wait": {"topic": "/elevator/door1_state", "message": "open"}}]},
+              {"name": "linger", "actions": [{"agent": "ann", "wait": {"duration": 25}}]}]})")),
+                  1);
+  session.run(30.0);
+  const Timeline timeline = timeline_of(session);
+  ASSERT_EQ(timeline.door_states.size(), 4u);
+  EXPECT_EQ(timeline.door_states[0].second, "door1 opening");
+  EXPECT_EQ(timeline.door_states[1].second, "door1 open");
+  EXPECT_NEAR(timeline.door_states[1].first - timeline.door_states[0].first, kDoorMotion, 2 * kTick);
+  EXPECT_EQ(timeline.door_states[2].second, "door1 closing");
+  EXPECT_NEAR(timeline.door_states[2].first - timeline.door_states[1].first, scenario::kElevatorOpenTime, 2 * kTick);
+  EXPECT_EQ(timeline.door_states[3].second, "door1 closed");
+  EXPECT_NEAR(timeline.door_states[3].first - timeline.door_states[2].first, kDoorMotion, 2 * kTick);
+  EXPECT_TRUE(timeline.trips.empty()) << "the cabin starts at floor 1";
+  EXPECT_EQ(session.state().steps[0].finished_tick, static_cast<std::int64_t>(std::llround(timeline.door_states[1].first / kTick)))
+      << "the wait for 'open' ends when the door is open";
+  EXPECT_EQ(session.state().topics.at("/elevator/door1_state"), "closed");
+  EXPECT_EQ(session.state().topics.at("/elevator/door2_state"), "closed");
+}
+
+TEST(Elevator, OtherFloorTakesTheTripFirstAndRequestsAreServedInOrder) {
+  Session session(testing::load_valid(elevator_scenario(R"({
+    "humans": [{"id": "ann", "start": {"x": -2, "y": 1}}],
+    "steps": [{"name": "call", "actions": [{"agent": "ann", "publish": {"topic": "/elevator/request", "message": "door2"}},
+                                           {"agent": "ann", "publish": {"topic": "/elevator/request", "message": "floor1"}},
+                                           {"agent": "ann", "publish": {"topic": "/elevator/request", "message": "basement"}},
+                                           {"agent": "ann", "wait": {"duration": 50}}]}]})")),
+                  1);
+  session.run(60.0);
+  const Timeline timeline = timeline_of(session);
+  ASSERT_GE(timeline.trips.size(), 4u);
+  EXPECT_EQ(timeline.trips[0].second, "departed 1->2");
+  EXPECT_EQ(timeline.trips[1].second, "arrived 2");
+  const double trip = scenario::kElevatorTravelTime + scenario::kElevatorSettleTime;
+  EXPECT_NEAR(timeline.trips[1].first - timeline.trips[0].first, trip, 2 * kTick);
+  EXPECT_EQ(timeline.door_states[0].second, "door2 opening");
+  // floor1 was queued behind door2: the open door closes at once and the cabin goes back.
+  EXPECT_EQ(timeline.door_states[2].second, "door2 closing");
+  EXPECT_NEAR(timeline.door_states[2].first - timeline.door_states[1].first, 0.0, 2 * kTick);
+  EXPECT_EQ(timeline.trips[2].second, "departed 2->1");
+  EXPECT_EQ(timeline.trips[3].second, "arrived 1");
+  EXPECT_EQ(session.state().events.end() != std::find_if(session.state().events.begin(), session.state().events.end(),
+                                                          [](const Event& e) { return e.kind == "elevator_ignored_request"; }),
+            true);
+}
+
+TEST(Elevator, ClosedDoorsAreWalls) {
+  Session session(testing::load_valid(elevator_scenario(R"({
+    "humans": [{"id": "ann", "start": {"x": 3, "y": 0}}],
+    "steps": [{"name": "in", "actions": [{"agent": "ann", "goto": {"pose": {"x": 0, "y": 0}}}]}]})")),
+                  1);
+  session.run(20.0);
+  EXPECT_EQ(session.state().termination, "timeout");
+  EXPECT_GT(session.state().agents[0].position.x(), 1.3) << "ann never passes the closed door";
+  const auto unreachable = std::count_if(session.state().events.begin(), session.state().events.end(),
+                                         [](const Event& e) { return e.kind == "goal_unreachable"; });
+  EXPECT_EQ(unreachable, 1);
+}
+
+TEST(Elevator, RidersGoInRideAndLeaveOnTheOtherFloor) {
+  Session session(testing::load_valid(elevator_scenario(R"({
+    "humans": [{"id": "ann", "start": {"x": 3, "y": 0.5}}],
+    "tasks": {"ride_up": [
+      {"publish": {"topic": "/elevator/request", "message": "door1"}},
+      {"wait": {"topic": "/elevator/door1_state", "message": "open"}},
+      {"goto": {"social_space": "elevator"}},
+      {"publish": {"topic": "/elevator/request", "message": "floor2"}},
+      {"wait": {"topic": "/elevator/door2_state", "message": "open"}},
+      {"goto": {"pose": {"x": -4, "y": 0}}}]},
+    "steps": [{"name": "ride", "actions": [{"agent": "ann", "task": "ride_up"}]}]})")),
+                  1);
+  session.run(80.0);
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_LT(session.state().agents[0].position.x(), -3.5) << "ann is on floor 2";
+  EXPECT_EQ(session.state().agents[0].reserved_space, -1) << "the cabin slot was released when the door closed";
+}
+
+TEST(Elevator, DoorReopensForSomeoneInTheDoorway) {
+  Session session(testing::load_valid(elevator_scenario(R"({
+    "humans": [{"id": "ann", "start": {"x": 2, "y": 1}}, {"id": "bo", "start": {"x": 3, "y": -0.5}}],
+    "steps": [{"name": "call", "actions": [{"agent": "ann", "publish": {"topic": "/elevator/request", "message": "door1"}},
+                                           {"agent": "ann", "wait": {"topic": "/elevator/door1_state", "message": "open"}}]},
+              {"name": "block", "actions": [{"agent": "bo", "goto": {"pose": {"x": 1.3, "y": 0}, "radius": 0.05}},
+                                            {"agent": "bo", "wait": {"duration": 30}}]}]})")),
+                  1);
+  session.run(40.0);
+  const Timeline timeline = timeline_of(session);
+  bool reopened = false;
+  for (std::size_t i = 1; i < timeline.door_states.size(); ++i) {
+    reopened |= timeline.door_states[i - 1].second == "door1 closing" && timeline.door_states[i].second == "door1 opening";
+  }
+  EXPECT_TRUE(reopened);
+  EXPECT_NE(session.state().topics.at("/elevator/door1_state"), "closed") << "bo still stands in the doorway";
+}
+
+}  // namespace
+}  // namespace hrisim::sim
