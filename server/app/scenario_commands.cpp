@@ -3,9 +3,9 @@
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
-#include <map>
-
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -29,12 +29,53 @@ double parse_seconds(const std::string& option, const std::string& text) {
   return value;
 }
 
+/// Arguments of a command: one file and options, each option with its values in order.
+struct ParsedArgs {
+  std::string file;
+  std::map<std::string, std::vector<std::string>> values;  ///< options that take a value
+  std::set<std::string> flags;                              ///< options without one
+  std::optional<std::string> last(const std::string& option) const {
+    const auto found = values.find(option);
+    return found == values.end() ? std::nullopt : std::optional(found->second.back());
+  }
+};
+
+ParsedArgs parse_args(const std::vector<std::string>& args, const std::set<std::string>& valued,
+                      const std::set<std::string>& flags, const std::string& usage) {
+  ParsedArgs parsed;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (valued.contains(arg)) {
+      if (i + 1 >= args.size()) usage_error(arg + " needs a value");
+      parsed.values[arg].push_back(args[++i]);
+    } else if (flags.contains(arg)) {
+      parsed.flags.insert(arg);
+    } else if (arg.starts_with("--")) {
+      usage_error("unknown option " + arg);
+    } else if (parsed.file.empty()) {
+      parsed.file = arg;
+    } else {
+      usage_error("unexpected argument '" + arg + "'");
+    }
+  }
+  if (parsed.file.empty()) usage_error(usage);
+  return parsed;
+}
+
 /// How an XML file is turned into a scenario.
 struct SourceOptions {
   std::string format;  ///< "imhus", "pedsim", or empty to detect
   std::string scenario;
   std::optional<std::filesystem::path> map;
 };
+
+SourceOptions source_options(const ParsedArgs& parsed) {
+  SourceOptions source;
+  source.format = parsed.last("--from").value_or("");
+  source.scenario = parsed.last("--scenario").value_or("");
+  if (const auto map = parsed.last("--map")) source.map = *map;
+  return source;
+}
 
 void print_messages(const std::string& file, const char* kind, const std::vector<scenario::ImportMessage>& messages) {
   for (const auto& message : messages) {
@@ -108,47 +149,27 @@ int validate_command(const std::vector<std::string>& args) {
 }
 
 int run_command(const std::vector<std::string>& args) {
-  std::string file;
+  const ParsedArgs parsed = parse_args(
+      args, {"--seed", "--max-time", "--request", "--scenario", "--map"}, {"--events"},
+      "usage: hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME] [--map FILE]");
+  const std::string& file = parsed.file;
   std::uint64_t seed = 0;
+  if (const auto text = parsed.last("--seed")) {
+    const auto [end, ec] = std::from_chars(text->data(), text->data() + text->size(), seed);
+    if (ec != std::errc() || end != text->data() + text->size()) usage_error("--seed: expected a whole number, got '" + *text + "'");
+  }
   std::optional<double> max_time;
-  bool with_events = false;
+  if (const auto text = parsed.last("--max-time")) max_time = parse_seconds("--max-time", *text);
+  const bool with_events = parsed.flags.contains("--events");
   std::vector<std::pair<double, std::string>> requests;
-  SourceOptions source;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) usage_error(arg + " needs a value");
-      return args[++i];
-    };
-    if (arg == "--seed") {
-      const std::string& text = value();
-      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
-      if (ec != std::errc() || end != text.data() + text.size()) usage_error("--seed: expected a whole number, got '" + text + "'");
-    } else if (arg == "--max-time") {
-      max_time = parse_seconds("--max-time", value());
-    } else if (arg == "--events") {
-      with_events = true;
-    } else if (arg == "--scenario") {
-      source.scenario = value();
-    } else if (arg == "--map") {
-      source.map = value();
-    } else if (arg == "--request") {
-      const std::string& text = value();
+  if (parsed.values.contains("--request")) {
+    for (const std::string& text : parsed.values.at("--request")) {
       const auto colon = text.find(':');
       if (colon == std::string::npos) usage_error("--request: expected TIME:TASK, got '" + text + "'");
       requests.emplace_back(parse_seconds("--request", text.substr(0, colon)), text.substr(colon + 1));
-    } else if (arg.starts_with("--")) {
-      usage_error("unknown option " + arg);
-    } else if (file.empty()) {
-      file = arg;
-    } else {
-      usage_error("unexpected argument '" + arg + "'");
     }
   }
-  if (file.empty()) {
-    usage_error("usage: hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...] "
-                "[--scenario NAME] [--map FILE]");
-  }
+  const SourceOptions source = source_options(parsed);
 
   const scenario::LoadResult loaded = load(file, source);
   if (!loaded.model) {
@@ -219,29 +240,10 @@ int run_command(const std::vector<std::string>& args) {
 }
 
 int import_command(const std::vector<std::string>& args) {
-  std::string file;
-  SourceOptions source;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) usage_error(arg + " needs a value");
-      return args[++i];
-    };
-    if (arg == "--from") {
-      source.format = value();
-    } else if (arg == "--scenario") {
-      source.scenario = value();
-    } else if (arg == "--map") {
-      source.map = value();
-    } else if (arg.starts_with("--")) {
-      usage_error("unknown option " + arg);
-    } else if (file.empty()) {
-      file = arg;
-    } else {
-      usage_error("unexpected argument '" + arg + "'");
-    }
-  }
-  if (file.empty()) usage_error("usage: hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]");
+  const ParsedArgs parsed = parse_args(args, {"--from", "--scenario", "--map"}, {},
+                                       "usage: hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]");
+  const std::string& file = parsed.file;
+  const SourceOptions source = source_options(parsed);
   const auto imported = import_file(file, source);
   if (!imported) return 1;
   std::printf("%s\n", imported->scenario.dump(2).c_str());
