@@ -48,7 +48,7 @@ std::vector<Vec2> wall_polygon(const Vec2& from, const Vec2& to, double thicknes
 
 /// Names of everything the scenario declares, for resolving references.
 struct Names {
-  std::map<std::string, int> locations, social_spaces, agents, tasks, doors;
+  std::map<std::string, int> locations, social_spaces, agents, tasks, doors, groups;
   std::set<std::string> robots;
 };
 
@@ -69,6 +69,7 @@ class Loader {
     read_elevators(*model);
     read_agents(*model);
     collect_task_names(*model);
+    read_groups(*model);
     read_tasks(*model);
     read_steps(*model);
     read_async(*model);
@@ -303,6 +304,43 @@ class Loader {
     }
   }
 
+  /// Declared groups, then the names that form_group actions create.
+  void read_groups(Model& model) {
+    for (const auto& [name, entry] : member(doc_, "groups").items()) {
+      Group group{name, members_of(entry["members"], "/groups/" + core::pointer_token(name) + "/members")};
+      names_.groups[name] = static_cast<int>(model.groups.size());
+      model.groups.push_back(std::move(group));
+    }
+    auto collect = [&](const json& action) {
+      if (action.contains("form_group")) {
+        const std::string name = action["form_group"]["group"];
+        if (!names_.groups.contains(name)) {
+          names_.groups[name] = static_cast<int>(model.groups.size());
+          model.groups.push_back({name, {}});
+        }
+      }
+    };
+    for (const auto& [name, actions] : member(doc_, "tasks").items()) {
+      for (const json& action : actions) collect(action);
+    }
+    for (const json& step : doc_.at("steps")) {
+      for (const json& action : step["actions"]) collect(action);
+    }
+  }
+
+  std::vector<int> members_of(const json& list, const std::string& pointer) {
+    std::vector<int> members;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const int agent = resolve(names_.agents, list[i], pointer + "/" + std::to_string(i), "agent");
+      if (agent < 0) continue;
+      if (std::find(members.begin(), members.end(), agent) != members.end()) {
+        error(pointer + "/" + std::to_string(i), "agent '" + list[i].get<std::string>() + "' is listed twice");
+      }
+      members.push_back(agent);
+    }
+    return members;
+  }
+
   int resolve(const std::map<std::string, int>& table, const std::string& name, const std::string& pointer,
               const std::string& what) {
     const auto found = table.find(name);
@@ -316,15 +354,29 @@ class Loader {
   Action read_action(const json& entry, const std::string& pointer, bool in_task) {
     Action action;
     action.pointer = pointer;
-    if (entry.contains("agent")) {
+    if (entry.contains("agent") && entry.contains("group")) {
+      error(pointer, "an action names an agent or a group, not both");
+    } else if (entry.contains("agent") || entry.contains("group")) {
+      const char* key = entry.contains("agent") ? "agent" : "group";
       if (in_task) {
-        error(pointer + "/agent", "actions of a compound task do not name an agent: whoever runs the task acts");
-      } else {
+        error(pointer + "/" + key, "actions of a compound task do not name an agent or group: whoever runs the task acts");
+      } else if (entry.contains("agent")) {
         action.agent = resolve(names_.agents, entry["agent"], pointer + "/agent", "agent");
+      } else if (!entry.contains("goto")) {
+        error(pointer + "/group", "a group can be given a goto only");
+      } else {
+        action.group = resolve(names_.groups, entry["group"], pointer + "/group", "group");
       }
     } else if (!in_task) {
-      error(pointer, "missing required key 'agent'");
+      error(pointer, "missing required key 'agent' (or 'group')");
     }
+    auto robot = [&](const json& name, const std::string& at) {
+      const int agent = resolve(names_.agents, name, at, "agent");
+      if (agent >= 0 && !names_.robots.contains(name.get<std::string>())) {
+        error(at, "'" + name.get<std::string>() + "' is not a robot");
+      }
+      return agent;
+    };
     if (entry.contains("goto")) {
       const json& go = entry["goto"];
       if (go.contains("location")) {
@@ -369,6 +421,20 @@ class Loader {
       action.kind = Action::Kind::publish;
       action.topic = entry["publish"]["topic"];
       action.message = entry["publish"]["message"];
+    } else if (entry.contains("form_group")) {
+      action.kind = Action::Kind::form_group;
+      action.target = names_.groups.at(entry["form_group"]["group"]);
+      action.members = members_of(entry["form_group"]["members"], pointer + "/form_group/members");
+    } else if (entry.contains("dismantle_group")) {
+      action.kind = Action::Kind::dismantle_group;
+      action.target = resolve(names_.groups, entry["dismantle_group"], pointer + "/dismantle_group", "group");
+    } else if (entry.contains("harass") || entry.contains("stop_and_look")) {
+      const bool harass = entry.contains("harass");
+      const json& attitude = entry[harass ? "harass" : "stop_and_look"];
+      action.kind = harass ? Action::Kind::harass : Action::Kind::stop_and_look;
+      action.target = robot(attitude["robot"], pointer + (harass ? "/harass/robot" : "/stop_and_look/robot"));
+      action.value = attitude["duration"];
+      action.radius = attitude.value("distance", harass ? kHarassDistance : kStopAndLookDistance);
     } else {
       action.kind = Action::Kind::run_task;
       action.target = resolve(names_.tasks, entry["task"], pointer + "/task", "task");

@@ -88,6 +88,20 @@ struct Elevator {
 
 enum class AgentKind { human, robot };
 
+/// Side-by-side distance between members walking together, m (about shoulder to shoulder with room).
+inline constexpr double kFormationSpacing = 0.7;
+/// Distance between rows of a group of more than three, m.
+inline constexpr double kFormationRowGap = 0.8;
+/// A harassing human stands this far in front of the robot, m (InHuS gives no value).
+inline constexpr double kHarassDistance = 1.0;
+/// A human with the stop-and-look attitude stops when the robot is this close, m (InHuS gives none).
+inline constexpr double kStopAndLookDistance = 2.0;
+
+struct Group {
+  std::string name;
+  std::vector<int> members;  ///< first member leads
+};
+
 struct AgentDef {
   std::string id;
   AgentKind kind = AgentKind::human;
@@ -112,9 +126,15 @@ struct Action {
     turn_to,             ///< value: heading
     publish,             ///< topic, message
     run_task,            ///< target: compound task
+    form_group,          ///< target: group; members
+    dismantle_group,     ///< target: group
+    harass,              ///< target: robot; value: duration; radius: distance in front of it
+    stop_and_look,       ///< target: robot; value: duration; radius: distance that stops the human
   };
   Kind kind = Kind::wait_duration;
-  int agent = -1;   ///< acting agent in steps; -1 in compound tasks (the invoker acts)
+  int agent = -1;   ///< acting agent in steps; -1 in compound tasks (the invoker acts) and group actions
+  int group = -1;   ///< acting group in steps (goto only), or -1
+  std::vector<int> members;  ///< form_group: the new members
   int target = -1;  ///< index of the location, social space, agent or task
   Pose2 pose;
   double radius = kDefaultGoalRadius;
@@ -160,6 +180,7 @@ struct Model {
   std::vector<Location> locations;
   std::vector<SocialSpace> social_spaces;
   std::vector<AgentDef> agents;  ///< humans then robots, each in file order
+  std::vector<Group> groups;     ///< declared groups (members at the start) and groups formed later (empty)
   std::vector<Task> tasks;
   std::vector<Step> steps;
   std::vector<int> async_tasks;  ///< tasks humans run when a robot requests them

@@ -38,6 +38,7 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
     }
     state_.agents.push_back(std::move(agent));
   }
+  for (const scenario::Group& group : model_->groups) state_.groups.push_back(group.members);
   for (const scenario::Door& door : model_->doors) {
     state_.doors.push_back(door.initially_open ? DoorState{DoorPhase::open, 1.0} : DoorState{});
   }
@@ -77,7 +78,17 @@ void Session::start_step(int step) {
   const scenario::Step& definition = model_->steps[step];
   emit("step_started", definition.name, {{"index", step}});
   for (std::size_t i = 0; i < definition.actions.size(); ++i) {
-    state_.agents[definition.actions[i].agent].program.push_back({-1, static_cast<int>(i), step});
+    const Action& action = definition.actions[i];
+    if (action.group < 0) {
+      state_.agents[action.agent].program.push_back({-1, static_cast<int>(i), step});
+      continue;
+    }
+    const std::vector<int>& members = state_.groups[action.group];
+    if (members.empty()) emit("group_empty", model_->groups[action.group].name, {{"step", definition.name}});
+    for (std::size_t role = 0; role < members.size(); ++role) {
+      state_.agents[members[role]].program.push_back(
+          {-1, static_cast<int>(i), step, static_cast<int>(role), static_cast<int>(members.size())});
+    }
   }
 }
 
@@ -363,7 +374,7 @@ bool Session::advance_agent(int agent) {
       continue;
     }
     if (!state.action_started) {
-      if (!start_action(agent, action)) return false;
+      if (!start_action(agent, action, pending)) return false;
       state.action_started = true;
     }
     if (!action_done(agent, action)) return false;
@@ -372,8 +383,28 @@ bool Session::advance_agent(int agent) {
   return true;
 }
 
-bool Session::start_action(int agent, const Action& action) {
+namespace {
+
+/// Spot of member `role` of a group of `size` in the leader's frame: a pair side by side, larger
+/// groups three abreast in rows behind the leader.
+Vec2 formation_offset(int role, int size) {
+  if (size == 2) return {0.0, -scenario::kFormationSpacing};
+  static constexpr double kLateral[] = {0.0, -1.0, 1.0};
+  return {-scenario::kFormationRowGap * (role / 3), kLateral[role % 3] * scenario::kFormationSpacing};
+}
+
+}  // namespace
+
+bool Session::start_action(int agent, const Action& action, const PendingAction& pending) {
   AgentState& state = state_.agents[agent];
+  // A follower in a group goto to a place walks in formation beside or behind the leader.
+  if (action.group >= 0 && pending.role > 0 && action.kind != Kind::go_to_social_space) {
+    release_reservations(agent);
+    state.hold.reset();
+    state.follow_leader = state_.groups[action.group].front();
+    state.formation_offset = formation_offset(pending.role, pending.group_size);
+    return true;
+  }
   switch (action.kind) {
     case Kind::go_to_location: {
       // The location itself holds one person; a spot at an offset from it is not the location.
@@ -425,6 +456,26 @@ bool Session::start_action(int agent, const Action& action) {
       state_.inbox.push_back({action.topic, action.message});
       emit("publish", model_->agents[agent].id, {{"topic", action.topic}, {"message", action.message}});
       return true;
+    case Kind::form_group:
+      state_.groups[action.target] = action.members;
+      emit("group_formed", model_->groups[action.target].name, {{"members", action.members.size()}});
+      return true;
+    case Kind::dismantle_group:
+      state_.groups[action.target].clear();
+      emit("group_dismantled", model_->groups[action.target].name);
+      return true;
+    case Kind::harass:
+      release_reservations(agent);
+      state.hold.reset();
+      state.harass_robot = action.target;
+      state.harass_distance = action.radius;
+      state.wait_until_tick = state_.tick + static_cast<std::int64_t>(std::llround(action.value / model_->dt));
+      return true;
+    case Kind::stop_and_look:
+      state.watched_robot = action.target;
+      state.watch_distance = action.radius;
+      state.watch_until_tick = state_.tick + static_cast<std::int64_t>(std::llround(action.value / model_->dt));
+      return true;
     case Kind::wait_message:
     case Kind::run_task:
       return true;
@@ -434,6 +485,12 @@ bool Session::start_action(int agent, const Action& action) {
 
 bool Session::action_done(int agent, const Action& action) {
   const AgentState& state = state_.agents[agent];
+  if (state.follow_leader >= 0) {
+    // Done when the leader has arrived and this member stands at its spot beside it.
+    const AgentState& leader = state_.agents[state.follow_leader];
+    const bool leader_arrived = !leader.navigating && !leader.target_heading;
+    return leader_arrived && (formation_target(agent) - state.position).norm() <= kHoldTolerance;
+  }
   switch (action.kind) {
     case Kind::go_to_location:
     case Kind::go_to_social_space:
@@ -451,11 +508,25 @@ bool Session::action_done(int agent, const Action& action) {
     case Kind::turn_by:
     case Kind::turn_to:
       return !state.target_heading;
+    case Kind::harass:
+      return state_.tick >= state.wait_until_tick;
     case Kind::publish:
     case Kind::run_task:
+    case Kind::form_group:
+    case Kind::dismantle_group:
+    case Kind::stop_and_look:
       return true;
   }
   return true;
+}
+
+Vec2 Session::formation_target(int agent) const {
+  const AgentState& state = state_.agents[agent];
+  const AgentState& leader = state_.agents[state.follow_leader];
+  const double heading = leader.velocity.norm() > 0.05 ? std::atan2(leader.velocity.y(), leader.velocity.x()) : leader.heading;
+  const Pose2 spot = core::compose({leader.position.x(), leader.position.y(), heading},
+                                   {state.formation_offset.x(), state.formation_offset.y(), 0.0});
+  return spot.position();
 }
 
 void Session::finish_action(int agent) {
@@ -463,6 +534,12 @@ void Session::finish_action(int agent) {
   state.program.pop_front();
   state.action_started = false;
   state.look_at_agent = -1;
+  state.harass_robot = -1;
+  if (state.follow_leader >= 0) {
+    state.hold = state.position;
+    state.target_heading = state_.agents[state.follow_leader].heading;
+    state.follow_leader = -1;
+  }
   if (state.program.empty()) state.answering_request = false;
 }
 
@@ -521,10 +598,13 @@ bool Session::plan_path(int agent) {
 void Session::locomotion() {
   const std::size_t n = state_.agents.size();
   crowd_agents_.resize(n);
+  watching_headings_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     AgentState& state = state_.agents[i];
     const scenario::AgentDef& def = model_->agents[i];
     Vec2 preferred = Vec2::Zero();
+    std::optional<double>& watching_heading = watching_headings_[i];
+    watching_heading.reset();
     if (state.navigating) {
       if (state.path.empty() && state_.tick >= state.replan_at_tick) plan_path(static_cast<int>(i));
       if (!state.path.empty()) {
@@ -548,6 +628,26 @@ void Session::locomotion() {
         const bool last = state.path_index + 1 == state.path.size();
         const double speed = state.preferred_speed * (last ? std::clamp(to_goal / kArrivalSlowdown, 0.3, 1.0) : 1.0);
         preferred = (target - state.position).normalized() * speed;
+      }
+    }
+    if (state.follow_leader >= 0) {
+      const Vec2 to_spot = formation_target(static_cast<int>(i)) - state.position;
+      const double speed = std::min(state.preferred_speed * humans::kMaxSpeedFactor, to_spot.norm() / kArrivalSlowdown * state.preferred_speed);
+      preferred = to_spot.norm() > 1e-9 ? Vec2(to_spot.normalized() * speed) : Vec2::Zero();
+    }
+    if (state.harass_robot >= 0) {
+      const AgentState& robot = state_.agents[state.harass_robot];
+      const Vec2 in_the_way = robot.position + core::heading_vector(robot.heading) * state.harass_distance;
+      const Vec2 to_spot = in_the_way - state.position;
+      preferred = to_spot.norm() > 0.1 ? Vec2(to_spot.normalized() * std::min(state.preferred_speed, to_spot.norm() / kArrivalSlowdown * state.preferred_speed))
+                                      : Vec2::Zero();
+      state.target_heading = direction_to(state.position, robot.position);
+    }
+    if (state.watched_robot >= 0 && state_.tick < state.watch_until_tick) {
+      const Vec2 robot = state_.agents[state.watched_robot].position;
+      if ((robot - state.position).norm() <= state.watch_distance) {
+        preferred = Vec2::Zero();
+        watching_heading = direction_to(state.position, robot);
       }
     }
     if (!state.navigating && state.hold) {
@@ -585,13 +685,15 @@ void Session::locomotion() {
     AgentState& state = state_.agents[i];
     state.velocity = velocities_[i];
     state.position += state.velocity * model_->dt;
-    std::optional<double> desired = state.target_heading;
+    std::optional<double> desired = watching_headings_[i] ? watching_headings_[i] : state.target_heading;
     if (!desired && state.velocity.norm() > 0.05) desired = std::atan2(state.velocity.y(), state.velocity.x());
     if (!desired) continue;
     const double difference = core::wrap_angle(*desired - state.heading);
     if (std::abs(difference) <= max_turn) {
       state.heading = core::wrap_angle(*desired);
-      if (state.target_heading && std::abs(difference) <= kHeadingTolerance) state.target_heading.reset();
+      if (!watching_headings_[i] && state.target_heading && std::abs(difference) <= kHeadingTolerance) {
+        state.target_heading.reset();
+      }
     } else {
       state.heading = core::wrap_angle(state.heading + std::copysign(max_turn, difference));
     }
@@ -606,8 +708,13 @@ std::uint64_t Session::state_hash() const {
     hash.add(agent.heading).add(agent.preferred_speed).add(static_cast<std::int64_t>(agent.program.size()));
     hash.add(agent.navigating).add(static_cast<std::int64_t>(agent.path_index)).add(static_cast<std::int64_t>(agent.path.size()));
     hash.add(agent.reserved_location).add(agent.reserved_space).add(agent.reserved_slot);
+    hash.add(agent.follow_leader).add(agent.harass_robot).add(agent.watched_robot);
   }
   for (const auto& [topic, message] : state_.topics) hash.add(std::string_view(topic)).add(std::string_view(message));
+  for (const auto& members : state_.groups) {
+    for (int member : members) hash.add(member);
+    hash.add(-1);
+  }
   for (const DoorState& door : state_.doors) hash.add(static_cast<int>(door.phase)).add(door.opening);
   for (const ElevatorState& cabin : state_.elevators) {
     hash.add(static_cast<int>(cabin.phase)).add(cabin.floor).add(static_cast<std::int64_t>(cabin.queue.size()));

@@ -65,7 +65,8 @@ class Session {
   void update_choreography();
   void update_requests();
   bool advance_agent(int agent);
-  bool start_action(int agent, const scenario::Action& action);
+  bool start_action(int agent, const scenario::Action& action, const PendingAction& pending);
+  Vec2 formation_target(int agent) const;
   bool action_done(int agent, const scenario::Action& action);
   const scenario::Action& action_of(const PendingAction& pending) const;
   void finish_action(int agent);
@@ -83,6 +84,7 @@ class Session {
   humans::Crowd crowd_;
   std::vector<humans::CrowdAgent> crowd_agents_;
   std::vector<Vec2> velocities_;
+  std::vector<std::optional<double>> watching_headings_;  ///< per agent this tick: facing a watched robot
 };
 
 }  // namespace hrisim::sim

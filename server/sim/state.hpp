@@ -22,6 +22,8 @@ struct PendingAction {
   int task = -1;    ///< compound task the action belongs to, -1 for a step action
   int index = -1;   ///< index of the action in the step or task
   int step = -1;    ///< step it belongs to; -1 when it answers a robot request
+  int role = 0;     ///< place in the group for a group action (0 leads)
+  int group_size = 1;
 };
 
 struct AgentState {
@@ -43,6 +45,14 @@ struct AgentState {
   std::int64_t replan_at_tick = -1;  ///< when no path was found, try again at this tick
 
   std::optional<Vec2> hold;  ///< where the agent arrived last; it steps back there when pushed away
+
+  int follow_leader = -1;       ///< walking in formation behind or beside this agent
+  Vec2 formation_offset = Vec2::Zero();  ///< own spot in the leader's frame (x ahead, y left)
+  int harass_robot = -1;        ///< standing in this robot's way
+  double harass_distance = 0.0;
+  int watched_robot = -1;       ///< stop-and-look attitude: stops and faces this robot when it is near
+  double watch_distance = 0.0;
+  std::int64_t watch_until_tick = 0;
   std::optional<double> target_heading;  ///< turning in place towards this
   int look_at_agent = -1;                ///< keeps facing this agent while the action runs
 
@@ -113,6 +123,7 @@ struct State {
   std::vector<StepRecord> steps;
   std::map<std::string, std::string> topics;  ///< latest message per topic
   std::vector<Message> inbox;                 ///< messages published since the environment last read them
+  std::vector<std::vector<int>> groups;  ///< current members of each group of the model
   std::vector<DoorState> doors;
   std::vector<ElevatorState> elevators;
   std::vector<OpenRequest> requests;

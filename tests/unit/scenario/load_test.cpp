@@ -225,3 +225,41 @@ TEST(LoadScenario, BundledScenariosAreValid) {
 
 }  // namespace
 }  // namespace hrisim::scenario
+
+namespace hrisim::scenario {
+namespace {
+
+TEST(LoadScenario, GroupsAndAttitudesAreChecked) {
+  json document = room_scenario(kPeople);
+  document["groups"] = json::parse(R"({"duo": {"members": ["ana", "zoe"]}})");
+  document["steps"][0]["actions"] = json::parse(R"([
+    {"group": "duo", "wait": {"duration": 1}},
+    {"group": "trio", "goto": {"location": "door"}},
+    {"agent": "ana", "group": "duo", "goto": {"location": "door"}},
+    {"agent": "ana", "harass": {"robot": "ben", "duration": 5}},
+    {"agent": "ana", "stop_and_look": {"robot": "nobody", "duration": 5}},
+    {"agent": "ben", "form_group": {"group": "new", "members": ["ana", "ana"]}}
+  ])");
+  const auto errors = errors_of(document);
+  EXPECT_TRUE(has_error(errors, "/groups/duo/members/1", "unknown agent 'zoe'"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/0/group", "a group can be given a goto only"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/group", "unknown group 'trio' (known: duo, new)"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/2", "an agent or a group, not both"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/3/harass/robot", "'ben' is not a robot"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/4/stop_and_look/robot", "unknown agent 'nobody'"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/5/form_group/members/1", "'ana' is listed twice"));
+}
+
+TEST(LoadScenario, AttitudeDefaults) {
+  json document = room_scenario(kPeople);
+  document["steps"][0]["actions"] = json::parse(R"([
+    {"agent": "ana", "harass": {"robot": "robot", "duration": 5}},
+    {"agent": "ben", "stop_and_look": {"robot": "robot", "duration": 5}}])");
+  const auto model = testing::load_valid(document);
+  ASSERT_TRUE(model);
+  EXPECT_DOUBLE_EQ(model->steps[0].actions[0].radius, kHarassDistance);
+  EXPECT_DOUBLE_EQ(model->steps[0].actions[1].radius, kStopAndLookDistance);
+}
+
+}  // namespace
+}  // namespace hrisim::scenario

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <numbers>
+#include <set>
 
 #include "support/scenarios.hpp"
 
@@ -306,6 +307,89 @@ TEST(Session, DrawnSpeedsFollowTheNamedDistribution) {
   const double mean = sum / 400, stddev = std::sqrt(sum_squares / 400 - mean * mean);
   EXPECT_NEAR(mean, scenario::kPreferredSpeedMean, 0.04);
   EXPECT_NEAR(stddev, scenario::kPreferredSpeedStddev, 0.04);
+}
+
+}  // namespace
+}  // namespace hrisim::sim
+
+namespace hrisim::sim {
+namespace {
+
+TEST(Groups, APairWalksSideBySide) {
+  Session session(model_of(R"({
+    "humans": [{"id": "ann", "start": {"x": 1.5, "y": 5, "theta": 0}, "preferred_speed": 1.2},
+               {"id": "bo", "start": {"x": 1.5, "y": 4.3, "theta": 0}, "preferred_speed": 1.3}],
+    "groups": {"pair": {"members": ["ann", "bo"]}},
+    "steps": [{"name": "walk", "actions": [{"group": "pair", "goto": {"pose": {"x": 3, "y": 8.5, "theta": 0}}}]}]})"), 1);
+  double farthest_apart = 0.0;
+  while (!session.state().finished) {
+    session.step();
+    farthest_apart = std::max(farthest_apart, (session.state().agents[0].position - session.state().agents[1].position).norm());
+  }
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_LT(farthest_apart, 1.5) << "bo keeps beside ann all the way";
+  const Vec2 ann = session.state().agents[0].position, bo = session.state().agents[1].position;
+  EXPECT_LE((ann - Vec2(3, 8.5)).norm(), 0.2 + 1e-9);
+  // Facing +x at the goal, bo's spot is kFormationSpacing to ann's right (−y).
+  EXPECT_NEAR((bo - (ann + Vec2(0, -scenario::kFormationSpacing))).norm(), 0.0, kHoldTolerance);
+}
+
+TEST(Groups, GroupsFormAndDismantleAndTakeSlots) {
+  Session session(model_of(R"({
+    "social_spaces": {"bench": {"x": 5, "y": 8, "slots": [{"x": -1, "y": 0}, {"x": 0, "y": 0}, {"x": 1, "y": 0}]}},
+    "humans": [{"id": "ann", "start": {"x": 2, "y": 2}}, {"id": "bo", "start": {"x": 3, "y": 2}}, {"id": "cy", "start": {"x": 8, "y": 2}}],
+    "steps": [
+      {"name": "form", "actions": [{"agent": "ann", "form_group": {"group": "friends", "members": ["ann", "bo", "cy"]}}]},
+      {"name": "sit", "actions": [{"group": "friends", "goto": {"social_space": "bench"}}]},
+      {"name": "part", "actions": [{"agent": "cy", "dismantle_group": "friends"}]},
+      {"name": "nobody", "actions": [{"group": "friends", "goto": {"pose": {"x": 2, "y": 2}}}]}]})"), 1);
+  session.run();
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  std::set<int> slots;
+  for (int a = 0; a < 3; ++a) slots.insert(session.state().agents[a].reserved_slot);
+  EXPECT_EQ(slots, (std::set<int>{0, 1, 2})) << "one slot per member";
+  EXPECT_EQ(events_of(session, "group_formed").size(), 1u);
+  EXPECT_EQ(events_of(session, "group_dismantled").size(), 1u);
+  EXPECT_EQ(events_of(session, "group_empty").size(), 1u) << "a dismantled group has nobody to move";
+}
+
+TEST(Attitudes, HarassingHumanStandsInTheRobotsWay) {
+  Session session(model_of(R"({
+    "humans": [{"id": "pest", "start": {"x": 2, "y": 8}}],
+    "robots": [{"id": "robot", "start": {"x": 2, "y": 3, "theta": 0}}],
+    "steps": [{"name": "annoy", "actions": [{"agent": "pest", "harass": {"robot": "robot", "duration": 12}}]}]})"), 1);
+  session.command_robot(1, Vec2(0.3, 0.0));
+  session.run();
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_NEAR(step_duration(session, 0), 12.0, 1e-9);
+  const AgentState& pest = session.state().agents[0];
+  const AgentState& robot = session.state().agents[1];
+  EXPECT_LT((pest.position - (robot.position + Vec2(scenario::kHarassDistance, 0))).norm(), 0.5)
+      << "one metre in front of the moving robot";
+  EXPECT_NEAR(core::wrap_angle(pest.heading - std::numbers::pi), 0.0, 0.2) << "facing the robot";
+}
+
+TEST(Attitudes, StopAndLookWhenTheRobotComesNear) {
+  Session session(model_of(R"({
+    "humans": [{"id": "ann", "start": {"x": 1.5, "y": 2}, "preferred_speed": 1.0}],
+    "robots": [{"id": "robot", "start": {"x": 5, "y": 3.5}}],
+    "steps": [{"name": "walk", "actions": [{"agent": "ann", "stop_and_look": {"robot": "robot", "duration": 8}},
+                                           {"agent": "ann", "goto": {"pose": {"x": 8.5, "y": 2}}}]}]})"), 1);
+  session.run(6.0);
+  const AgentState& ann = session.state().agents[0];
+  EXPECT_LT((ann.position - Vec2(5, 3.5)).norm(), scenario::kStopAndLookDistance + 0.1) << "stopped near the robot";
+  EXPECT_GT((ann.position - Vec2(5, 3.5)).norm(), scenario::kStopAndLookDistance - 0.3);
+  EXPECT_LT(ann.velocity.norm(), 0.1);
+  EXPECT_NEAR(core::wrap_angle(ann.heading - std::atan2(3.5 - ann.position.y(), 5 - ann.position.x())), 0.0, 0.1)
+      << "facing it";
+  Session until_end(model_of(R"({
+    "humans": [{"id": "ann", "start": {"x": 1.5, "y": 2}, "preferred_speed": 1.0}],
+    "robots": [{"id": "robot", "start": {"x": 5, "y": 3.5}}],
+    "steps": [{"name": "walk", "actions": [{"agent": "ann", "stop_and_look": {"robot": "robot", "duration": 8}},
+                                           {"agent": "ann", "goto": {"pose": {"x": 8.5, "y": 2}}}]}]})"), 1);
+  until_end.run();
+  EXPECT_EQ(until_end.state().termination, "scenario_end") << "after the attitude ends she walks on";
+  EXPECT_GT(until_end.time(), 8.0);
 }
 
 }  // namespace
