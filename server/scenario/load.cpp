@@ -435,6 +435,12 @@ class Loader {
       action.target = robot(attitude["robot"], pointer + (harass ? "/harass/robot" : "/stop_and_look/robot"));
       action.value = attitude["duration"];
       action.radius = attitude.value("distance", harass ? kHarassDistance : kStopAndLookDistance);
+    } else if (entry.contains("request")) {
+      action.kind = Action::Kind::request;
+      action.target = resolve(names_.tasks, entry["request"]["task"], pointer + "/request/task", "task");
+      if (action.agent >= 0 && !names_.robots.contains(model_for_checks_->agents[action.agent].id)) {
+        error(pointer + "/agent", "only a robot makes requests");
+      }
     } else {
       action.kind = Action::Kind::run_task;
       action.target = resolve(names_.tasks, entry["task"], pointer + "/task", "task");

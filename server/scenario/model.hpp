@@ -130,6 +130,7 @@ struct Action {
     dismantle_group,     ///< target: group
     harass,              ///< target: robot; value: duration; radius: distance in front of it
     stop_and_look,       ///< target: robot; value: duration; radius: distance that stops the human
+    request,             ///< target: compound task a robot asks a human to run
   };
   Kind kind = Kind::wait_duration;
   int agent = -1;   ///< acting agent in steps; -1 in compound tasks (the invoker acts) and group actions

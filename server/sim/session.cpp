@@ -127,7 +127,7 @@ void Session::request(int robot, int task) {
          {{"task", model_->tasks[task].name}, {"reason", "the scenario has no response for this task"}});
     return;
   }
-  state_.requests.push_back({robot, task, position, state_.tick, state_.tick});
+  state_.requests.push_back({state_.next_request_id++, robot, task, position, state_.tick, state_.tick});
 }
 
 namespace {
@@ -476,6 +476,13 @@ bool Session::start_action(int agent, const Action& action, const PendingAction&
       state.watch_distance = action.radius;
       state.watch_until_tick = state_.tick + static_cast<std::int64_t>(std::llround(action.value / model_->dt));
       return true;
+    case Kind::request: {
+      const std::int64_t id = state_.next_request_id;
+      request(agent, action.target);
+      // A request nobody can answer by design is dropped at once and leaves nothing to wait for.
+      state.awaited_request = state_.next_request_id > id ? id : 0;
+      return true;
+    }
     case Kind::wait_message:
     case Kind::run_task:
       return true;
@@ -510,6 +517,9 @@ bool Session::action_done(int agent, const Action& action) {
       return !state.target_heading;
     case Kind::harass:
       return state_.tick >= state.wait_until_tick;
+    case Kind::request:
+      return std::none_of(state_.requests.begin(), state_.requests.end(),
+                          [&](const OpenRequest& open) { return open.id == state.awaited_request; });
     case Kind::publish:
     case Kind::run_task:
     case Kind::form_group:

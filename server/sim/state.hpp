@@ -50,6 +50,7 @@ struct AgentState {
   Vec2 formation_offset = Vec2::Zero();  ///< own spot in the leader's frame (x ahead, y left)
   int harass_robot = -1;        ///< standing in this robot's way
   double harass_distance = 0.0;
+  std::int64_t awaited_request = 0;  ///< a robot's request action waits until this request is resolved
   int watched_robot = -1;       ///< stop-and-look attitude: stops and faces this robot when it is near
   double watch_distance = 0.0;
   std::int64_t watch_until_tick = 0;
@@ -74,6 +75,7 @@ struct Event {
 
 /// A robot request waiting for an idle human (IMHuS's asynchronous step).
 struct OpenRequest {
+  std::int64_t id = 0;
   int robot = -1;
   int task = -1;
   Vec2 position = Vec2::Zero();  ///< the robot's position when it asked
@@ -127,6 +129,7 @@ struct State {
   std::vector<DoorState> doors;
   std::vector<ElevatorState> elevators;
   std::vector<OpenRequest> requests;
+  std::int64_t next_request_id = 1;
   std::vector<ScheduledRequest> scheduled;  ///< robot requests still to come, by time
   std::vector<Event> events;
   core::Random random;

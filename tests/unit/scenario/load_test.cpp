@@ -263,3 +263,18 @@ TEST(LoadScenario, AttitudeDefaults) {
 
 }  // namespace
 }  // namespace hrisim::scenario
+
+namespace hrisim::scenario {
+namespace {
+
+TEST(LoadScenario, OnlyRobotsMakeRequests) {
+  json document = room_scenario(kPeople);
+  document["steps"][0]["actions"] = json::parse(R"([{"agent": "ana", "request": {"task": "fetch"}},
+                                                     {"agent": "robot", "request": {"task": "nothing"}}])");
+  const auto errors = errors_of(document);
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/0/agent", "only a robot makes requests"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/request/task", "unknown task 'nothing'"));
+}
+
+}  // namespace
+}  // namespace hrisim::scenario

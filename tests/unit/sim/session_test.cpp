@@ -394,3 +394,30 @@ TEST(Attitudes, StopAndLookWhenTheRobotComesNear) {
 
 }  // namespace
 }  // namespace hrisim::sim
+
+namespace hrisim::sim {
+namespace {
+
+TEST(RobotChoreography, TheRobotWalksAsksAndWaitsForTheOutcome) {
+  Session session(model_of(R"({
+    "time_limit": 200,
+    "humans": [{"id": "ann", "start": {"x": 8, "y": 8}}],
+    "robots": [{"id": "robot", "start": {"x": 2, "y": 2}}],
+    "tasks": {"greet": [{"look_at": {"agent": "robot"}}, {"publish": {"topic": "/greeting", "message": "hi"}}]},
+    "async": [{"task": "greet"}],
+    "steps": [
+      {"name": "approach", "actions": [{"agent": "robot", "goto": {"pose": {"x": 7, "y": 7}, "radius": 0.5}}]},
+      {"name": "ask", "actions": [{"agent": "robot", "request": {"task": "greet"}}]},
+      {"name": "far", "actions": [{"agent": "robot", "goto": {"pose": {"x": 2, "y": 2}, "radius": 0.5}}]},
+      {"name": "ask_again", "actions": [{"agent": "robot", "request": {"task": "greet"}}]}]})"), 1);
+  session.run();
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(events_of(session, "request_accepted").size(), 1u) << "ann is within 3 m at the first request";
+  EXPECT_EQ(events_of(session, "request_dropped").size(), 1u) << "and far away at the second";
+  EXPECT_NEAR(step_duration(session, 1), session.model().dt, 1e-9) << "accepted on the next tick";
+  EXPECT_NEAR(step_duration(session, 3), kRequestTimeout, 1e-9) << "waits until it is dropped";
+  EXPECT_EQ(session.state().topics.at("/greeting"), "hi");
+}
+
+}  // namespace
+}  // namespace hrisim::sim
