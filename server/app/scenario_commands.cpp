@@ -186,7 +186,7 @@ int run_command(const std::vector<std::string>& args) {
       if (model.agents[a].kind == scenario::AgentKind::robot) robot = static_cast<int>(a);
     }
     if (robot < 0) usage_error("--request: the scenario has no robot to make the request");
-    session.schedule_request(time, robot, task);
+    session.schedule_request(time, session.agent_id(model.agents[robot].id), task);
   }
   session.run(max_time);
 

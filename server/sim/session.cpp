@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.hpp"
 #include "core/state_hash.hpp"
 
 namespace hrisim::sim {
@@ -37,6 +38,7 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
       agent.preferred_speed = def.preferred_speed.value_or(kScriptedRobotSpeed);
     }
     state_.agents.push_back(std::move(agent));
+    ids_.add(static_cast<int>(state_.agents.size() - 1));
   }
   for (const scenario::Group& group : model_->groups) state_.groups.push_back(group.members);
   for (const scenario::Door& door : model_->doors) {
@@ -52,12 +54,35 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
     }
   }
   state_.steps.resize(model_->steps.size());
-  for (const scenario::Request& scripted : model_->requests) schedule_request(scripted.time, scripted.robot, scripted.task);
+  for (const scenario::Request& scripted : model_->requests) {
+    state_.scheduled.push_back({scripted.time, scripted.robot, scripted.task});  // the model keeps them sorted
+  }
   if (!model_->steps.empty()) start_step(0);
 }
 
-void Session::schedule_request(double at, int robot, int task) {
-  const ScheduledRequest request{at, robot, task};
+AgentId Session::agent_id(const std::string& name) const {
+  const int index = model_->find_agent(name);
+  for (const AgentId id : ids_.ids()) {
+    if (ids_.at(id) == index) return id;
+  }
+  throw core::Error(core::ErrorCode::not_found, "no agent '" + name + "' in this session", {{"agent", name}});
+}
+
+void Session::remove_agent(AgentId id) {
+  const int index = ids_.at(id);
+  ids_.remove(id);
+  AgentState& agent = state_.agents[index];
+  agent.active = false;
+  agent.program.clear();
+  agent.navigating = false;
+  agent.velocity = Vec2::Zero();
+  release_reservations(index);
+  for (auto& members : state_.groups) std::erase(members, index);
+  emit("agent_removed", model_->agents[index].id);
+}
+
+void Session::schedule_request(double at, AgentId robot, int task) {
+  const ScheduledRequest request{at, index_of(robot), task};
   const auto later = std::upper_bound(state_.scheduled.begin(), state_.scheduled.end(), request,
                                       [](const ScheduledRequest& a, const ScheduledRequest& b) { return a.time < b.time; });
   state_.scheduled.insert(later, request);
@@ -97,7 +122,7 @@ void Session::step() {
   while (!state_.scheduled.empty() && state_.scheduled.front().time <= time()) {
     const ScheduledRequest due = state_.scheduled.front();
     state_.scheduled.erase(state_.scheduled.begin());
-    request(due.robot, due.task);
+    make_request(due.robot, due.task);
   }
   update_environment();
   update_requests();
@@ -118,7 +143,9 @@ void Session::run(std::optional<double> max_time) {
   while (!state_.finished) step();
 }
 
-void Session::request(int robot, int task) {
+void Session::request(AgentId robot, int task) { make_request(index_of(robot), task); }
+
+void Session::make_request(int robot, int task) {
   const Vec2 position = state_.agents[robot].position;
   emit("request", model_->agents[robot].id,
        {{"task", model_->tasks[task].name}, {"x", position.x()}, {"y", position.y()}});
@@ -256,6 +283,7 @@ bool Session::door_blocks(int door) const { return state_.doors[door].phase != D
 bool Session::someone_in_doorway(int door) const {
   const scenario::Door& geometry = model_->doors[door];
   for (std::size_t a = 0; a < state_.agents.size(); ++a) {
+    if (!state_.agents[a].active) continue;
     const Vec2& p = state_.agents[a].position;
     const double clearance = model_->agents[a].radius + geometry.thickness / 2;
     if ((core::closest_point_on_segment(p, geometry.from, geometry.to) - p).norm() < clearance) return true;
@@ -285,10 +313,12 @@ std::vector<std::size_t> Session::blocked_door_cells(double radius) const {
   return cells;
 }
 
-void Session::command_robot(int robot, const Vec2& velocity) { state_.agents[robot].commanded_velocity = velocity; }
+void Session::command_robot(AgentId robot, const Vec2& velocity) {
+  state_.agents[index_of(robot)].commanded_velocity = velocity;
+}
 
 bool Session::idle(int agent) const {
-  return model_->agents[agent].kind == AgentKind::human && state_.agents[agent].program.empty() &&
+  return state_.agents[agent].active && model_->agents[agent].kind == AgentKind::human && state_.agents[agent].program.empty() &&
          !state_.agents[agent].answering_request;
 }
 
@@ -478,7 +508,7 @@ bool Session::start_action(int agent, const Action& action, const PendingAction&
       return true;
     case Kind::request: {
       const std::int64_t id = state_.next_request_id;
-      request(agent, action.target);
+      make_request(agent, action.target);
       // A request nobody can answer by design is dropped at once and leaves nothing to wait for.
       state.awaited_request = state_.next_request_id > id ? id : 0;
       return true;
@@ -563,8 +593,8 @@ void Session::release_reservations(int agent) {
 bool Session::slot_free(int space, int slot, int agent) const {
   const Vec2 position = model_->social_spaces[space].slots[slot].position();
   for (std::size_t other = 0; other < state_.agents.size(); ++other) {
-    if (static_cast<int>(other) == agent) continue;
     const AgentState& state = state_.agents[other];
+    if (static_cast<int>(other) == agent || !state.active) continue;
     if (state.reserved_space == space) {
       // Someone holding another slot of this space stands for that slot, even when pushed near this one.
       if (state.reserved_slot == slot) return false;
@@ -606,15 +636,18 @@ bool Session::plan_path(int agent) {
 }
 
 void Session::locomotion() {
-  const std::size_t n = state_.agents.size();
-  crowd_agents_.resize(n);
-  watching_headings_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  crowd_members_.clear();
+  for (std::size_t i = 0; i < state_.agents.size(); ++i) {
+    if (state_.agents[i].active) crowd_members_.push_back(i);
+  }
+  crowd_agents_.resize(crowd_members_.size());
+  watching_headings_.assign(state_.agents.size(), std::nullopt);
+  for (std::size_t k = 0; k < crowd_members_.size(); ++k) {
+    const std::size_t i = crowd_members_[k];
     AgentState& state = state_.agents[i];
     const scenario::AgentDef& def = model_->agents[i];
     Vec2 preferred = Vec2::Zero();
     std::optional<double>& watching_heading = watching_headings_[i];
-    watching_heading.reset();
     if (state.navigating) {
       if (state.path.empty() && state_.tick >= state.replan_at_tick) plan_path(static_cast<int>(i));
       if (!state.path.empty()) {
@@ -668,7 +701,7 @@ void Session::locomotion() {
     if (state.look_at_agent >= 0) {
       state.target_heading = direction_to(state.position, state_.agents[state.look_at_agent].position);
     }
-    humans::CrowdAgent& crowd = crowd_agents_[i];
+    humans::CrowdAgent& crowd = crowd_agents_[k];
     crowd.position = state.position;
     crowd.radius = def.radius;
     crowd.avoidance = def.avoidance;
@@ -691,9 +724,10 @@ void Session::locomotion() {
   crowd_.compute_velocities(crowd_agents_, obstacles, model_->dt, velocities_);
 
   const double max_turn = kTurnRate * model_->dt;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t k = 0; k < crowd_members_.size(); ++k) {
+    const std::size_t i = crowd_members_[k];
     AgentState& state = state_.agents[i];
-    state.velocity = velocities_[i];
+    state.velocity = velocities_[k];
     state.position += state.velocity * model_->dt;
     std::optional<double> desired = watching_headings_[i] ? watching_headings_[i] : state.target_heading;
     if (!desired && state.velocity.norm() > 0.05) desired = std::atan2(state.velocity.y(), state.velocity.x());
@@ -714,6 +748,7 @@ std::uint64_t Session::state_hash() const {
   core::StateHasher hash;
   hash.add(state_.tick).add(state_.step).add(state_.finished);
   for (const AgentState& agent : state_.agents) {
+    hash.add(agent.active);
     hash.add(agent.position.x()).add(agent.position.y()).add(agent.velocity.x()).add(agent.velocity.y());
     hash.add(agent.heading).add(agent.preferred_speed).add(static_cast<std::int64_t>(agent.program.size()));
     hash.add(agent.navigating).add(static_cast<std::int64_t>(agent.path_index)).add(static_cast<std::int64_t>(agent.path.size()));

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "core/id.hpp"
 #include "humans/locomotion.hpp"
 #include "scenario/model.hpp"
 #include "sim/state.hpp"
@@ -32,6 +33,10 @@ inline constexpr double kHoldSpeed = 0.5;
 /// Without a path, planning is tried again after this long, s.
 inline constexpr double kReplanRetry = 1.0;
 
+struct AgentTag {};
+/// An agent of a session; stale once the agent is removed (using it then fails with not_found).
+using AgentId = core::Id<AgentTag>;
+
 class Session {
  public:
   Session(std::shared_ptr<const scenario::Model> model, std::uint64_t seed);
@@ -41,12 +46,21 @@ class Session {
   /// Runs until finished or `max_time` of simulation time (the model's limit when absent).
   void run(std::optional<double> max_time = std::nullopt);
 
+  /// The id of the agent named `name` in the scenario; throws core::Error(not_found) when there is none.
+  AgentId agent_id(const std::string& name) const;
+  /// Ids of the agents still in the session, in creation order.
+  std::vector<AgentId> agent_ids() const { return ids_.ids(); }
+  /// Index of a live agent in state().agents and model().agents; throws on a stale or unknown id.
+  int index_of(AgentId id) const { return ids_.at(id); }
+  /// Takes an agent out of the session (it leaves the scene); its id becomes stale.
+  void remove_agent(AgentId id);
+
   /// A robot asks for a task now (IMHuS request): the closest idle human within 3 m answers.
-  void request(int robot, int task);
+  void request(AgentId robot, int task);
   /// A robot will ask for a task at simulation time `time`.
-  void schedule_request(double time, int robot, int task);
+  void schedule_request(double time, AgentId robot, int task);
   /// Sets a robot's velocity in the map frame until changed.
-  void command_robot(int robot, const Vec2& velocity);
+  void command_robot(AgentId robot, const Vec2& velocity);
 
   const State& state() const { return state_; }
   const scenario::Model& model() const { return *model_; }
@@ -55,6 +69,7 @@ class Session {
   std::uint64_t state_hash() const;
 
  private:
+  void make_request(int robot, int task);
   void start_step(int step);
   void update_environment();
   void update_elevator(int elevator);
@@ -80,9 +95,11 @@ class Session {
 
   std::shared_ptr<const scenario::Model> model_;
   double time_limit_;
+  core::EntityTable<AgentTag, int> ids_;  ///< live agents → index
   State state_;
   humans::Crowd crowd_;
   std::vector<humans::CrowdAgent> crowd_agents_;
+  std::vector<std::size_t> crowd_members_;  ///< agent index of each crowd entry (active agents)
   std::vector<Vec2> velocities_;
   std::vector<std::optional<double>> watching_headings_;  ///< per agent this tick: facing a watched robot
 };

@@ -27,6 +27,7 @@ struct PendingAction {
 };
 
 struct AgentState {
+  bool active = true;  ///< false once removed from the session
   Vec2 position = Vec2::Zero();
   Vec2 velocity = Vec2::Zero();
   double heading = 0.0;

@@ -138,7 +138,7 @@ ElevatorRun run_elevator(const std::vector<double>& request_times) {
   const ImportResult imported = import_imhus(read(kShared / "external/imhus/elevator_goals.xml"), bundled());
   const auto model = load_imported(imported);
   sim::Session session(model, 1);
-  const int robot = model->find_agent("tiago");
+  const sim::AgentId robot = session.agent_id("tiago");
   for (double time : request_times) session.schedule_request(time, robot, model->find_task("take_robot_floor2"));
   session.run(240.0);
   ElevatorRun run{session.state().termination == "scenario_end", "", {}, {}};

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <set>
 
+#include "core/error.hpp"
 #include "support/scenarios.hpp"
 
 namespace hrisim::sim {
@@ -200,7 +201,7 @@ const char* kRequestScenario = R"({
 
 TEST(Requests, TheClosestIdleHumanWithinThreeMetresAnswers) {
   Session session(model_of(kRequestScenario), 1);
-  session.request(3, 0);
+  session.request(session.agent_id("robot"), 0);
   session.run(5.0);
   const auto accepted = events_of(session, "request_accepted");
   ASSERT_EQ(accepted.size(), 1u);
@@ -216,7 +217,7 @@ TEST(Requests, BusyHumansDoNotAnswerAndTheRequestIsRetriedThenDropped) {
     "tasks": {"press": [{"publish": {"topic": "/button", "message": "pressed"}}]},
     "async": [{"task": "press"}],
     "steps": [{"name": "work", "actions": [{"agent": "busy", "wait": {"duration": 12}}, {"agent": "far", "wait": {"duration": 50}}]}]})"), 1);
-  session.request(2, 0);
+  session.request(session.agent_id("robot"), 0);
   session.run(20.0);
   const auto accepted = events_of(session, "request_accepted");
   ASSERT_EQ(accepted.size(), 1u) << "busy becomes idle at 12 s; the retry at 15 s finds it";
@@ -228,7 +229,7 @@ TEST(Requests, BusyHumansDoNotAnswerAndTheRequestIsRetriedThenDropped) {
     "tasks": {"press": [{"publish": {"topic": "/button", "message": "pressed"}}]},
     "async": [{"task": "press"}],
     "steps": [{"name": "s", "actions": [{"agent": "far", "wait": {"duration": 50}}]}]})"), 1);
-  nobody.request(1, 0);
+  nobody.request(nobody.agent_id("robot"), 0);
   nobody.run(40.0);
   const auto dropped = events_of(nobody, "request_dropped");
   ASSERT_EQ(dropped.size(), 1u);
@@ -242,7 +243,7 @@ TEST(Requests, UnknownAsyncTaskIsDroppedAtOnce) {
     "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
     "tasks": {"dance": [{"wait": {"duration": 1}}]},
     "steps": []})"), 1);
-  session.request(1, 0);
+  session.request(session.agent_id("robot"), 0);
   const auto dropped = events_of(session, "request_dropped");
   ASSERT_EQ(dropped.size(), 1u);
   EXPECT_EQ(dropped[0]->tick, 0);
@@ -358,7 +359,7 @@ TEST(Attitudes, HarassingHumanStandsInTheRobotsWay) {
     "humans": [{"id": "pest", "start": {"x": 2, "y": 8}}],
     "robots": [{"id": "robot", "start": {"x": 2, "y": 3, "theta": 0}}],
     "steps": [{"name": "annoy", "actions": [{"agent": "pest", "harass": {"robot": "robot", "duration": 12}}]}]})"), 1);
-  session.command_robot(1, Vec2(0.3, 0.0));
+  session.command_robot(session.agent_id("robot"), Vec2(0.3, 0.0));
   session.run();
   EXPECT_EQ(session.state().termination, "scenario_end");
   EXPECT_NEAR(step_duration(session, 0), 12.0, 1e-9);
@@ -417,6 +418,36 @@ TEST(RobotChoreography, TheRobotWalksAsksAndWaitsForTheOutcome) {
   EXPECT_NEAR(step_duration(session, 1), session.model().dt, 1e-9) << "accepted on the next tick";
   EXPECT_NEAR(step_duration(session, 3), kRequestTimeout, 1e-9) << "waits until it is dropped";
   EXPECT_EQ(session.state().topics.at("/greeting"), "hi");
+}
+
+}  // namespace
+}  // namespace hrisim::sim
+
+namespace hrisim::sim {
+namespace {
+
+TEST(AgentIds, RemovedAgentsLeaveAndTheirIdsGoStale) {
+  Session session(model_of(R"({
+    "humans": [{"id": "ann", "start": {"x": 2, "y": 2}}, {"id": "bo", "start": {"x": 8, "y": 2}}],
+    "robots": [{"id": "robot", "start": {"x": 5, "y": 8}}],
+    "steps": [{"name": "waits", "actions": [{"agent": "ann", "wait": {"duration": 1}}, {"agent": "bo", "wait": {"duration": 50}}]}]})"), 1);
+  const AgentId bo = session.agent_id("bo");
+  EXPECT_EQ(session.index_of(bo), 1);
+  EXPECT_EQ(session.agent_ids().size(), 3u);
+  EXPECT_THROW(session.agent_id("zoe"), core::Error);
+  for (int tick = 0; tick < 120; ++tick) session.step();
+  session.remove_agent(bo);
+  EXPECT_THROW(session.index_of(bo), core::Error) << "a stale id fails loudly";
+  EXPECT_THROW(session.remove_agent(bo), core::Error);
+  EXPECT_THROW(session.command_robot(bo, Vec2::Zero()), core::Error);
+  const std::vector<AgentId> left = session.agent_ids();
+  ASSERT_EQ(left.size(), 2u);
+  EXPECT_EQ(session.index_of(left[0]), 0) << "creation order";
+  EXPECT_EQ(session.index_of(left[1]), 2);
+  session.step();
+  EXPECT_EQ(session.state().termination, "scenario_end") << "the step no longer waits for bo";
+  EXPECT_FALSE(session.state().agents[1].active);
+  EXPECT_EQ(events_of(session, "agent_removed").size(), 1u);
 }
 
 }  // namespace
