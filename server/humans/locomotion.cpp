@@ -235,8 +235,10 @@ Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> age
     const double theta =
         polynomial_atan2(cross(interaction_direction, direction), interaction_direction.dot(direction));
     const double velocity_term = p.n_prime * b * theta, angle_term = p.n * b * theta;
+    const double angle_exponent = distance / b + angle_term * angle_term;
+    if (angle_exponent > kNegligibleExponent && p.n_prime >= p.n) return;  // both terms negligible
     const double velocity_amount = -std::exp(-distance / b - velocity_term * velocity_term);
-    const double angle_amount = -(theta >= 0.0 ? 1.0 : -1.0) * std::exp(-distance / b - angle_term * angle_term);
+    const double angle_amount = -(theta >= 0.0 ? 1.0 : -1.0) * std::exp(-angle_exponent);
     social += velocity_amount * interaction_direction + angle_amount * core::left_normal(interaction_direction);
   });
 

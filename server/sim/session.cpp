@@ -622,6 +622,7 @@ bool Session::plan_path(int agent) {
   const double radius = model_->agents[agent].radius;
   const auto path = model_->planner.plan(state.position, state.goal, radius, blocked_door_cells(radius));
   state.path_index = 0;
+  state.planned_tick = state_.tick;
   if (path) {
     state.path = *path;
     state.replan_at_tick = -1;
@@ -654,7 +655,8 @@ void Session::locomotion() {
         // Pushed too far off the planned leg by avoidance: plan again from here.
         const Vec2 leg_start = state.path_index == 0 ? state.position : state.path[state.path_index - 1];
         const Vec2 nearest = core::closest_point_on_segment(state.position, leg_start, state.path[state.path_index]);
-        if ((nearest - state.position).norm() > model_->replan_distance) plan_path(static_cast<int>(i));
+        const bool may_replan = state_.tick - state.planned_tick >= std::llround(kReplanInterval / model_->dt);
+        if (may_replan && (nearest - state.position).norm() > model_->replan_distance) plan_path(static_cast<int>(i));
       }
       while (state.path_index + 1 < state.path.size() &&
              (state.path[state.path_index] - state.position).norm() < kWaypointReached) {

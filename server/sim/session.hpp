@@ -30,6 +30,8 @@ inline constexpr double kWaypointReached = 0.3;
 inline constexpr double kHoldTolerance = 0.3;
 /// ...at this speed, m/s.
 inline constexpr double kHoldSpeed = 0.5;
+/// Replanning because avoidance pushed an agent off its path happens at most this often, s.
+inline constexpr double kReplanInterval = 0.5;
 /// Without a path, planning is tried again after this long, s.
 inline constexpr double kReplanRetry = 1.0;
 

@@ -44,6 +44,7 @@ struct AgentState {
   std::vector<Vec2> path;
   std::size_t path_index = 0;
   std::int64_t replan_at_tick = -1;  ///< when no path was found, try again at this tick
+  std::int64_t planned_tick = 0;     ///< when the current path was planned
 
   std::optional<Vec2> hold;  ///< where the agent arrived last; it steps back there when pushed away
 
