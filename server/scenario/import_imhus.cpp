@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "core/math.hpp"
 #include "scenario/import.hpp"
@@ -56,7 +57,7 @@ class ImhusImporter {
       } else if (name == "goals") {
         goals = top;
       } else if (name == "groups") {
-        reader_.warn(top, "groups are not imported yet; the scenario runs without them");
+        read_groups(top);
       } else {
         reader_.warn(top, "unknown element <" + name + "> ignored");
       }
@@ -81,6 +82,26 @@ class ImhusImporter {
       }
       if (!agent_kinds_.emplace(*id, kind).second) reader_.fail(agent, "agent '" + *id + "' is declared twice");
       agent_order_.push_back(*id);
+    }
+  }
+
+  /// <group id="g" members="a b c"/>: the first member leads.
+  void read_groups(const XMLElement* groups) {
+    for (const XMLElement* group = groups->FirstChildElement(); group; group = group->NextSiblingElement()) {
+      const auto id = reader_.text(group, "id");
+      const auto members = reader_.text(group, "members");
+      if (!id || !members) continue;
+      ordered_json list = ordered_json::array();
+      std::istringstream names(*members);
+      for (std::string member; names >> member;) {
+        if (!agent_kinds_.contains(member)) {
+          reader_.fail(group, "unknown member '" + member + "' of group '" + *id + "'");
+        }
+        list.push_back(member);
+      }
+      if (list.size() < 2) reader_.fail(group, "group '" + *id + "' needs at least two members");
+      if (agent_kinds_.contains(*id) || groups_.contains(*id)) reader_.fail(group, "'" + *id + "' is already an agent or group");
+      groups_[*id] = {{"members", list}};
     }
   }
 
@@ -159,11 +180,6 @@ class ImhusImporter {
       return;
     }
     name_ = chosen->Name();
-    for (const XMLElement* scenario : scenarios) {
-      if (std::string(scenario->Name()) == name_ + "_robot") {
-        reader_.warn(scenario, "scenario '" + name_ + "_robot' (robot choreography) is not imported yet");
-      }
-    }
     for (const auto& [task, element] : task_elements_) {
       ordered_json actions = ordered_json::array();
       for (const XMLElement* action = element->FirstChildElement(); action; action = action->NextSiblingElement()) {
@@ -172,7 +188,25 @@ class ImhusImporter {
       if (actions.empty()) reader_.fail(element, "compound task '" + task + "' has no actions");
       tasks_[task] = actions;
     }
-    for (const XMLElement* step = chosen->FirstChildElement(); step; step = step->NextSiblingElement()) {
+    steps_ = read_steps(chosen);
+    // A robot choreography X_robot runs beside X: its step i joins step i of X.
+    for (const XMLElement* scenario : scenarios) {
+      if (std::string(scenario->Name()) != name_ + "_robot") continue;
+      const ordered_json robot_steps = read_steps(scenario);
+      for (std::size_t i = 0; i < robot_steps.size(); ++i) {
+        if (i < steps_.size()) {
+          for (const auto& action : robot_steps[i]["actions"]) steps_[i]["actions"].push_back(action);
+        } else {
+          steps_.push_back(robot_steps[i]);
+        }
+      }
+    }
+  }
+
+  /// The regular steps of a scenario element; its AsyncActions are collected on the way.
+  ordered_json read_steps(const XMLElement* scenario) {
+    ordered_json steps = ordered_json::array();
+    for (const XMLElement* step = scenario->FirstChildElement(); step; step = step->NextSiblingElement()) {
       if (std::string(step->Name()) == "AsyncActions") {
         for (const XMLElement* response = step->FirstChildElement(); response; response = response->NextSiblingElement()) {
           if (std::string(response->Name()) != "async_action_res") {
@@ -187,14 +221,15 @@ class ImhusImporter {
       }
       ordered_json actions = ordered_json::array();
       for (const XMLElement* action = step->FirstChildElement(); action; action = action->NextSiblingElement()) {
-        if (auto native = read_action(action, false)) actions.push_back(std::move(*native));
+        if (auto native = read_action(action, false, steps.empty())) actions.push_back(std::move(*native));
       }
       if (actions.empty()) {
         reader_.warn(step, "step '" + std::string(step->Name()) + "' has no actions and is left out");
         continue;
       }
-      steps_.push_back({{"name", step->Name()}, {"actions", actions}});
+      steps.push_back({{"name", step->Name()}, {"actions", actions}});
     }
+    return steps;
   }
 
   bool require_task(const XMLElement* element, const std::string& task) {
@@ -203,7 +238,7 @@ class ImhusImporter {
     return false;
   }
 
-  std::optional<ordered_json> read_action(const XMLElement* action, bool in_task) {
+  std::optional<ordered_json> read_action(const XMLElement* action, bool in_task, bool first_step = false) {
     const std::string tag = action->Name();
     ordered_json native = ordered_json::object();
     if (const char* entity = action->Attribute("entityID")) {
@@ -211,17 +246,25 @@ class ImhusImporter {
         reader_.fail(action, "actions of a compound task do not name an entityID");
         return std::nullopt;
       }
-      if (!agent_kinds_.contains(entity)) {
-        reader_.fail(action, "unknown entity '" + std::string(entity) + "' (not declared in <agents>)");
+      if (groups_.contains(entity)) {
+        if (tag != "goto_action") {
+          reader_.fail(action, "a group (" + std::string(entity) + ") can be given a goto_action only");
+          return std::nullopt;
+        }
+        native["group"] = entity;
+        for (const auto& member : groups_[entity]["members"]) acting_.insert(member.get<std::string>());
+      } else if (!agent_kinds_.contains(entity)) {
+        reader_.fail(action, "unknown entity '" + std::string(entity) + "' (not declared in <agents> or <groups>)");
         return std::nullopt;
+      } else {
+        native["agent"] = entity;
+        acting_.insert(entity);
       }
-      native["agent"] = entity;
-      acting_.insert(entity);
     } else if (!in_task) {
       reader_.fail(action, "step action <" + tag + "> needs an entityID");
       return std::nullopt;
     }
-    if (const char* task = action->Attribute("taskID"); task && !kPrimitiveActions.contains(tag)) {
+    if (const char* task = action->Attribute("taskID"); task && !kPrimitiveActions.contains(tag) && tag != "request_action") {
       if (!require_task(action, task)) return std::nullopt;
       native["task"] = task;
     } else if (tag == "goto_action") {
@@ -241,6 +284,14 @@ class ImhusImporter {
       const auto topic = reader_.text(action, "topic"), message = reader_.text(action, "msg");
       if (!topic || !message) return std::nullopt;
       native["publish"] = {{"topic", *topic}, {"message", *message}};
+    } else if (tag == "request_action") {
+      const auto task = reader_.text(action, "taskID");
+      if (!task || !require_task(action, *task)) return std::nullopt;
+      if (native.contains("agent") && agent_kinds_[native["agent"].get<std::string>()] != "robot") {
+        reader_.fail(action, "only a robot makes requests");
+        return std::nullopt;
+      }
+      native["request"] = {{"task", *task}};
     } else if (tag == "lookat_action") {
       if (const auto angle = reader_.optional_number(action, "angle")) {
         native["look_at"] = {{"angle", *angle}};
@@ -253,7 +304,7 @@ class ImhusImporter {
                            "lookat_action, or an element with a taskID)");
       return std::nullopt;
     }
-    if (!in_task && native.contains("goto")) note_first_pose(action, native);
+    if (first_step && native.contains("goto")) note_first_pose(action, native);
     return native;
   }
 
@@ -298,7 +349,7 @@ class ImhusImporter {
 
   /// IMHuS agents appear at the pose of their first goto in the first step; hrisim starts them there.
   void note_first_pose(const XMLElement* action, const ordered_json& native) {
-    if (!steps_.empty() || !native.contains("agent")) return;
+    if (!native.contains("agent")) return;
     const std::string agent = native["agent"];
     if (starts_.contains(agent)) return;
     const ordered_json& go = native["goto"];
@@ -383,6 +434,7 @@ class ImhusImporter {
       }
       out[human ? "humans" : "robots"].push_back({{"id", id}, {"start", start}});
     }
+    if (!groups_.empty()) out["groups"] = groups_;
     out["tasks"] = tasks_;
     out["steps"] = steps_;
     out["async"] = async_;
@@ -398,6 +450,7 @@ class ImhusImporter {
   ordered_json social_spaces_ = ordered_json::object();
   std::map<std::string, const XMLElement*> task_elements_;
   ordered_json tasks_ = ordered_json::object();
+  ordered_json groups_ = ordered_json::object();
   ordered_json steps_ = ordered_json::array();
   ordered_json async_ = ordered_json::array();
   std::map<std::string, ordered_json> starts_;

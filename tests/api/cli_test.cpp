@@ -71,11 +71,6 @@ TEST(Cli, BadArgumentsExitWithTwo) {
   EXPECT_EQ(run_command(kHrisim + " run /nonexistent.json").exit_status, 1);
 }
 
-}  // namespace
-}  // namespace hrisim::testing
-
-namespace hrisim::testing {
-namespace {
 
 const std::string kFixtures = std::string(HRISIM_SOURCE_DIR) + "/tests/fixtures";
 

@@ -225,5 +225,33 @@ TEST(DetectXmlFormat, PedsimHasOneScenarioRoot) {
   EXPECT_EQ(detect_xml_format(read(kFixtures / "imhus/office.xml")), "imhus");
 }
 
+
+TEST(ImportImhus, GroupsAndARobotChoreographyBesideTheScenario) {
+  const ImportResult imported = import_imhus(read(kFixtures / "imhus/duo.xml"), bundled());
+  ASSERT_TRUE(imported.scenario.contains("groups"));
+  EXPECT_EQ(imported.scenario["groups"]["pair"]["members"], (nlohmann::ordered_json{"ann", "bo"}));
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  ASSERT_EQ(model->steps.size(), 3u) << "duo_walk_robot's three steps join duo_walk's two, step by step";
+  EXPECT_EQ(model->steps[0].actions.size(), 3u);
+  EXPECT_EQ(model->steps[1].actions[0].group, 0);
+  EXPECT_EQ(model->steps[2].name, "ask");
+  EXPECT_EQ(model->steps[2].actions[0].kind, Action::Kind::request);
+  EXPECT_TRUE(model->agents[2].start.position().isApprox(Vec2(7, 2))) << "the robot starts at its first goto";
+
+  sim::Session session(model, 1);
+  session.run(120.0);
+  EXPECT_EQ(session.state().termination, "scenario_end");
+}
+
+TEST(ImportImhus, GroupsTakeGotoOnly) {
+  std::string xml = read(kFixtures / "imhus/duo.xml");
+  xml.replace(xml.find(R"(<goto_action entityID="pair" poseID="far_end"/>)"), 47, R"(<wait_action entityID="pair" duration="1"/>)");
+  xml.replace(xml.find(R"(members="ann bo")"), 16, R"(members="ann zed")");
+  const ImportResult result = import_imhus(xml, bundled());
+  EXPECT_TRUE(has_message(result.errors, 11, "unknown member 'zed' of group 'pair'"));
+  EXPECT_TRUE(has_message(result.errors, 38, "a group (pair) can be given a goto_action only"));
+}
+
 }  // namespace
 }  // namespace hrisim::scenario

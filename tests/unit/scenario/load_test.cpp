@@ -223,11 +223,6 @@ TEST(LoadScenario, BundledScenariosAreValid) {
   EXPECT_GE(count, 4);
 }
 
-}  // namespace
-}  // namespace hrisim::scenario
-
-namespace hrisim::scenario {
-namespace {
 
 TEST(LoadScenario, GroupsAndAttitudesAreChecked) {
   json document = room_scenario(kPeople);
@@ -261,11 +256,6 @@ TEST(LoadScenario, AttitudeDefaults) {
   EXPECT_DOUBLE_EQ(model->steps[0].actions[1].radius, kStopAndLookDistance);
 }
 
-}  // namespace
-}  // namespace hrisim::scenario
-
-namespace hrisim::scenario {
-namespace {
 
 TEST(LoadScenario, OnlyRobotsMakeRequests) {
   json document = room_scenario(kPeople);

@@ -310,11 +310,6 @@ TEST(Session, DrawnSpeedsFollowTheNamedDistribution) {
   EXPECT_NEAR(stddev, scenario::kPreferredSpeedStddev, 0.04);
 }
 
-}  // namespace
-}  // namespace hrisim::sim
-
-namespace hrisim::sim {
-namespace {
 
 TEST(Groups, APairWalksSideBySide) {
   Session session(model_of(R"({
@@ -370,12 +365,14 @@ TEST(Attitudes, HarassingHumanStandsInTheRobotsWay) {
   EXPECT_NEAR(core::wrap_angle(pest.heading - std::numbers::pi), 0.0, 0.2) << "facing the robot";
 }
 
-TEST(Attitudes, StopAndLookWhenTheRobotComesNear) {
-  Session session(model_of(R"({
+const char* kStopAndLook = R"({
     "humans": [{"id": "ann", "start": {"x": 1.5, "y": 2}, "preferred_speed": 1.0}],
     "robots": [{"id": "robot", "start": {"x": 5, "y": 3.5}}],
     "steps": [{"name": "walk", "actions": [{"agent": "ann", "stop_and_look": {"robot": "robot", "duration": 8}},
-                                           {"agent": "ann", "goto": {"pose": {"x": 8.5, "y": 2}}}]}]})"), 1);
+                                           {"agent": "ann", "goto": {"pose": {"x": 8.5, "y": 2}}}]}]})";
+
+TEST(Attitudes, StopAndLookWhenTheRobotComesNear) {
+  Session session(model_of(kStopAndLook), 1);
   session.run(6.0);
   const AgentState& ann = session.state().agents[0];
   EXPECT_LT((ann.position - Vec2(5, 3.5)).norm(), scenario::kStopAndLookDistance + 0.1) << "stopped near the robot";
@@ -383,21 +380,11 @@ TEST(Attitudes, StopAndLookWhenTheRobotComesNear) {
   EXPECT_LT(ann.velocity.norm(), 0.1);
   EXPECT_NEAR(core::wrap_angle(ann.heading - std::atan2(3.5 - ann.position.y(), 5 - ann.position.x())), 0.0, 0.1)
       << "facing it";
-  Session until_end(model_of(R"({
-    "humans": [{"id": "ann", "start": {"x": 1.5, "y": 2}, "preferred_speed": 1.0}],
-    "robots": [{"id": "robot", "start": {"x": 5, "y": 3.5}}],
-    "steps": [{"name": "walk", "actions": [{"agent": "ann", "stop_and_look": {"robot": "robot", "duration": 8}},
-                                           {"agent": "ann", "goto": {"pose": {"x": 8.5, "y": 2}}}]}]})"), 1);
+  Session until_end(model_of(kStopAndLook), 1);
   until_end.run();
   EXPECT_EQ(until_end.state().termination, "scenario_end") << "after the attitude ends she walks on";
   EXPECT_GT(until_end.time(), 8.0);
 }
-
-}  // namespace
-}  // namespace hrisim::sim
-
-namespace hrisim::sim {
-namespace {
 
 TEST(RobotChoreography, TheRobotWalksAsksAndWaitsForTheOutcome) {
   Session session(model_of(R"({
@@ -420,11 +407,6 @@ TEST(RobotChoreography, TheRobotWalksAsksAndWaitsForTheOutcome) {
   EXPECT_EQ(session.state().topics.at("/greeting"), "hi");
 }
 
-}  // namespace
-}  // namespace hrisim::sim
-
-namespace hrisim::sim {
-namespace {
 
 TEST(AgentIds, RemovedAgentsLeaveAndTheirIdsGoStale) {
   Session session(model_of(R"({

@@ -86,11 +86,6 @@ TEST(PathPlanner, OutsideTheMapHasNoPath) {
   EXPECT_FALSE(planner.plan({1.0, 1.0}, {40.0, 1.0}, 0.3));
 }
 
-}  // namespace
-}  // namespace hrisim::world
-
-namespace hrisim::world {
-namespace {
 
 // Early requests for a goal are A* searches, later ones descend its cached field; both are shortest.
 TEST(PathPlanner, SearchAndCachedFieldAgree) {
