@@ -14,8 +14,6 @@ std::uint64_t splitmix64(std::uint64_t& x) {
   return z ^ (z >> 31);
 }
 
-__extension__ typedef unsigned __int128 uint128;  // GCC/Clang extension, accepted under -Wpedantic
-
 }  // namespace
 
 std::uint64_t fnv1a(std::string_view bytes, std::uint64_t hash) {
@@ -51,20 +49,6 @@ std::uint64_t Random::next_u64() {
 double Random::uniform() { return static_cast<double>(next_u64() >> 11) * 0x1.0p-53; }
 
 double Random::uniform(double low, double high) { return low + (high - low) * uniform(); }
-
-std::uint64_t Random::below(std::uint64_t n) {
-  // Lemire's multiply-shift with rejection of the biased low range.
-  uint128 product = static_cast<uint128>(next_u64()) * n;
-  auto low = static_cast<std::uint64_t>(product);
-  if (low < n) {
-    const std::uint64_t threshold = (0 - n) % n;
-    while (low < threshold) {
-      product = static_cast<uint128>(next_u64()) * n;
-      low = static_cast<std::uint64_t>(product);
-    }
-  }
-  return static_cast<std::uint64_t>(product >> 64);
-}
 
 double Random::normal(double mean, double stddev) {
   if (has_spare_normal_) {

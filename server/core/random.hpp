@@ -21,8 +21,6 @@ class Random {
   double uniform();
   /// Uniform in [low, high).
   double uniform(double low, double high);
-  /// Uniform integer in [0, n), without modulo bias; n > 0.
-  std::uint64_t below(std::uint64_t n);
   /// Normal with the given mean and standard deviation (Box–Muller, both values used in turn).
   double normal(double mean, double stddev);
 

@@ -304,7 +304,7 @@ class ImhusImporter {
                            "lookat_action, or an element with a taskID)");
       return std::nullopt;
     }
-    if (first_step && native.contains("goto")) note_first_pose(action, native);
+    if (first_step && native.contains("goto")) note_first_pose(native);
     return native;
   }
 
@@ -348,7 +348,7 @@ class ImhusImporter {
   }
 
   /// IMHuS agents appear at the pose of their first goto in the first step; hrisim starts them there.
-  void note_first_pose(const XMLElement* action, const ordered_json& native) {
+  void note_first_pose(const ordered_json& native) {
     if (!native.contains("agent")) return;
     const std::string agent = native["agent"];
     if (starts_.contains(agent)) return;
@@ -359,7 +359,6 @@ class ImhusImporter {
     } else if (go.contains("pose")) {
       starts_[agent] = go["pose"];
     }
-    start_lines_[agent] = action->GetLineNum();
   }
 
   void build_world(const XMLElement* map_name) {
@@ -455,7 +454,6 @@ class ImhusImporter {
   ordered_json async_ = ordered_json::array();
   std::map<std::string, ordered_json> starts_;
   std::set<std::string> acting_;  ///< agents some step action names
-  std::map<std::string, int> start_lines_;
 };
 
 }  // namespace

@@ -69,8 +69,6 @@ inline constexpr double kElevatorTravelTime = 3.0;
 inline constexpr double kElevatorSettleTime = 1.0;
 /// A door reopened for someone standing in the doorway stays open at least this long, in seconds.
 inline constexpr double kElevatorReopenHold = 2.0;
-/// Door states are published this often, in seconds (a wait sees the latest one).
-inline constexpr double kElevatorStatePeriod = 0.25;
 
 /// A cabin joining floors; door i serves floor i (IMHuS: door1 on floor 1, door2 on floor 2).
 struct Elevator {

@@ -75,19 +75,5 @@ TEST(Random, NormalMoments) {
   EXPECT_NEAR(std::sqrt(sum_squares / n - mean * mean), 0.26, 0.005);
 }
 
-TEST(Random, BelowIsUnbiased) {
-  Random random(3);
-  std::vector<int> counts(6, 0);
-  const int n = 60000;
-  for (int i = 0; i < n; ++i) {
-    const std::uint64_t k = random.below(6);
-    ASSERT_LT(k, 6u);
-    ++counts[k];
-  }
-  double chi_square = 0.0;
-  for (int count : counts) chi_square += (count - n / 6.0) * (count - n / 6.0) / (n / 6.0);
-  EXPECT_LT(chi_square, 20.5);  // 5 degrees of freedom, p = 0.001
-}
-
 }  // namespace
 }  // namespace hrisim::core
