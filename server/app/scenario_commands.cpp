@@ -16,6 +16,9 @@
 namespace hrisim::app {
 namespace {
 
+/// Samples per second written by `hrisim run --trajectory`.
+constexpr double kTrajectoryRate = 10.0;
+
 [[noreturn]] void usage_error(const std::string& message) {
   throw core::Error(core::ErrorCode::bad_request, message);
 }
@@ -150,8 +153,9 @@ int validate_command(const std::vector<std::string>& args) {
 
 int run_command(const std::vector<std::string>& args) {
   const ParsedArgs parsed = parse_args(
-      args, {"--seed", "--max-time", "--request", "--scenario", "--map"}, {"--events"},
-      "usage: hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME] [--map FILE]");
+      args, {"--seed", "--max-time", "--request", "--scenario", "--map", "--trajectory"}, {"--events"},
+      "usage: hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME] "
+      "[--map FILE] [--trajectory FILE.csv]");
   const std::string& file = parsed.file;
   std::uint64_t seed = 0;
   if (const auto text = parsed.last("--seed")) {
@@ -188,7 +192,27 @@ int run_command(const std::vector<std::string>& args) {
     if (robot < 0) usage_error("--request: the scenario has no robot to make the request");
     session.schedule_request(time, session.agent_id(model.agents[robot].id), task);
   }
-  session.run(max_time);
+  std::ofstream trajectory;
+  std::int64_t sample_every = 1;
+  if (const auto path = parsed.last("--trajectory")) {
+    trajectory.open(*path);
+    if (!trajectory) usage_error("--trajectory: cannot write " + *path);
+    trajectory << "time,tick,agent,x,y,theta,vx,vy\n";
+    trajectory.precision(17);
+    sample_every = std::max<std::int64_t>(1, std::llround(1.0 / (kTrajectoryRate * model.dt)));
+  }
+  auto record = [&](const sim::Session& running) {
+    const sim::State& state = running.state();
+    if (!trajectory.is_open() || state.tick % sample_every != 0) return;
+    for (const sim::AgentId id : running.agent_ids()) {
+      const int index = running.index_of(id);
+      const sim::AgentState& agent = state.agents[index];
+      trajectory << running.time() << ',' << state.tick << ',' << model.agents[index].id << ',' << agent.position.x() << ','
+                 << agent.position.y() << ',' << agent.heading << ',' << agent.velocity.x() << ',' << agent.velocity.y() << '\n';
+    }
+  };
+  record(session);
+  session.run(max_time, record);
 
   const sim::State& state = session.state();
   nlohmann::json steps = nlohmann::json::array();

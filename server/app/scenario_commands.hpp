@@ -9,7 +9,7 @@ namespace hrisim::app {
 int validate_command(const std::vector<std::string>& args);
 
 /// hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME]
-/// [--map FILE]: runs a native JSON or an IMHuS/Pedsim XML file to the end and
+/// [--map FILE] [--trajectory FILE.csv]: runs a native JSON or an IMHuS/Pedsim XML file to the end and
 /// prints a JSON summary; exit 0 when it ran (whether or not the choreography completed), 1 when the
 /// scenario is invalid, 2 on bad arguments.
 int run_command(const std::vector<std::string>& args);

@@ -138,9 +138,12 @@ void Session::step() {
   }
 }
 
-void Session::run(std::optional<double> max_time) {
+void Session::run(std::optional<double> max_time, const std::function<void(const Session&)>& observe) {
   if (max_time) time_limit_ = *max_time;
-  while (!state_.finished) step();
+  while (!state_.finished) {
+    step();
+    if (observe) observe(*this);
+  }
 }
 
 void Session::request(AgentId robot, int task) { make_request(index_of(robot), task); }

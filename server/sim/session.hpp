@@ -2,6 +2,7 @@
 // A session runs one scenario model: fixed time step, seeded randomness owned by the session, no wall
 // clock. step() advances one tick in a fixed order: inputs → choreography decides → locomotion computes
 // all new velocities → commit → observers. Same model, seed and inputs give bit-identical states.
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -45,8 +46,10 @@ class Session {
 
   /// Advances one tick; does nothing once finished.
   void step();
-  /// Runs until finished or `max_time` of simulation time (the model's limit when absent).
-  void run(std::optional<double> max_time = std::nullopt);
+  /// Runs until finished or `max_time` of simulation time (the model's limit when absent), calling
+  /// `observe` after every step (read-only observers: recorders, printers).
+  void run(std::optional<double> max_time = std::nullopt,
+           const std::function<void(const Session&)>& observe = nullptr);
 
   /// The id of the agent named `name` in the scenario; throws core::Error(not_found) when there is none.
   AgentId agent_id(const std::string& name) const;

@@ -106,5 +106,27 @@ TEST(CliImport, RunAcceptsXmlDirectly) {
   EXPECT_EQ(summary["events"]["request_accepted"], 1);
 }
 
+
+TEST(Cli, RunWritesTheTrajectoryAtTenHertz) {
+  TempDir dir;
+  const std::string csv = (dir / "queue.csv").string();
+  const CommandResult result =
+      run_command(kHrisim + " run " + kScenarios + "/queue.json --max-time 2 --trajectory " + csv, false);
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  std::ifstream in(csv);
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header, "time,tick,agent,x,y,theta,vx,vy");
+  int rows = 0;
+  std::string last;
+  while (std::getline(in, line)) {
+    ++rows;
+    last = line;
+  }
+  EXPECT_EQ(rows, 6 * 21) << "six agents at t = 0, 0.1, ..., 2.0 s";
+  EXPECT_EQ(last.substr(0, last.find(',')), "2") << last;
+  EXPECT_EQ(run_command(kHrisim + " run " + kScenarios + "/queue.json --trajectory /nonexistent/x.csv").exit_status, 2);
+}
+
 }  // namespace
 }  // namespace hrisim::testing
