@@ -114,14 +114,14 @@ scenario::LoadResult load(const std::string& file, const SourceOptions& source =
   const scenario::LoadOptions options{{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}};
   if (std::filesystem::path(file).extension() != ".xml") return scenario::load_scenario_file(file, {{bundled_scenarios_dir()}});
   const auto imported = import_file(file, source);
-  if (!imported) return {nullptr, {{"", "the XML file could not be imported"}}};
+  if (!imported) return {nullptr, {{"", "the XML file could not be imported"}}, {}};
   return scenario::load_scenario(nlohmann::json::parse(imported->scenario.dump()), options);
 }
 
-void print_errors(const std::string& file, const std::vector<core::ValidationError>& errors) {
+void print_errors(const std::string& file, const std::vector<core::ValidationError>& errors, const char* kind = "") {
   for (const auto& error : errors) {
-    std::fprintf(stderr, "%s: %s: %s\n", file.c_str(), error.pointer.empty() ? "(document)" : error.pointer.c_str(),
-                 error.message.c_str());
+    std::fprintf(stderr, "%s: %s: %s%s\n", file.c_str(), error.pointer.empty() ? "(document)" : error.pointer.c_str(),
+                 kind, error.message.c_str());
   }
 }
 
@@ -137,6 +137,7 @@ int validate_command(const std::vector<std::string>& args) {
   int status = 0;
   for (const std::string& file : args) {
     const scenario::LoadResult result = load(file);
+    print_errors(file, result.warnings, "warning: ");
     if (!result.model) {
       print_errors(file, result.errors);
       std::fprintf(stderr, "%s: %zu error%s\n", file.c_str(), result.errors.size(), result.errors.size() == 1 ? "" : "s");
@@ -176,6 +177,7 @@ int run_command(const std::vector<std::string>& args) {
   const SourceOptions source = source_options(parsed);
 
   const scenario::LoadResult loaded = load(file, source);
+  print_errors(file, loaded.warnings, "warning: ");
   if (!loaded.model) {
     print_errors(file, loaded.errors);
     return 1;

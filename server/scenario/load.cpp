@@ -3,6 +3,7 @@
 #include <fstream>
 #include <functional>
 #include <set>
+#include <cmath>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -54,8 +55,8 @@ struct Names {
 
 class Loader {
  public:
-  Loader(const json& document, const LoadOptions& options, Errors& errors)
-      : doc_(document), options_(options), errors_(errors) {}
+  Loader(const json& document, const LoadOptions& options, Errors& errors, Errors& warnings)
+      : doc_(document), options_(options), errors_(errors), warnings_(warnings) {}
 
   std::shared_ptr<Model> load() {
     auto model = build_world();
@@ -74,6 +75,7 @@ class Loader {
     read_steps(*model);
     read_async(*model);
     check_task_cycles(*model);
+    warn_about_social_force_goals(*model);
     return errors_.empty() ? model : nullptr;
   }
 
@@ -534,9 +536,71 @@ class Loader {
     for (std::size_t t = 0; t < model.tasks.size(); ++t) visit(static_cast<int>(t));
   }
 
+  /// Goals of social-force humans closer to an obstacle than such a human can get are reported: it
+  /// may stop short of them (pedsim's σ = 0.8 m keeps a walker heading at a wall about 1.35 m away).
+  void warn_about_social_force_goals(const Model& model) {
+    auto social_force = [&](int agent) {
+      return agent >= 0 && model.agents[agent].kind == AgentKind::human &&
+             model.agents[agent].avoidance == humans::LocalAvoidance::social_force;
+    };
+    bool any = false;
+    double radius = 0.0;
+    for (std::size_t a = 0; a < model.agents.size(); ++a) {
+      if (!social_force(static_cast<int>(a))) continue;
+      any = true;
+      radius = std::max(radius, model.agents[a].radius);
+    }
+    if (!any) return;
+    const double standoff = social_force_standoff(model.social_force, radius, kPreferredSpeedMean);
+    std::set<std::string> reported;
+    auto check = [&](const Vec2& p, double goal_radius, const std::string& pointer, const std::string& what) {
+      const double clearance = model.field.distance(model.grid, p);
+      if (clearance + goal_radius >= standoff || !reported.insert(pointer).second) return;
+      std::ostringstream message;
+      message.precision(2);
+      message << std::fixed << what << " is " << clearance << " m from an obstacle (goal radius " << goal_radius
+              << " m); a social-force human may stop about " << standoff
+              << " m away (use ORCA for it, or a smaller locomotion.social_force.obstacle_sigma)";
+      warnings_.push_back({pointer, message.str()});
+    };
+    std::function<void(const Action&, std::set<int>&)> visit = [&](const Action& action, std::set<int>& seen) {
+      if (action.kind == Action::Kind::run_task && action.target >= 0 && seen.insert(action.target).second) {
+        for (const Action& inner : model.tasks[action.target].actions) visit(inner, seen);
+      } else if (action.kind == Action::Kind::go_to_location && action.target >= 0 && action.pose == Pose2{}) {
+        const Location& location = model.locations[action.target];
+        check(location.pose.position(), location.radius, "/locations/" + core::pointer_token(location.name),
+              "location '" + location.name + "'");
+      } else if (action.kind == Action::Kind::go_to_social_space && action.target >= 0) {
+        const SocialSpace& space = model.social_spaces[action.target];
+        for (std::size_t i = 0; i < space.slots.size(); ++i) {
+          check(space.slots[i].position(), kDefaultGoalRadius,
+                "/social_spaces/" + core::pointer_token(space.name) + "/slots/" + std::to_string(i),
+                "slot " + std::to_string(i) + " of '" + space.name + "'");
+        }
+      } else if (action.kind == Action::Kind::go_to_pose) {
+        check(action.pose.position(), action.radius, action.pointer + "/goto/pose", "goal pose");
+      }
+    };
+    for (const Step& step : model.steps) {
+      for (const Action& action : step.actions) {
+        bool by_social_force = social_force(action.agent);
+        if (action.group >= 0) {
+          for (int member : model.groups[action.group].members) by_social_force |= social_force(member);
+        }
+        std::set<int> seen;
+        if (by_social_force) visit(action, seen);
+      }
+    }
+    for (int task : model.async_tasks) {  // any idle human may answer, social-force ones included
+      std::set<int> seen{task};
+      for (const Action& action : model.tasks[task].actions) visit(action, seen);
+    }
+  }
+
   const json& doc_;
   const LoadOptions& options_;
   Errors& errors_;
+  Errors& warnings_;
   Names names_;
   humans::LocalAvoidance default_avoidance_ = humans::LocalAvoidance::orca;
   const Model* model_for_checks_ = nullptr;
@@ -570,11 +634,17 @@ const core::JsonSchema& scenario_schema() {
   return schema;
 }
 
+double social_force_standoff(const humans::SocialForceParams& params, double radius, double speed) {
+  const double drive = params.desired_factor * speed / params.relaxation_time;
+  if (drive <= 0.0 || params.obstacle_factor <= drive) return radius;
+  return radius + params.obstacle_sigma * std::log(params.obstacle_factor / drive);
+}
+
 LoadResult load_scenario(const json& document, const LoadOptions& options) {
   LoadResult result;
   result.errors = scenario_schema().validate(document);
   if (!result.errors.empty()) return result;  // meaning is checked on well-formed documents only
-  Loader loader(document, options, result.errors);
+  Loader loader(document, options, result.errors, result.warnings);
   result.model = loader.load();
   return result;
 }
@@ -596,13 +666,14 @@ LoadResult load_scenario_text(std::string_view text, const LoadOptions& options)
     const std::string message = e.what();
     const std::size_t reason = message.find(": ", message.find("syntax error"));
     return {nullptr, {{"", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
-                               (reason == std::string::npos ? "" : ": " + message.substr(reason + 2))}}};
+                               (reason == std::string::npos ? "" : ": " + message.substr(reason + 2))}},
+            {}};
   }
 }
 
 LoadResult load_scenario_file(const std::filesystem::path& file, LoadOptions options) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) return {nullptr, {{"", "cannot read " + file.string()}}};
+  if (!in) return {nullptr, {{"", "cannot read " + file.string()}}, {}};
   std::ostringstream text;
   text << in.rdbuf();
   options.map_search_path.insert(options.map_search_path.begin(), file.parent_path().empty() ? "." : file.parent_path());

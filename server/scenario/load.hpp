@@ -16,7 +16,13 @@ namespace hrisim::scenario {
 struct LoadResult {
   std::shared_ptr<const Model> model;  ///< null when there are errors
   std::vector<core::ValidationError> errors;
+  std::vector<core::ValidationError> warnings;  ///< valid, but probably not what the author meant
 };
+
+/// How close to an obstacle a social-force human walking at `speed` can get: where the obstacle's
+/// push equals the driving force, r + σ·ln(obstacle factor / (desired factor · speed / τ)); the
+/// radius alone when the drive always wins.
+double social_force_standoff(const humans::SocialForceParams& params, double radius, double speed);
 
 struct LoadOptions {
   /// Folders where a relative `world.map` is looked up, in order (the scenario file's folder first).

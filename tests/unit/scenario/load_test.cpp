@@ -266,5 +266,27 @@ TEST(LoadScenario, OnlyRobotsMakeRequests) {
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/request/task", "unknown task 'nothing'"));
 }
 
+
+// 0.3 + 0.8 · ln(10 / (1.34 / 0.5)) = 1.354 m with pedsim's parameters and hrisim's human radius.
+TEST(LoadScenario, StandoffOfSocialForceHumans) {
+  EXPECT_NEAR(social_force_standoff(humans::SocialForceParams{}, 0.3, 1.34), 1.354, 1e-3);
+  EXPECT_DOUBLE_EQ(social_force_standoff(humans::SocialForceParams{.obstacle_factor = 1.0}, 0.3, 1.34), 0.3)
+      << "a drive stronger than the wall force gets all the way";
+}
+
+TEST(LoadScenario, WarnsAboutGoalsSocialForceHumansCannotReach) {
+  json document = room_scenario(json::parse(R"({
+    "locations": {"by_the_wall": {"x": 0.9, "y": 5}, "open": {"x": 3, "y": 2}},
+    "humans": [{"id": "sf", "start": {"x": 2, "y": 2}, "avoidance": "social_force"}, {"id": "orca", "start": {"x": 2, "y": 8}}],
+    "steps": [{"name": "go", "actions": [{"agent": "sf", "goto": {"location": "open"}},
+                                         {"agent": "orca", "goto": {"location": "by_the_wall"}}]},
+              {"name": "wall", "actions": [{"agent": "sf", "goto": {"pose": {"x": 9.1, "y": 5}}}]}]})"));
+  const LoadResult result = load_scenario(document, {});
+  ASSERT_TRUE(result.model) << "warnings do not make a scenario invalid";
+  ASSERT_EQ(result.warnings.size(), 1u) << "only goals of social-force humans, and only the one too near a wall";
+  EXPECT_EQ(result.warnings[0].pointer, "/steps/1/actions/0/goto/pose");
+  EXPECT_NE(result.warnings[0].message.find("may stop about 1.35 m away"), std::string::npos) << result.warnings[0].message;
+}
+
 }  // namespace
 }  // namespace hrisim::scenario
