@@ -23,9 +23,12 @@ using Clock = std::chrono::steady_clock;
 /// People per square metre in the open room.
 constexpr double kRoomDensity = 0.25;
 
+/// Social-force neighbourhood of the extra "social_force_2m" cases, m (the default is 4 m).
+constexpr double kShortNeighbourhood = 2.0;
+
 /// An open square room sized for the crowd (kRoomDensity overall); two groups start in strips at
 /// opposite ends and swap sides, walk back, and do it again.
-json open_room(int humans, const std::string& avoidance) {
+json open_room(int humans, const std::string& avoidance, double neighbour_distance = 0.0) {
   const double side = std::max(30.0, std::ceil(std::sqrt(humans / kRoomDensity)));
   json scenario{{"name", "open_room"},
                 {"time_limit", 1e6},
@@ -44,6 +47,7 @@ json open_room(int humans, const std::string& avoidance) {
   // Goals keep 1.5 m from the walls, beyond the 1.35 m where pedsim's wall force balances the drive.
   const double spacing = std::min(0.8 * side, std::sqrt(side / 4.0 * side / std::ceil(humans / 2.0)));
   const int per_column = std::max(1, static_cast<int>((side - 3.0) / spacing));
+  if (neighbour_distance > 0.0) scenario["locomotion"]["social_force"] = {{"neighbour_distance", neighbour_distance}};
   for (int i = 0; i < humans; ++i) {
     const bool left = i % 2 == 0;
     const int k = i / 2;
@@ -131,6 +135,9 @@ int main(int argc, char** argv) {
     for (int humans : {10, 100, 1000}) measure("open_room", avoidance, humans, open_room(humans, avoidance), repetitions);
   }
   measure("open_room", "social_force", 10000, open_room(10000, "social_force"), repetitions);
+  for (int humans : {100, 1000, 10000}) {
+    measure("open_room", "social_force_2m", humans, open_room(humans, "social_force", kShortNeighbourhood), repetitions);
+  }
   const auto empty = hrisim::scenario::load_scenario(
       json{{"name", "map"}, {"world", {{"map", map}}}, {"steps", json::array()}}, {});
   if (!empty.model) {

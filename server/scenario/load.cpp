@@ -193,6 +193,7 @@ class Loader {
     p.gamma = sf.value("gamma", p.gamma);
     p.n = sf.value("n", p.n);
     p.n_prime = sf.value("n_prime", p.n_prime);
+    p.neighbour_distance = sf.value("neighbour_distance", p.neighbour_distance);
   }
 
   /// Errors when p is outside the map or inside an obstacle, naming the obstacle when one contains it.

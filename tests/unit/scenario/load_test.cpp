@@ -79,8 +79,27 @@ TEST(LoadScenario, DefaultsFollowThePapers) {
   EXPECT_DOUBLE_EQ(model->social_force.gamma, 0.35);
   EXPECT_DOUBLE_EQ(model->social_force.n, 2.0);
   EXPECT_DOUBLE_EQ(model->social_force.n_prime, 3.0);
+  EXPECT_DOUBLE_EQ(model->social_force.neighbour_distance, 4.0);
   EXPECT_DOUBLE_EQ(model->replan_distance, kDefaultReplanDistance);
   EXPECT_EQ(model->agents[0].avoidance, humans::LocalAvoidance::orca);
+}
+
+TEST(LoadScenario, LocomotionParametersAreRead) {
+  json document = room_scenario(kPeople);
+  document["locomotion"] = json::parse(R"({"avoidance": "social_force", "replan_distance": 2,
+    "orca": {"neighbour_distance": 3, "max_neighbours": 7, "time_horizon": 1.5, "obstacle_horizon": 0.5},
+    "social_force": {"obstacle_sigma": 0.2, "neighbour_distance": 2}})");
+  const auto model = testing::load_valid(document);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->agents[0].avoidance, humans::LocalAvoidance::social_force);
+  EXPECT_DOUBLE_EQ(model->replan_distance, 2.0);
+  EXPECT_DOUBLE_EQ(model->orca.neighbour_distance, 3.0);
+  EXPECT_EQ(model->orca.max_neighbours, 7);
+  EXPECT_DOUBLE_EQ(model->orca.time_horizon, 1.5);
+  EXPECT_DOUBLE_EQ(model->orca.obstacle_horizon, 0.5);
+  EXPECT_DOUBLE_EQ(model->social_force.obstacle_sigma, 0.2);
+  EXPECT_DOUBLE_EQ(model->social_force.neighbour_distance, 2.0);
+  EXPECT_DOUBLE_EQ(model->social_force.social_factor, 2.1) << "unset parameters keep their defaults";
 }
 
 TEST(LoadScenario, InvalidJsonNamesLineAndColumn) {
