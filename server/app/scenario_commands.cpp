@@ -111,10 +111,11 @@ std::optional<scenario::ImportResult> import_file(const std::string& file, const
 }
 
 scenario::LoadResult load(const std::string& file, const SourceOptions& source = {}) {
-  const scenario::LoadOptions options{{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}};
   if (std::filesystem::path(file).extension() != ".xml") return scenario::load_scenario_file(file, {{bundled_scenarios_dir()}});
   const auto imported = import_file(file, source);
   if (!imported) return {nullptr, {{"", "the XML file could not be imported"}}, {}};
+  // Relative map paths in the imported scenario resolve next to the XML file, then in the bundle.
+  const scenario::LoadOptions options{{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}};
   return scenario::load_scenario(nlohmann::json::parse(imported->scenario.dump()), options);
 }
 

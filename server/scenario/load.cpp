@@ -130,7 +130,7 @@ class Loader {
     const json& walls = member(world, "walls");
     for (std::size_t i = 0; i < walls.size(); ++i) {
       obstacles.push_back({"wall " + std::to_string(i),
-                           wall_polygon(read_point(walls[i]["from"]), read_point(walls[i]["to"]), walls[i].value("thickness", 0.1)),
+                           wall_polygon(read_point(walls[i]["from"]), read_point(walls[i]["to"]), walls[i].value("thickness", kDefaultWallThickness)),
                            {}});
     }
     const json& listed = member(world, "obstacles");
@@ -162,7 +162,7 @@ class Loader {
     const json& doors = member(world, "doors");
     for (std::size_t i = 0; i < doors.size(); ++i) {
       scenario::Door door{doors[i]["name"], read_point(doors[i]["from"]), read_point(doors[i]["to"]),
-                          doors[i].value("thickness", 0.1), doors[i].value("open", false)};
+                          doors[i].value("thickness", kDefaultWallThickness), doors[i].value("open", false)};
       if (names_.doors.contains(door.name)) {
         error("/world/doors/" + std::to_string(i) + "/name", "door name '" + door.name + "' is used twice");
       }

@@ -34,6 +34,9 @@ inline constexpr double kPreferredSpeedMax = 2.0;
 /// Replan when pushed this far from the planned path, in metres.
 inline constexpr double kDefaultReplanDistance = 1.0;
 
+/// Thickness of walls and doors that do not give one, in metres.
+inline constexpr double kDefaultWallThickness = 0.1;
+
 struct Location {
   std::string name;
   Pose2 pose;
@@ -57,7 +60,7 @@ struct Door {
   std::string name;
   Vec2 from = Vec2::Zero();
   Vec2 to = Vec2::Zero();
-  double thickness = 0.1;
+  double thickness = kDefaultWallThickness;
   bool initially_open = false;
   double width() const { return (to - from).norm(); }
 };

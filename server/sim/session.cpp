@@ -88,6 +88,10 @@ void Session::schedule_request(double at, AgentId robot, int task) {
   state_.scheduled.insert(later, request);
 }
 
+std::int64_t Session::ticks(double seconds) const {
+  return static_cast<std::int64_t>(std::llround(seconds / model_->dt));
+}
+
 void Session::emit(std::string kind, std::string subject, nlohmann::json data) {
   state_.events.push_back({state_.tick, time(), std::move(kind), std::move(subject), std::move(data)});
 }
@@ -225,8 +229,7 @@ void Session::update_elevator(int index) {
       } else {
         cabin.destination = cabin.queue.front();
         cabin.phase = Phase::travelling;
-        cabin.until_tick = state_.tick + static_cast<std::int64_t>(
-                                             std::llround((elevator.travel_time + elevator.settle_time) / model_->dt));
+        cabin.until_tick = state_.tick + ticks((elevator.travel_time + elevator.settle_time));
         emit("elevator_departed", elevator.name, {{"from", cabin.floor + 1}, {"to", cabin.destination + 1}});
       }
       break;
@@ -242,7 +245,7 @@ void Session::update_elevator(int index) {
       if (door_state.opening >= 1.0) {
         cabin.phase = Phase::open;
         cabin.until_tick = std::max(cabin.reopened_until_tick,
-                                    state_.tick + static_cast<std::int64_t>(std::llround(elevator.open_time / model_->dt)));
+                                    state_.tick + ticks(elevator.open_time));
         set_door(door, DoorPhase::open);
       }
       break;
@@ -250,7 +253,7 @@ void Session::update_elevator(int index) {
       // Asked again for this floor: stay open longer; asked for another floor: close and go.
       while (!cabin.queue.empty() && cabin.queue.front() == cabin.floor) {
         cabin.queue.pop_front();
-        cabin.until_tick = state_.tick + static_cast<std::int64_t>(std::llround(elevator.open_time / model_->dt));
+        cabin.until_tick = state_.tick + ticks(elevator.open_time);
       }
       if (state_.tick >= cabin.until_tick || (!cabin.queue.empty() && state_.tick >= cabin.reopened_until_tick)) {
         cabin.phase = Phase::closing;
@@ -261,7 +264,7 @@ void Session::update_elevator(int index) {
       if (someone_in_doorway(door)) {
         cabin.phase = Phase::opening;
         cabin.reopened_until_tick =
-            state_.tick + static_cast<std::int64_t>(std::llround(scenario::kElevatorReopenHold / model_->dt));
+            state_.tick + ticks(scenario::kElevatorReopenHold);
         set_door(door, DoorPhase::opening);
         break;
       }
@@ -326,8 +329,8 @@ bool Session::idle(int agent) const {
 }
 
 void Session::update_requests() {
-  const auto retry = static_cast<std::int64_t>(std::llround(kRequestRetryPeriod / model_->dt));
-  const auto timeout = static_cast<std::int64_t>(std::llround(kRequestTimeout / model_->dt));
+  const auto retry = ticks(kRequestRetryPeriod);
+  const auto timeout = ticks(kRequestTimeout);
   std::vector<OpenRequest> still_open;
   for (OpenRequest& open : state_.requests) {
     if (state_.tick < open.next_try_tick) {
@@ -468,7 +471,7 @@ bool Session::start_action(int agent, const Action& action, const PendingAction&
       go_to(agent, action.pose, action.radius, true);
       return true;
     case Kind::wait_duration:
-      state.wait_until_tick = state_.tick + static_cast<std::int64_t>(std::llround(action.value / model_->dt));
+      state.wait_until_tick = state_.tick + ticks(action.value);
       return true;
     case Kind::look_at_angle:
     case Kind::turn_to:
@@ -502,12 +505,12 @@ bool Session::start_action(int agent, const Action& action, const PendingAction&
       state.hold.reset();
       state.harass_robot = action.target;
       state.harass_distance = action.radius;
-      state.wait_until_tick = state_.tick + static_cast<std::int64_t>(std::llround(action.value / model_->dt));
+      state.wait_until_tick = state_.tick + ticks(action.value);
       return true;
     case Kind::stop_and_look:
       state.watched_robot = action.target;
       state.watch_distance = action.radius;
-      state.watch_until_tick = state_.tick + static_cast<std::int64_t>(std::llround(action.value / model_->dt));
+      state.watch_until_tick = state_.tick + ticks(action.value);
       return true;
     case Kind::request: {
       const std::int64_t id = state_.next_request_id;
@@ -635,7 +638,7 @@ bool Session::plan_path(int agent) {
   if (state.replan_at_tick < 0) {
     emit("goal_unreachable", model_->agents[agent].id, {{"x", state.goal.x()}, {"y", state.goal.y()}});
   }
-  state.replan_at_tick = state_.tick + static_cast<std::int64_t>(std::llround(kReplanRetry / model_->dt));
+  state.replan_at_tick = state_.tick + ticks(kReplanRetry);
   return false;
 }
 
@@ -658,7 +661,7 @@ void Session::locomotion() {
         // Pushed too far off the planned leg by avoidance: plan again from here.
         const Vec2 leg_start = state.path_index == 0 ? state.position : state.path[state.path_index - 1];
         const Vec2 nearest = core::closest_point_on_segment(state.position, leg_start, state.path[state.path_index]);
-        const bool may_replan = state_.tick - state.planned_tick >= std::llround(kReplanInterval / model_->dt);
+        const bool may_replan = state_.tick - state.planned_tick >= ticks(kReplanInterval);
         if (may_replan && (nearest - state.position).norm() > model_->replan_distance) plan_path(static_cast<int>(i));
       }
       while (state.path_index + 1 < state.path.size() &&

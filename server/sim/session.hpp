@@ -74,6 +74,8 @@ class Session {
   std::uint64_t state_hash() const;
 
  private:
+  /// Whole ticks in a duration of simulation time.
+  std::int64_t ticks(double seconds) const;
   void make_request(int robot, int task);
   void start_step(int step);
   void update_environment();
