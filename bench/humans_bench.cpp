@@ -107,7 +107,9 @@ double steps_per_second(const std::shared_ptr<const hrisim::scenario::Model>& mo
 std::string only;
 
 void measure(const std::string& place, const std::string& avoidance, int humans, const json& document, int repetitions) {
-  if (!only.empty() && (place + " " + avoidance + " " + std::to_string(humans)).find(only) == std::string::npos) return;
+  // A trailing space on both sides, so "1000" does not also select 10000.
+  const std::string key = place + " " + avoidance + " " + std::to_string(humans) + " ";
+  if (!only.empty() && key.find(only + " ") == std::string::npos) return;
   const auto loaded = hrisim::scenario::load_scenario(document, {});
   if (!loaded.model) {
     std::fprintf(stderr, "invalid bench scenario: %s %s\n", loaded.errors[0].pointer.c_str(), loaded.errors[0].message.c_str());

@@ -1,8 +1,9 @@
 # Common compile settings for every hrisim target: C++20, strict warnings, and no value-changing
-# floating-point optimisations (determinism: same inputs, same bits).
+# floating-point optimisations, no fused multiply-adds (determinism: same inputs, same bits, on
+# every CPU).
 function(hrisim_target_settings target)
   target_compile_features(${target} PUBLIC cxx_std_20)
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -fno-fast-math)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -fno-fast-math -ffp-contract=off)
   if(HRISIM_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/portable_math.hpp"
+
 namespace hrisim::humans {
 namespace {
 
@@ -13,20 +15,6 @@ constexpr double kEpsilon = 1e-5;  // RVO_EPSILON
 
 /// Interactions weaker than exp(-kNegligibleExponent) are skipped before their angle is computed.
 constexpr double kNegligibleExponent = 16.0;
-
-/// atan2 from a minimax polynomial (|error| < 1e-5 rad): pure arithmetic, so the same on every
-/// platform, and several times faster than libm's in the social force's inner loop.
-double polynomial_atan2(double y, double x) {
-  const double ax = std::abs(x), ay = std::abs(y);
-  if (ax == 0.0 && ay == 0.0) return 0.0;
-  const double a = std::min(ax, ay) / std::max(ax, ay);
-  const double s = a * a;
-  double r = ((((-0.01172120 * s + 0.05265332) * s - 0.11643287) * s + 0.19354346) * s - 0.33262347) * s + 0.99997726;
-  r *= a;
-  if (ay > ax) r = std::numbers::pi / 2 - r;
-  if (x < 0.0) r = std::numbers::pi - r;
-  return y < 0.0 ? -r : r;
-}
 
 bool linear_program1(const std::vector<OrcaLine>& lines, std::size_t line_no, double radius, const Vec2& optimum,
                      bool direction_optimisation, Vec2& result) {
@@ -156,6 +144,30 @@ OrcaLine orca_line(const Vec2& position, const Vec2& velocity, double radius, co
   return line;
 }
 
+/// Moussaïd's interaction force on agent a from agent b, as pedsim computes it; zero when negligible.
+/// Swapping a and b negates every input of the formula exactly, so the force on b is exactly -force.
+Vec2 interaction_force(const CrowdAgent& a, const CrowdAgent& b, const SocialForceParams& p) {
+  const Vec2 difference = b.position - a.position;
+  const double distance = difference.norm();
+  if (distance == 0.0) return Vec2::Zero();
+  const Vec2 direction = difference / distance;
+  const Vec2 interaction = p.lambda * (a.velocity - b.velocity) + direction;
+  const double interaction_length = interaction.norm();
+  if (interaction_length == 0.0) return Vec2::Zero();
+  const double range = p.gamma * interaction_length;  // pedsim's B
+  const double distance_term = distance / range;
+  if (distance_term > kNegligibleExponent) return Vec2::Zero();
+  const Vec2 interaction_direction = interaction / interaction_length;
+  const double theta =
+      core::polynomial_atan2(cross(interaction_direction, direction), interaction_direction.dot(direction));
+  const double velocity_term = p.n_prime * range * theta, angle_term = p.n * range * theta;
+  const double angle_exponent = distance_term + angle_term * angle_term;
+  if (angle_exponent > kNegligibleExponent && p.n_prime >= p.n) return Vec2::Zero();  // both terms negligible
+  const double velocity_amount = -core::exp_nonpositive(-distance_term - velocity_term * velocity_term);
+  const double angle_amount = -(theta >= 0.0 ? 1.0 : -1.0) * core::exp_nonpositive(-angle_exponent);
+  return velocity_amount * interaction_direction + angle_amount * core::left_normal(interaction_direction);
+}
+
 }  // namespace
 
 Vec2 solve_orca(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, double max_speed,
@@ -175,6 +187,7 @@ void Crowd::compute_velocities(std::span<const CrowdAgent> agents, const Obstacl
   for (std::size_t i = 0; i < agents.size(); ++i) positions_[i] = agents[i].position;
   grid_.rebuild(positions_);
   velocities.resize(agents.size());
+  add_social_forces(agents);
   for (std::size_t i = 0; i < agents.size(); ++i) {
     const CrowdAgent& agent = agents[i];
     if (agent.controlled) {
@@ -213,34 +226,31 @@ Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, con
   return solve_orca(lines, obstacle_lines, agent.max_speed, agent.preferred_velocity);
 }
 
+void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
+  social_.assign(agents.size(), Vec2::Zero());
+  const auto feels = [&](std::size_t i) {
+    return agents[i].avoidance == LocalAvoidance::social_force && !agents[i].controlled;
+  };
+  // Each pair once, from the agent that feels it (the lower index when both do), applied to both.
+  for (std::size_t i = 0; i < agents.size(); ++i) {
+    if (!feels(i)) continue;
+    grid_.for_each_within(agents[i].position, social_force_.neighbour_distance, [&](std::uint32_t j) {
+      if (j == i) return;
+      const bool mutual = feels(j);
+      if (mutual && j < i) return;
+      const Vec2 force = interaction_force(agents[i], agents[j], social_force_);
+      social_[i] += force;
+      if (mutual) social_[j] -= force;
+    });
+  }
+}
+
 Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
                                   double dt) {
   const CrowdAgent& agent = agents[i];
   const SocialForceParams& p = social_force_;
   const Vec2 desired = (agent.preferred_velocity - agent.velocity) / p.relaxation_time;
-
-  Vec2 social = Vec2::Zero();
-  grid_.for_each_within(agent.position, p.neighbour_distance, [&](std::uint32_t j) {
-    if (j == i) return;
-    const Vec2 difference = agents[j].position - agent.position;
-    const double distance = difference.norm();
-    if (distance == 0.0) return;
-    const Vec2 direction = difference / distance;
-    const Vec2 interaction = p.lambda * (agent.velocity - agents[j].velocity) + direction;
-    const double interaction_length = interaction.norm();
-    if (interaction_length == 0.0) return;
-    const double b = p.gamma * interaction_length;
-    if (distance / b > kNegligibleExponent) return;
-    const Vec2 interaction_direction = interaction / interaction_length;
-    const double theta =
-        polynomial_atan2(cross(interaction_direction, direction), interaction_direction.dot(direction));
-    const double velocity_term = p.n_prime * b * theta, angle_term = p.n * b * theta;
-    const double angle_exponent = distance / b + angle_term * angle_term;
-    if (angle_exponent > kNegligibleExponent && p.n_prime >= p.n) return;  // both terms negligible
-    const double velocity_amount = -std::exp(-distance / b - velocity_term * velocity_term);
-    const double angle_amount = -(theta >= 0.0 ? 1.0 : -1.0) * std::exp(-angle_exponent);
-    social += velocity_amount * interaction_direction + angle_amount * core::left_normal(interaction_direction);
-  });
+  const Vec2& social = social_[i];
 
   Vec2 obstacle_force = Vec2::Zero();
   if (const auto obstacle = obstacles(agent.position, p.neighbour_distance)) {

@@ -68,6 +68,8 @@ class Crowd {
 
  private:
   Vec2 orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt);
+  /// The interaction forces of the social force model on every agent that uses it, into social_.
+  void add_social_forces(std::span<const CrowdAgent> agents);
   Vec2 social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
                              double dt);
 
@@ -75,6 +77,7 @@ class Crowd {
   SocialForceParams social_force_;
   SpatialGrid grid_;
   std::vector<Vec2> positions_;
+  std::vector<Vec2> social_;  ///< per agent this step: the sum of its interaction forces
 };
 
 /// One half-plane of permitted velocities: points left of the directed line (RVO2's Line).

@@ -626,7 +626,7 @@ void Session::go_to(int agent, const Pose2& goal, double radius, bool with_headi
 bool Session::plan_path(int agent) {
   AgentState& state = state_.agents[agent];
   const double radius = model_->agents[agent].radius;
-  const auto path = model_->planner.plan(state.position, state.goal, radius, blocked_door_cells(radius));
+  const auto path = model_->planner.plan(state.position, state.goal, radius, blocked_door_cells(radius), planning_history_);
   state.path_index = 0;
   state.planned_tick = state_.tick;
   if (path) {

@@ -109,6 +109,7 @@ class Session {
   std::vector<std::size_t> crowd_members_;  ///< agent index of each crowd entry (active agents)
   std::vector<Vec2> velocities_;
   std::vector<std::optional<double>> watching_headings_;  ///< per agent this tick: facing a watched robot
+  world::PlanningHistory planning_history_;  ///< this session's own: its paths never depend on other sessions
 };
 
 }  // namespace hrisim::sim

@@ -59,9 +59,7 @@ std::optional<std::size_t> PathPlanner::nearest_traversable(std::size_t cell, do
   return best;
 }
 
-std::shared_ptr<const std::vector<float>> PathPlanner::cost_to_go(std::size_t goal_cell, double radius,
-                                                                  const std::vector<std::size_t>& blocked_cells) const {
-  CacheKey key{goal_cell, static_cast<int>(std::lround(radius * 1000.0)), blocked_cells};
+std::shared_ptr<const std::vector<float>> PathPlanner::cost_to_go(const PlanKey& key, double radius) const {
   {
     std::lock_guard lock(mutex_);
     if (const auto found = cache_.find(key); found != cache_.end()) {
@@ -69,10 +67,9 @@ std::shared_ptr<const std::vector<float>> PathPlanner::cost_to_go(std::size_t go
       recency_.push_front(key);
       return found->second;
     }
-    if (requests_.size() > 16 * kPlannerCacheSize) requests_.clear();  // bounded memory of one-off goals
-    if (++requests_[key] < kFieldAfterRequests) return nullptr;
-    requests_.erase(key);
   }
+  const std::size_t goal_cell = std::get<0>(key);
+  const std::vector<std::size_t>& blocked_cells = std::get<2>(key);
   auto cost = std::make_shared<std::vector<float>>(grid_.size(), kUnreachable);
   using Entry = std::pair<float, std::size_t>;  // ties broken by cell index: deterministic
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
@@ -97,7 +94,7 @@ std::shared_ptr<const std::vector<float>> PathPlanner::cost_to_go(std::size_t go
     }
   }
   std::lock_guard lock(mutex_);
-  cache_[key] = cost;
+  if (!cache_.emplace(key, cost).second) return cost;  // another caller computed the same field meanwhile
   recency_.push_front(key);
   while (recency_.size() > kPlannerCacheSize) {
     cache_.erase(recency_.back());
@@ -115,7 +112,8 @@ bool PathPlanner::diagonal_allowed(CellIndex from, int dx, int dy, double radius
 }
 
 std::optional<std::vector<std::size_t>> PathPlanner::a_star(std::size_t start_cell, std::size_t goal_cell, double radius,
-                                                            const std::vector<std::size_t>& blocked_cells) const {
+                                                            const std::vector<std::size_t>& blocked_cells,
+                                                            std::size_t& expanded) const {
   const CellIndex goal = grid_.cell_at(goal_cell);
   auto heuristic = [&](std::size_t index) {
     const CellIndex c = grid_.cell_at(index);
@@ -154,6 +152,7 @@ std::optional<std::vector<std::size_t>> PathPlanner::a_star(std::size_t start_ce
     const auto [f, negative_g, index] = open.top();
     open.pop();
     if (-negative_g > known_cost(index)) continue;
+    ++expanded;
     if (index == goal_cell) {
       std::vector<std::size_t> path;
       for (std::size_t at = goal_cell; at != start_cell; at = scratch.parent[at]) path.push_back(at);
@@ -180,15 +179,31 @@ std::optional<std::vector<std::size_t>> PathPlanner::a_star(std::size_t start_ce
 
 std::optional<std::vector<Vec2>> PathPlanner::plan(const Vec2& start, const Vec2& goal, double radius,
                                                    const std::vector<std::size_t>& blocked_cells) const {
+  PlanningHistory one_off;
+  return plan(start, goal, radius, blocked_cells, one_off);
+}
+
+std::optional<std::vector<Vec2>> PathPlanner::plan(const Vec2& start, const Vec2& goal, double radius,
+                                                   const std::vector<std::size_t>& blocked_cells,
+                                                   PlanningHistory& history) const {
   std::vector<std::size_t> blocked = blocked_cells;
   std::sort(blocked.begin(), blocked.end());
   const CellIndex start_index = grid_.cell_of(start), goal_index = grid_.cell_of(goal);
   if (!grid_.in_bounds(start_index) || !grid_.in_bounds(goal_index)) return std::nullopt;
+  if (line_of_sight(start, goal, radius, blocked)) return std::vector<Vec2>{goal};
   const auto start_cell = nearest_traversable(grid_.index(start_index), radius, blocked);
   const auto goal_cell = nearest_traversable(grid_.index(goal_index), radius, blocked);
   if (!start_cell || !goal_cell) return std::nullopt;
+  const PlanKey key{*goal_cell, static_cast<int>(std::lround(radius * 1000.0)), blocked};
+  auto searched = history.searched_cells_.find(key);
+  if (searched == history.searched_cells_.end()) {
+    if (history.searched_cells_.size() >= kPlanningHistoryGoals) history.clear();
+    searched = history.searched_cells_.emplace(key, 0).first;
+  }
   std::vector<std::size_t> cells;
-  if (const auto cost = cost_to_go(*goal_cell, radius, blocked)) {
+  if (searched->second >= grid_.size()) {
+    ++history.field_descents_;
+    const auto cost = cost_to_go(key, radius);
     if ((*cost)[*start_cell] == kUnreachable) return std::nullopt;
     // Descend the cost-to-go field from the start to the goal cell.
     std::size_t index = *start_cell;
@@ -204,9 +219,9 @@ std::optional<std::vector<Vec2>> PathPlanner::plan(const Vec2& start, const Vec2
       cells.push_back(index);
     }
   } else {
-    auto searched = a_star(*start_cell, *goal_cell, radius, blocked);
-    if (!searched) return std::nullopt;
-    cells = std::move(*searched);
+    auto found = a_star(*start_cell, *goal_cell, radius, blocked, searched->second);
+    if (!found) return std::nullopt;
+    cells = std::move(*found);
   }
 
   // Corners of the grid path (where its direction changes), then the goal itself.

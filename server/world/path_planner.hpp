@@ -1,8 +1,15 @@
 #pragma once
 // Global paths on the occupancy grid, inflated by the agent's radius: 8-connected shortest paths
-// (octile costs), smoothed by line of sight. Goals are searched with A* (octile heuristic); a goal
-// asked for often gets its whole cost-to-go field computed (Dijkstra from the goal) and cached, so
-// every later agent heading there descends it without searching.
+// (octile costs), smoothed by line of sight. A goal in plain sight is reached in a straight line.
+// Otherwise goals are searched with A* (octile heuristic) until the searches towards one goal have cost
+// as much as its whole cost-to-go field (Dijkstra from the goal); from then on the field is used, and
+// every later agent heading there descends it without searching (ski rental: never more than twice
+// the work of the better choice made in hindsight).
+//
+// Which of the two a request uses is decided by the caller's own PlanningHistory, never by what other
+// callers did: both give shortest paths but may break ties differently, and a session's trajectory
+// must not depend on other sessions sharing the planner. The fields themselves are a pure function of
+// the goal and are shared between callers (a memo: it changes speed, not results).
 #include <cstdint>
 #include <list>
 #include <map>
@@ -18,9 +25,24 @@ namespace hrisim::world {
 
 /// Goals whose cost-to-go fields are kept per planner (least recently used dropped first).
 inline constexpr std::size_t kPlannerCacheSize = 64;
-/// A goal gets its own cost-to-go field from this many requests on (a place many agents head to);
-/// before that each request is an A* search, which is far cheaper for a one-off goal.
-inline constexpr int kFieldAfterRequests = 8;
+/// Goals a PlanningHistory remembers before it starts over (bounded memory of one-off goals).
+inline constexpr std::size_t kPlanningHistoryGoals = 65536;
+
+/// Goal cell, radius in mm, sorted blocked cells: what a path and a field depend on.
+using PlanKey = std::tuple<std::size_t, int, std::vector<std::size_t>>;
+
+/// The search work one caller (a session) has spent per goal; owned by the caller.
+class PlanningHistory {
+ public:
+  void clear() { searched_cells_.clear(); }
+  /// Requests answered from a goal's field rather than by a search.
+  std::size_t field_descents() const { return field_descents_; }
+
+ private:
+  friend class PathPlanner;
+  std::map<PlanKey, std::size_t> searched_cells_;
+  std::size_t field_descents_ = 0;
+};
 
 class PathPlanner {
  public:
@@ -29,7 +51,11 @@ class PathPlanner {
 
   /// Waypoints from start (exclusive) to goal (inclusive, exact), or nothing when the goal cannot be
   /// reached by a disc of `radius`. `blocked_cells` are closed doors and other temporary obstacles
-  /// (indices into the grid), part of the cache key.
+  /// (indices into the grid). `history` is the caller's (see above); updated.
+  std::optional<std::vector<Vec2>> plan(const Vec2& start, const Vec2& goal, double radius,
+                                        const std::vector<std::size_t>& blocked_cells,
+                                        PlanningHistory& history) const;
+  /// The same for a one-off request (no history: always a search).
   std::optional<std::vector<Vec2>> plan(const Vec2& start, const Vec2& goal, double radius,
                                         const std::vector<std::size_t>& blocked_cells = {}) const;
 
@@ -41,12 +67,12 @@ class PathPlanner {
   bool traversable(std::size_t cell, double radius, const std::vector<std::size_t>& blocked_cells = {}) const;
 
  private:
-  using CacheKey = std::tuple<std::size_t, int, std::vector<std::size_t>>;  // goal cell, radius in mm, blocked
-  /// The cached field of a goal, computed once the goal is asked for often enough; null before that.
-  std::shared_ptr<const std::vector<float>> cost_to_go(std::size_t goal_cell, double radius,
-                                                       const std::vector<std::size_t>& blocked_cells) const;
+  /// The cost-to-go field of a goal, from the shared memo or computed now.
+  std::shared_ptr<const std::vector<float>> cost_to_go(const PlanKey& key, double radius) const;
+  /// Grid cells from start (exclusive) to goal; `expanded` counts the cells the search took off its queue.
   std::optional<std::vector<std::size_t>> a_star(std::size_t start_cell, std::size_t goal_cell, double radius,
-                                                 const std::vector<std::size_t>& blocked_cells) const;
+                                                 const std::vector<std::size_t>& blocked_cells,
+                                                 std::size_t& expanded) const;
   bool diagonal_allowed(CellIndex from, int dx, int dy, double radius, const std::vector<std::size_t>& blocked) const;
   std::optional<std::size_t> nearest_traversable(std::size_t cell, double radius,
                                                  const std::vector<std::size_t>& blocked_cells) const;
@@ -54,9 +80,8 @@ class PathPlanner {
   const OccupancyGrid& grid_;
   const DistanceField& field_;
   mutable std::mutex mutex_;
-  mutable std::list<CacheKey> recency_;
-  mutable std::map<CacheKey, std::shared_ptr<const std::vector<float>>> cache_;
-  mutable std::map<CacheKey, int> requests_;  ///< goals asked for once, not yet worth a field
+  mutable std::list<PlanKey> recency_;
+  mutable std::map<PlanKey, std::shared_ptr<const std::vector<float>>> cache_;
 };
 
 }  // namespace hrisim::world

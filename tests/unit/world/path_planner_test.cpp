@@ -87,21 +87,51 @@ TEST(PathPlanner, OutsideTheMapHasNoPath) {
 }
 
 
-// Early requests for a goal are A* searches, later ones descend its cached field; both are shortest.
-TEST(PathPlanner, SearchAndCachedFieldAgree) {
+/// Plans from `start` to `goal` with `history` until its requests descend the goal's field.
+std::optional<std::vector<Vec2>> plan_until_field(const PathPlanner& planner, PlanningHistory& history,
+                                                  const Vec2& start, const Vec2& goal) {
+  std::optional<std::vector<Vec2>> path;
+  for (int i = 0; i < 100000 && history.field_descents() == 0; ++i) path = planner.plan(start, goal, 0.3, {}, history);
+  return path;
+}
+
+// Early requests for a goal are A* searches, later ones descend its field; both are shortest.
+TEST(PathPlanner, SearchAndFieldAgree) {
   Room room;
   const DistanceField field(room.grid);
   const PathPlanner planner(room.grid, field);
+  PlanningHistory history;
   const Vec2 start(2.0, 1.0), goal(8.0, 1.5);
-  const auto searched = planner.plan(start, goal, 0.3);
-  for (int i = 2; i < kFieldAfterRequests; ++i) planner.plan(start, goal, 0.3);
-  const auto cached = planner.plan(start, goal, 0.3);
+  const auto searched = planner.plan(start, goal, 0.3, {}, history);
+  EXPECT_EQ(history.field_descents(), 0u) << "a first request is a search";
+  const auto descended = plan_until_field(planner, history, start, goal);
+  ASSERT_EQ(history.field_descents(), 1u) << "searching again and again makes the field pay";
   ASSERT_TRUE(searched);
-  ASSERT_TRUE(cached);
-  EXPECT_NEAR(length(start, *searched), length(start, *cached), 0.3) << "equally short up to the smoothing of grid corners";
-  const auto from_elsewhere = planner.plan({3.0, 3.0}, goal, 0.3);
+  ASSERT_TRUE(descended);
+  EXPECT_NEAR(length(start, *searched), length(start, *descended), 0.3) << "equally short up to the smoothing of grid corners";
+  const auto from_elsewhere = planner.plan({3.0, 3.0}, goal, 0.3, {}, history);
   ASSERT_TRUE(from_elsewhere);
   EXPECT_TRUE(from_elsewhere->back().isApprox(goal));
+  EXPECT_EQ(history.field_descents(), 2u) << "the same goal from elsewhere uses the field too";
+}
+
+// A field computed for one caller must not change another caller's paths (sessions share planners).
+TEST(PathPlanner, PathsDependOnlyOnTheCallersOwnHistory) {
+  Room room;
+  const DistanceField field(room.grid);
+  const PathPlanner shared(room.grid, field), untouched(room.grid, field);
+  PlanningHistory busy, fresh;
+  const Vec2 goal(8.0, 1.5);
+  plan_until_field(shared, busy, {2.0, 1.0}, goal);
+  ASSERT_EQ(busy.field_descents(), 1u);
+  for (const Vec2& start : {Vec2(1.0, 1.0), Vec2(2.5, 4.0), Vec2(3.7, 2.2), Vec2(1.2, 5.2)}) {
+    const auto path = shared.plan(start, goal, 0.3, {}, fresh);
+    const auto alone = untouched.plan(start, goal, 0.3);
+    ASSERT_TRUE(path);
+    ASSERT_TRUE(alone);
+    EXPECT_EQ(*path, *alone) << "from " << start.transpose();
+  }
+  EXPECT_EQ(fresh.field_descents(), 0u);
 }
 
 }  // namespace

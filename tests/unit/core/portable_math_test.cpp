@@ -1,0 +1,37 @@
+#include "core/portable_math.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace hrisim::core {
+namespace {
+
+TEST(PortableMath, ExpMatchesTheLibraryAcrossItsRange) {
+  double worst = 0.0;
+  for (double x = -700.0; x <= 0.0; x += 0.0137) {
+    worst = std::max(worst, std::abs(exp_nonpositive(x) - std::exp(x)) / std::exp(x));
+  }
+  EXPECT_LT(worst, 1e-11);
+  EXPECT_EQ(exp_nonpositive(0.0), 1.0);
+  EXPECT_EQ(exp_nonpositive(-800.0), 0.0);
+  EXPECT_NEAR(exp_nonpositive(-std::numbers::ln2 / 2), 1.0 / std::numbers::sqrt2, 1e-12) << "edge of the reduced range";
+}
+
+TEST(PortableMath, Atan2MatchesTheLibraryInEveryQuadrant) {
+  double worst = 0.0;
+  for (double angle = -std::numbers::pi + 1e-3; angle < std::numbers::pi; angle += 0.001) {
+    for (double length : {1e-3, 1.0, 250.0}) {
+      const double y = length * std::sin(angle), x = length * std::cos(angle);
+      worst = std::max(worst, std::abs(polynomial_atan2(y, x) - std::atan2(y, x)));
+    }
+  }
+  EXPECT_LT(worst, 1e-5);
+  EXPECT_EQ(polynomial_atan2(0.0, 0.0), 0.0);
+  EXPECT_NEAR(polynomial_atan2(1.0, 0.0), std::numbers::pi / 2, 1e-5);
+  EXPECT_NEAR(polynomial_atan2(0.0, -1.0), std::numbers::pi, 1e-5);
+}
+
+}  // namespace
+}  // namespace hrisim::core
