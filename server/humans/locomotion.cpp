@@ -203,7 +203,8 @@ void Crowd::compute_velocities(std::span<const CrowdAgent> agents, const Obstacl
 Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
                           double dt) {
   const CrowdAgent& agent = agents[i];
-  std::vector<OrcaLine> lines;
+  std::vector<OrcaLine>& lines = orca_lines_;
+  lines.clear();
   std::size_t obstacle_lines = 0;
   const double obstacle_range = agent.max_speed * orca_.obstacle_horizon + agent.radius;
   if (const auto obstacle = obstacles(agent.position, obstacle_range)) {
@@ -212,7 +213,8 @@ Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, con
     obstacle_lines = 1;
   }
   // The closest neighbours, ties broken by index so the choice is deterministic.
-  std::vector<std::pair<double, std::uint32_t>> neighbours;
+  std::vector<std::pair<double, std::uint32_t>>& neighbours = orca_neighbours_;
+  neighbours.clear();
   grid_.for_each_within(agent.position, orca_.neighbour_distance, [&](std::uint32_t j) {
     if (j != i) neighbours.emplace_back((agents[j].position - agent.position).squaredNorm(), j);
   });

@@ -52,6 +52,12 @@ struct CrowdAgent {
   bool controlled = false;  ///< a robot: velocity given, not computed; others treat it as non-reciprocating
 };
 
+/// One half-plane of permitted velocities: points left of the directed line (RVO2's Line).
+struct OrcaLine {
+  Vec2 point;
+  Vec2 direction;
+};
+
 /// Nearest static or temporary obstacle point to p within `range`, if any.
 using ObstacleQuery = std::function<std::optional<Vec2>(const Vec2& p, double range)>;
 
@@ -78,12 +84,8 @@ class Crowd {
   SpatialGrid grid_;
   std::vector<Vec2> positions_;
   std::vector<Vec2> social_;  ///< per agent this step: the sum of its interaction forces
-};
-
-/// One half-plane of permitted velocities: points left of the directed line (RVO2's Line).
-struct OrcaLine {
-  Vec2 point;
-  Vec2 direction;
+  std::vector<OrcaLine> orca_lines_;                                 ///< scratch of orca_velocity
+  std::vector<std::pair<double, std::uint32_t>> orca_neighbours_;   ///< scratch of orca_velocity
 };
 
 /// RVO2's linear programs: the velocity closest to `preferred` (within `max_speed`) satisfying the

@@ -628,6 +628,7 @@ bool Session::plan_path(int agent) {
   const double radius = model_->agents[agent].radius;
   const auto path = model_->planner.plan(state.position, state.goal, radius, blocked_door_cells(radius), planning_history_);
   state.path_index = 0;
+  state.leg_start = state.position;
   state.planned_tick = state_.tick;
   if (path) {
     state.path = *path;
@@ -657,15 +658,31 @@ void Session::locomotion() {
     std::optional<double>& watching_heading = watching_headings_[i];
     if (state.navigating) {
       if (state.path.empty() && state_.tick >= state.replan_at_tick) plan_path(static_cast<int>(i));
-      if (!state.path.empty()) {
-        // Pushed too far off the planned leg by avoidance: plan again from here.
-        const Vec2 leg_start = state.path_index == 0 ? state.position : state.path[state.path_index - 1];
-        const Vec2 nearest = core::closest_point_on_segment(state.position, leg_start, state.path[state.path_index]);
-        const bool may_replan = state_.tick - state.planned_tick >= ticks(kReplanInterval);
-        if (may_replan && (nearest - state.position).norm() > model_->replan_distance) plan_path(static_cast<int>(i));
+      if (!state.path.empty() && state_.tick - state.planned_tick >= ticks(kReplanInterval)) {
+        // Pushed too far off the leg by avoidance: walk on from here while the waypoint is in sight
+        // (local avoidance keeps the agent off the walls), plan again when it is not.
+        const Vec2& waypoint = state.path[state.path_index];
+        const Vec2 nearest = core::closest_point_on_segment(state.position, state.leg_start, waypoint);
+        if ((nearest - state.position).norm() > model_->replan_distance) {
+          const double radius = model_->agents[i].radius;
+          const double clearance = kRejoinClearance * radius;
+          const auto blocked = blocked_door_cells(clearance);
+          const Vec2 leg_start = state.leg_start;
+          state.planned_tick = state_.tick;
+          if (model_->planner.line_of_sight(state.position, waypoint, clearance, blocked)) {
+            state.leg_start = state.position;
+          } else if (model_->planner.line_of_sight(state.position, leg_start, clearance, blocked)) {
+            // Pushed back past a corner: return to it and go on from there.
+            state.path.insert(state.path.begin() + static_cast<std::ptrdiff_t>(state.path_index), leg_start);
+            state.leg_start = state.position;
+          } else {
+            plan_path(static_cast<int>(i));
+          }
+        }
       }
       while (state.path_index + 1 < state.path.size() &&
              (state.path[state.path_index] - state.position).norm() < kWaypointReached) {
+        state.leg_start = state.path[state.path_index];
         ++state.path_index;
       }
       const double to_goal = (state.goal - state.position).norm();
@@ -760,6 +777,7 @@ std::uint64_t Session::state_hash() const {
     hash.add(agent.position.x()).add(agent.position.y()).add(agent.velocity.x()).add(agent.velocity.y());
     hash.add(agent.heading).add(agent.preferred_speed).add(static_cast<std::int64_t>(agent.program.size()));
     hash.add(agent.navigating).add(static_cast<std::int64_t>(agent.path_index)).add(static_cast<std::int64_t>(agent.path.size()));
+    hash.add(agent.leg_start.x()).add(agent.leg_start.y());
     hash.add(agent.reserved_location).add(agent.reserved_space).add(agent.reserved_slot);
     hash.add(agent.follow_leader).add(agent.harass_robot).add(agent.watched_robot);
   }

@@ -33,6 +33,10 @@ inline constexpr double kHoldTolerance = 0.3;
 inline constexpr double kHoldSpeed = 0.5;
 /// Replanning because avoidance pushed an agent off its path happens at most this often, s.
 inline constexpr double kReplanInterval = 0.5;
+/// An agent pushed off its path walks on straight to its waypoint when a disc of this fraction of its
+/// radius would pass; otherwise it plans again (waypoints hug the inflated walls, so the full radius
+/// would fail needlessly).
+inline constexpr double kRejoinClearance = 0.5;
 /// Without a path, planning is tried again after this long, s.
 inline constexpr double kReplanRetry = 1.0;
 

@@ -43,6 +43,7 @@ struct AgentState {
   std::optional<double> goal_heading;
   std::vector<Vec2> path;
   std::size_t path_index = 0;
+  Vec2 leg_start = Vec2::Zero();     ///< where the leg towards path[path_index] began
   std::int64_t replan_at_tick = -1;  ///< when no path was found, try again at this tick
   std::int64_t planned_tick = 0;     ///< when the current path was planned
 

@@ -1,6 +1,7 @@
 #include "world/path_planner.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -115,8 +116,7 @@ std::optional<std::vector<std::size_t>> PathPlanner::a_star(std::size_t start_ce
                                                             const std::vector<std::size_t>& blocked_cells,
                                                             std::size_t& expanded) const {
   const CellIndex goal = grid_.cell_at(goal_cell);
-  auto heuristic = [&](std::size_t index) {
-    const CellIndex c = grid_.cell_at(index);
+  auto heuristic = [&](CellIndex c) {
     const int dx = std::abs(c.x - goal.x), dy = std::abs(c.y - goal.y);
     return static_cast<float>(std::max(dx, dy) + (kStep[4] - 1.0f) * std::min(dx, dy));  // octile distance
   };
@@ -143,15 +143,23 @@ std::optional<std::vector<std::size_t>> PathPlanner::a_star(std::size_t start_ce
   auto known_cost = [&](std::size_t index) {
     return scratch.stamp[index] == search ? scratch.cost[index] : kUnreachable;
   };
-  using Entry = std::tuple<float, float, std::size_t>;  // f, -g (deeper first on ties), cell: deterministic
+  // Smallest f first, then the deepest (largest g), then the lowest cell: deterministic. Non-negative
+  // floats order like their bit patterns, so f and g pack into one integer key.
+  using Entry = std::pair<std::uint64_t, std::uint32_t>;
+  auto entry = [](float f, float g, std::size_t cell) {
+    const std::uint64_t key = static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(f)) << 32 |
+                              (0xFFFFFFFFu - std::bit_cast<std::uint32_t>(g));
+    return Entry{key, static_cast<std::uint32_t>(cell)};
+  };
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
   scratch.stamp[start_cell] = search;
   scratch.cost[start_cell] = 0.0f;
-  open.push({heuristic(start_cell), 0.0f, start_cell});
+  open.push(entry(heuristic(grid_.cell_at(start_cell)), 0.0f, start_cell));
   while (!open.empty()) {
-    const auto [f, negative_g, index] = open.top();
+    const std::size_t index = open.top().second;
+    const float g = std::bit_cast<float>(static_cast<std::uint32_t>(0xFFFFFFFFu - (open.top().first & 0xFFFFFFFFu)));
     open.pop();
-    if (-negative_g > known_cost(index)) continue;
+    if (g > known_cost(index)) continue;
     ++expanded;
     if (index == goal_cell) {
       std::vector<std::size_t> path;
@@ -164,14 +172,14 @@ std::optional<std::vector<std::size_t>> PathPlanner::a_star(std::size_t start_ce
       const CellIndex next{here.x + kDx[k], here.y + kDy[k]};
       if (!grid_.in_bounds(next)) continue;
       const std::size_t next_index = grid_.index(next);
-      const float candidate = -negative_g + kStep[k];
+      const float candidate = g + kStep[k];
       if (known_cost(next_index) <= candidate) continue;
       if (!traversable(next_index, radius, blocked_cells)) continue;
       if (k >= 4 && !diagonal_allowed(here, kDx[k], kDy[k], radius, blocked_cells)) continue;
       scratch.stamp[next_index] = search;
       scratch.cost[next_index] = candidate;
       scratch.parent[next_index] = static_cast<std::uint32_t>(index);
-      open.push({candidate + heuristic(next_index), -candidate, next_index});
+      open.push(entry(candidate + heuristic(next), candidate, next_index));
     }
   }
   return std::nullopt;
