@@ -14,7 +14,7 @@ using core::cross;
 constexpr double kEpsilon = 1e-5;  // RVO_EPSILON
 
 /// Interactions weaker than exp(-kNegligibleExponent) are skipped before their angle is computed.
-constexpr double kNegligibleExponent = 16.0;
+constexpr double kNegligibleExponent = 6.9;
 
 bool linear_program1(const std::vector<OrcaLine>& lines, std::size_t line_no, double radius, const Vec2& optimum,
                      bool direction_optimisation, Vec2& result) {
@@ -233,18 +233,14 @@ void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
   const auto feels = [&](std::size_t i) {
     return agents[i].avoidance == LocalAvoidance::social_force && !agents[i].controlled;
   };
-  // Each pair once, from the agent that feels it (the lower index when both do), applied to both.
-  for (std::size_t i = 0; i < agents.size(); ++i) {
-    if (!feels(i)) continue;
-    grid_.for_each_within(agents[i].position, social_force_.neighbour_distance, [&](std::uint32_t j) {
-      if (j == i) return;
-      const bool mutual = feels(j);
-      if (mutual && j < i) return;
-      const Vec2 force = interaction_force(agents[i], agents[j], social_force_);
-      social_[i] += force;
-      if (mutual) social_[j] -= force;
-    });
-  }
+  // Each pair once; the force on the other agent is exactly the opposite.
+  grid_.for_each_pair_within(social_force_.neighbour_distance, [&](std::uint32_t a, std::uint32_t b) {
+    const bool a_feels = feels(a), b_feels = feels(b);
+    if (!a_feels && !b_feels) return;
+    const Vec2 force = interaction_force(agents[a], agents[b], social_force_);
+    if (a_feels) social_[a] += force;
+    if (b_feels) social_[b] -= force;
+  });
 }
 
 Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,

@@ -8,7 +8,6 @@ namespace hrisim::humans {
 constexpr int kMaxCellsPerSide = 4096;
 
 void SpatialGrid::rebuild(std::span<const Vec2> positions) {
-  positions_ = positions;
   items_.resize(positions.size());
   if (positions.empty()) return;
   Vec2 high = positions.front();
@@ -30,6 +29,8 @@ void SpatialGrid::rebuild(std::span<const Vec2> positions) {
   for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
   std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t i = 0; i < positions.size(); ++i) items_[fill[cell_of[i]]++] = static_cast<std::uint32_t>(i);
+  sorted_positions_.resize(positions.size());
+  for (std::size_t k = 0; k < items_.size(); ++k) sorted_positions_[k] = positions[items_[k]];
 }
 
 }  // namespace hrisim::humans

@@ -64,6 +64,26 @@ TEST(SpatialGrid, MatchesBruteForce) {
   }
 }
 
+TEST(SpatialGrid, EveryPairWithinRangeExactlyOnce) {
+  core::Random random(9);
+  std::vector<Vec2> points;
+  for (int i = 0; i < 400; ++i) points.emplace_back(random.uniform(-15, 15), random.uniform(-4, 4));
+  points.push_back(points[7]);  // two at the same spot
+  for (const double range : {1.5, 4.0, 7.0}) {  // below, above and far above the cell size
+    SpatialGrid grid(2.0);
+    grid.rebuild(points);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> found, expected;
+    grid.for_each_pair_within(range, [&](std::uint32_t a, std::uint32_t b) { found.emplace_back(std::min(a, b), std::max(a, b)); });
+    for (std::uint32_t a = 0; a < points.size(); ++a) {
+      for (std::uint32_t b = a + 1; b < points.size(); ++b) {
+        if ((points[a] - points[b]).norm() <= range) expected.emplace_back(a, b);
+      }
+    }
+    std::sort(found.begin(), found.end());
+    EXPECT_EQ(found, expected) << "range " << range;
+  }
+}
+
 TEST(Orca, WithoutConstraintsThePreferredVelocityIsKept) {
   EXPECT_TRUE(solve_orca({}, 0, 2.0, Vec2(1.0, 0.5)).isApprox(Vec2(1.0, 0.5)));
   EXPECT_TRUE(solve_orca({}, 0, 1.0, Vec2(3.0, 4.0)).isApprox(Vec2(0.6, 0.8))) << "clipped to the max speed";
