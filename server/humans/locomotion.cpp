@@ -13,8 +13,6 @@ using core::cross;
 
 constexpr double kEpsilon = 1e-5;  // RVO_EPSILON
 
-/// Interactions weaker than exp(-kNegligibleExponent) are skipped before their angle is computed.
-constexpr double kNegligibleExponent = 6.9;
 
 bool linear_program1(const std::vector<OrcaLine>& lines, std::size_t line_no, double radius, const Vec2& optimum,
                      bool direction_optimisation, Vec2& result) {
@@ -144,30 +142,6 @@ OrcaLine orca_line(const Vec2& position, const Vec2& velocity, double radius, co
   return line;
 }
 
-/// Moussaïd's interaction force on agent a from agent b, as pedsim computes it; zero when negligible.
-/// Swapping a and b negates every input of the formula exactly, so the force on b is exactly -force.
-Vec2 interaction_force(const CrowdAgent& a, const CrowdAgent& b, const SocialForceParams& p) {
-  const Vec2 difference = b.position - a.position;
-  const double distance = difference.norm();
-  if (distance == 0.0) return Vec2::Zero();
-  const Vec2 direction = difference / distance;
-  const Vec2 interaction = p.lambda * (a.velocity - b.velocity) + direction;
-  const double interaction_length = interaction.norm();
-  if (interaction_length == 0.0) return Vec2::Zero();
-  const double range = p.gamma * interaction_length;  // pedsim's B
-  const double distance_term = distance / range;
-  if (distance_term > kNegligibleExponent) return Vec2::Zero();
-  const Vec2 interaction_direction = interaction / interaction_length;
-  const double theta =
-      core::polynomial_atan2(cross(interaction_direction, direction), interaction_direction.dot(direction));
-  const double velocity_term = p.n_prime * range * theta, angle_term = p.n * range * theta;
-  const double angle_exponent = distance_term + angle_term * angle_term;
-  if (angle_exponent > kNegligibleExponent && p.n_prime >= p.n) return Vec2::Zero();  // both terms negligible
-  const double velocity_amount = -core::exp_nonpositive(-distance_term - velocity_term * velocity_term);
-  const double angle_amount = -(theta >= 0.0 ? 1.0 : -1.0) * core::exp_nonpositive(-angle_exponent);
-  return velocity_amount * interaction_direction + angle_amount * core::left_normal(interaction_direction);
-}
-
 }  // namespace
 
 Vec2 solve_orca(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, double max_speed,
@@ -233,14 +207,64 @@ void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
   const auto feels = [&](std::size_t i) {
     return agents[i].avoidance == LocalAvoidance::social_force && !agents[i].controlled;
   };
-  // Each pair once; the force on the other agent is exactly the opposite.
+  // Gather each pair within range once (when either agent feels it), compute all forces in one
+  // branch-free loop over arrays (it vectorises), then add them up in gathering order.
+  SocialPairs& pairs = social_pairs_;
+  pairs.clear();
   grid_.for_each_pair_within(social_force_.neighbour_distance, [&](std::uint32_t a, std::uint32_t b) {
-    const bool a_feels = feels(a), b_feels = feels(b);
-    if (!a_feels && !b_feels) return;
-    const Vec2 force = interaction_force(agents[a], agents[b], social_force_);
-    if (a_feels) social_[a] += force;
-    if (b_feels) social_[b] -= force;
+    if (!feels(a) && !feels(b)) return;
+    pairs.a.push_back(a);
+    pairs.b.push_back(b);
+    pairs.dx.push_back(agents[b].position.x() - agents[a].position.x());
+    pairs.dy.push_back(agents[b].position.y() - agents[a].position.y());
+    pairs.dvx.push_back(agents[a].velocity.x() - agents[b].velocity.x());
+    pairs.dvy.push_back(agents[a].velocity.y() - agents[b].velocity.y());
   });
+  const std::size_t count = pairs.a.size();
+  pairs.fx.resize(count);
+  pairs.fy.resize(count);
+  interaction_forces(social_force_, count, pairs.dx.data(), pairs.dy.data(), pairs.dvx.data(), pairs.dvy.data(),
+                     pairs.fx.data(), pairs.fy.data());
+  // The force on b is exactly the opposite: swapping the agents negates every input of the formula.
+  for (std::size_t k = 0; k < count; ++k) {
+    const Vec2 force(pairs.fx[k], pairs.fy[k]);
+    if (feels(pairs.a[k])) social_[pairs.a[k]] += force;
+    if (feels(pairs.b[k])) social_[pairs.b[k]] -= force;
+  }
+}
+
+void SocialPairs::clear() {
+  for (auto* column : {&dx, &dy, &dvx, &dvy, &fx, &fy}) column->clear();
+  a.clear();
+  b.clear();
+}
+
+void interaction_forces(const SocialForceParams& p, std::size_t count, const double* dx, const double* dy,
+                        const double* dvx, const double* dvy, double* fx, double* fy) {
+  const double lambda = p.lambda, gamma = p.gamma, n = p.n, n_prime = p.n_prime;  // not aliased by fx, fy
+  for (std::size_t k = 0; k < count; ++k) {
+    // Moussaïd's interaction as pedsim computes it, for agent a at distance (dx, dy) from b with
+    // velocity difference (dvx, dvy) = v_a - v_b; zero for agents at the same spot.
+    const double distance = std::sqrt(dx[k] * dx[k] + dy[k] * dy[k]);
+    const bool apart = distance > 0.0;
+    const double safe_distance = apart ? distance : 1.0;
+    const double ex = dx[k] / safe_distance, ey = dy[k] / safe_distance;
+    const double ix = lambda * dvx[k] + ex, iy = lambda * dvy[k] + ey;
+    const double length = std::sqrt(ix * ix + iy * iy);
+    const bool valid = apart && length > 0.0;
+    const double safe_length = valid ? length : 1.0;
+    const double tx = ix / safe_length, ty = iy / safe_length;
+    const double range = gamma * safe_length;  // pedsim's B
+    const double distance_term = distance / range;
+    const double theta = core::polynomial_atan2(tx * ey - ty * ex, tx * ex + ty * ey);
+    const double velocity_term = n_prime * range * theta, angle_term = n * range * theta;
+    const double velocity_amount = -core::exp_nonpositive(-distance_term - velocity_term * velocity_term);
+    const double angle_amount =
+        (theta >= 0.0 ? -1.0 : 1.0) * core::exp_nonpositive(-distance_term - angle_term * angle_term);
+    // velocity_amount along the interaction direction, angle_amount along its left normal (-ty, tx)
+    fx[k] = valid ? velocity_amount * tx - angle_amount * ty : 0.0;
+    fy[k] = valid ? velocity_amount * ty + angle_amount * tx : 0.0;
+  }
 }
 
 Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
