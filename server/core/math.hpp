@@ -21,6 +21,7 @@ struct Pose2 {
 
 /// Angle wrapped into (-π, π].
 inline double wrap_angle(double angle) {
+  if (angle > -std::numbers::pi && angle <= std::numbers::pi) return angle;  // the usual case, without libm
   angle = std::remainder(angle, 2.0 * std::numbers::pi);
   return angle <= -std::numbers::pi ? angle + 2.0 * std::numbers::pi : angle;
 }

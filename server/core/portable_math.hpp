@@ -38,17 +38,40 @@ inline double exp_nonpositive(double x) {
   return x < -700.0 ? 0.0 : p * scale;
 }
 
-/// atan2 from a minimax polynomial, |error| < 1e-5 rad; 0 at the origin.
-inline double polynomial_atan2(double y, double x) {
-  const double ax = std::abs(x), ay = std::abs(y);
-  const double larger = std::max(ax, ay);
-  const double a = larger > 0.0 ? std::min(ax, ay) / larger : 0.0;
-  const double s = a * a;
-  double r = ((((-0.01172120 * s + 0.05265332) * s - 0.11643287) * s + 0.19354346) * s - 0.33262347) * s + 0.99997726;
+/// e^x for x ≤ 0 in single precision (0 below -87), relative error below 3e-7.
+inline float exp_nonpositive(float x) {
+  const float clamped = std::max(x, -87.0f);
+  constexpr float kRound = 12582912.0f;  // 1.5 × 2^23
+  const float shifted = clamped * std::numbers::log2e_v<float> + kRound;
+  const float k = shifted - kRound;
+  const float r = (clamped - k * 0.693145752f) - k * 1.42860677e-6f;  // ln2 in two parts
+  // Taylor series to degree 6 on |r| ≤ 0.347.
+  float p = 1.0f / 720.0f;
+  p = p * r + 1.0f / 120.0f;
+  p = p * r + 1.0f / 24.0f;
+  p = p * r + 1.0f / 6.0f;
+  p = p * r + 0.5f;
+  p = p * r + 1.0f;
+  p = p * r + 1.0f;
+  const std::uint32_t k_bits = std::bit_cast<std::uint32_t>(shifted) - std::bit_cast<std::uint32_t>(kRound);
+  const float scale = std::bit_cast<float>((k_bits + 127) << 23);  // 2^k, a normal number for k ≥ -126
+  return x < -87.0f ? 0.0f : p * scale;
+}
+
+/// atan2 from a minimax polynomial, |error| < 1e-5 rad; 0 at the origin. For double and float.
+template <class Real>
+inline Real polynomial_atan2(Real y, Real x) {
+  const Real ax = std::abs(x), ay = std::abs(y);
+  const Real larger = std::max(ax, ay);
+  const Real a = larger > Real(0) ? std::min(ax, ay) / larger : Real(0);
+  const Real s = a * a;
+  Real r = ((((Real(-0.01172120) * s + Real(0.05265332)) * s - Real(0.11643287)) * s + Real(0.19354346)) * s -
+            Real(0.33262347)) * s + Real(0.99997726);
   r *= a;
-  r = ay > ax ? std::numbers::pi / 2 - r : r;
-  r = x < 0.0 ? std::numbers::pi - r : r;
-  return y < 0.0 ? -r : r;
+  constexpr Real kPi = std::numbers::pi_v<Real>;
+  r = ay > ax ? kPi / 2 - r : r;
+  r = x < Real(0) ? kPi - r : r;
+  return y < Real(0) ? -r : r;
 }
 
 }  // namespace hrisim::core

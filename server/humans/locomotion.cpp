@@ -204,9 +204,11 @@ Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, con
 
 void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
   social_.assign(agents.size(), Vec2::Zero());
-  const auto feels = [&](std::size_t i) {
-    return agents[i].avoidance == LocalAvoidance::social_force && !agents[i].controlled;
-  };
+  feels_.resize(agents.size());
+  for (std::size_t i = 0; i < agents.size(); ++i) {
+    feels_[i] = agents[i].avoidance == LocalAvoidance::social_force && !agents[i].controlled;
+  }
+  const auto feels = [&](std::size_t i) { return feels_[i] != 0; };
   // Gather each pair within range once (when either agent feels it), compute all forces in one
   // branch-free loop over arrays (it vectorises), then add them up in gathering order.
   SocialPairs& pairs = social_pairs_;
@@ -215,10 +217,12 @@ void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
     if (!feels(a) && !feels(b)) return;
     pairs.a.push_back(a);
     pairs.b.push_back(b);
-    pairs.dx.push_back(agents[b].position.x() - agents[a].position.x());
-    pairs.dy.push_back(agents[b].position.y() - agents[a].position.y());
-    pairs.dvx.push_back(agents[a].velocity.x() - agents[b].velocity.x());
-    pairs.dvy.push_back(agents[a].velocity.y() - agents[b].velocity.y());
+    const Vec2 difference = agents[b].position - agents[a].position;
+    const Vec2 velocity_difference = agents[a].velocity - agents[b].velocity;
+    pairs.dx.push_back(static_cast<float>(difference.x()));
+    pairs.dy.push_back(static_cast<float>(difference.y()));
+    pairs.dvx.push_back(static_cast<float>(velocity_difference.x()));
+    pairs.dvy.push_back(static_cast<float>(velocity_difference.y()));
   });
   const std::size_t count = pairs.a.size();
   pairs.fx.resize(count);
@@ -227,7 +231,7 @@ void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
                      pairs.fx.data(), pairs.fy.data());
   // The force on b is exactly the opposite: swapping the agents negates every input of the formula.
   for (std::size_t k = 0; k < count; ++k) {
-    const Vec2 force(pairs.fx[k], pairs.fy[k]);
+    const Vec2 force(static_cast<double>(pairs.fx[k]), static_cast<double>(pairs.fy[k]));
     if (feels(pairs.a[k])) social_[pairs.a[k]] += force;
     if (feels(pairs.b[k])) social_[pairs.b[k]] -= force;
   }
@@ -239,31 +243,32 @@ void SocialPairs::clear() {
   b.clear();
 }
 
-void interaction_forces(const SocialForceParams& p, std::size_t count, const double* dx, const double* dy,
-                        const double* dvx, const double* dvy, double* fx, double* fy) {
-  const double lambda = p.lambda, gamma = p.gamma, n = p.n, n_prime = p.n_prime;  // not aliased by fx, fy
+void interaction_forces(const SocialForceParams& p, std::size_t count, const float* dx, const float* dy,
+                        const float* dvx, const float* dvy, float* fx, float* fy) {
+  const auto lambda = static_cast<float>(p.lambda), gamma = static_cast<float>(p.gamma);  // not aliased by fx, fy
+  const auto n = static_cast<float>(p.n), n_prime = static_cast<float>(p.n_prime);
   for (std::size_t k = 0; k < count; ++k) {
     // Moussaïd's interaction as pedsim computes it, for agent a at distance (dx, dy) from b with
     // velocity difference (dvx, dvy) = v_a - v_b; zero for agents at the same spot.
-    const double distance = std::sqrt(dx[k] * dx[k] + dy[k] * dy[k]);
-    const bool apart = distance > 0.0;
-    const double safe_distance = apart ? distance : 1.0;
-    const double ex = dx[k] / safe_distance, ey = dy[k] / safe_distance;
-    const double ix = lambda * dvx[k] + ex, iy = lambda * dvy[k] + ey;
-    const double length = std::sqrt(ix * ix + iy * iy);
-    const bool valid = apart && length > 0.0;
-    const double safe_length = valid ? length : 1.0;
-    const double tx = ix / safe_length, ty = iy / safe_length;
-    const double range = gamma * safe_length;  // pedsim's B
-    const double distance_term = distance / range;
-    const double theta = core::polynomial_atan2(tx * ey - ty * ex, tx * ex + ty * ey);
-    const double velocity_term = n_prime * range * theta, angle_term = n * range * theta;
-    const double velocity_amount = -core::exp_nonpositive(-distance_term - velocity_term * velocity_term);
-    const double angle_amount =
-        (theta >= 0.0 ? -1.0 : 1.0) * core::exp_nonpositive(-distance_term - angle_term * angle_term);
+    const float distance = std::sqrt(dx[k] * dx[k] + dy[k] * dy[k]);
+    const bool apart = distance > 0.0f;
+    const float safe_distance = apart ? distance : 1.0f;
+    const float ex = dx[k] / safe_distance, ey = dy[k] / safe_distance;
+    const float ix = lambda * dvx[k] + ex, iy = lambda * dvy[k] + ey;
+    const float length = std::sqrt(ix * ix + iy * iy);
+    const bool valid = apart && length > 0.0f;
+    const float safe_length = valid ? length : 1.0f;
+    const float tx = ix / safe_length, ty = iy / safe_length;
+    const float range = gamma * safe_length;  // pedsim's B
+    const float distance_term = distance / range;
+    const float theta = core::polynomial_atan2(tx * ey - ty * ex, tx * ex + ty * ey);
+    const float velocity_term = n_prime * range * theta, angle_term = n * range * theta;
+    const float velocity_amount = -core::exp_nonpositive(-distance_term - velocity_term * velocity_term);
+    const float angle_amount =
+        (theta >= 0.0f ? -1.0f : 1.0f) * core::exp_nonpositive(-distance_term - angle_term * angle_term);
     // velocity_amount along the interaction direction, angle_amount along its left normal (-ty, tx)
-    fx[k] = valid ? velocity_amount * tx - angle_amount * ty : 0.0;
-    fy[k] = valid ? velocity_amount * ty + angle_amount * tx : 0.0;
+    fx[k] = valid ? velocity_amount * tx - angle_amount * ty : 0.0f;
+    fy[k] = valid ? velocity_amount * ty + angle_amount * tx : 0.0f;
   }
 }
 

@@ -58,19 +58,21 @@ struct OrcaLine {
   Vec2 direction;
 };
 
-/// Pairs of agents within the social force's range, as columns (a, b: agent indices).
+/// Pairs of agents within the social force's range, as columns (a, b: agent indices). Differences of
+/// positions (within the range) and velocities need no more than single precision; four pairs then fit
+/// one SSE register.
 struct SocialPairs {
   std::vector<std::uint32_t> a, b;
-  std::vector<double> dx, dy;    ///< b's position minus a's
-  std::vector<double> dvx, dvy;  ///< a's velocity minus b's
-  std::vector<double> fx, fy;    ///< the interaction force on a
+  std::vector<float> dx, dy;    ///< b's position minus a's
+  std::vector<float> dvx, dvy;  ///< a's velocity minus b's
+  std::vector<float> fx, fy;    ///< the interaction force on a
   void clear();
 };
 
 /// The social force model's interaction force on a from b (Moussaïd et al. 2009 as pedsim computes
 /// it) for `count` pairs given as columns.
-void interaction_forces(const SocialForceParams& p, std::size_t count, const double* dx, const double* dy,
-                        const double* dvx, const double* dvy, double* fx, double* fy);
+void interaction_forces(const SocialForceParams& p, std::size_t count, const float* dx, const float* dy,
+                        const float* dvx, const float* dvy, float* fx, float* fy);
 
 /// Nearest static or temporary obstacle point to p within `range`, if any.
 using ObstacleQuery = std::function<std::optional<Vec2>(const Vec2& p, double range)>;
@@ -99,6 +101,7 @@ class Crowd {
   std::vector<Vec2> positions_;
   std::vector<Vec2> social_;  ///< per agent this step: the sum of its interaction forces
   SocialPairs social_pairs_;  ///< scratch of add_social_forces
+  std::vector<std::uint8_t> feels_;  ///< per agent this step: moved by the social force
   std::vector<OrcaLine> orca_lines_;                                 ///< scratch of orca_velocity
   std::vector<std::pair<double, std::uint32_t>> orca_neighbours_;   ///< scratch of orca_velocity
 };

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/portable_math.hpp"
 #include "core/state_hash.hpp"
 
 namespace hrisim::sim {
@@ -755,7 +756,8 @@ void Session::locomotion() {
     state.velocity = velocities_[k];
     state.position += state.velocity * model_->dt;
     std::optional<double> desired = watching_headings_[i] ? watching_headings_[i] : state.target_heading;
-    if (!desired && state.velocity.norm() > 0.05) desired = std::atan2(state.velocity.y(), state.velocity.x());
+    // Walking direction, for every walker every step: the polynomial (1e-5 rad) spares a libm call.
+    if (!desired && state.velocity.norm() > 0.05) desired = core::polynomial_atan2(state.velocity.y(), state.velocity.x());
     if (!desired) continue;
     const double difference = core::wrap_angle(*desired - state.heading);
     if (std::abs(difference) <= max_turn) {

@@ -19,6 +19,16 @@ TEST(PortableMath, ExpMatchesTheLibraryAcrossItsRange) {
   EXPECT_NEAR(exp_nonpositive(-std::numbers::ln2 / 2), 1.0 / std::numbers::sqrt2, 1e-12) << "edge of the reduced range";
 }
 
+TEST(PortableMath, SinglePrecisionExpMatchesTheLibrary) {
+  double worst = 0.0;
+  for (float x = -87.0f; x <= 0.0f; x += 0.0131f) {
+    worst = std::max(worst, std::abs(exp_nonpositive(x) - std::exp(static_cast<double>(x))) / std::exp(static_cast<double>(x)));
+  }
+  EXPECT_LT(worst, 3e-7);
+  EXPECT_EQ(exp_nonpositive(0.0f), 1.0f);
+  EXPECT_EQ(exp_nonpositive(-90.0f), 0.0f);
+}
+
 TEST(PortableMath, Atan2MatchesTheLibraryInEveryQuadrant) {
   double worst = 0.0;
   for (double angle = -std::numbers::pi + 1e-3; angle < std::numbers::pi; angle += 0.001) {
@@ -28,6 +38,7 @@ TEST(PortableMath, Atan2MatchesTheLibraryInEveryQuadrant) {
     }
   }
   EXPECT_LT(worst, 1e-5);
+  EXPECT_NEAR(polynomial_atan2(-0.6f, -0.8f), std::atan2(-0.6, -0.8), 2e-5) << "single precision";
   EXPECT_EQ(polynomial_atan2(0.0, 0.0), 0.0);
   EXPECT_NEAR(polynomial_atan2(1.0, 0.0), std::numbers::pi / 2, 1e-5);
   EXPECT_NEAR(polynomial_atan2(0.0, -1.0), std::numbers::pi, 1e-5);
