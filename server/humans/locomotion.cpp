@@ -208,6 +208,7 @@ void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
   for (std::size_t i = 0; i < agents.size(); ++i) {
     feels_[i] = agents[i].avoidance == LocalAvoidance::social_force && !agents[i].controlled;
   }
+  if (std::find(feels_.begin(), feels_.end(), std::uint8_t{1}) == feels_.end()) return;  // no one to move
   const auto feels = [&](std::size_t i) { return feels_[i] != 0; };
   // Gather each pair within range once (when either agent feels it), compute all forces in one
   // branch-free loop over arrays (it vectorises), then add them up in gathering order.
