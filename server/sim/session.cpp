@@ -667,17 +667,16 @@ void Session::locomotion() {
         if ((nearest - state.position).norm() > model_->replan_distance) {
           const double radius = model_->agents[i].radius;
           const double clearance = kRejoinClearance * radius;
-          const auto blocked = blocked_door_cells(clearance);
-          const Vec2 leg_start = state.leg_start;
+          const world::Rejoin rejoin = model_->planner.rejoin(state.position, state.leg_start, waypoint, clearance,
+                                                               blocked_door_cells(clearance));
           state.planned_tick = state_.tick;
-          if (model_->planner.line_of_sight(state.position, waypoint, clearance, blocked)) {
-            state.leg_start = state.position;
-          } else if (model_->planner.line_of_sight(state.position, leg_start, clearance, blocked)) {
-            // Pushed back past a corner: return to it and go on from there.
-            state.path.insert(state.path.begin() + static_cast<std::ptrdiff_t>(state.path_index), leg_start);
-            state.leg_start = state.position;
-          } else {
+          if (rejoin == world::Rejoin::replan) {
             plan_path(static_cast<int>(i));
+          } else {
+            if (rejoin == world::Rejoin::back_to_corner) {
+              state.path.insert(state.path.begin() + static_cast<std::ptrdiff_t>(state.path_index), state.leg_start);
+            }
+            state.leg_start = state.position;
           }
         }
       }

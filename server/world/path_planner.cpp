@@ -39,6 +39,15 @@ bool PathPlanner::line_of_sight(const Vec2& a, const Vec2& b, double radius,
   return true;
 }
 
+Rejoin PathPlanner::rejoin(const Vec2& position, const Vec2& leg_start, const Vec2& waypoint, double clearance,
+                           const std::vector<std::size_t>& blocked_cells) const {
+  std::vector<std::size_t> blocked = blocked_cells;
+  std::sort(blocked.begin(), blocked.end());
+  if (line_of_sight(position, waypoint, clearance, blocked)) return Rejoin::walk_on;
+  if (line_of_sight(position, leg_start, clearance, blocked)) return Rejoin::back_to_corner;
+  return Rejoin::replan;
+}
+
 std::optional<std::size_t> PathPlanner::nearest_traversable(std::size_t cell, double radius,
                                                             const std::vector<std::size_t>& blocked_cells) const {
   if (traversable(cell, radius, blocked_cells)) return cell;

@@ -44,6 +44,13 @@ class PlanningHistory {
   std::size_t field_descents_ = 0;
 };
 
+/// How an agent pushed off its leg gets back on its path.
+enum class Rejoin {
+  walk_on,         ///< the waypoint is in sight: walk straight to it from here
+  back_to_corner,  ///< the start of the leg (the corner last passed) is in sight: return there first
+  replan,          ///< neither: plan again
+};
+
 class PathPlanner {
  public:
   /// The grid and field must outlive the planner.
@@ -58,6 +65,11 @@ class PathPlanner {
   /// The same for a one-off request (no history: always a search).
   std::optional<std::vector<Vec2>> plan(const Vec2& start, const Vec2& goal, double radius,
                                         const std::vector<std::size_t>& blocked_cells = {}) const;
+
+  /// What an agent at `position`, pushed off the leg from `leg_start` to `waypoint`, should do, when
+  /// a disc of `clearance` must pass on the straight way.
+  Rejoin rejoin(const Vec2& position, const Vec2& leg_start, const Vec2& waypoint, double clearance,
+                const std::vector<std::size_t>& blocked_cells = {}) const;
 
   /// True when a disc of `radius` can move in a straight line from a to b.
   bool line_of_sight(const Vec2& a, const Vec2& b, double radius,

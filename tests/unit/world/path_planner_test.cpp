@@ -87,6 +87,29 @@ TEST(PathPlanner, OutsideTheMapHasNoPath) {
 }
 
 
+// The wall ends at y = 4.9 and leaves a gap above it; a path from the left half to the right half
+// turns at a corner above the wall's end.
+TEST(PathPlanner, PushedOffTheLegWalksOnWhileTheWaypointIsInSight) {
+  Room room;
+  const DistanceField field(room.grid);
+  const PathPlanner planner(room.grid, field);
+  const Vec2 corner(5.0, 5.4), goal(8.0, 1.0);
+  EXPECT_EQ(planner.rejoin({2.0, 3.0}, {1.0, 1.0}, corner, 0.3), Rejoin::walk_on);
+  EXPECT_EQ(planner.rejoin({7.0, 4.0}, corner, goal, 0.3), Rejoin::walk_on) << "past the corner, goal in sight";
+  EXPECT_EQ(planner.rejoin({1.5, 4.0}, corner, goal, 0.3), Rejoin::back_to_corner) << "pushed back behind the wall";
+  EXPECT_EQ(planner.rejoin({1.5, 4.0}, {8.0, 5.4}, goal, 0.3), Rejoin::replan) << "neither end of the leg in sight";
+}
+
+TEST(PathPlanner, RejoinNeedsOnlyTheClearanceAskedFor) {
+  Room room;
+  const DistanceField field(room.grid);
+  const PathPlanner planner(room.grid, field);
+  // Along the wall's right face, 0.2 m from it.
+  const Vec2 position(5.3, 2.0), waypoint(5.3, 5.4);
+  EXPECT_EQ(planner.rejoin(position, position, waypoint, 0.3), Rejoin::replan);
+  EXPECT_EQ(planner.rejoin(position, position, waypoint, 0.15), Rejoin::walk_on);
+}
+
 /// Plans from `start` to `goal` with `history` until its requests descend the goal's field.
 std::optional<std::vector<Vec2>> plan_until_field(const PathPlanner& planner, PlanningHistory& history,
                                                   const Vec2& start, const Vec2& goal) {
