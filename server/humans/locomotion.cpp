@@ -205,8 +205,10 @@ Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, con
 void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
   social_.assign(agents.size(), Vec2::Zero());
   feels_.resize(agents.size());
+  agent_velocities_.resize(agents.size());  // dense, beside positions_, for the pair gathering
   for (std::size_t i = 0; i < agents.size(); ++i) {
     feels_[i] = agents[i].avoidance == LocalAvoidance::social_force && !agents[i].controlled;
+    agent_velocities_[i] = agents[i].velocity;
   }
   if (std::find(feels_.begin(), feels_.end(), std::uint8_t{1}) == feels_.end()) return;  // no one to move
   const auto feels = [&](std::size_t i) { return feels_[i] != 0; };
@@ -218,8 +220,8 @@ void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
     if (!feels(a) && !feels(b)) return;
     pairs.a.push_back(a);
     pairs.b.push_back(b);
-    const Vec2 difference = agents[b].position - agents[a].position;
-    const Vec2 velocity_difference = agents[a].velocity - agents[b].velocity;
+    const Vec2 difference = positions_[b] - positions_[a];
+    const Vec2 velocity_difference = agent_velocities_[a] - agent_velocities_[b];
     pairs.dx.push_back(static_cast<float>(difference.x()));
     pairs.dy.push_back(static_cast<float>(difference.y()));
     pairs.dvx.push_back(static_cast<float>(velocity_difference.x()));

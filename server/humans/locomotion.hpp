@@ -102,6 +102,7 @@ class Crowd {
   std::vector<Vec2> social_;  ///< per agent this step: the sum of its interaction forces
   SocialPairs social_pairs_;  ///< scratch of add_social_forces
   std::vector<std::uint8_t> feels_;  ///< per agent this step: moved by the social force
+  std::vector<Vec2> agent_velocities_;  ///< per agent this step
   std::vector<OrcaLine> orca_lines_;                                 ///< scratch of orca_velocity
   std::vector<std::pair<double, std::uint32_t>> orca_neighbours_;   ///< scratch of orca_velocity
 };
