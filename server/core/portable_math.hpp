@@ -12,36 +12,12 @@ namespace hrisim::core {
 
 // Both are free of branches (selects only), so loops over arrays of them vectorise.
 
-/// e^x for x ≤ 0 (0 below -700), relative error below 1e-11.
-inline double exp_nonpositive(double x) {
-  const double clamped = std::max(x, -700.0);
-  // x = k ln2 + r with |r| ≤ ln2 / 2; adding 1.5 × 2^52 rounds to the nearest integer k, which is then
-  // the difference of the two numbers' bit patterns.
-  constexpr double kRound = 6755399441055744.0;
-  const double shifted = clamped * std::numbers::log2e + kRound;
-  const double k = shifted - kRound;
-  const double r = (clamped - k * 0.693147180369123816490) - k * 1.90821492927058770002e-10;  // ln2 in two parts
-  // Taylor series to degree 10 on |r| ≤ 0.347.
-  double p = 1.0 / 3628800.0;
-  p = p * r + 1.0 / 362880.0;
-  p = p * r + 1.0 / 40320.0;
-  p = p * r + 1.0 / 5040.0;
-  p = p * r + 1.0 / 720.0;
-  p = p * r + 1.0 / 120.0;
-  p = p * r + 1.0 / 24.0;
-  p = p * r + 1.0 / 6.0;
-  p = p * r + 0.5;
-  p = p * r + 1.0;
-  p = p * r + 1.0;
-  const std::uint64_t k_bits = std::bit_cast<std::uint64_t>(shifted) - std::bit_cast<std::uint64_t>(kRound);
-  const double scale = std::bit_cast<double>((k_bits + 1023) << 52);  // 2^k, a normal number for k ≥ -1010
-  return x < -700.0 ? 0.0 : p * scale;
-}
-
 /// e^x for x ≤ 0 in single precision (0 below -87), relative error below 3e-7.
 inline float exp_nonpositive(float x) {
   const float clamped = std::max(x, -87.0f);
-  constexpr float kRound = 12582912.0f;  // 1.5 × 2^23
+  // x = k ln2 + r with |r| ≤ ln2 / 2; adding 1.5 × 2^23 rounds to the nearest integer k, which is then
+  // the difference of the two numbers' bit patterns.
+  constexpr float kRound = 12582912.0f;
   const float shifted = clamped * std::numbers::log2e_v<float> + kRound;
   const float k = shifted - kRound;
   const float r = (clamped - k * 0.693145752f) - k * 1.42860677e-6f;  // ln2 in two parts

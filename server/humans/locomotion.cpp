@@ -142,6 +142,37 @@ OrcaLine orca_line(const Vec2& position, const Vec2& velocity, double radius, co
   return line;
 }
 
+/// The social force model's interaction force on a from b (Moussaïd et al. 2009 as pedsim computes
+/// it) for `count` pairs given as columns.
+void interaction_forces(const SocialForceParams& p, std::size_t count, const float* dx, const float* dy,
+                        const float* dvx, const float* dvy, float* fx, float* fy) {
+  const auto lambda = static_cast<float>(p.lambda), gamma = static_cast<float>(p.gamma);  // not aliased by fx, fy
+  const auto n = static_cast<float>(p.n), n_prime = static_cast<float>(p.n_prime);
+  for (std::size_t k = 0; k < count; ++k) {
+    // Moussaïd's interaction as pedsim computes it, for agent a at distance (dx, dy) from b with
+    // velocity difference (dvx, dvy) = v_a - v_b; zero for agents at the same spot.
+    const float distance = std::sqrt(dx[k] * dx[k] + dy[k] * dy[k]);
+    const bool apart = distance > 0.0f;
+    const float safe_distance = apart ? distance : 1.0f;
+    const float ex = dx[k] / safe_distance, ey = dy[k] / safe_distance;
+    const float ix = lambda * dvx[k] + ex, iy = lambda * dvy[k] + ey;
+    const float length = std::sqrt(ix * ix + iy * iy);
+    const bool valid = apart && length > 0.0f;
+    const float safe_length = valid ? length : 1.0f;
+    const float tx = ix / safe_length, ty = iy / safe_length;
+    const float range = gamma * safe_length;  // pedsim's B
+    const float distance_term = distance / range;
+    const float theta = core::polynomial_atan2(tx * ey - ty * ex, tx * ex + ty * ey);
+    const float velocity_term = n_prime * range * theta, angle_term = n * range * theta;
+    const float velocity_amount = -core::exp_nonpositive(-distance_term - velocity_term * velocity_term);
+    const float angle_amount =
+        (theta >= 0.0f ? -1.0f : 1.0f) * core::exp_nonpositive(-distance_term - angle_term * angle_term);
+    // velocity_amount along the interaction direction, angle_amount along its left normal (-ty, tx)
+    fx[k] = valid ? velocity_amount * tx - angle_amount * ty : 0.0f;
+    fy[k] = valid ? velocity_amount * ty + angle_amount * tx : 0.0f;
+  }
+}
+
 }  // namespace
 
 Vec2 solve_orca(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, double max_speed,
@@ -246,34 +277,6 @@ void SocialPairs::clear() {
   b.clear();
 }
 
-void interaction_forces(const SocialForceParams& p, std::size_t count, const float* dx, const float* dy,
-                        const float* dvx, const float* dvy, float* fx, float* fy) {
-  const auto lambda = static_cast<float>(p.lambda), gamma = static_cast<float>(p.gamma);  // not aliased by fx, fy
-  const auto n = static_cast<float>(p.n), n_prime = static_cast<float>(p.n_prime);
-  for (std::size_t k = 0; k < count; ++k) {
-    // Moussaïd's interaction as pedsim computes it, for agent a at distance (dx, dy) from b with
-    // velocity difference (dvx, dvy) = v_a - v_b; zero for agents at the same spot.
-    const float distance = std::sqrt(dx[k] * dx[k] + dy[k] * dy[k]);
-    const bool apart = distance > 0.0f;
-    const float safe_distance = apart ? distance : 1.0f;
-    const float ex = dx[k] / safe_distance, ey = dy[k] / safe_distance;
-    const float ix = lambda * dvx[k] + ex, iy = lambda * dvy[k] + ey;
-    const float length = std::sqrt(ix * ix + iy * iy);
-    const bool valid = apart && length > 0.0f;
-    const float safe_length = valid ? length : 1.0f;
-    const float tx = ix / safe_length, ty = iy / safe_length;
-    const float range = gamma * safe_length;  // pedsim's B
-    const float distance_term = distance / range;
-    const float theta = core::polynomial_atan2(tx * ey - ty * ex, tx * ex + ty * ey);
-    const float velocity_term = n_prime * range * theta, angle_term = n * range * theta;
-    const float velocity_amount = -core::exp_nonpositive(-distance_term - velocity_term * velocity_term);
-    const float angle_amount =
-        (theta >= 0.0f ? -1.0f : 1.0f) * core::exp_nonpositive(-distance_term - angle_term * angle_term);
-    // velocity_amount along the interaction direction, angle_amount along its left normal (-ty, tx)
-    fx[k] = valid ? velocity_amount * tx - angle_amount * ty : 0.0f;
-    fy[k] = valid ? velocity_amount * ty + angle_amount * tx : 0.0f;
-  }
-}
 
 Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
                                   double dt) {

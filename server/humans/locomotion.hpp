@@ -69,11 +69,6 @@ struct SocialPairs {
   void clear();
 };
 
-/// The social force model's interaction force on a from b (Moussaïd et al. 2009 as pedsim computes
-/// it) for `count` pairs given as columns.
-void interaction_forces(const SocialForceParams& p, std::size_t count, const float* dx, const float* dy,
-                        const float* dvx, const float* dvy, float* fx, float* fy);
-
 /// Nearest static or temporary obstacle point to p within `range`, if any.
 using ObstacleQuery = std::function<std::optional<Vec2>(const Vec2& p, double range)>;
 

@@ -660,8 +660,8 @@ void Session::locomotion() {
     if (state.navigating) {
       if (state.path.empty() && state_.tick >= state.replan_at_tick) plan_path(static_cast<int>(i));
       if (!state.path.empty() && state_.tick - state.planned_tick >= ticks(kReplanInterval)) {
-        // Pushed too far off the leg by avoidance: walk on from here while the waypoint is in sight
-        // (local avoidance keeps the agent off the walls), plan again when it is not.
+        // Pushed too far off the leg by avoidance: rejoin the path from here without a search when a
+        // straight way is free (local avoidance keeps the agent off the walls), else plan again.
         const Vec2& waypoint = state.path[state.path_index];
         const Vec2 nearest = core::closest_point_on_segment(state.position, state.leg_start, waypoint);
         if ((nearest - state.position).norm() > model_->replan_distance) {

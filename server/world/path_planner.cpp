@@ -18,6 +18,12 @@ constexpr float kStep[8] = {1.0f, 1.0f, 1.0f, 1.0f, 1.41421356f, 1.41421356f, 1.
 /// How far from an unusable start or goal the planner looks for a usable cell.
 constexpr double kSnapDistance = 1.0;
 
+/// Blocked cells in order, as traversable()'s binary search needs them.
+std::vector<std::size_t> sorted(std::vector<std::size_t> cells) {
+  std::sort(cells.begin(), cells.end());
+  return cells;
+}
+
 }  // namespace
 
 PathPlanner::PathPlanner(const OccupancyGrid& grid, const DistanceField& field) : grid_(grid), field_(field) {}
@@ -41,8 +47,7 @@ bool PathPlanner::line_of_sight(const Vec2& a, const Vec2& b, double radius,
 
 Rejoin PathPlanner::rejoin(const Vec2& position, const Vec2& leg_start, const Vec2& waypoint, double clearance,
                            const std::vector<std::size_t>& blocked_cells) const {
-  std::vector<std::size_t> blocked = blocked_cells;
-  std::sort(blocked.begin(), blocked.end());
+  const std::vector<std::size_t> blocked = sorted(blocked_cells);
   if (line_of_sight(position, waypoint, clearance, blocked)) return Rejoin::walk_on;
   if (line_of_sight(position, leg_start, clearance, blocked)) return Rejoin::back_to_corner;
   return Rejoin::replan;
@@ -203,8 +208,7 @@ std::optional<std::vector<Vec2>> PathPlanner::plan(const Vec2& start, const Vec2
 std::optional<std::vector<Vec2>> PathPlanner::plan(const Vec2& start, const Vec2& goal, double radius,
                                                    const std::vector<std::size_t>& blocked_cells,
                                                    PlanningHistory& history) const {
-  std::vector<std::size_t> blocked = blocked_cells;
-  std::sort(blocked.begin(), blocked.end());
+  const std::vector<std::size_t> blocked = sorted(blocked_cells);
   const CellIndex start_index = grid_.cell_of(start), goal_index = grid_.cell_of(goal);
   if (!grid_.in_bounds(start_index) || !grid_.in_bounds(goal_index)) return std::nullopt;
   if (line_of_sight(start, goal, radius, blocked)) return std::vector<Vec2>{goal};

@@ -8,17 +8,6 @@
 namespace hrisim::core {
 namespace {
 
-TEST(PortableMath, ExpMatchesTheLibraryAcrossItsRange) {
-  double worst = 0.0;
-  for (double x = -700.0; x <= 0.0; x += 0.0137) {
-    worst = std::max(worst, std::abs(exp_nonpositive(x) - std::exp(x)) / std::exp(x));
-  }
-  EXPECT_LT(worst, 1e-11);
-  EXPECT_EQ(exp_nonpositive(0.0), 1.0);
-  EXPECT_EQ(exp_nonpositive(-800.0), 0.0);
-  EXPECT_NEAR(exp_nonpositive(-std::numbers::ln2 / 2), 1.0 / std::numbers::sqrt2, 1e-12) << "edge of the reduced range";
-}
-
 TEST(PortableMath, SinglePrecisionExpMatchesTheLibrary) {
   double worst = 0.0;
   for (float x = -87.0f; x <= 0.0f; x += 0.0131f) {
@@ -27,6 +16,7 @@ TEST(PortableMath, SinglePrecisionExpMatchesTheLibrary) {
   EXPECT_LT(worst, 3e-7);
   EXPECT_EQ(exp_nonpositive(0.0f), 1.0f);
   EXPECT_EQ(exp_nonpositive(-90.0f), 0.0f);
+  EXPECT_NEAR(exp_nonpositive(-std::numbers::ln2_v<float> / 2), 1.0 / std::numbers::sqrt2, 3e-7) << "edge of the reduced range";
 }
 
 TEST(PortableMath, Atan2MatchesTheLibraryInEveryQuadrant) {
