@@ -1,6 +1,7 @@
 // Crowd simulation speed: whole session steps per second (choreography, planning, locomotion) for
 // 10, 100, 1000 (and 10,000) humans, in an open room and on IMHuS's elevator map, with ORCA and with
-// the social force model. Prints one line per case: median of several repetitions.
+// the social force model. Prints one line per case: median of several repetitions, and the hash of
+// the final state (equal in every repetition, checked, and on every machine).
 //   usage: humans_bench [repetitions=3] [path to shared/ for the elevator map=../shared] [case filter,
 //          e.g. "open_room social_force 1000"]
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -94,13 +96,19 @@ json elevator(int humans, const std::string& avoidance, const std::string& map, 
   return scenario;
 }
 
-double steps_per_second(const std::shared_ptr<const hrisim::scenario::Model>& model, int steps) {
+struct Measurement {
+  double steps_per_second;
+  std::uint64_t final_hash;  ///< the same on every machine and in every repetition: determinism
+};
+
+Measurement measure_once(const std::shared_ptr<const hrisim::scenario::Model>& model, int steps) {
   hrisim::sim::Session session(model, 1);
   for (int i = 0; i < 30; ++i) session.step();  // first plans
   const auto start = Clock::now();
   for (int i = 0; i < steps; ++i) session.step();
   if (session.state().finished) std::fprintf(stderr, "warning: the crowd finished its choreography during the measurement\n");
-  return steps / std::chrono::duration<double>(Clock::now() - start).count();
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return {steps / seconds, session.state_hash()};
 }
 
 /// Only cases whose "place avoidance humans" contains this run (all when empty).
@@ -117,11 +125,21 @@ void measure(const std::string& place, const std::string& avoidance, int humans,
   }
   const int steps = std::clamp(200000 / humans, 60, 3000);
   std::vector<double> rates;
-  for (int r = 0; r < repetitions; ++r) rates.push_back(steps_per_second(loaded.model, steps));
+  std::uint64_t final_hash = 0;
+  for (int r = 0; r < repetitions; ++r) {
+    const Measurement measurement = measure_once(loaded.model, steps);
+    if (r > 0 && measurement.final_hash != final_hash) {
+      std::fprintf(stderr, "%s: repetitions ended in different states: not deterministic\n", key.c_str());
+      std::exit(1);
+    }
+    final_hash = measurement.final_hash;
+    rates.push_back(measurement.steps_per_second);
+  }
   std::sort(rates.begin(), rates.end());
   const double median = rates[rates.size() / 2];
-  std::printf("%-10s %-12s %6d humans: %10.0f steps/s  %8.1fx real time  %6.2f M agent-steps/s\n", place.c_str(),
-              avoidance.c_str(), humans, median, median * loaded.model->dt, median * humans / 1e6);
+  std::printf("%-10s %-12s %6d humans: %10.0f steps/s  %8.1fx real time  %6.2f M agent-steps/s  state %016llx\n",
+              place.c_str(), avoidance.c_str(), humans, median, median * loaded.model->dt, median * humans / 1e6,
+              static_cast<unsigned long long>(final_hash));
   std::fflush(stdout);
 }
 
@@ -130,7 +148,8 @@ void measure(const std::string& place, const std::string& avoidance, int humans,
 int main(int argc, char** argv) {
   const int repetitions = argc > 1 ? std::atoi(argv[1]) : 3;
   const std::string shared = argc > 2 ? argv[2] : "../shared";
-  const std::string map = shared + "/external/imhus/elevator_map/elevator.yaml";
+  // Absolute: a scenario's relative map paths are looked up next to the scenario, not the working directory.
+  const std::string map = std::filesystem::absolute(shared + "/external/imhus/elevator_map/elevator.yaml").string();
   if (argc > 3) only = argv[3];
   std::printf("humans_bench: dt = 1/60 s, one thread, median of %d repetitions\n", repetitions);
   for (const std::string avoidance : {"orca", "social_force"}) {
@@ -143,7 +162,8 @@ int main(int argc, char** argv) {
   const auto empty = hrisim::scenario::load_scenario(
       json{{"name", "map"}, {"world", {{"map", map}}}, {"steps", json::array()}}, {});
   if (!empty.model) {
-    std::printf("elevator map not found at %s: skipping the elevator cases\n", map.c_str());
+    std::printf("elevator map not loaded from %s (%s): skipping the elevator cases\n", map.c_str(),
+                empty.errors.front().message.c_str());
     return 0;
   }
   for (const std::string avoidance : {"orca", "social_force"}) {

@@ -143,14 +143,15 @@ OrcaLine orca_line(const Vec2& position, const Vec2& velocity, double radius, co
 }
 
 /// The social force model's interaction force on a from b (Moussaïd et al. 2009 as pedsim computes
-/// it) for `count` pairs given as columns.
+/// it) for each pair given as columns; zero for agents at the same spot. Cloned for wider vector
+/// units: each lane does the same IEEE operations in the same order, so every clone gives the same bits.
+/// (GCC 12 vectorises this loop only while the columns are read by index, not into locals first.)
+[[gnu::target_clones("avx512f", "avx2", "default"), gnu::noinline]]
 void interaction_forces(const SocialForceParams& p, std::size_t count, const float* dx, const float* dy,
                         const float* dvx, const float* dvy, float* fx, float* fy) {
   const auto lambda = static_cast<float>(p.lambda), gamma = static_cast<float>(p.gamma);  // not aliased by fx, fy
   const auto n = static_cast<float>(p.n), n_prime = static_cast<float>(p.n_prime);
   for (std::size_t k = 0; k < count; ++k) {
-    // Moussaïd's interaction as pedsim computes it, for agent a at distance (dx, dy) from b with
-    // velocity difference (dvx, dvy) = v_a - v_b; zero for agents at the same spot.
     const float distance = std::sqrt(dx[k] * dx[k] + dy[k] * dy[k]);
     const bool apart = distance > 0.0f;
     const float safe_distance = apart ? distance : 1.0f;
@@ -235,48 +236,56 @@ Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, con
 
 void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
   social_.assign(agents.size(), Vec2::Zero());
-  feels_.resize(agents.size());
-  agent_velocities_.resize(agents.size());  // dense, beside positions_, for the pair gathering
-  for (std::size_t i = 0; i < agents.size(); ++i) {
-    feels_[i] = agents[i].avoidance == LocalAvoidance::social_force && !agents[i].controlled;
-    agent_velocities_[i] = agents[i].velocity;
-  }
-  if (std::find(feels_.begin(), feels_.end(), std::uint8_t{1}) == feels_.end()) return;  // no one to move
-  const auto feels = [&](std::size_t i) { return feels_[i] != 0; };
-  // Gather each pair within range once (when either agent feels it), compute all forces in one
-  // branch-free loop over arrays (it vectorises), then add them up in gathering order.
+  const auto feels = [](const CrowdAgent& agent) {
+    return agent.avoidance == LocalAvoidance::social_force && !agent.controlled;
+  };
+  if (std::none_of(agents.begin(), agents.end(), feels)) return;  // no one to move
+  // Positions and velocities in the grid's slot order, so the pair search reads contiguous memory.
+  // Each candidate's differences are written without a branch and kept (the count advances) when it is
+  // within range; then all forces are computed in one loop (it vectorises) and summed in scan order.
+  // Each pair's force is computed once and the force on b is exactly the opposite: swapping the agents
+  // negates every input.
+  const auto items = grid_.items();
+  const std::size_t count = items.size();
+  slot_velocities_.resize(count);
+  for (std::size_t k = 0; k < count; ++k) slot_velocities_[k] = agents[items[k]].velocity;
+  const auto positions = grid_.sorted_positions();
+  const double range_squared = social_force_.neighbour_distance * social_force_.neighbour_distance;
   SocialPairs& pairs = social_pairs_;
-  pairs.clear();
-  grid_.for_each_pair_within(social_force_.neighbour_distance, [&](std::uint32_t a, std::uint32_t b) {
-    if (!feels(a) && !feels(b)) return;
-    pairs.a.push_back(a);
-    pairs.b.push_back(b);
-    const Vec2 difference = positions_[b] - positions_[a];
-    const Vec2 velocity_difference = agent_velocities_[a] - agent_velocities_[b];
-    pairs.dx.push_back(static_cast<float>(difference.x()));
-    pairs.dy.push_back(static_cast<float>(difference.y()));
-    pairs.dvx.push_back(static_cast<float>(velocity_difference.x()));
-    pairs.dvy.push_back(static_cast<float>(velocity_difference.y()));
+  std::size_t kept = 0;
+  grid_.for_each_candidate_run(social_force_.neighbour_distance, [&](std::uint32_t a, std::uint32_t begin,
+                                                                     std::uint32_t end) {
+    if (pairs.a.size() < kept + (end - begin)) pairs.resize(2 * (kept + (end - begin)));
+    for (std::uint32_t b = begin; b < end; ++b) {
+      const Vec2 difference = positions[b] - positions[a];
+      const Vec2 velocity_difference = slot_velocities_[a] - slot_velocities_[b];
+      pairs.a[kept] = a;
+      pairs.b[kept] = b;
+      pairs.dx[kept] = static_cast<float>(difference.x());
+      pairs.dy[kept] = static_cast<float>(difference.y());
+      pairs.dvx[kept] = static_cast<float>(velocity_difference.x());
+      pairs.dvy[kept] = static_cast<float>(velocity_difference.y());
+      kept += difference.squaredNorm() <= range_squared ? 1 : 0;
+    }
   });
-  const std::size_t count = pairs.a.size();
-  pairs.fx.resize(count);
-  pairs.fy.resize(count);
-  interaction_forces(social_force_, count, pairs.dx.data(), pairs.dy.data(), pairs.dvx.data(), pairs.dvy.data(),
+  interaction_forces(social_force_, kept, pairs.dx.data(), pairs.dy.data(), pairs.dvx.data(), pairs.dvy.data(),
                      pairs.fx.data(), pairs.fy.data());
-  // The force on b is exactly the opposite: swapping the agents negates every input of the formula.
-  for (std::size_t k = 0; k < count; ++k) {
+  slot_social_.assign(count, Vec2::Zero());
+  for (std::size_t k = 0; k < kept; ++k) {
     const Vec2 force(static_cast<double>(pairs.fx[k]), static_cast<double>(pairs.fy[k]));
-    if (feels(pairs.a[k])) social_[pairs.a[k]] += force;
-    if (feels(pairs.b[k])) social_[pairs.b[k]] -= force;
+    slot_social_[pairs.a[k]] += force;
+    slot_social_[pairs.b[k]] -= force;
+  }
+  for (std::size_t k = 0; k < count; ++k) {
+    if (feels(agents[items[k]])) social_[items[k]] = slot_social_[k];
   }
 }
 
-void SocialPairs::clear() {
-  for (auto* column : {&dx, &dy, &dvx, &dvy, &fx, &fy}) column->clear();
-  a.clear();
-  b.clear();
+void SocialPairs::resize(std::size_t size) {
+  for (auto* column : {&dx, &dy, &dvx, &dvy, &fx, &fy}) column->resize(size);
+  a.resize(size);
+  b.resize(size);
 }
-
 
 Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
                                   double dt) {

@@ -58,15 +58,14 @@ struct OrcaLine {
   Vec2 direction;
 };
 
-/// Pairs of agents within the social force's range, as columns (a, b: agent indices). Differences of
-/// positions (within the range) and velocities need no more than single precision; four pairs then fit
-/// one SSE register.
+/// Candidate pairs of agents for the social force, as columns (a, b: slots of the spatial grid).
+/// Differences of positions (within the range) and velocities need no more than single precision.
 struct SocialPairs {
   std::vector<std::uint32_t> a, b;
   std::vector<float> dx, dy;    ///< b's position minus a's
   std::vector<float> dvx, dvy;  ///< a's velocity minus b's
   std::vector<float> fx, fy;    ///< the interaction force on a
-  void clear();
+  void resize(std::size_t size);
 };
 
 /// Nearest static or temporary obstacle point to p within `range`, if any.
@@ -95,9 +94,10 @@ class Crowd {
   SpatialGrid grid_;
   std::vector<Vec2> positions_;
   std::vector<Vec2> social_;  ///< per agent this step: the sum of its interaction forces
-  SocialPairs social_pairs_;  ///< scratch of add_social_forces
-  std::vector<std::uint8_t> feels_;  ///< per agent this step: moved by the social force
-  std::vector<Vec2> agent_velocities_;  ///< per agent this step
+  // Scratch of add_social_forces, in the grid's slot order.
+  std::vector<Vec2> slot_velocities_;
+  SocialPairs social_pairs_;  ///< pairs within range first, then room to spare
+  std::vector<Vec2> slot_social_;  ///< social_ in slot order
   std::vector<OrcaLine> orca_lines_;                                 ///< scratch of orca_velocity
   std::vector<std::pair<double, std::uint32_t>> orca_neighbours_;   ///< scratch of orca_velocity
 };

@@ -19,26 +19,27 @@ class SpatialGrid {
 
   void rebuild(std::span<const Vec2> positions);
 
-  /// Calls f(a, b) once for every unordered pair of items within `range` of each other, in a fixed
-  /// order; a scan of half the neighbouring cells of each cell.
+  /// Items in cell order ("slots"): slot k holds item items()[k] at sorted_positions()[k].
+  std::span<const std::uint32_t> items() const { return items_; }
+  std::span<const Vec2> sorted_positions() const { return sorted_positions_; }
+
+  /// Calls f(a, begin, end) for slots a and runs of slots [begin, end) such that every unordered pair
+  /// of slots within `range` of each other appears exactly once as a and a member of one of a's runs.
+  /// Runs also hold slots further away (callers test the distance); each is contiguous memory: the
+  /// cells of a row within reach. A half stencil: runs only reach forwards in cell order.
   template <class F>
-  void for_each_pair_within(double range, F&& f) const {
+  void for_each_candidate_run(double range, F&& f) const {
     const int reach = static_cast<int>(std::ceil(range / cell_size_));
-    const double range_squared = range * range;
+    const auto run_end = [&](int row, int x) {
+      return cell_start_[static_cast<std::size_t>(row) * columns_ + std::min(x + reach, columns_ - 1) + 1];
+    };
     for (int y = 0; y < rows_; ++y) {
       for (int x = 0; x < columns_; ++x) {
         const std::size_t cell = static_cast<std::size_t>(y) * columns_ + x;
-        if (cell_start_[cell] == cell_start_[cell + 1]) continue;
-        for (int dy = 0; dy <= reach && y + dy < rows_; ++dy) {
-          for (int dx = dy == 0 ? 0 : -reach; dx <= reach; ++dx) {
-            if (x + dx < 0 || x + dx >= columns_) continue;
-            const std::size_t other = cell + static_cast<std::size_t>(dy) * columns_ + dx;
-            for (std::uint32_t a = cell_start_[cell]; a < cell_start_[cell + 1]; ++a) {
-              const Vec2 p = sorted_positions_[a];
-              for (std::uint32_t b = other == cell ? a + 1 : cell_start_[other]; b < cell_start_[other + 1]; ++b) {
-                if ((sorted_positions_[b] - p).squaredNorm() <= range_squared) f(items_[a], items_[b]);
-              }
-            }
+        for (std::uint32_t a = cell_start_[cell]; a < cell_start_[cell + 1]; ++a) {
+          f(a, a + 1, run_end(y, x));  // the rest of its own cell and the cells to its right
+          for (int row = y + 1; row <= y + reach && row < rows_; ++row) {
+            f(a, cell_start_[static_cast<std::size_t>(row) * columns_ + std::max(x - reach, 0)], run_end(row, x));
           }
         }
       }

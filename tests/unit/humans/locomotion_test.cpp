@@ -73,7 +73,15 @@ TEST(SpatialGrid, EveryPairWithinRangeExactlyOnce) {
     SpatialGrid grid(2.0);
     grid.rebuild(points);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> found, expected;
-    grid.for_each_pair_within(range, [&](std::uint32_t a, std::uint32_t b) { found.emplace_back(std::min(a, b), std::max(a, b)); });
+    const auto items = grid.items();
+    const auto positions = grid.sorted_positions();
+    grid.for_each_candidate_run(range, [&](std::uint32_t a, std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t b = begin; b < end; ++b) {
+        if ((positions[b] - positions[a]).norm() <= range) {
+          found.emplace_back(std::min(items[a], items[b]), std::max(items[a], items[b]));
+        }
+      }
+    });
     for (std::uint32_t a = 0; a < points.size(); ++a) {
       for (std::uint32_t b = a + 1; b < points.size(); ++b) {
         if ((points[a] - points[b]).norm() <= range) expected.emplace_back(a, b);
