@@ -220,14 +220,10 @@ Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, con
   }
   // The closest neighbours, ties broken by index so the choice is deterministic.
   std::vector<std::pair<double, std::uint32_t>>& neighbours = orca_neighbours_;
-  neighbours.clear();
-  grid_.for_each_within(agent.position, orca_.neighbour_distance, [&](std::uint32_t j) {
-    if (j != i) neighbours.emplace_back((agents[j].position - agent.position).squaredNorm(), j);
-  });
-  const auto kept = std::min<std::size_t>(neighbours.size(), static_cast<std::size_t>(orca_.max_neighbours));
-  std::partial_sort(neighbours.begin(), neighbours.begin() + static_cast<std::ptrdiff_t>(kept), neighbours.end());
-  for (std::size_t k = 0; k < kept; ++k) {
-    const CrowdAgent& other = agents[neighbours[k].second];
+  grid_.nearest_within(agent.position, orca_.neighbour_distance, static_cast<std::size_t>(orca_.max_neighbours),
+                       static_cast<std::uint32_t>(i), neighbours);
+  for (const auto& [squared_distance, j] : neighbours) {
+    const CrowdAgent& other = agents[j];
     lines.push_back(orca_line(agent.position, agent.velocity, agent.radius, other.position, other.velocity,
                               other.radius, orca_.time_horizon, dt, other.controlled ? 1.0 : 0.5));
   }

@@ -46,22 +46,11 @@ class SpatialGrid {
     }
   }
 
-  /// Calls f(index) for every item within `range` of p (exact distance test), in a fixed order.
-  template <class F>
-  void for_each_within(const Vec2& p, double range, F&& f) const {
-    if (sorted_positions_.empty()) return;
-    const int x0 = std::max(0, cell_x(p.x() - range)), x1 = std::min(columns_ - 1, cell_x(p.x() + range));
-    const int y0 = std::max(0, cell_y(p.y() - range)), y1 = std::min(rows_ - 1, cell_y(p.y() + range));
-    const double range_squared = range * range;
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        const std::size_t cell = static_cast<std::size_t>(y) * columns_ + x;
-        for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
-          if ((sorted_positions_[k] - p).squaredNorm() <= range_squared) f(items_[k]);
-        }
-      }
-    }
-  }
+  /// The `count` items nearest to p within `range` (other than `excluded`), nearest first and ties in
+  /// index order, as (squared distance, index) into `nearest`. Cells beyond the current k-th nearest are
+  /// skipped, so dense crowds cost little more than sparse ones.
+  void nearest_within(const Vec2& p, double range, std::size_t count, std::uint32_t excluded,
+                      std::vector<std::pair<double, std::uint32_t>>& nearest) const;
 
  private:
   int cell_x(double x) const { return static_cast<int>(std::floor((x - low_.x()) / cell_size_)); }

@@ -46,21 +46,31 @@ CrowdAgent walker(Vec2 position, LocalAvoidance avoidance) {
   return agent;
 }
 
-TEST(SpatialGrid, MatchesBruteForce) {
+TEST(SpatialGrid, NearestWithinMatchesBruteForce) {
   core::Random random(5);
   std::vector<Vec2> points;
   for (int i = 0; i < 500; ++i) points.emplace_back(random.uniform(-20, 20), random.uniform(-5, 5));
+  // Ties: equal distances must be ordered by index, whatever cell the points are in.
+  points.push_back(points[3]);
+  points.push_back(points[3] + Vec2(0.5, 0.0));
+  points.push_back(points[3] - Vec2(0.5, 0.0));
   SpatialGrid grid(2.0);
   grid.rebuild(points);
-  for (int q = 0; q < 50; ++q) {
-    const Vec2 centre(random.uniform(-22, 22), random.uniform(-6, 6));
-    std::vector<std::uint32_t> found, expected;
-    grid.for_each_within(centre, 3.0, [&](std::uint32_t i) { found.push_back(i); });
+  std::vector<Vec2> centres{points[3]};
+  for (int q = 0; q < 50; ++q) centres.emplace_back(random.uniform(-22, 22), random.uniform(-6, 6));
+  for (const Vec2& centre : centres) {
+    std::vector<std::pair<double, std::uint32_t>> all;
     for (std::uint32_t i = 0; i < points.size(); ++i) {
-      if ((points[i] - centre).norm() <= 3.0) expected.push_back(i);
+      const double distance = (points[i] - centre).squaredNorm();
+      if (distance <= 9.0 && i != 7) all.emplace_back(distance, i);
     }
-    std::sort(found.begin(), found.end());
-    EXPECT_EQ(found, expected);
+    std::sort(all.begin(), all.end());
+    for (const std::size_t count : {std::size_t{1}, std::size_t{5}, points.size()}) {
+      std::vector<std::pair<double, std::uint32_t>> found;
+      grid.nearest_within(centre, 3.0, count, 7, found);
+      const std::vector expected(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(std::min(count, all.size())));
+      EXPECT_EQ(found, expected) << "count " << count;
+    }
   }
 }
 
