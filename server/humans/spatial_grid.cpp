@@ -37,26 +37,32 @@ void SpatialGrid::nearest_within(const Vec2& p, double range, std::size_t count,
                                  std::vector<std::pair<double, std::uint32_t>>& nearest) const {
   nearest.clear();
   if (sorted_positions_.empty() || count == 0) return;
+  double limit = range * range;  // the k-th nearest's squared distance once k are known
+  const auto scan = [&](int x, int y) {
+    const double low_x = low_.x() + x * cell_size_, low_y = low_.y() + y * cell_size_;
+    const double gap_x = std::max({low_x - p.x(), p.x() - (low_x + cell_size_), 0.0});
+    const double gap_y = std::max({low_y - p.y(), p.y() - (low_y + cell_size_), 0.0});
+    if (gap_x * gap_x + gap_y * gap_y > limit) return;
+    const std::size_t cell = static_cast<std::size_t>(y) * columns_ + x;
+    for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+      const double distance = (sorted_positions_[k] - p).squaredNorm();
+      if (distance > limit || items_[k] == excluded) continue;
+      const std::pair candidate{distance, items_[k]};
+      if (nearest.size() == count && !(candidate < nearest.back())) continue;
+      nearest.insert(std::upper_bound(nearest.begin(), nearest.end(), candidate), candidate);
+      if (nearest.size() > count) nearest.pop_back();
+      if (nearest.size() == count) limit = nearest.back().first;
+    }
+  };
+  // p's own cell first: its neighbours there set a tight limit, and most other cells are then skipped.
+  const int own_x = cell_x(p.x()), own_y = cell_y(p.y());
+  const bool inside = own_x >= 0 && own_x < columns_ && own_y >= 0 && own_y < rows_;
+  if (inside) scan(own_x, own_y);
   const int x0 = std::max(0, cell_x(p.x() - range)), x1 = std::min(columns_ - 1, cell_x(p.x() + range));
   const int y0 = std::max(0, cell_y(p.y() - range)), y1 = std::min(rows_ - 1, cell_y(p.y() + range));
-  double limit = range * range;  // the k-th nearest's squared distance once k are known
   for (int y = y0; y <= y1; ++y) {
-    const double low_y = low_.y() + y * cell_size_;
-    const double gap_y = std::max({low_y - p.y(), p.y() - (low_y + cell_size_), 0.0});
     for (int x = x0; x <= x1; ++x) {
-      const double low_x = low_.x() + x * cell_size_;
-      const double gap_x = std::max({low_x - p.x(), p.x() - (low_x + cell_size_), 0.0});
-      if (gap_x * gap_x + gap_y * gap_y > limit) continue;
-      const std::size_t cell = static_cast<std::size_t>(y) * columns_ + x;
-      for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
-        const double distance = (sorted_positions_[k] - p).squaredNorm();
-        if (distance > limit || items_[k] == excluded) continue;
-        const std::pair candidate{distance, items_[k]};
-        if (nearest.size() == count && !(candidate < nearest.back())) continue;
-        nearest.insert(std::upper_bound(nearest.begin(), nearest.end(), candidate), candidate);
-        if (nearest.size() > count) nearest.pop_back();
-        if (nearest.size() == count) limit = nearest.back().first;
-      }
+      if (!inside || x != own_x || y != own_y) scan(x, y);
     }
   }
 }
