@@ -38,19 +38,22 @@ void SpatialGrid::nearest_within(const Vec2& p, double range, std::size_t count,
   nearest.clear();
   if (sorted_positions_.empty() || count == 0) return;
   double limit = range * range;  // the k-th nearest's squared distance once k are known
-  const auto scan = [&](int x, int y) {
+  const auto scan = [&](int x, int y) __attribute__((always_inline)) {
     const double low_x = low_.x() + x * cell_size_, low_y = low_.y() + y * cell_size_;
-    const double gap_x = std::max({low_x - p.x(), p.x() - (low_x + cell_size_), 0.0});
-    const double gap_y = std::max({low_y - p.y(), p.y() - (low_y + cell_size_), 0.0});
+    const double gap_x = std::max(std::max(low_x - p.x(), p.x() - (low_x + cell_size_)), 0.0);
+    const double gap_y = std::max(std::max(low_y - p.y(), p.y() - (low_y + cell_size_)), 0.0);
     if (gap_x * gap_x + gap_y * gap_y > limit) return;
     const std::size_t cell = static_cast<std::size_t>(y) * columns_ + x;
     for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
       const double distance = (sorted_positions_[k] - p).squaredNorm();
       if (distance > limit || items_[k] == excluded) continue;
       const std::pair candidate{distance, items_[k]};
-      if (nearest.size() == count && !(candidate < nearest.back())) continue;
-      nearest.insert(std::upper_bound(nearest.begin(), nearest.end(), candidate), candidate);
-      if (nearest.size() > count) nearest.pop_back();
+      if (nearest.size() == count) {
+        if (!(candidate < nearest.back())) continue;
+        nearest.pop_back();
+      }
+      nearest.push_back(candidate);  // then sink it to its place: the list is short
+      for (std::size_t j = nearest.size() - 1; j > 0 && nearest[j] < nearest[j - 1]; --j) std::swap(nearest[j], nearest[j - 1]);
       if (nearest.size() == count) limit = nearest.back().first;
     }
   };
