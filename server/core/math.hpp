@@ -19,6 +19,19 @@ struct Pose2 {
   bool operator==(const Pose2&) const = default;
 };
 
+/// A 3D pose (DESIGN §3): position and roll, pitch, yaw (rotations about x, y, z, applied in that
+/// order in the fixed frame, as URDF's rpy).
+struct Pose3 {
+  double x = 0.0;
+  double y = 0.0;
+  double z = 0.0;
+  double roll = 0.0;
+  double pitch = 0.0;
+  double yaw = 0.0;
+
+  bool operator==(const Pose3&) const = default;
+};
+
 /// Angle wrapped into (-π, π].
 inline double wrap_angle(double angle) {
   if (angle > -std::numbers::pi && angle <= std::numbers::pi) return angle;  // the usual case, without libm

@@ -1,0 +1,76 @@
+#pragma once
+// A robot in a session: its joints' motors, the base pose the wheels carry, and the controllers a
+// user or a built-in controller commands — wheel (body velocity → wheel speeds), joint groups (arm,
+// head: position or velocity targets) and gripper (open/close). The same commands work whatever
+// motor sits behind a joint.
+#include <memory>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "core/random.hpp"
+#include "core/state_hash.hpp"
+#include "robots/description.hpp"
+
+namespace hrisim::robots {
+
+using core::Pose2;
+
+/// Pose3 as a rigid transform (rpy about fixed x, y, z).
+Eigen::Isometry3d to_isometry(const Pose3& pose);
+
+class Robot {
+ public:
+  Robot(std::shared_ptr<const RobotDescription> description, const Pose2& start, double dt);
+
+  const RobotDescription& description() const { return *description_; }
+
+  /// The wheel controller: a body velocity, clamped to the base's limits, as wheel speed targets.
+  /// Throws core::Error(conflict) for a robot without a drive.
+  void command_base(const Twist& twist);
+  void command_position(int joint, double position);
+  void command_velocity(int joint, double velocity);
+  /// Targets for a named joint group (e.g. "arm", "head"), one per joint in the group's order:
+  /// positions, or velocities when `velocities`. Throws not_found / bad_request on a wrong group or count.
+  void command_group(std::string_view group, std::span<const double> targets, bool velocities = false);
+  /// Opens or closes the gripper (throws conflict when the robot has none).
+  void set_gripper(bool closed);
+  bool gripper_closed() const { return gripper_closed_; }
+
+  /// Advances the motors one tick and moves the base by the twist its wheels actually turn.
+  void step(core::Random& random);
+
+  const Pose2& pose() const { return pose_; }
+  /// Places the robot (the uniform set-pose interface); its motion state is kept.
+  void set_pose(const Pose2& pose) { pose_ = pose; }
+  /// The body velocity of the last step, from the wheels' actual speeds.
+  const Twist& twist() const { return twist_; }
+  /// The wheels' actual speeds in the last step (zero without a drive).
+  WheelSpeeds wheel_speeds() const;
+
+  /// Index of a joint by name; throws core::Error(not_found) when there is none.
+  int joint_index(std::string_view name) const;
+  double joint_position(int joint) const;
+  double joint_velocity(int joint) const;
+  const Motor* motor(int joint) const { return motors_[joint] ? &*motors_[joint] : nullptr; }
+
+  /// Every link's pose in the map frame (z up from the floor), in description order.
+  std::vector<Eigen::Isometry3d> link_poses() const;
+  /// A sensor's pose in the map frame.
+  Eigen::Isometry3d sensor_pose(const Sensor& sensor) const;
+
+  void hash(core::StateHasher& hasher) const;
+
+ private:
+  std::shared_ptr<const RobotDescription> description_;
+  double dt_;
+  Pose2 pose_;
+  Twist twist_;
+  std::vector<std::optional<Motor>> motors_;  ///< per joint; none for fixed joints
+  bool gripper_closed_ = false;
+};
+
+}  // namespace hrisim::robots
