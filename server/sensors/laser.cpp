@@ -1,0 +1,43 @@
+#include "sensors/laser.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace hrisim::sensors {
+
+LaserParams infrared_defaults() {
+  LaserParams params;
+  params.field_of_view = 0.0;
+  params.beams = 1;
+  params.min_range = 0.1;
+  params.max_range = 0.8;
+  params.range_noise = 0.01;
+  params.rate = 25.0;
+  return params;
+}
+
+LaserParams read_laser_params(const nlohmann::json& settings, LaserParams defaults) {
+  LaserParams params = defaults;
+  params.field_of_view = settings.value("field_of_view", params.field_of_view);
+  params.beams = settings.value("beams", params.beams);
+  params.min_range = settings.value("min_range", params.min_range);
+  params.max_range = settings.value("max_range", params.max_range);
+  params.range_noise = settings.value("range_noise", params.range_noise);
+  params.rate = settings.value("rate", params.rate);
+  return params;
+}
+
+Laser::Laser(LaserParams params) : params_(params), fan_(params.start_angle(), params.increment(), params.beams) {}
+
+void Laser::scan(const RayScene& scene, const Vec2& origin, double heading, core::Random& random, std::vector<double>& ranges) const {
+  ranges.resize(static_cast<std::size_t>(params_.beams));
+  scene.scan(fan_, origin, heading, params_.max_range, ranges);
+  for (double& range : ranges) {
+    if (!std::isfinite(range)) continue;
+    if (params_.range_noise > 0.0) range += random.normal(0.0, params_.range_noise);
+    if (range < params_.min_range) range = -std::numeric_limits<double>::infinity();
+    else if (range > params_.max_range) range = std::numeric_limits<double>::infinity();
+  }
+}
+
+}  // namespace hrisim::sensors

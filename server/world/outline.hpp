@@ -1,0 +1,22 @@
+#pragma once
+// The static map as line segments, for range sensors: the exact edges of geometric obstacles, and for
+// maps that come as images, the boundary of their occupied cells merged into maximal straight runs.
+#include <vector>
+
+#include "world/occupancy_grid.hpp"
+
+namespace hrisim::world {
+
+struct Segment {
+  Vec2 a = Vec2::Zero();
+  Vec2 b = Vec2::Zero();
+};
+
+/// Boundary between occupied cells and free or unknown ones (a laser passes unknown space), as
+/// horizontal and vertical runs along cell edges, each as long as it can be.
+std::vector<Segment> occupied_outline(const OccupancyGrid& grid);
+
+/// Appends the edges of a closed polygon.
+void append_edges(const std::vector<Vec2>& polygon, std::vector<Segment>& segments);
+
+}  // namespace hrisim::world
