@@ -62,8 +62,9 @@ void RayScene::scan(const BeamFan& fan, const Vec2& origin, double heading, doub
 
   auto sweep_segment = [&](const Segment& segment) {
     const Vec2 p = segment.a - origin, q = segment.b - origin;
-    if ((core::closest_point_on_segment(Vec2::Zero(), p, q)).norm() > max_range) return;
     const Vec2 edge = q - p;
+    if (segment.one_sided && core::cross(edge, -p) <= 0.0) return;  // we are behind it, inside the solid
+    if ((core::closest_point_on_segment(Vec2::Zero(), p, q)).norm() > max_range) return;
     // The arc the segment covers: from one end's angle, the short way (< π) to the other's.
     const double angle_p = relative_angle(p);
     const double turn = core::wrap_angle(relative_angle(q) - angle_p);

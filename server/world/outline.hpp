@@ -10,13 +10,16 @@ namespace hrisim::world {
 struct Segment {
   Vec2 a = Vec2::Zero();
   Vec2 b = Vec2::Zero();
+  /// The boundary of a solid, free space on its left (from a towards b): nothing outside the solid
+  /// can see its right side, so sensors skip it from there.
+  bool one_sided = false;
 };
 
 /// Boundary between occupied cells and free or unknown ones (a laser passes unknown space), as
-/// horizontal and vertical runs along cell edges, each as long as it can be.
+/// horizontal and vertical runs along cell edges, each as long as it can be; one-sided.
 std::vector<Segment> occupied_outline(const OccupancyGrid& grid);
 
-/// Appends the edges of a closed polygon.
+/// Appends the edges of a closed polygon (a solid), one-sided whichever way the polygon winds.
 void append_edges(const std::vector<Vec2>& polygon, std::vector<Segment>& segments);
 
 }  // namespace hrisim::world

@@ -87,6 +87,21 @@ TEST(RayScene, ArcsAcrossTheFansStartAreFound) {
   EXPECT_TRUE(std::isinf(ranges[180]));
 }
 
+TEST(RayScene, OneSidedSegmentsAreSeenFromTheirFreeSideOnly) {
+  // A solid block from x = 2 to 3: its near face is seen, and from inside the block nothing of it is.
+  std::vector<Segment> block;
+  world::append_edges({{2, -1}, {3, -1}, {3, 1}, {2, 1}}, block);
+  const RayScene scene(block);
+  const BeamFan ahead(0.0, 0.0, 1);
+  std::vector<double> range(1);
+  scene.scan(ahead, {0.0, 0.0}, 0.0, 10.0, range);
+  EXPECT_NEAR(range[0], 2.0, 1e-12);
+  scene.scan(ahead, {2.5, 0.0}, 0.0, 10.0, range);
+  EXPECT_TRUE(std::isinf(range[0]));
+  scene.scan(ahead, {5.0, 0.0}, std::numbers::pi, 10.0, range);
+  EXPECT_NEAR(range[0], 2.0, 1e-12) << "the far face, from the other side";
+}
+
 TEST(Laser, NoiseAndLimitsFollowTheParameters) {
   LaserParams params;  // UST-20LX class
   EXPECT_EQ(params.beams, 1081);

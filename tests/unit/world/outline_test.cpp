@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace hrisim::world {
 namespace {
 
@@ -35,11 +37,33 @@ TEST(Outline, RunsAreMergedAndUnknownIsOpen) {
   EXPECT_DOUBLE_EQ(total_length(segments), 12.0);
 }
 
-TEST(Outline, PolygonEdgesCloseTheLoop) {
-  std::vector<Segment> segments;
-  append_edges({{0, 0}, {1, 0}, {1, 1}}, segments);
-  ASSERT_EQ(segments.size(), 3u);
-  EXPECT_EQ(segments[2].b, Vec2(0, 0));
+TEST(Outline, FreeSpaceIsOnTheLeftOfEveryEdge) {
+  OccupancyGrid grid(0.5, {-1.0, -1.0}, 8, 8);
+  for (const CellIndex c : {CellIndex{2, 2}, CellIndex{3, 2}, CellIndex{3, 3}, CellIndex{5, 6}}) grid.set(c, Cell::occupied);
+  const auto segments = occupied_outline(grid);
+  EXPECT_DOUBLE_EQ(total_length(segments), 8 * 0.5 + 4 * 0.5);  // an L of three cells and a lone cell
+  for (const Segment& segment : segments) {
+    ASSERT_TRUE(segment.one_sided);
+    const Vec2 middle = 0.5 * (segment.a + segment.b), left = core::left_normal((segment.b - segment.a).normalized()) * 0.01;
+    EXPECT_FALSE(grid.blocked(middle + left)) << middle.transpose();
+    EXPECT_TRUE(grid.blocked(middle - left)) << middle.transpose();
+  }
+}
+
+TEST(Outline, PolygonEdgesCloseTheLoopWithTheOutsideOnTheLeft) {
+  for (const bool counter_clockwise : {true, false}) {
+    std::vector<Vec2> triangle{{0, 0}, {1, 0}, {1, 1}};
+    if (!counter_clockwise) std::reverse(triangle.begin(), triangle.end());
+    std::vector<Segment> segments;
+    append_edges(triangle, segments);
+    ASSERT_EQ(segments.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(std::count_if(segments.begin(), segments.end(), [&](const Segment& next) { return next.a == segments[i].b; }), 1)
+          << "a closed loop";
+      const Vec2 middle = 0.5 * (segments[i].a + segments[i].b);
+      EXPECT_FALSE(contains(triangle, middle + 0.01 * core::left_normal(segments[i].b - segments[i].a)));
+    }
+  }
 }
 
 }  // namespace
