@@ -158,6 +158,11 @@ class Loader {
     }
     for (const Obstacle& obstacle : obstacles) grid->fill_polygon(obstacle.polygon);
     auto model = std::make_shared<Model>(std::move(*grid));
+    if (world.contains("map")) {
+      model->outline = world::occupied_outline(model->grid);
+    } else {
+      for (const Obstacle& obstacle : obstacles) world::append_edges(obstacle.polygon, model->outline);
+    }
     model->obstacles = std::move(obstacles);
     const json& doors = member(world, "doors");
     for (std::size_t i = 0; i < doors.size(); ++i) {
@@ -293,11 +298,57 @@ class Loader {
           error(pointer + "/id", "agent id '" + agent.id + "' is used twice");
         }
         names_.agents[agent.id] = static_cast<int>(model.agents.size());
-        if (!is_human) names_.robots.insert(agent.id);
+        if (!is_human) {
+          names_.robots.insert(agent.id);
+          read_robot_model(model, entry, pointer, agent);
+        }
         check_free(model, agent.start.position(), pointer + "/start", std::string(is_human ? "human" : "robot") + " '" + agent.id + "'");
         model.agents.push_back(std::move(agent));
       }
     }
+  }
+
+  /// A robot's model, controller and sensors; its disc is its model's footprint.
+  void read_robot_model(const Model& model, const json& entry, const std::string& pointer, AgentDef& agent) {
+    if (entry.contains("model")) {
+      const std::string name = entry["model"];
+      agent.robot_model = robots::builtin_robot(name);
+      if (!agent.robot_model) {
+        std::string known;
+        for (const auto& candidate : robots::builtin_robot_names()) known += (known.empty() ? "" : ", ") + candidate;
+        error(pointer + "/model", "unknown robot model '" + name + "' (known: " + known + ")");
+      } else if (entry.contains("radius")) {
+        error(pointer + "/radius", "a robot with a model has its model's footprint (" + std::to_string(agent.robot_model->footprint_radius) + " m)");
+      } else {
+        agent.radius = agent.robot_model->footprint_radius;
+      }
+    }
+    for (const char* needs_model : {"controller", "people_detector", "odometry"}) {
+      if (entry.contains(needs_model) && !entry.contains("model")) error(pointer + "/" + needs_model, "only a robot with a model has one");
+    }
+    if (entry.contains("controller")) {
+      const json& controller = entry["controller"];
+      const std::string type = controller["type"];
+      using Kind = RobotController::Kind;
+      agent.controller.kind = type == "goal" ? Kind::goal : type == "social" ? Kind::social : type == "teleop" ? Kind::teleop : Kind::idle;
+      const json goal = controller.value("goal", json::object());
+      if (goal.contains("location")) {
+        const int location = resolve(names_.locations, goal["location"], pointer + "/controller/goal/location", "location");
+        if (location >= 0) agent.controller.goal = model.locations[location].pose;
+        if (goal.contains("pose")) error(pointer + "/controller/goal", "give either a location or a pose");
+      } else if (goal.contains("pose")) {
+        agent.controller.goal = read_pose(goal["pose"]);
+        check_free(model, agent.controller.goal->position(), pointer + "/controller/goal/pose", "goal of robot '" + agent.id + "'");
+      }
+      agent.controller.goal_radius = goal.value("radius", kDefaultGoalRadius);
+      const bool drives = agent.controller.kind == Kind::goal || agent.controller.kind == Kind::social;
+      if (drives && !agent.controller.goal) error(pointer + "/controller/goal", "a " + type + " controller needs a goal");
+      if (agent.robot_model && !agent.robot_model->drive && agent.controller.kind != Kind::idle) {
+        error(pointer + "/controller/type", "robot model '" + agent.robot_model->name + "' has no drive");
+      }
+    }
+    if (entry.contains("people_detector")) agent.people_detector = sensors::read_people_detector_params(entry["people_detector"]);
+    if (entry.contains("odometry")) agent.odometry = sensors::read_odometry_params(entry["odometry"]);
   }
 
   void collect_task_names(Model& model) {

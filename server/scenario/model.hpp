@@ -9,7 +9,11 @@
 
 #include "core/math.hpp"
 #include "humans/locomotion.hpp"
+#include "robots/description.hpp"
+#include "sensors/odometry.hpp"
+#include "sensors/people_detector.hpp"
 #include "world/occupancy_grid.hpp"
+#include "world/outline.hpp"
 #include "world/path_planner.hpp"
 
 namespace hrisim::scenario {
@@ -103,6 +107,14 @@ struct Group {
   std::vector<int> members;  ///< first member leads
 };
 
+/// A robot's built-in controller (when no external controller is connected).
+struct RobotController {
+  enum class Kind { idle, goal, social, teleop };
+  Kind kind = Kind::idle;
+  std::optional<Pose2> goal;  ///< goal and social: where to drive
+  double goal_radius = kDefaultGoalRadius;
+};
+
 struct AgentDef {
   std::string id;
   AgentKind kind = AgentKind::human;
@@ -111,6 +123,11 @@ struct AgentDef {
   std::optional<double> preferred_speed;  ///< drawn per session when absent
   humans::LocalAvoidance avoidance = humans::LocalAvoidance::orca;
   std::string type = "adult";
+  // Robots with a model (a robot without one is a disc moved by choreography or velocity commands).
+  std::shared_ptr<const robots::RobotDescription> robot_model;
+  RobotController controller;
+  std::optional<sensors::PeopleDetectorParams> people_detector;
+  sensors::OdometryParams odometry;
 };
 
 struct Action {
@@ -176,6 +193,9 @@ struct Model {
   world::DistanceField field;
   world::PathPlanner planner;  ///< refers to grid and field above
   std::vector<Obstacle> obstacles;
+  /// The static map as segments for range sensors: the obstacles' exact edges, or for a map from an
+  /// image the outline of its occupied cells.
+  std::vector<world::Segment> outline;
   std::vector<Door> doors;
   std::vector<Elevator> elevators;
 

@@ -37,7 +37,8 @@ class BeamFan {
 
 class RayScene {
  public:
-  explicit RayScene(std::vector<Segment> static_segments = {}) : static_(std::move(static_segments)) {}
+  /// The static segments are referred to, not copied: they must outlive the scene.
+  explicit RayScene(std::span<const Segment> static_segments = {}) : static_(static_segments) {}
 
   void clear_dynamic() {
     segments_.clear();
@@ -53,7 +54,7 @@ class RayScene {
   std::size_t static_segments() const { return static_.size(); }
 
  private:
-  std::vector<Segment> static_;
+  std::span<const Segment> static_;
   std::vector<Segment> segments_;
   std::vector<Circle> circles_;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "core/error.hpp"
 #include "core/portable_math.hpp"
@@ -35,11 +36,15 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
       agent.preferred_speed = def.preferred_speed.value_or(
           std::clamp(speeds.normal(scenario::kPreferredSpeedMean, scenario::kPreferredSpeedStddev),
                      scenario::kPreferredSpeedMin, scenario::kPreferredSpeedMax));
+    } else if (def.robot_model && def.robot_model->drive) {
+      agent.preferred_speed = def.robot_model->drive->params.max_linear_speed;
     } else {
       agent.preferred_speed = def.preferred_speed.value_or(kScriptedRobotSpeed);
     }
     state_.agents.push_back(std::move(agent));
     ids_.add(static_cast<int>(state_.agents.size() - 1));
+    runtime_of_agent_.push_back(def.robot_model ? static_cast<int>(robots_.size()) : -1);
+    if (def.robot_model) robots_.emplace_back(static_cast<int>(state_.agents.size() - 1), def, model_->dt, state_.random);
   }
   for (const scenario::Group& group : model_->groups) state_.groups.push_back(group.members);
   for (const scenario::Door& door : model_->doors) {
@@ -57,6 +62,9 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
   state_.steps.resize(model_->steps.size());
   for (const scenario::Request& scripted : model_->requests) {
     state_.scheduled.push_back({scripted.time, scripted.robot, scripted.task});  // the model keeps them sorted
+  }
+  for (const RobotRuntime& runtime : robots_) {
+    if (runtime.controller.goal) go_to(runtime.agent, *runtime.controller.goal, runtime.controller.goal_radius, false);
   }
   if (!model_->steps.empty()) start_step(0);
 }
@@ -133,8 +141,11 @@ void Session::step() {
   update_requests();
   update_choreography();
   if (state_.finished) return;
+  decide_robots();
   locomotion();
+  move_robots();
   ++state_.tick;
+  sense();
   if (time() >= time_limit_) {
     state_.finished = true;
     state_.termination = "timeout";
@@ -322,6 +333,19 @@ std::vector<std::size_t> Session::blocked_door_cells(double radius) const {
 
 void Session::command_robot(AgentId robot, const Vec2& velocity) {
   state_.agents[index_of(robot)].commanded_velocity = velocity;
+}
+
+void Session::command_robot_twist(AgentId robot, const robots::Twist& twist) {
+  const int agent = index_of(robot);
+  if (runtime_of_agent_[agent] < 0 || !model_->agents[agent].robot_model->drive) {
+    throw core::Error(core::ErrorCode::conflict, "agent '" + model_->agents[agent].id + "' is not a robot with a drive");
+  }
+  robots_[runtime_of_agent_[agent]].command = twist;
+}
+
+const RobotRuntime* Session::robot_runtime(AgentId agent) const {
+  const int runtime = runtime_of_agent_[index_of(agent)];
+  return runtime < 0 ? nullptr : &robots_[runtime];
 }
 
 bool Session::idle(int agent) const {
@@ -733,7 +757,9 @@ void Session::locomotion() {
     crowd.controlled = def.kind == AgentKind::robot;
     crowd.preferred_velocity = preferred;
     crowd.max_speed = std::max(state.preferred_speed * humans::kMaxSpeedFactor, 1e-3);
-    crowd.velocity = crowd.controlled ? (state.navigating ? preferred : state.commanded_velocity) : state.velocity;
+    crowd.velocity = !crowd.controlled ? state.velocity
+                     : runtime_of_agent_[i] >= 0 ? state.velocity  // where its base is taking it
+                     : state.navigating ? preferred : state.commanded_velocity;
   }
   const humans::ObstacleQuery obstacles = [this](const Vec2& p, double range) -> std::optional<Vec2> {
     std::optional<Vec2> nearest = model_->field.nearest_obstacle(model_->grid, p);
@@ -751,9 +777,14 @@ void Session::locomotion() {
   const double max_turn = kTurnRate * model_->dt;
   for (std::size_t k = 0; k < crowd_members_.size(); ++k) {
     const std::size_t i = crowd_members_[k];
+    if (runtime_of_agent_[i] >= 0) continue;  // a robot with a model moves by its own base
     AgentState& state = state_.agents[i];
     state.velocity = velocities_[k];
     state.position += state.velocity * model_->dt;
+    if (model_->agents[i].kind == AgentKind::human) {
+      const double stride = kStrideLength * std::min(state.velocity.norm() / kNominalWalkingSpeed, 1.0);
+      if (stride > 0.0) state.gait_phase = std::fmod(state.gait_phase + 2.0 * std::numbers::pi * state.velocity.norm() * model_->dt / stride, 2.0 * std::numbers::pi);
+    }
     std::optional<double> desired = watching_headings_[i] ? watching_headings_[i] : state.target_heading;
     // Walking direction, for every walker every step: the polynomial (1e-5 rad) spares a libm call.
     if (!desired && state.velocity.norm() > 0.05) desired = core::polynomial_atan2(state.velocity.y(), state.velocity.x());
@@ -767,6 +798,141 @@ void Session::locomotion() {
     } else {
       state.heading = core::wrap_angle(state.heading + std::copysign(max_turn, difference));
     }
+  }
+}
+
+void Session::decide_robots() {
+  for (RobotRuntime& runtime : robots_) {
+    if (!runtime.robot.description().drive) continue;
+    const AgentState& state = state_.agents[runtime.agent];
+    const Pose2 pose = runtime.robot.pose();
+    robots::Twist command = runtime.command;  // teleoperation, or an external controller
+    if (state.navigating && !state.path.empty()) {
+      const std::vector<Vec2> path(state.path.begin() + static_cast<std::ptrdiff_t>(state.path_index), state.path.end());
+      if (runtime.controller.kind == scenario::RobotController::Kind::social) {
+        std::vector<Vec2> people;
+        for (std::size_t other = 0; other < state_.agents.size(); ++other) {
+          if (state_.agents[other].active && model_->agents[other].kind == AgentKind::human) people.push_back(state_.agents[other].position);
+        }
+        command = follow_velocity(pose, social_velocity(pose, path, state.preferred_speed, people, model_->agents[runtime.agent].radius));
+      } else {
+        command = pure_pursuit(pose, path, state.preferred_speed);
+      }
+    } else if (runtime.controller.kind != scenario::RobotController::Kind::teleop) {
+      command = {};
+    }
+    runtime.robot.command_base(command);
+  }
+}
+
+void Session::move_robots() {
+  for (RobotRuntime& runtime : robots_) {
+    AgentState& state = state_.agents[runtime.agent];
+    const bool was_navigating = state.navigating;
+    runtime.robot.step(runtime.motor_random);
+    const Pose2& pose = runtime.robot.pose();
+    state.position = pose.position();
+    state.heading = pose.theta;
+    state.velocity = core::heading_vector(pose.theta) * runtime.robot.twist().linear;
+    if (was_navigating && runtime.controller.goal && (state.goal - state.position).norm() <= state.goal_radius &&
+        (*runtime.controller.goal).position() == state.goal) {
+      emit("robot_goal_reached", model_->agents[runtime.agent].id, {{"x", state.position.x()}, {"y", state.position.y()}});
+    }
+  }
+}
+
+sensors::RayScene Session::range_scene(double height, int robot_agent) const {
+  sensors::RayScene scene(model_->outline);
+  for (std::size_t d = 0; d < model_->doors.size(); ++d) {
+    if (!door_blocks(static_cast<int>(d))) continue;
+    const scenario::Door& door = model_->doors[d];
+    std::vector<world::Segment> edges;
+    const Vec2 across = core::left_normal((door.to - door.from).normalized()) * (0.5 * door.thickness);
+    world::append_edges({door.from - across, door.to - across, door.to + across, door.from + across}, edges);
+    for (const world::Segment& edge : edges) scene.add(edge);
+  }
+  for (std::size_t i = 0; i < state_.agents.size(); ++i) {
+    const AgentState& agent = state_.agents[i];
+    if (!agent.active || static_cast<int>(i) == robot_agent) continue;
+    const scenario::AgentDef& def = model_->agents[i];
+    if (def.kind == AgentKind::human) {
+      add_human_body(scene, agent.position, agent.heading, agent.gait_phase, agent.velocity.norm(), height);
+    } else if (!def.robot_model || height < def.robot_model->height) {
+      scene.add(sensors::Circle{agent.position, def.radius});
+    }
+  }
+  return scene;
+}
+
+void Session::sense() {
+  for (RobotRuntime& runtime : robots_) {
+    const std::string& id = model_->agents[runtime.agent].id;
+    if (runtime.robot.description().drive) {
+      runtime.odometry.update(runtime.robot.twist(), model_->dt, runtime.sensor_random);
+      if (due(runtime.odometry_schedule, state_.tick, model_->dt)) {
+        runtime.odometry_reading = {state_.tick, runtime.odometry.pose(), runtime.odometry.twist()};
+      }
+    }
+    for (RobotRuntime::LaserSensor& sensor : runtime.lasers) {
+      if (!due(sensor.schedule, state_.tick, model_->dt)) continue;
+      const Eigen::Isometry3d mount = runtime.robot.sensor_pose(*sensor.mount);
+      const Vec2 origin(mount.translation().x(), mount.translation().y());
+      const Eigen::Vector3d forward = mount.rotation().col(0);
+      const double heading = std::atan2(forward.y(), forward.x());
+      const sensors::RayScene scene = range_scene(mount.translation().z(), runtime.agent);
+      sensor.laser.scan(scene, origin, heading, runtime.sensor_random, sensor.reading.ranges);
+      sensor.reading.tick = state_.tick;
+      sensor.reading.pose = {origin.x(), origin.y(), heading};
+      sensor.reading.height = mount.translation().z();
+    }
+    if (runtime.people_detector && due(runtime.people_schedule, state_.tick, model_->dt)) {
+      // The detector looks from the first laser's mount (else the base centre) at torso height.
+      Pose2 from = runtime.robot.pose();
+      if (!runtime.lasers.empty()) from = runtime.lasers.front().reading.tick >= 0 ? runtime.lasers.front().reading.pose : from;
+      const double torso_height = 0.5 * (kHipHeight + kShoulderHeight);
+      const sensors::RayScene scene = range_scene(torso_height, runtime.agent);
+      std::vector<sensors::PersonTruth> people;
+      for (std::size_t i = 0; i < state_.agents.size(); ++i) {
+        if (state_.agents[i].active && model_->agents[i].kind == AgentKind::human) {
+          people.push_back({static_cast<int>(i), state_.agents[i].position, state_.agents[i].velocity, kTorsoRadius});
+        }
+      }
+      runtime.people_detector->detect(scene, from.position(), from.theta, people, runtime.sensor_random, runtime.people.people);
+      runtime.people.tick = state_.tick;
+    }
+    // Bumper: what the footprint touches — legs near the floor, the torso if the robot is taller than hips.
+    std::vector<Contact> contacts;
+    const Vec2 centre = runtime.robot.pose().position();
+    const double radius = model_->agents[runtime.agent].radius;
+    for (std::size_t i = 0; i < state_.agents.size(); ++i) {
+      const AgentState& other = state_.agents[i];
+      if (!other.active || static_cast<int>(i) == runtime.agent) continue;
+      if (model_->agents[i].kind == AgentKind::robot) {
+        if ((other.position - centre).norm() < radius + model_->agents[i].radius) contacts.push_back({static_cast<int>(i), "body"});
+        continue;
+      }
+      bool touches_legs = false;
+      for (const Vec2& leg : leg_centres(other.position, other.heading, other.gait_phase, other.velocity.norm(), kBumperHeight)) {
+        touches_legs |= (leg - centre).norm() < radius + kLegRadius;
+      }
+      if (touches_legs) {
+        contacts.push_back({static_cast<int>(i), "legs"});
+      } else if (runtime.robot.description().height > kHipHeight && (other.position - centre).norm() < radius + kTorsoRadius) {
+        contacts.push_back({static_cast<int>(i), "torso"});
+      }
+    }
+    if (model_->field.distance(model_->grid, centre) < radius) contacts.push_back({-1, "obstacle"});
+    for (const Contact& contact : contacts) {
+      if (std::find(runtime.contacts.begin(), runtime.contacts.end(), contact) == runtime.contacts.end()) {
+        emit("contact_start", id, {{"with", contact.agent >= 0 ? model_->agents[contact.agent].id : "map"}, {"part", contact.part}});
+      }
+    }
+    for (const Contact& contact : runtime.contacts) {
+      if (std::find(contacts.begin(), contacts.end(), contact) == contacts.end()) {
+        emit("contact_end", id, {{"with", contact.agent >= 0 ? model_->agents[contact.agent].id : "map"}, {"part", contact.part}});
+      }
+    }
+    runtime.contacts = std::move(contacts);
   }
 }
 
@@ -793,6 +959,8 @@ std::uint64_t Session::state_hash() const {
   }
   hash.add(static_cast<std::int64_t>(state_.requests.size())).add(static_cast<std::int64_t>(state_.events.size()));
   for (std::uint64_t word : state_.random.state()) hash.add(word);
+  for (const AgentState& agent : state_.agents) hash.add(agent.gait_phase);
+  for (const RobotRuntime& runtime : robots_) runtime.hash(hash);
   return hash.value();
 }
 

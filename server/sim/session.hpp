@@ -9,6 +9,7 @@
 #include "core/id.hpp"
 #include "humans/locomotion.hpp"
 #include "scenario/model.hpp"
+#include "sim/robot_runtime.hpp"
 #include "sim/state.hpp"
 
 namespace hrisim::sim {
@@ -68,8 +69,14 @@ class Session {
   void request(AgentId robot, int task);
   /// A robot will ask for a task at simulation time `time`.
   void schedule_request(double time, AgentId robot, int task);
-  /// Sets a robot's velocity in the map frame until changed.
+  /// Sets the velocity of a robot without a model, in the map frame, until changed.
   void command_robot(AgentId robot, const Vec2& velocity);
+  /// Sets the body velocity of a robot with a model (teleoperation or an external controller) until
+  /// changed; it drives by it whenever it is not following a path of its own. Throws
+  /// core::Error(conflict) for a robot without a model or without a drive.
+  void command_robot_twist(AgentId robot, const robots::Twist& twist);
+  /// A robot with a model: its motors, controller and latest sensor readings; null for other agents.
+  const RobotRuntime* robot_runtime(AgentId agent) const;
 
   const State& state() const { return state_; }
   const scenario::Model& model() const { return *model_; }
@@ -102,6 +109,14 @@ class Session {
   bool slot_free(int space, int slot, int agent) const;
   bool idle(int agent) const;
   void locomotion();
+  /// Robots with a model: their controllers pick a command (before the crowd moves).
+  void decide_robots();
+  /// Robots with a model: motors and bases advance; the agents follow their bases.
+  void move_robots();
+  /// Sensors of robots with a model read the world as it is after the step.
+  void sense();
+  /// The map, closed doors, people and other robots at `height`, as range sensors see them.
+  sensors::RayScene range_scene(double height, int robot_agent) const;
   void emit(std::string kind, std::string subject, nlohmann::json data = nlohmann::json::object());
 
   std::shared_ptr<const scenario::Model> model_;
@@ -113,6 +128,8 @@ class Session {
   std::vector<std::size_t> crowd_members_;  ///< agent index of each crowd entry (active agents)
   std::vector<Vec2> velocities_;
   std::vector<std::optional<double>> watching_headings_;  ///< per agent this tick: facing a watched robot
+  std::vector<RobotRuntime> robots_;
+  std::vector<int> runtime_of_agent_;  ///< index into robots_ per agent, -1 for agents without a model
   world::PlanningHistory planning_history_;  ///< this session's own: its paths never depend on other sessions
 };
 

@@ -65,7 +65,8 @@ struct AgentState {
   int reserved_slot = -1;
   bool answering_request = false;
 
-  Vec2 commanded_velocity = Vec2::Zero();  ///< robots: from the controller
+  Vec2 commanded_velocity = Vec2::Zero();  ///< robots without a model: from the controller
+  double gait_phase = 0.0;  ///< humans: where in the walking cycle (rad), advanced by the distance walked
 };
 
 struct Event {

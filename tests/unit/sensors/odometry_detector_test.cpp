@@ -53,7 +53,8 @@ TEST(PeopleDetector, RespectsRangeFieldOfViewAndOcclusion) {
   params.miss_probability = 0.0;
   params.position_noise = params.velocity_noise = 0.0;
   const PeopleDetector detector(params);
-  RayScene scene(wall_between());
+  const auto wall = wall_between();
+  RayScene scene(wall);
   const std::vector<PersonTruth> people{
       {0, {2.0, 0.0}, {0.5, 0.0}, 0.2},    // in front: seen
       {1, {4.0, 0.0}, {0.0, 0.0}, 0.2},    // right behind person 0: hidden

@@ -19,7 +19,8 @@ std::vector<Segment> square_room(double half_side) {
 }
 
 TEST(RayScene, ScanOfASquareRoomMatchesGeometry) {
-  const RayScene scene(square_room(2.0));
+  const auto room = square_room(2.0);
+  const RayScene scene(room);
   const BeamFan fan(-kPi, 2.0 * kPi / 720, 720);  // all around
   std::vector<double> ranges(720);
   for (const double heading : {0.0, 0.3, -2.0}) {
@@ -33,7 +34,8 @@ TEST(RayScene, ScanOfASquareRoomMatchesGeometry) {
 }
 
 TEST(RayScene, NothingWithinRangeReadsInfinity) {
-  const RayScene scene(square_room(10.0));
+  const auto room = square_room(10.0);
+  const RayScene scene(room);
   const BeamFan fan(-0.5, 0.01, 101);
   std::vector<double> ranges(101);
   scene.scan(fan, {0.0, 0.0}, 0.0, 5.0, ranges);
@@ -41,7 +43,8 @@ TEST(RayScene, NothingWithinRangeReadsInfinity) {
 }
 
 TEST(RayScene, TwoLegsAreTwoArcsAndHideTheWall) {
-  RayScene scene({{{3.0, -5.0}, {3.0, 5.0}}});  // a wall 3 m ahead
+  const std::vector<Segment> wall{{{3.0, -5.0}, {3.0, 5.0}}};  // 3 m ahead
+  RayScene scene(wall);
   // Legs 2 m ahead, 0.2 m apart, radius 0.07 m: the scanner sees two arcs with the wall between.
   scene.add(Circle{{2.0, 0.1}, 0.07});
   scene.add(Circle{{2.0, -0.1}, 0.07});
@@ -77,7 +80,8 @@ TEST(RayScene, TwoLegsAreTwoArcsAndHideTheWall) {
 
 TEST(RayScene, ArcsAcrossTheFansStartAreFound) {
   // A fan over the full circle starting at angle π (pointing −x); a wall straddling −x.
-  const RayScene scene({{{-2.0, -1.0}, {-2.0, 1.0}}});
+  const std::vector<Segment> wall{{{-2.0, -1.0}, {-2.0, 1.0}}};
+  const RayScene scene(wall);
   const BeamFan fan(kPi, 2.0 * kPi / 360, 360);
   std::vector<double> ranges(360);
   scene.scan(fan, {0.0, 0.0}, 0.0, 10.0, ranges);
@@ -110,7 +114,8 @@ TEST(Laser, NoiseAndLimitsFollowTheParameters) {
   EXPECT_EQ(params.max_range, 20.0);
   EXPECT_EQ(params.rate, 40.0);
   const Laser laser(params);
-  const RayScene scene({{{1.0, -50.0}, {1.0, 50.0}}});
+  const std::vector<Segment> wall{{{1.0, -50.0}, {1.0, 50.0}}};
+  const RayScene scene(wall);
   core::Random random(3);
   std::vector<double> ranges;
   double sum = 0.0, sum_squares = 0.0;
@@ -135,7 +140,8 @@ TEST(Laser, NoiseAndLimitsFollowTheParameters) {
   }
   EXPECT_NEAR(sum / count, 0.0, 0.004);
   EXPECT_NEAR(std::sqrt(sum_squares / count), 0.01, 0.003);
-  const RayScene close({{{0.01, -1.0}, {0.01, 1.0}}});
+  const std::vector<Segment> near_wall{{{0.01, -1.0}, {0.01, 1.0}}};
+  const RayScene close(near_wall);
   laser.scan(close, {0.0, 0.0}, 0.0, random, ranges);
   EXPECT_EQ(ranges[540], -std::numeric_limits<double>::infinity()) << "closer than min_range (REP 117)";
 }
@@ -144,10 +150,11 @@ TEST(Laser, InfraredIsOneBeam) {
   const Laser infrared(infrared_defaults());
   core::Random random(1);
   std::vector<double> ranges;
-  infrared.scan(RayScene({{{0.5, -1.0}, {0.5, 1.0}}}), {0.0, 0.0}, 0.0, random, ranges);
+  const std::vector<Segment> wall{{{0.5, -1.0}, {0.5, 1.0}}};
+  infrared.scan(RayScene(wall), {0.0, 0.0}, 0.0, random, ranges);
   ASSERT_EQ(ranges.size(), 1u);
   EXPECT_NEAR(ranges[0], 0.5, 0.05);
-  infrared.scan(RayScene({{{0.5, -1.0}, {0.5, 1.0}}}), {0.0, 0.0}, kPi, random, ranges);
+  infrared.scan(RayScene(wall), {0.0, 0.0}, kPi, random, ranges);
   EXPECT_TRUE(std::isinf(ranges[0])) << "facing away";
 }
 

@@ -1,0 +1,144 @@
+#include "sim/robot_runtime.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/portable_math.hpp"
+
+namespace hrisim::sim {
+
+RobotRuntime::RobotRuntime(int agent_index, const scenario::AgentDef& def, double dt, const core::Random& session_random)
+    : agent(agent_index),
+      robot(def.robot_model, def.start, dt),
+      controller(def.controller),
+      motor_random(session_random.stream("robot." + def.id + ".motors")),
+      sensor_random(session_random.stream("robot." + def.id + ".sensors")),
+      odometry(def.odometry),
+      odometry_schedule{1.0 / def.odometry.rate, 0} {
+  for (const robots::Sensor& mount : def.robot_model->sensors) {
+    if (mount.type != "laser" && mount.type != "infrared") continue;
+    const sensors::LaserParams params =
+        sensors::read_laser_params(mount.settings, mount.type == "laser" ? sensors::LaserParams{} : sensors::infrared_defaults());
+    LaserReading reading;
+    reading.sensor = mount.name;
+    reading.angle_min = params.start_angle();
+    reading.angle_increment = params.increment();
+    reading.range_min = params.min_range;
+    reading.range_max = params.max_range;
+    lasers.push_back({&mount, sensors::Laser(params), {1.0 / params.rate, 0}, std::move(reading)});
+  }
+  if (def.people_detector) {
+    people_detector.emplace(*def.people_detector);
+    people_schedule = {1.0 / def.people_detector->rate, 0};
+  }
+}
+
+void RobotRuntime::hash(core::StateHasher& hasher) const {
+  robot.hash(hasher);
+  hasher.add(command.linear).add(command.angular);
+  for (const std::uint64_t word : motor_random.state()) hasher.add(word);
+  for (const std::uint64_t word : sensor_random.state()) hasher.add(word);
+  odometry.hash(hasher);
+  for (const LaserSensor& sensor : lasers) hasher.add(sensor.schedule.next_tick);
+  hasher.add(people_schedule.next_tick).add(odometry_schedule.next_tick);
+  for (const Contact& contact : contacts) hasher.add(contact.agent).add(std::string_view(contact.part));
+}
+
+bool due(Schedule& schedule, std::int64_t tick, double dt) {
+  if (tick < schedule.next_tick) return false;
+  // The k-th reading is at the first tick at or after k × period: no drift from rounding.
+  const auto reading = static_cast<std::int64_t>(std::floor(tick * dt / schedule.period + 1e-9)) + 1;
+  schedule.next_tick = static_cast<std::int64_t>(std::ceil(reading * schedule.period / dt - 1e-9));
+  return true;
+}
+
+namespace {
+
+/// The point `distance` further along the path (the robot's position, then the waypoints).
+Vec2 point_along(const Vec2& start, const std::vector<Vec2>& path, double distance) {
+  Vec2 from = start;
+  for (const Vec2& to : path) {
+    const double leg = (to - from).norm();
+    if (leg >= distance) return from + (to - from) * (distance / std::max(leg, 1e-12));
+    distance -= leg;
+    from = to;
+  }
+  return from;
+}
+
+double remaining_length(const Vec2& start, const std::vector<Vec2>& path) {
+  double length = 0.0;
+  Vec2 from = start;
+  for (const Vec2& to : path) {
+    length += (to - from).norm();
+    from = to;
+  }
+  return length;
+}
+
+}  // namespace
+
+robots::Twist pure_pursuit(const Pose2& pose, const std::vector<Vec2>& path, double speed) {
+  if (path.empty()) return {};
+  const Vec2 position = pose.position();
+  const double remaining = remaining_length(position, path);
+  const Vec2 target = point_along(position, path, std::min(kPurePursuitLookahead, remaining));
+  const Vec2 offset = target - position;
+  if (offset.norm() < 1e-9) return {};
+  // The target in the robot's frame; the arc through it has curvature 2y / L².
+  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+  const double ahead = c * offset.x() + s * offset.y(), left = -s * offset.x() + c * offset.y();
+  const double bearing = core::polynomial_atan2(left, ahead);
+  if (std::abs(bearing) > kTurnOnTheSpotAngle) return {0.0, kHeadingGain * bearing};
+  const double linear = speed * std::clamp(remaining / kRobotArrivalSlowdown, 0.2, 1.0);
+  return {linear, linear * 2.0 * left / offset.squaredNorm()};
+}
+
+robots::Twist follow_velocity(const Pose2& pose, const Vec2& desired) {
+  const double speed = desired.norm();
+  if (speed < 1e-6) return {};
+  const double error = core::wrap_angle(core::polynomial_atan2(desired.y(), desired.x()) - pose.theta);
+  if (std::abs(error) > kTurnOnTheSpotAngle) return {0.0, kHeadingGain * error};
+  return {speed * std::cos(error), kHeadingGain * error};
+}
+
+Vec2 social_velocity(const Pose2& pose, const std::vector<Vec2>& path, double speed, const std::vector<Vec2>& people,
+                     double robot_radius) {
+  if (path.empty()) return Vec2::Zero();
+  const Vec2 position = pose.position();
+  const double remaining = remaining_length(position, path);
+  const Vec2 target = point_along(position, path, std::min(kPurePursuitLookahead, remaining));
+  Vec2 desired = (target - position).normalized() * speed * std::clamp(remaining / kRobotArrivalSlowdown, 0.2, 1.0);
+  const Vec2 forward = core::heading_vector(pose.theta);
+  double slowest = 1.0;
+  for (const Vec2& person : people) {
+    const Vec2 away = position - person;
+    const double gap = away.norm() - robot_radius;
+    if (gap > kSocialSlowDistance + 1.0) continue;
+    desired += kSocialRepulsion * std::exp(-std::max(gap, 0.0) / kSocialRepulsionRange) * away.normalized();
+    const double angle = std::acos(std::clamp(forward.dot(-away.normalized()), -1.0, 1.0));
+    if (angle < kSocialYieldAngle) {
+      slowest = std::min(slowest, std::clamp((gap - kSocialStopDistance) / (kSocialSlowDistance - kSocialStopDistance), 0.0, 1.0));
+    }
+  }
+  return desired * slowest;
+}
+
+std::array<Vec2, 2> leg_centres(const Vec2& position, double heading, double gait_phase, double speed, double height) {
+  // A foot swings a quarter stride either way; at a given height, the hip angle's share of that.
+  const Vec2 forward = core::heading_vector(heading), side = core::left_normal(forward);
+  const double stride = kStrideLength * std::min(speed / kNominalWalkingSpeed, 1.0);
+  const double swing = 0.25 * stride * std::sin(gait_phase) * (kHipHeight - height) / kHipHeight;
+  return {position + 0.5 * kHipWidth * side + swing * forward, position - 0.5 * kHipWidth * side - swing * forward};
+}
+
+void add_human_body(sensors::RayScene& scene, const Vec2& position, double heading, double gait_phase, double speed, double height) {
+  if (height >= kShoulderHeight) return;
+  if (height >= kHipHeight) {
+    scene.add(sensors::Circle{position, kTorsoRadius});
+    return;
+  }
+  for (const Vec2& leg : leg_centres(position, heading, gait_phase, speed, height)) scene.add(sensors::Circle{leg, kLegRadius});
+}
+
+}  // namespace hrisim::sim

@@ -1,0 +1,142 @@
+#pragma once
+// Robots with a model in a session: their motors and base (robots::Robot), the built-in controller
+// that commands them when no external controller is connected, and their sensors — lasers, people
+// detector, odometry, bumper — which read the world after each step, each at its own rate and from
+// its own random stream.
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/random.hpp"
+#include "core/state_hash.hpp"
+#include "robots/robot.hpp"
+#include "scenario/model.hpp"
+#include "sensors/laser.hpp"
+#include "sensors/odometry.hpp"
+#include "sensors/people_detector.hpp"
+
+namespace hrisim::sim {
+
+using core::Pose2;
+using core::Vec2;
+
+// Built-in controllers (named defaults, docs/robots.md).
+/// Pure pursuit looks this far ahead along the path, m.
+inline constexpr double kPurePursuitLookahead = 0.6;
+/// A target further to the side than this is first faced by turning on the spot, rad.
+inline constexpr double kTurnOnTheSpotAngle = 0.8;
+/// Angular velocity per radian of heading error when facing a direction, 1/s.
+inline constexpr double kHeadingGain = 2.5;
+/// Robots slow down over this distance before their goal, m.
+inline constexpr double kRobotArrivalSlowdown = 0.5;
+/// The social robot slows for a person closer than this within ±kSocialYieldAngle ahead, m...
+inline constexpr double kSocialSlowDistance = 1.5;
+/// ...and stops for one this close, m.
+inline constexpr double kSocialStopDistance = 0.6;
+inline constexpr double kSocialYieldAngle = 1.0;  ///< rad
+/// The social robot's sideways push away from people: strength at contact (m/s) and decay length (m),
+/// Helbing's exponential repulsion.
+inline constexpr double kSocialRepulsion = 0.5;
+inline constexpr double kSocialRepulsionRange = 0.4;
+
+// Human bodies as range sensors see them (until the skeleton of the rendering issue exists).
+inline constexpr double kLegRadius = 0.07;       ///< m
+inline constexpr double kHipWidth = 0.2;         ///< m between the legs' centres
+inline constexpr double kHipHeight = 0.85;       ///< m: legs below, torso above
+inline constexpr double kShoulderHeight = 1.45;  ///< m: top of the torso
+inline constexpr double kTorsoRadius = 0.2;      ///< m
+/// Length of a full gait cycle (two steps) at the nominal walking speed, m; shorter when slower.
+inline constexpr double kStrideLength = 1.4;
+inline constexpr double kNominalWalkingSpeed = 1.34;  ///< m/s
+
+/// A range sensor reading in ROS LaserScan's terms (REP 117 for out-of-range values).
+struct LaserReading {
+  std::string sensor;
+  std::int64_t tick = -1;  ///< when it was taken; -1 before the first
+  Pose2 pose;              ///< the sensor's pose in the map frame when it was taken
+  double height = 0.0;     ///< m above the floor
+  double angle_min = 0.0, angle_increment = 0.0, range_min = 0.0, range_max = 0.0;
+  std::vector<double> ranges;
+};
+
+struct PeopleReading {
+  std::int64_t tick = -1;
+  std::vector<sensors::Detection> people;
+};
+
+struct OdometryReading {
+  std::int64_t tick = -1;
+  Pose2 pose;
+  robots::Twist twist;
+};
+
+/// Something the robot's body touches.
+struct Contact {
+  int agent = -1;    ///< the human or robot touched, -1 for the map
+  std::string part;  ///< "legs", "torso", "body" (a robot) or "obstacle"
+  bool operator==(const Contact&) const = default;
+};
+
+/// A sensor and when it reads next.
+struct Schedule {
+  double period = 0.0;        ///< s
+  std::int64_t next_tick = 0;
+};
+
+/// A robot with a model and everything the session keeps for it.
+struct RobotRuntime {
+  RobotRuntime(int agent_index, const scenario::AgentDef& def, double dt, const core::Random& session_random);
+
+  struct LaserSensor {
+    const robots::Sensor* mount;  ///< in the robot's description
+    sensors::Laser laser;
+    Schedule schedule;
+    LaserReading reading;
+  };
+
+  int agent;
+  robots::Robot robot;
+  scenario::RobotController controller;
+  robots::Twist command;  ///< teleoperation (or an external controller): held until changed
+  core::Random motor_random, sensor_random;
+  std::vector<LaserSensor> lasers;  ///< laser and infrared sensors, in description order
+  std::optional<sensors::PeopleDetector> people_detector;
+  Schedule people_schedule;
+  PeopleReading people;
+  sensors::Odometry odometry;
+  Schedule odometry_schedule;
+  OdometryReading odometry_reading;
+  std::vector<Contact> contacts;  ///< what the body touches now
+
+  void hash(core::StateHasher& hasher) const;
+};
+
+/// True when a sensor with this schedule reads at `tick` (and moves its schedule on).
+bool due(Schedule& schedule, std::int64_t tick, double dt);
+
+/// Pure pursuit along `path` (from the robot's position through the remaining waypoints): the arc
+/// through the point kPurePursuitLookahead ahead, at `speed`; turns on the spot towards targets far to
+/// the side; slows before the last waypoint.
+robots::Twist pure_pursuit(const Pose2& pose, const std::vector<Vec2>& path, double speed);
+
+/// A differential-drive command that follows a desired planar velocity: turn towards it, drive at its
+/// speed projected on the heading (never backwards).
+robots::Twist follow_velocity(const Pose2& pose, const Vec2& desired);
+
+/// The social robot's desired velocity: towards the lookahead point at `speed`, pushed sideways away
+/// from nearby people, slowed and stopped for people ahead.
+Vec2 social_velocity(const Pose2& pose, const std::vector<Vec2>& path, double speed, const std::vector<Vec2>& people,
+                     double robot_radius);
+
+/// Height at which a robot's bumper touches legs, m.
+inline constexpr double kBumperHeight = 0.1;
+
+/// Centres of a human's two legs at `height` (below the hips): a hip width apart, swinging fore and
+/// aft in opposition with the gait phase.
+std::array<Vec2, 2> leg_centres(const Vec2& position, double heading, double gait_phase, double speed, double height);
+
+/// Where a human's legs (two circles) or torso (one) are at `height`, as range sensors see them.
+void add_human_body(sensors::RayScene& scene, const Vec2& position, double heading, double gait_phase, double speed, double height);
+
+}  // namespace hrisim::sim
