@@ -1,0 +1,166 @@
+// Robots with a model inside a session: built-in controllers, sensors and contact events.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "sim/session.hpp"
+#include "support/scenarios.hpp"
+
+namespace hrisim::sim {
+namespace {
+
+using nlohmann::json;
+
+/// The test room with one HSR and `extra` merged over it; a human waits long enough to keep it running.
+std::shared_ptr<const scenario::Model> with_hsr(const json& robot, const json& extra = json::object()) {
+  json scenario = testing::room_scenario(extra);
+  json hsr = {{"id", "hsr"}, {"model", "hsr"}, {"start", {{"x", 2}, {"y", 2}, {"theta", 0}}}};
+  hsr.merge_patch(robot);
+  scenario["robots"] = json::array({hsr});
+  if (!scenario.contains("humans")) scenario["humans"] = json::array({{{"id", "ana"}, {"start", {{"x", 8.5}, {"y", 8.5}}}}});
+  scenario["steps"] = json::array({{{"name", "wait"}, {"actions", json::array({{{"agent", scenario["humans"][0]["id"]}, {"wait", {{"duration", 55}}}}})}}});
+  return testing::load_valid(scenario);
+}
+
+std::vector<const Event*> events_of(const Session& session, const std::string& kind) {
+  std::vector<const Event*> found;
+  for (const Event& event : session.state().events) {
+    if (event.kind == kind) found.push_back(&event);
+  }
+  return found;
+}
+
+TEST(RobotSession, GoalControllerDrivesAroundTheTableToTheGoal) {
+  Session session(with_hsr({{"controller", {{"type", "goal"}, {"goal", {{"pose", {{"x", 8}, {"y", 5}}}}}}}}), 1);
+  const AgentId hsr = session.agent_id("hsr");
+  double closest_to_table = 1e9;
+  while (events_of(session, "robot_goal_reached").empty() && session.time() < 50.0) {
+    session.step();
+    const Vec2 p = session.state().agents[session.index_of(hsr)].position;
+    closest_to_table = std::min(closest_to_table, (p - Vec2(std::clamp(p.x(), 4.4, 5.6), std::clamp(p.y(), 4.6, 5.4))).norm());
+    ASSERT_LE(session.robot_runtime(hsr)->robot.twist().linear, 0.8 / 3.6 + 0.02) << "HSR's 0.8 km/h";
+  }
+  ASSERT_EQ(events_of(session, "robot_goal_reached").size(), 1u);
+  EXPECT_LE((session.state().agents[session.index_of(hsr)].position - Vec2(8, 5)).norm(), 0.2 + 0.01);
+  EXPECT_GT(closest_to_table, 0.215 - 0.05) << "the footprint stays off the table";
+  // 6 m and the detour at 0.22 m/s.
+  EXPECT_GT(session.time(), 6.0 / 0.222);
+}
+
+TEST(RobotSession, TeleopDrivesTheBaseAndDiscRobotsRefuseTwists) {
+  Session session(with_hsr({{"controller", {{"type", "teleop"}}}}), 1);
+  const AgentId hsr = session.agent_id("hsr");
+  session.command_robot_twist(hsr, {0.2, 0.0});
+  for (int i = 0; i < 300; ++i) session.step();
+  EXPECT_NEAR(session.state().agents[session.index_of(hsr)].position.x(), 2.0 + 0.2 * (5.0 - 1.0 / 60 - 0.1), 0.01);
+  const RobotRuntime& runtime = *session.robot_runtime(hsr);
+  // Odometry believes about the same, with its own drift.
+  EXPECT_GE(runtime.odometry_reading.tick, 295);
+  EXPECT_NEAR(runtime.odometry_reading.pose.x, 0.98, 0.05) << "the odometry frame starts at the robot's start";
+  EXPECT_NE(runtime.odometry_reading.pose.x, session.state().agents[session.index_of(hsr)].position.x() - 2.0);
+  EXPECT_EQ(session.robot_runtime(session.agent_id("ana")), nullptr);
+  Session disc(testing::load_valid(testing::room_scenario(json::parse(R"({
+    "robots": [{"id": "box", "start": {"x": 2, "y": 2}}],
+    "humans": [{"id": "ana", "start": {"x": 8, "y": 8}}],
+    "steps": [{"name": "wait", "actions": [{"agent": "ana", "wait": {"duration": 5}}]}]})"))), 1);
+  EXPECT_THROW(disc.command_robot_twist(disc.agent_id("box"), {0.1, 0.0}), core::Error);
+}
+
+TEST(RobotSession, BaseLaserSeesAPersonsLegsAsTwoArcs) {
+  // Ana stands 1.5 m ahead of the laser, facing the robot: her legs are side by side across the beams.
+  Session session(with_hsr({{"controller", {{"type", "idle"}}}},
+                           {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 3.7}, {"y", 2}, {"theta", 3.14159}}}}})}}),
+                  1);
+  for (int i = 0; i < 3; ++i) session.step();
+  const LaserReading& scan = session.robot_runtime(session.agent_id("hsr"))->lasers.front().reading;
+  ASSERT_EQ(scan.ranges.size(), 1081u) << "the UST-20LX class default";
+  // 40 Hz on 60 Hz steps: scans after steps 1, 2, 3 (at 0, 0.025 and 0.05 s, each read on the first
+  // tick at or after its time), then 5, 6, …
+  EXPECT_EQ(scan.tick, 3);
+  EXPECT_NEAR(scan.height, 0.1844, 1e-3);
+  std::vector<int> runs;
+  bool on_leg = false;
+  for (int beam = 540 - 120; beam <= 540 + 120; ++beam) {  // ±30° ahead
+    const bool leg = scan.ranges[beam] < 2.0;
+    if (leg && !on_leg) runs.push_back(0);
+    if (leg) ++runs.back();
+    on_leg = leg;
+  }
+  ASSERT_EQ(runs.size(), 2u) << "two legs, the wall showing between them";
+  // Each leg (0.07 m radius at 1.45 m) spans about 2 × asin(0.07 / 1.45) ≈ 5.5° ≈ 22 beams of 0.25°.
+  for (const int run : runs) EXPECT_NEAR(run, 22, 4);
+}
+
+TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
+  // Ana stands against the robot's front (she would step aside from an approaching robot).
+  Session session(with_hsr({{"controller", {{"type", "teleop"}}}},
+                           {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 2.25}, {"y", 2}, {"theta", 3.14159}}}}})}}),
+                  1);
+  const AgentId hsr = session.agent_id("hsr");
+  session.step();
+  const auto started = events_of(session, "contact_start");
+  ASSERT_EQ(started.size(), 1u);
+  EXPECT_EQ(started[0]->subject, "hsr");
+  EXPECT_EQ(started[0]->data["with"], "ana");
+  EXPECT_EQ(started[0]->data["part"], "legs");
+  session.command_robot_twist(hsr, {-0.2, 0.0});
+  for (int i = 0; i < 200; ++i) session.step();
+  ASSERT_EQ(events_of(session, "contact_end").size(), 1u);
+  EXPECT_TRUE(session.robot_runtime(hsr)->contacts.empty());
+}
+
+TEST(RobotSession, PeopleDetectorSeesPeopleButNotThroughTheTable) {
+  // The table spans x 4.4–5.6, y 4.6–5.4. Ben stands right behind it as seen from the robot.
+  Session session(with_hsr({{"start", {{"x", 2}, {"y", 5}, {"theta", 0}}},
+                            {"people_detector", {{"miss_probability", 0.0}, {"position_noise", 0.0}, {"velocity_noise", 0.0}}}},
+                           {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 3}, {"y", 7}}}},
+                                                    {{"id", "ben"}, {"start", {{"x", 7}, {"y", 5}}}}})}}),
+                  1);
+  session.step();
+  const PeopleReading& people = session.robot_runtime(session.agent_id("hsr"))->people;
+  EXPECT_EQ(people.tick, 1);
+  ASSERT_EQ(people.people.size(), 1u) << "ben is hidden: obstacles are full height";
+  EXPECT_EQ(people.people[0].agent, session.index_of(session.agent_id("ana")));
+}
+
+TEST(RobotSession, SameSeedSameRunDifferentSeedDifferentNoise) {
+  auto run = [](std::uint64_t seed) {
+    Session session(with_hsr({{"controller", {{"type", "social"}, {"goal", {{"pose", {{"x", 8}, {"y", 8}}}}}}},
+                              {"people_detector", json::object()}},
+                             {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 6}, {"y", 6}}}}})}}),
+                    seed);
+    for (int i = 0; i < 600; ++i) session.step();
+    return session.state_hash();
+  };
+  EXPECT_EQ(run(4), run(4));
+  EXPECT_NE(run(4), run(5));
+}
+
+TEST(RobotSession, RobotDefinitionsAreValidated) {
+  auto errors = [](const json& robot) {
+    json scenario = testing::room_scenario(json::object());
+    scenario["robots"] = json::array({robot});
+    std::vector<std::string> pointers;
+    for (const auto& error : scenario::load_scenario(scenario, {}).errors) pointers.push_back(error.pointer + " " + error.message);
+    return pointers;
+  };
+  const json start = {{"x", 2}, {"y", 2}};
+  auto has = [](const std::vector<std::string>& found, const std::string& prefix) {
+    return std::any_of(found.begin(), found.end(), [&](const std::string& e) { return e.rfind(prefix, 0) == 0; });
+  };
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "r2d2"}, {"start", start}}), "/robots/0/model unknown robot model 'r2d2'"));
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"radius", 0.3}, {"start", start}}), "/robots/0/radius"));
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"start", start}, {"controller", {{"type", "idle"}}}}), "/robots/0/controller only a robot with a model"));
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "goal"}}}}), "/robots/0/controller/goal"));
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "goal"}, {"goal", {{"location", "nowhere"}}}}}}),
+                  "/robots/0/controller/goal/location"));
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "goal"}, {"goal", {{"pose", {{"x", 5}, {"y", 5}}}}}}}}),
+                  "/robots/0/controller/goal/pose")) << "inside the table";
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "roman"}, {"start", start}, {"controller", {{"type", "teleop"}}}}), "/robots/0/controller/type"));
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"people_detector", {{"range", -1}}}}), "/robots/0/people_detector/range"));
+}
+
+}  // namespace
+}  // namespace hrisim::sim
