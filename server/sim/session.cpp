@@ -818,6 +818,9 @@ void Session::decide_robots() {
       } else {
         command = pure_pursuit(pose, path, state.preferred_speed);
       }
+    } else if (state.target_heading) {
+      // Turning on the spot to a goal's heading or to look at something.
+      command = {0.0, kHeadingGain * core::wrap_angle(*state.target_heading - pose.theta)};
     } else if (runtime.controller.kind != scenario::RobotController::Kind::teleop) {
       command = {};
     }
@@ -834,6 +837,9 @@ void Session::move_robots() {
     state.position = pose.position();
     state.heading = pose.theta;
     state.velocity = core::heading_vector(pose.theta) * runtime.robot.twist().linear;
+    if (state.target_heading && std::abs(core::wrap_angle(*state.target_heading - pose.theta)) <= kHeadingTolerance) {
+      state.target_heading.reset();
+    }
     if (was_navigating && runtime.controller.goal && (state.goal - state.position).norm() <= state.goal_radius &&
         (*runtime.controller.goal).position() == state.goal) {
       emit("robot_goal_reached", model_->agents[runtime.agent].id, {{"x", state.position.x()}, {"y", state.position.y()}});

@@ -164,3 +164,34 @@ TEST(RobotSession, RobotDefinitionsAreValidated) {
 
 }  // namespace
 }  // namespace hrisim::sim
+
+namespace hrisim::sim {
+namespace {
+
+// The use case: the HSR rides up with three people and, on floor 2, asks for the button to
+// be pressed to call the cabin back; it boards the cabin when it comes.
+TEST(RobotSession, BundledElevatorRobotRidesUpAndRequestsTheButton) {
+  const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/elevator.json");
+  ASSERT_TRUE(loaded.model);
+  Session session(loaded.model, 3);
+  const AgentId robot = session.agent_id("robot");
+  ASSERT_NE(session.robot_runtime(robot), nullptr);
+  bool on_floor2 = false;
+  while (!session.state().finished) {
+    session.step();
+    // The cabin spans x from -1.2 to 1.3; floor 2 is the room at x < -1.2.
+    on_floor2 |= session.state().agents[session.index_of(robot)].position.x() < -1.5;
+  }
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_TRUE(on_floor2);
+  ASSERT_EQ(events_of(session, "request_accepted").size(), 1u);
+  EXPECT_EQ(events_of(session, "request_accepted")[0]->data["robot"], "robot");
+  const Vec2 end = session.state().agents[session.index_of(robot)].position;
+  EXPECT_TRUE(end.x() > -1.2 && end.x() < 1.3 && std::abs(end.y()) < 1.1) << "in the cabin: " << end.transpose();
+  const RobotRuntime& runtime = *session.robot_runtime(robot);
+  EXPECT_GT(runtime.lasers.front().reading.tick, 0);
+  EXPECT_GE(runtime.people.tick, session.state().tick - 6) << "10 Hz";
+}
+
+}  // namespace
+}  // namespace hrisim::sim
