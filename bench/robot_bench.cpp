@@ -1,0 +1,63 @@
+// Whole-session speed with a robot: the bundled elevator scenario (six people, an HSR with its 40 Hz
+// 1081-beam base laser, a 10 Hz people detector, odometry and bumper, driven by the built-in path
+// follower) from start to its last step, and the same without the people detector. Prints steps per
+// second and the real-time factor: median of several repetitions.
+//   usage: robot_bench [repetitions=5] [path to the project's scenarios/=scenarios]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "scenario/load.hpp"
+#include "sim/session.hpp"
+
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+void measure(const std::string& label, const json& document, const std::string& scenarios, int repetitions) {
+  const auto loaded = hrisim::scenario::load_scenario(document, {{scenarios}});
+  if (!loaded.model) {
+    std::fprintf(stderr, "invalid scenario: %s %s\n", loaded.errors[0].pointer.c_str(), loaded.errors[0].message.c_str());
+    std::exit(1);
+  }
+  std::vector<double> rates;
+  std::int64_t ticks = 0;
+  std::string termination;
+  for (int r = 0; r < repetitions; ++r) {
+    hrisim::sim::Session session(loaded.model, 1);
+    const auto start = Clock::now();
+    session.run();
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    ticks = session.state().tick;
+    termination = session.state().termination;
+    rates.push_back(ticks / seconds);
+  }
+  std::sort(rates.begin(), rates.end());
+  const double median = rates[rates.size() / 2];
+  std::printf("%-44s %6lld steps (%s): %8.0f steps/s  %7.1fx real time\n", label.c_str(), static_cast<long long>(ticks),
+              termination.c_str(), median, median * loaded.model->dt);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int repetitions = argc > 1 ? std::atoi(argv[1]) : 5;
+  const std::string scenarios = argc > 2 ? argv[2] : "scenarios";
+  std::ifstream file(scenarios + "/elevator.json");
+  if (!file) {
+    std::fprintf(stderr, "no %s/elevator.json\n", scenarios.c_str());
+    return 1;
+  }
+  const json elevator = json::parse(file);
+  std::printf("robot_bench: dt = 1/60 s, one thread, median of %d repetitions\n", repetitions);
+  measure("elevator, HSR with laser and people detector", elevator, scenarios, repetitions);
+  json without_detector = elevator;
+  for (json& robot : without_detector["robots"]) robot.erase("people_detector");
+  measure("elevator, HSR with laser, no people detector", without_detector, scenarios, repetitions);
+  return 0;
+}
