@@ -6,6 +6,7 @@
 #include "http/static_files.hpp"
 #include "render/image_codec.hpp"
 #include "render/offscreen_context.hpp"
+#include "robots/description.hpp"
 #include "storage/store.hpp"
 
 namespace hrisim::http {
@@ -21,6 +22,31 @@ std::string_view embedded_file(std::string_view name) {
     if (embedded::kEmbedded[i].first == name) return embedded::kEmbedded[i].second;
   }
   throw core::Error(core::ErrorCode::internal, "embedded file " + std::string(name) + " is missing");
+}
+
+/// A built-in robot in a few lines, for lists.
+nlohmann::json robot_summary(const robots::RobotDescription& robot) {
+  nlohmann::json joints = nlohmann::json::array(), sensors = nlohmann::json::array();
+  for (const robots::Joint& joint : robot.joints) {
+    if (joint.type != robots::JointType::fixed && !joint.mimic) joints.push_back(joint.name);
+  }
+  for (const robots::Sensor& sensor : robot.sensors) sensors.push_back({{"name", sensor.name}, {"type", sensor.type}});
+  nlohmann::json groups = nlohmann::json::object();
+  for (const auto& [group, members] : robot.groups) groups[group] = members;
+  return {{"name", robot.name},
+          {"description", robot.description},
+          {"footprint_radius", robot.footprint_radius},
+          {"height", robot.height},
+          {"mass", robot.mass},
+          {"drive", robot.drive ? nlohmann::json{{"wheel_radius", robot.drive->params.wheel_radius},
+                                                 {"wheel_separation", robot.drive->params.wheel_separation},
+                                                 {"max_linear_speed", robot.drive->params.max_linear_speed},
+                                                 {"max_angular_speed", robot.drive->params.max_angular_speed}}
+                                : nlohmann::json()},
+          {"actuated_joints", joints},
+          {"groups", groups},
+          {"gripper", robot.gripper ? nlohmann::json(robot.gripper->joint) : nlohmann::json()},
+          {"sensors", sensors}};
 }
 
 std::string boost_version() {
@@ -66,6 +92,23 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
 
   router->add("GET", "/api/v1/openapi.yaml", [](const Request&) {
     return Response{200, "application/yaml", std::string(embedded_file("openapi.yaml")), {}};
+  });
+
+  router->add("GET", "/api/v1/robots", [](const Request&) {
+    nlohmann::json items = nlohmann::json::array();
+    for (const std::string& name : robots::builtin_robot_names()) items.push_back(robot_summary(*robots::builtin_robot(name)));
+    return Response::json(200, {{"items", items}});
+  });
+  router->add("GET", "/api/v1/robots/{name}", [](const Request& request) {
+    const std::string& name = request.path_params.at("name");
+    const auto robot = robots::builtin_robot(name);
+    if (!robot) {
+      std::string known;
+      for (const std::string& candidate : robots::builtin_robot_names()) known += (known.empty() ? "" : ", ") + candidate;
+      return Response::error(core::Error(core::ErrorCode::not_found, "no robot named '" + name + "' (known: " + known + ")",
+                                         {{"name", name}}));
+    }
+    return Response::json(200, {{"summary", robot_summary(*robot)}, {"description", robots::builtin_robot_document(name)}});
   });
 
   auto files = std::make_shared<StaticFiles>(context.web_root);

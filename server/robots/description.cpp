@@ -252,14 +252,20 @@ std::vector<std::string> builtin_robot_names() {
   return names;
 }
 
+json builtin_robot_document(std::string_view name) {
+  const auto names = builtin_robot_names();
+  if (std::find(names.begin(), names.end(), name) == names.end()) return nullptr;
+  return json::parse(embedded_file(std::string(name) + ".json"));
+}
+
 std::shared_ptr<const RobotDescription> builtin_robot(std::string_view name) {
   static std::mutex mutex;
   static std::map<std::string, std::shared_ptr<const RobotDescription>, std::less<>> loaded;
   std::lock_guard lock(mutex);
   if (const auto found = loaded.find(name); found != loaded.end()) return found->second;
-  const auto names = builtin_robot_names();
-  if (std::find(names.begin(), names.end(), name) == names.end()) return nullptr;
-  LoadedRobot robot = load_robot_description(json::parse(embedded_file(std::string(name) + ".json")));
+  const json document = builtin_robot_document(name);
+  if (document.is_null()) return nullptr;
+  LoadedRobot robot = load_robot_description(document);
   if (!robot.description) {
     // A bundled description is checked by the tests; reaching this is a build with a broken asset.
     throw core::Error(core::ErrorCode::internal, "bundled robot '" + std::string(name) + "' is invalid",

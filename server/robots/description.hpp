@@ -105,6 +105,8 @@ LoadedRobot load_robot_description(const nlohmann::json& document);
 
 /// Names of the descriptions built into the binary (from assets/robots/), sorted.
 std::vector<std::string> builtin_robot_names();
+/// A built-in description's JSON document (api/robot.schema.json); null when there is none by that name.
+nlohmann::json builtin_robot_document(std::string_view name);
 /// A built-in description by name, loaded once; null when there is none by that name.
 std::shared_ptr<const RobotDescription> builtin_robot(std::string_view name);
 

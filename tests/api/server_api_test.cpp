@@ -53,6 +53,23 @@ TEST_F(ServerApi, OpenApiDescriptionIsServed) {
   EXPECT_NE(reply.body.find("/healthz"), std::string::npos);
 }
 
+TEST_F(ServerApi, BuiltInRobotsAreListedAndDescribed) {
+  const nlohmann::json list = json_of(http(port(), "GET", "/api/v1/robots"));
+  ASSERT_EQ(list["items"].size(), 3u);
+  EXPECT_EQ(list["items"][1]["name"], "hsr");
+  EXPECT_EQ(list["items"][1]["footprint_radius"], 0.215);
+  EXPECT_EQ(list["items"][1]["drive"]["wheel_separation"], 0.266);
+  EXPECT_EQ(list["items"][1]["groups"]["arm"].size(), 6u);
+  EXPECT_TRUE(list["items"][2]["drive"].is_null()) << "ROMAN stands on a fixed stand";
+  const HttpReply hsr = http(port(), "GET", "/api/v1/robots/hsr");
+  EXPECT_EQ(hsr.status, 200);
+  EXPECT_EQ(json_of(hsr)["description"]["drive"]["wheel_radius"], 0.04);
+  const HttpReply unknown = http(port(), "GET", "/api/v1/robots/r2d2");
+  EXPECT_EQ(unknown.status, 404);
+  EXPECT_EQ(json_of(unknown)["error"]["code"], "not_found");
+  EXPECT_EQ(json_of(unknown)["error"]["details"]["name"], "r2d2");
+}
+
 TEST_F(ServerApi, StaticPageWithContentType) {
   const HttpReply page = http(port(), "GET", "/");
   EXPECT_EQ(page.status, 200);
