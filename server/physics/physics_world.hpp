@@ -1,0 +1,73 @@
+#pragma once
+// The Bullet world of a session: the static map, people as kinematic capsules that follow their
+// bodies, robot links as kinematic bodies that follow the robot's joints, and movable objects (cups,
+// boxes) as dynamic bodies that fall, rest and get pushed. One world and solver per session, bodies
+// added in scenario order, a fixed time step, Bullet's double-precision build. Bullet's headers stay
+// inside physics_world.cpp.
+#include <memory>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "robots/description.hpp"
+#include "world/outline.hpp"
+
+namespace hrisim::physics {
+
+/// Gravity, m/s² (along -z).
+inline constexpr double kGravity = 9.81;
+/// Bodies closer than this count as touching, m.
+inline constexpr double kContactDistance = 1e-3;
+
+/// Who a body belongs to, for contact reports.
+struct BodyOwner {
+  enum class Kind { map, human, robot, object };
+  Kind kind = Kind::map;
+  int index = -1;    ///< agent index (human, robot) or object index; -1 for the map
+  std::string part;  ///< human: torso, left_leg, right_leg; robot: its link; object and map: its name
+  bool operator==(const BodyOwner&) const = default;
+};
+
+class PhysicsWorld {
+ public:
+  explicit PhysicsWorld(double dt);
+  ~PhysicsWorld();
+  PhysicsWorld(const PhysicsWorld&) = delete;
+  PhysicsWorld& operator=(const PhysicsWorld&) = delete;
+
+  /// The floor (z = 0) and walls: every segment as a vertical face from the floor to `height`.
+  int add_floor_and_walls(std::span<const world::Segment> segments, double height);
+  /// A static prism: the polygon from the floor to `height` (furniture, obstacles).
+  int add_static_prism(const std::vector<Eigen::Vector2d>& polygon, double height, BodyOwner owner);
+  int add_kinematic(const robots::Shape& shape, const Eigen::Isometry3d& pose, BodyOwner owner);
+  int add_dynamic(const robots::Shape& shape, double mass, const Eigen::Isometry3d& pose, BodyOwner owner);
+
+  /// Moves a kinematic body (people, robot links) to where its owner is now.
+  void set_kinematic_pose(int body, const Eigen::Isometry3d& pose);
+  /// Takes a body out of the world (a person who left) or puts it back.
+  void set_enabled(int body, bool enabled);
+
+  /// Holds a dynamic body rigidly to another, as it is now (a grasp), until released.
+  void attach(int body, int holder);
+  void detach(int body);
+  /// The body holding this one, -1 when free.
+  int holder(int body) const;
+
+  /// Advances the dynamic bodies one fixed step.
+  void step();
+
+  Eigen::Isometry3d pose(int body) const;
+  const BodyOwner& owner(int body) const;
+  int bodies() const;
+  /// Pairs of bodies (lower id first) touching after the last step, sorted.
+  std::vector<std::pair<int, int>> touching() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hrisim::physics
