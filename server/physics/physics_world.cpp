@@ -42,6 +42,22 @@ std::unique_ptr<btCollisionShape> make_shape(const robots::Shape& shape) {
   throw core::Error(core::ErrorCode::internal, "unknown shape kind");
 }
 
+/// Robot links are kinematic like people and the map, which Bullet never pairs with each other; this
+/// broadphase group and the dispatcher below pair them, so a robot's contacts with people and walls are
+/// reported (never resolved: both sides are immovable).
+constexpr int kRobotGroup = 1 << 6;
+
+class ContactDispatcher : public btCollisionDispatcher {
+ public:
+  using btCollisionDispatcher::btCollisionDispatcher;
+  bool needsCollision(const btCollisionObject* a, const btCollisionObject* b) override {
+    const bool robot_a = a->getBroadphaseHandle()->m_collisionFilterGroup & kRobotGroup;
+    const bool robot_b = b->getBroadphaseHandle()->m_collisionFilterGroup & kRobotGroup;
+    if (robot_a || robot_b) return a->getUserIndex2() != b->getUserIndex2() || !(robot_a && robot_b);  // not two links of one robot
+    return btCollisionDispatcher::needsCollision(a, b);
+  }
+};
+
 }  // namespace
 
 struct PhysicsWorld::Impl {
@@ -53,7 +69,7 @@ struct PhysicsWorld::Impl {
 
   double dt;
   btDefaultCollisionConfiguration configuration;
-  btCollisionDispatcher dispatcher{&configuration};
+  ContactDispatcher dispatcher{&configuration};
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
@@ -85,11 +101,21 @@ struct PhysicsWorld::Impl {
     body.owner = std::move(owner);
     body.mass = mass;
     body.body->setUserIndex(static_cast<int>(bodies.size()));
+    body.body->setUserIndex2(owner.index);
     body.body->setFriction(kFriction);
     body.body->setRestitution(0.0);
-    world.addRigidBody(body.body.get());
+    insert(body);
     bodies.push_back(std::move(body));
     return static_cast<int>(bodies.size()) - 1;
+  }
+
+  /// Adds the body to the world in its broadphase group (robot links in their own).
+  void insert(Body& body) {
+    if (body.owner.kind == BodyOwner::Kind::robot) {
+      world.addRigidBody(body.body.get(), kRobotGroup, btBroadphaseProxy::AllFilter);
+    } else {
+      world.addRigidBody(body.body.get());
+    }
   }
 
   Body& at(int id) {
@@ -154,7 +180,7 @@ void PhysicsWorld::set_enabled(int body, bool enabled) {
   if (entry.enabled == enabled) return;
   entry.enabled = enabled;
   if (enabled) {
-    impl_->world.addRigidBody(entry.body.get());
+    impl_->insert(entry);
   } else {
     impl_->world.removeRigidBody(entry.body.get());
   }
@@ -172,7 +198,7 @@ void PhysicsWorld::attach(int body, int holder) {
   held.body->setActivationState(DISABLE_DEACTIVATION);
   held.body->setLinearVelocity(btVector3(0, 0, 0));
   held.body->setAngularVelocity(btVector3(0, 0, 0));
-  impl_->world.addRigidBody(held.body.get());
+  impl_->insert(held);
 }
 
 void PhysicsWorld::detach(int body) {
@@ -187,7 +213,7 @@ void PhysicsWorld::detach(int body) {
   held.body->forceActivationState(ACTIVE_TAG);
   held.body->setLinearVelocity(btVector3(0, 0, 0));
   held.body->setAngularVelocity(btVector3(0, 0, 0));
-  impl_->world.addRigidBody(held.body.get());
+  impl_->insert(held);
 }
 
 int PhysicsWorld::holder(int body) const { return impl_->at(body).holder; }

@@ -15,13 +15,15 @@ Eigen::Isometry3d to_isometry(const Pose3& pose) {
   return transform;
 }
 
-Robot::Robot(std::shared_ptr<const RobotDescription> description, const Pose2& start, double dt)
+Robot::Robot(std::shared_ptr<const RobotDescription> description, const Pose2& start, double dt,
+             const std::map<std::string, double>& initial_joints)
     : description_(std::move(description)), dt_(dt), pose_(start) {
   for (const Joint& joint : description_->joints) {
     if (joint.type == JointType::fixed || joint.mimic) {
       motors_.emplace_back();
     } else {
-      motors_.emplace_back(Motor(joint.motor, joint.limits, dt, joint.initial));
+      const auto initial = initial_joints.find(joint.name);
+      motors_.emplace_back(Motor(joint.motor, joint.limits, dt, initial != initial_joints.end() ? initial->second : joint.initial));
     }
   }
 }

@@ -24,7 +24,9 @@ Eigen::Isometry3d to_isometry(const Pose3& pose);
 
 class Robot {
  public:
-  Robot(std::shared_ptr<const RobotDescription> description, const Pose2& start, double dt);
+  /// `initial_joints` override the description's initial positions, by joint name.
+  Robot(std::shared_ptr<const RobotDescription> description, const Pose2& start, double dt,
+        const std::map<std::string, double>& initial_joints = {});
 
   const RobotDescription& description() const { return *description_; }
 

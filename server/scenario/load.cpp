@@ -69,6 +69,7 @@ class Loader {
     read_places(*model);
     read_elevators(*model);
     read_agents(*model);
+    read_objects(*model);
     collect_task_names(*model);
     read_groups(*model);
     read_tasks(*model);
@@ -131,13 +132,13 @@ class Loader {
     for (std::size_t i = 0; i < walls.size(); ++i) {
       obstacles.push_back({"wall " + std::to_string(i),
                            wall_polygon(read_point(walls[i]["from"]), read_point(walls[i]["to"]), walls[i].value("thickness", kDefaultWallThickness)),
-                           {}});
+                           kDefaultObstacleHeight, {}});
     }
     const json& listed = member(world, "obstacles");
     std::set<std::string> names;
     for (std::size_t i = 0; i < listed.size(); ++i) {
       const json& entry = listed[i];
-      Obstacle obstacle{entry["name"], {}, {}};
+      Obstacle obstacle{entry["name"], {}, entry.value("height", kDefaultObstacleHeight), {}};
       if (!names.insert(obstacle.name).second) {
         error("/world/obstacles/" + std::to_string(i) + "/name", "obstacle name '" + obstacle.name + "' is used twice");
       }
@@ -158,10 +159,11 @@ class Loader {
     }
     for (const Obstacle& obstacle : obstacles) grid->fill_polygon(obstacle.polygon);
     auto model = std::make_shared<Model>(std::move(*grid));
-    if (world.contains("map")) {
+    model->map_from_image = world.contains("map");
+    if (model->map_from_image) {
       model->outline = world::occupied_outline(model->grid);
     } else {
-      for (const Obstacle& obstacle : obstacles) world::append_edges(obstacle.polygon, model->outline);
+      for (const Obstacle& obstacle : obstacles) world::append_edges(obstacle.polygon, model->outline, obstacle.height);
     }
     model->obstacles = std::move(obstacles);
     const json& doors = member(world, "doors");
@@ -348,7 +350,58 @@ class Loader {
       }
     }
     if (entry.contains("people_detector")) agent.people_detector = sensors::read_people_detector_params(entry["people_detector"]);
+    if (entry.contains("joints")) {
+      if (!agent.robot_model) error(pointer + "/joints", "only a robot with a model has joints");
+      for (const auto& [joint, position] : entry["joints"].items()) {
+        const std::string at = pointer + "/joints/" + core::pointer_token(joint);
+        const int index = agent.robot_model ? agent.robot_model->find_joint(joint) : -1;
+        if (!agent.robot_model) continue;
+        if (index < 0) {
+          error(at, "robot model '" + agent.robot_model->name + "' has no joint '" + joint + "'");
+          continue;
+        }
+        const robots::Joint& def = agent.robot_model->joints[index];
+        if (def.type == robots::JointType::fixed || def.mimic) error(at, "joint '" + joint + "' has no motor of its own");
+        const double value = position.get<double>();
+        if ((def.limits.lower && value < *def.limits.lower) || (def.limits.upper && value > *def.limits.upper)) {
+          error(at, "outside the joint's limits");
+        }
+        agent.initial_joints[joint] = value;
+      }
+    }
     if (entry.contains("odometry")) agent.odometry = sensors::read_odometry_params(entry["odometry"]);
+  }
+
+  void read_objects(Model& model) {
+    const json list = doc_.value("objects", json::array());
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const json& entry = list[i];
+      const std::string pointer = "/objects/" + std::to_string(i);
+      MovableObject object;
+      object.name = entry["name"];
+      if (!names.insert(object.name).second) error(pointer + "/name", "object name '" + object.name + "' is used twice");
+      const json& shape = entry["shape"];
+      const std::string kind = shape["kind"];
+      object.shape.kind = kind == "box" ? robots::Shape::Kind::box
+                          : kind == "cylinder" ? robots::Shape::Kind::cylinder
+                          : kind == "sphere" ? robots::Shape::Kind::sphere
+                                             : robots::Shape::Kind::capsule;
+      if (shape.contains("size")) object.shape.size = Eigen::Vector3d(shape["size"][0], shape["size"][1], shape["size"][2]);
+      object.shape.radius = shape.value("radius", 0.0);
+      object.shape.length = shape.value("length", 0.0);
+      const bool sized = object.shape.kind == robots::Shape::Kind::box ? shape.contains("size")
+                         : object.shape.kind == robots::Shape::Kind::sphere ? shape.contains("radius")
+                                                                             : shape.contains("radius") && shape.contains("length");
+      if (!sized) error(pointer + "/shape", "a " + kind + " needs " + (kind == "box" ? "size" : kind == "sphere" ? "radius" : "radius and length"));
+      object.mass = entry["mass"];
+      const json& pose = entry["pose"];
+      object.pose = {pose["x"], pose["y"], pose.value("z", 0.0), pose.value("roll", 0.0), pose.value("pitch", 0.0), pose.value("yaw", 0.0)};
+      if (!model.grid.in_bounds(model.grid.cell_of({object.pose.x, object.pose.y}))) {
+        error(pointer + "/pose", "object '" + object.name + "' is outside the map");
+      }
+      model.objects.push_back(std::move(object));
+    }
   }
 
   void collect_task_names(Model& model) {

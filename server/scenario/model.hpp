@@ -53,9 +53,13 @@ struct SocialSpace {
   std::vector<Pose2> slots;  ///< absolute poses, in the order they are taken
 };
 
+/// Height of walls, doors and obstacles without their own, m.
+inline constexpr double kDefaultObstacleHeight = 2.0;
+
 struct Obstacle {
   std::string name;
   std::vector<Vec2> polygon;
+  double height = kDefaultObstacleHeight;
   std::map<std::string, Pose2> anchors;  ///< absolute poses
 };
 
@@ -128,6 +132,15 @@ struct AgentDef {
   RobotController controller;
   std::optional<sensors::PeopleDetectorParams> people_detector;
   sensors::OdometryParams odometry;
+  std::map<std::string, double> initial_joints;  ///< overrides of the model's initial joint positions
+};
+
+/// A movable object: a dynamic body in the session's physics world.
+struct MovableObject {
+  std::string name;
+  robots::Shape shape;
+  double mass = 0.0;
+  core::Pose3 pose;  ///< its centre at the start
 };
 
 struct Action {
@@ -196,12 +209,14 @@ struct Model {
   /// The static map as segments for range sensors: the obstacles' exact edges, or for a map from an
   /// image the outline of its occupied cells.
   std::vector<world::Segment> outline;
+  bool map_from_image = false;  ///< the map came as a ROS map (outline of cells), not as geometry
   std::vector<Door> doors;
   std::vector<Elevator> elevators;
 
   std::vector<Location> locations;
   std::vector<SocialSpace> social_spaces;
   std::vector<AgentDef> agents;  ///< humans then robots, each in file order
+  std::vector<MovableObject> objects;
   std::vector<Group> groups;     ///< declared groups (members at the start) and groups formed later (empty)
   std::vector<Task> tasks;
   std::vector<Step> steps;

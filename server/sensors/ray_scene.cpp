@@ -78,7 +78,9 @@ void RayScene::scan(const BeamFan& fan, const Vec2& origin, double heading, doub
       if (t > 0.0 && u >= 0.0 && u <= 1.0 && t < ranges[beam]) ranges[beam] = t;
     });
   };
-  for (const Segment& segment : static_) sweep_segment(segment);
+  for (const Segment& segment : static_) {
+    if (segment.top > height_) sweep_segment(segment);
+  }
   for (const Segment& segment : segments_) sweep_segment(segment);
 
   for (const Circle& circle : circles_) {

@@ -37,8 +37,10 @@ class BeamFan {
 
 class RayScene {
  public:
-  /// The static segments are referred to, not copied: they must outlive the scene.
-  explicit RayScene(std::span<const Segment> static_segments = {}) : static_(static_segments) {}
+  /// The scene at `height` above the floor: static segments of solids lower than that are left out.
+  /// They are referred to, not copied: they must outlive the scene.
+  explicit RayScene(std::span<const Segment> static_segments = {}, double height = 0.0)
+      : static_(static_segments), height_(height) {}
 
   void clear_dynamic() {
     segments_.clear();
@@ -55,6 +57,7 @@ class RayScene {
 
  private:
   std::span<const Segment> static_;
+  double height_;
   std::vector<Segment> segments_;
   std::vector<Circle> circles_;
 };

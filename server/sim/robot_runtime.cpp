@@ -9,7 +9,7 @@ namespace hrisim::sim {
 
 RobotRuntime::RobotRuntime(int agent_index, const scenario::AgentDef& def, double dt, const core::Random& session_random)
     : agent(agent_index),
-      robot(def.robot_model, def.start, dt),
+      robot(def.robot_model, def.start, dt, def.initial_joints),
       controller(def.controller),
       motor_random(session_random.stream("robot." + def.id + ".motors")),
       sensor_random(session_random.stream("robot." + def.id + ".sensors")),
@@ -41,7 +41,8 @@ void RobotRuntime::hash(core::StateHasher& hasher) const {
   odometry.hash(hasher);
   for (const LaserSensor& sensor : lasers) hasher.add(sensor.schedule.next_tick);
   hasher.add(people_schedule.next_tick).add(odometry_schedule.next_tick);
-  for (const Contact& contact : contacts) hasher.add(contact.agent).add(std::string_view(contact.part));
+  for (const Contact& contact : contacts) hasher.add(contact.agent).add(contact.object).add(std::string_view(contact.part));
+  hasher.add(held_object);
 }
 
 bool due(Schedule& schedule, std::int64_t tick, double dt) {

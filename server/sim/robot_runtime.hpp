@@ -73,8 +73,9 @@ struct OdometryReading {
 
 /// Something the robot's body touches.
 struct Contact {
-  int agent = -1;    ///< the human or robot touched, -1 for the map
-  std::string part;  ///< "legs", "torso", "body" (a robot) or "obstacle"
+  int agent = -1;    ///< the human or robot touched, or -1
+  int object = -1;   ///< the movable object touched, or -1 (neither: the map)
+  std::string part;  ///< a human's torso, left_leg or right_leg; another robot's link; the object's or obstacle's name
   bool operator==(const Contact&) const = default;
 };
 
@@ -108,6 +109,8 @@ struct RobotRuntime {
   Schedule odometry_schedule;
   OdometryReading odometry_reading;
   std::vector<Contact> contacts;  ///< what the body touches now
+  std::vector<int> link_bodies;   ///< physics body of each link, -1 for links without a shape
+  int held_object = -1;           ///< the object its gripper holds
 
   void hash(core::StateHasher& hasher) const;
 };

@@ -66,6 +66,7 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
   for (const RobotRuntime& runtime : robots_) {
     if (runtime.controller.goal) go_to(runtime.agent, *runtime.controller.goal, runtime.controller.goal_radius, false);
   }
+  if (!robots_.empty() || !model_->objects.empty()) build_physics();
   if (!model_->steps.empty()) start_step(0);
 }
 
@@ -144,6 +145,7 @@ void Session::step() {
   decide_robots();
   locomotion();
   move_robots();
+  if (physics_) step_physics();
   ++state_.tick;
   sense();
   if (time() >= time_limit_) {
@@ -847,8 +849,163 @@ void Session::move_robots() {
   }
 }
 
+void Session::command_robot_joints(AgentId robot, const std::string& group, const std::vector<double>& targets, bool velocities) {
+  const int agent = index_of(robot);
+  if (runtime_of_agent_[agent] < 0) throw core::Error(core::ErrorCode::conflict, "agent '" + model_->agents[agent].id + "' is not a robot with a model");
+  robots_[runtime_of_agent_[agent]].robot.command_group(group, targets, velocities);
+}
+
+void Session::command_robot_gripper(AgentId robot, bool closed) {
+  const int agent = index_of(robot);
+  if (runtime_of_agent_[agent] < 0) throw core::Error(core::ErrorCode::conflict, "agent '" + model_->agents[agent].id + "' is not a robot with a model");
+  robots_[runtime_of_agent_[agent]].robot.set_gripper(closed);
+}
+
+Eigen::Isometry3d Session::object_pose(int object) const {
+  if (object < 0 || object >= static_cast<int>(object_bodies_.size())) {
+    throw core::Error(core::ErrorCode::not_found, "no object " + std::to_string(object));
+  }
+  return physics_->pose(object_bodies_[object]);
+}
+
+namespace {
+
+/// A leg as a capsule from the hip to the foot.
+Eigen::Isometry3d leg_pose(const Vec2& hip, const Vec2& foot) {
+  const Eigen::Vector3d top(hip.x(), hip.y(), kHipHeight), bottom(foot.x(), foot.y(), 0.0);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translate(0.5 * (top + bottom));
+  pose.rotate(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), top - bottom));
+  return pose;
+}
+
+Eigen::Isometry3d upright(const Vec2& position, double z) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translate(Eigen::Vector3d(position.x(), position.y(), z));
+  return pose;
+}
+
+robots::Shape capsule(double radius, double length) {
+  robots::Shape shape;
+  shape.kind = robots::Shape::Kind::capsule;
+  shape.radius = radius;
+  shape.length = length;
+  return shape;
+}
+
+}  // namespace
+
+void Session::build_physics() {
+  using physics::BodyOwner;
+  physics_ = std::make_unique<physics::PhysicsWorld>(model_->dt);
+  // The map: an image's outline as walls, or each obstacle (walls included) as a prism of its height.
+  physics_->add_floor_and_walls(model_->map_from_image ? std::span<const world::Segment>(model_->outline) : std::span<const world::Segment>(),
+                                scenario::kDefaultObstacleHeight);
+  if (!model_->map_from_image) {
+    for (const scenario::Obstacle& obstacle : model_->obstacles) {
+      physics_->add_static_prism(obstacle.polygon, obstacle.height, {BodyOwner::Kind::map, -1, obstacle.name});
+    }
+  }
+  for (std::size_t d = 0; d < model_->doors.size(); ++d) {
+    const scenario::Door& door = model_->doors[d];
+    robots::Shape slab;
+    slab.size = Eigen::Vector3d(door.width(), door.thickness, scenario::kDefaultObstacleHeight);
+    Eigen::Isometry3d pose = upright(0.5 * (door.from + door.to), 0.5 * scenario::kDefaultObstacleHeight);
+    pose.rotate(Eigen::AngleAxisd(direction_to(door.from, door.to), Eigen::Vector3d::UnitZ()));
+    door_bodies_.push_back(physics_->add_kinematic(slab, pose, {BodyOwner::Kind::map, -1, door.name}));
+    physics_->set_enabled(door_bodies_.back(), door_blocks(static_cast<int>(d)));
+  }
+  human_bodies_.assign(state_.agents.size(), {});
+  for (std::size_t i = 0; i < state_.agents.size(); ++i) {
+    if (model_->agents[i].kind != AgentKind::human) continue;
+    const Vec2 at = state_.agents[i].position;
+    const int agent = static_cast<int>(i);
+    HumanBodies& body = human_bodies_[i];
+    body.torso = physics_->add_kinematic(capsule(kTorsoRadius, kShoulderHeight - kHipHeight - 2 * kTorsoRadius),
+                                         upright(at, 0.5 * (kHipHeight + kShoulderHeight)), {BodyOwner::Kind::human, agent, "torso"});
+    body.left_leg = physics_->add_kinematic(capsule(kLegRadius, kHipHeight - 2 * kLegRadius), upright(at, 0.5 * kHipHeight),
+                                            {BodyOwner::Kind::human, agent, "left_leg"});
+    body.right_leg = physics_->add_kinematic(capsule(kLegRadius, kHipHeight - 2 * kLegRadius), upright(at, 0.5 * kHipHeight),
+                                             {BodyOwner::Kind::human, agent, "right_leg"});
+  }
+  for (RobotRuntime& runtime : robots_) {
+    const robots::RobotDescription& description = runtime.robot.description();
+    const auto poses = runtime.robot.link_poses();
+    for (std::size_t l = 0; l < description.links.size(); ++l) {
+      const robots::Link& link = description.links[l];
+      runtime.link_bodies.push_back(link.collision ? physics_->add_kinematic(*link.collision, poses[l] * robots::to_isometry(link.collision_origin),
+                                                                             {BodyOwner::Kind::robot, runtime.agent, link.name})
+                                                   : -1);
+    }
+  }
+  for (std::size_t o = 0; o < model_->objects.size(); ++o) {
+    const scenario::MovableObject& object = model_->objects[o];
+    object_bodies_.push_back(physics_->add_dynamic(object.shape, object.mass, robots::to_isometry(object.pose),
+                                                   {BodyOwner::Kind::object, static_cast<int>(o), object.name}));
+  }
+}
+
+void Session::step_physics() {
+  for (std::size_t d = 0; d < door_bodies_.size(); ++d) physics_->set_enabled(door_bodies_[d], door_blocks(static_cast<int>(d)));
+  for (std::size_t i = 0; i < human_bodies_.size(); ++i) {
+    const HumanBodies& body = human_bodies_[i];
+    if (body.torso < 0) continue;
+    const AgentState& agent = state_.agents[i];
+    for (const int part : {body.torso, body.left_leg, body.right_leg}) physics_->set_enabled(part, agent.active);
+    if (!agent.active) continue;
+    physics_->set_kinematic_pose(body.torso, upright(agent.position, 0.5 * (kHipHeight + kShoulderHeight)));
+    const auto feet = leg_centres(agent.position, agent.heading, agent.gait_phase, agent.velocity.norm(), 0.0);
+    const Vec2 side = 0.5 * kHipWidth * core::left_normal(core::heading_vector(agent.heading));
+    physics_->set_kinematic_pose(body.left_leg, leg_pose(agent.position + side, feet[0]));
+    physics_->set_kinematic_pose(body.right_leg, leg_pose(agent.position - side, feet[1]));
+  }
+  for (RobotRuntime& runtime : robots_) {
+    const auto poses = runtime.robot.link_poses();
+    const auto& links = runtime.robot.description().links;
+    for (std::size_t l = 0; l < links.size(); ++l) {
+      if (runtime.link_bodies[l] >= 0) physics_->set_kinematic_pose(runtime.link_bodies[l], poses[l] * robots::to_isometry(links[l].collision_origin));
+    }
+  }
+  physics_->step();
+  const auto touching = physics_->touching();
+  auto touch = [&](int a, int b) {
+    return std::binary_search(touching.begin(), touching.end(), std::pair{std::min(a, b), std::max(a, b)});
+  };
+  // Grasping: a closed gripper holds an object both its fingers touch, until it opens.
+  for (RobotRuntime& runtime : robots_) {
+    const robots::RobotDescription& description = runtime.robot.description();
+    if (!description.gripper) continue;
+    const std::string& id = model_->agents[runtime.agent].id;
+    if (runtime.held_object >= 0 && !runtime.robot.gripper_closed()) {
+      physics_->detach(object_bodies_[runtime.held_object]);
+      emit("release", id, {{"object", model_->objects[runtime.held_object].name}});
+      runtime.held_object = -1;
+    }
+    if (runtime.held_object >= 0 || !runtime.robot.gripper_closed()) continue;
+    const robots::Joint& motor = description.joints[description.find_joint(description.gripper->joint)];
+    std::vector<int> fingers;
+    for (const robots::Joint& joint : description.joints) {
+      if (&joint == &motor || (joint.mimic && joint.mimic->joint == motor.name)) {
+        fingers.push_back(runtime.link_bodies[description.find_link(joint.child)]);
+      }
+    }
+    const int palm = runtime.link_bodies[description.find_link(motor.parent)];
+    for (std::size_t o = 0; o < object_bodies_.size() && palm >= 0; ++o) {
+      if (physics_->holder(object_bodies_[o]) >= 0) continue;
+      const bool gripped = fingers.size() >= 2 && std::all_of(fingers.begin(), fingers.end(), [&](int finger) {
+                             return finger >= 0 && touch(finger, object_bodies_[o]);
+                           });
+      if (!gripped) continue;
+      physics_->attach(object_bodies_[o], palm);
+      runtime.held_object = static_cast<int>(o);
+      emit("grasp", id, {{"object", model_->objects[o].name}});
+      break;
+    }
+  }
+}
+
 sensors::RayScene Session::range_scene(double height, int robot_agent) const {
-  sensors::RayScene scene(model_->outline);
+  sensors::RayScene scene(model_->outline, height);
   for (std::size_t d = 0; d < model_->doors.size(); ++d) {
     if (!door_blocks(static_cast<int>(d))) continue;
     const scenario::Door& door = model_->doors[d];
@@ -906,36 +1063,35 @@ void Session::sense() {
       runtime.people_detector->detect(scene, from.position(), from.theta, people, runtime.sensor_random, runtime.people.people);
       runtime.people.tick = state_.tick;
     }
-    // Bumper: what the footprint touches — legs near the floor, the torso if the robot is taller than hips.
+    // Bumper: what the robot's links touch in the physics world (the floor does not count).
     std::vector<Contact> contacts;
-    const Vec2 centre = runtime.robot.pose().position();
-    const double radius = model_->agents[runtime.agent].radius;
-    for (std::size_t i = 0; i < state_.agents.size(); ++i) {
-      const AgentState& other = state_.agents[i];
-      if (!other.active || static_cast<int>(i) == runtime.agent) continue;
-      if (model_->agents[i].kind == AgentKind::robot) {
-        if ((other.position - centre).norm() < radius + model_->agents[i].radius) contacts.push_back({static_cast<int>(i), "body"});
-        continue;
-      }
-      bool touches_legs = false;
-      for (const Vec2& leg : leg_centres(other.position, other.heading, other.gait_phase, other.velocity.norm(), kBumperHeight)) {
-        touches_legs |= (leg - centre).norm() < radius + kLegRadius;
-      }
-      if (touches_legs) {
-        contacts.push_back({static_cast<int>(i), "legs"});
-      } else if (runtime.robot.description().height > kHipHeight && (other.position - centre).norm() < radius + kTorsoRadius) {
-        contacts.push_back({static_cast<int>(i), "torso"});
-      }
+    for (const auto& [first, second] : physics_->touching()) {
+      const physics::BodyOwner& a = physics_->owner(first);
+      const physics::BodyOwner& b = physics_->owner(second);
+      const bool mine_first = a.kind == physics::BodyOwner::Kind::robot && a.index == runtime.agent;
+      const bool mine_second = b.kind == physics::BodyOwner::Kind::robot && b.index == runtime.agent;
+      if (mine_first == mine_second) continue;  // not this robot's, or two of its own links
+      const physics::BodyOwner& other = mine_first ? b : a;
+      if (other.kind == physics::BodyOwner::Kind::map && other.part == "floor") continue;
+      Contact contact;
+      if (other.kind == physics::BodyOwner::Kind::human || other.kind == physics::BodyOwner::Kind::robot) contact.agent = other.index;
+      if (other.kind == physics::BodyOwner::Kind::object) contact.object = other.index;
+      contact.part = other.part;
+      if (std::find(contacts.begin(), contacts.end(), contact) == contacts.end()) contacts.push_back(contact);
     }
-    if (model_->field.distance(model_->grid, centre) < radius) contacts.push_back({-1, "obstacle"});
+    const auto with = [&](const Contact& contact) -> std::string {
+      if (contact.agent >= 0) return model_->agents[contact.agent].id;
+      if (contact.object >= 0) return model_->objects[contact.object].name;
+      return "map";
+    };
     for (const Contact& contact : contacts) {
       if (std::find(runtime.contacts.begin(), runtime.contacts.end(), contact) == runtime.contacts.end()) {
-        emit("contact_start", id, {{"with", contact.agent >= 0 ? model_->agents[contact.agent].id : "map"}, {"part", contact.part}});
+        emit("contact_start", id, {{"with", with(contact)}, {"part", contact.part}});
       }
     }
     for (const Contact& contact : runtime.contacts) {
       if (std::find(contacts.begin(), contacts.end(), contact) == contacts.end()) {
-        emit("contact_end", id, {{"with", contact.agent >= 0 ? model_->agents[contact.agent].id : "map"}, {"part", contact.part}});
+        emit("contact_end", id, {{"with", with(contact)}, {"part", contact.part}});
       }
     }
     runtime.contacts = std::move(contacts);
@@ -967,6 +1123,10 @@ std::uint64_t Session::state_hash() const {
   for (std::uint64_t word : state_.random.state()) hash.add(word);
   for (const AgentState& agent : state_.agents) hash.add(agent.gait_phase);
   for (const RobotRuntime& runtime : robots_) runtime.hash(hash);
+  for (const int body : object_bodies_) {
+    const Eigen::Isometry3d pose = physics_->pose(body);
+    for (int k = 0; k < 16; ++k) hash.add(pose.data()[k]);
+  }
   return hash.value();
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/id.hpp"
 #include "humans/locomotion.hpp"
+#include "physics/physics_world.hpp"
 #include "scenario/model.hpp"
 #include "sim/robot_runtime.hpp"
 #include "sim/state.hpp"
@@ -77,6 +78,12 @@ class Session {
   void command_robot_twist(AgentId robot, const robots::Twist& twist);
   /// A robot with a model: its motors, controller and latest sensor readings; null for other agents.
   const RobotRuntime* robot_runtime(AgentId agent) const;
+  /// Position targets (or velocities) for a joint group of a robot with a model ("arm", "head", …).
+  void command_robot_joints(AgentId robot, const std::string& group, const std::vector<double>& targets, bool velocities = false);
+  /// Opens or closes a robot's gripper; closing around an object holds it once both fingers touch it.
+  void command_robot_gripper(AgentId robot, bool closed);
+  /// The pose of movable object `object` (index in the model's objects) in the map frame.
+  Eigen::Isometry3d object_pose(int object) const;
 
   const State& state() const { return state_; }
   const scenario::Model& model() const { return *model_; }
@@ -113,6 +120,10 @@ class Session {
   void decide_robots();
   /// Robots with a model: motors and bases advance; the agents follow their bases.
   void move_robots();
+  /// The physics world: people's and robots' kinematic bodies follow them, objects move, grasps are
+  /// made and released.
+  void step_physics();
+  void build_physics();
   /// Sensors of robots with a model read the world as it is after the step.
   void sense();
   /// The map, closed doors, people and other robots at `height`, as range sensors see them.
@@ -129,6 +140,14 @@ class Session {
   std::vector<Vec2> velocities_;
   std::vector<std::optional<double>> watching_headings_;  ///< per agent this tick: facing a watched robot
   std::vector<RobotRuntime> robots_;
+  /// The Bullet world, when the scenario has a robot with a model or a movable object.
+  std::unique_ptr<physics::PhysicsWorld> physics_;
+  struct HumanBodies {
+    int torso = -1, left_leg = -1, right_leg = -1;
+  };
+  std::vector<HumanBodies> human_bodies_;  ///< per agent (robots: none)
+  std::vector<int> door_bodies_;
+  std::vector<int> object_bodies_;
   std::vector<int> runtime_of_agent_;  ///< index into robots_ per agent, -1 for agents without a model
   world::PlanningHistory planning_history_;  ///< this session's own: its paths never depend on other sessions
 };

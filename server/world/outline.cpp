@@ -41,7 +41,7 @@ std::vector<Segment> occupied_outline(const OccupancyGrid& grid) {
   return segments;
 }
 
-void append_edges(const std::vector<Vec2>& polygon, std::vector<Segment>& segments) {
+void append_edges(const std::vector<Vec2>& polygon, std::vector<Segment>& segments, double top) {
   double twice_area = 0.0;
   for (std::size_t i = 0; i < polygon.size(); ++i) twice_area += core::cross(polygon[i], polygon[(i + 1) % polygon.size()]);
   // Counter-clockwise polygons have their inside on the left of each edge: walk them backwards.
@@ -49,7 +49,7 @@ void append_edges(const std::vector<Vec2>& polygon, std::vector<Segment>& segmen
   for (std::size_t i = 0; i < polygon.size(); ++i) {
     const Vec2& a = polygon[i];
     const Vec2& b = polygon[(i + 1) % polygon.size()];
-    segments.push_back(reverse ? Segment{b, a, true} : Segment{a, b, true});
+    segments.push_back(reverse ? Segment{b, a, true, top} : Segment{a, b, true, top});
   }
 }
 
