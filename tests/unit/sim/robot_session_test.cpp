@@ -205,3 +205,46 @@ TEST(RobotSession, BundledElevatorRobotRidesUpAndRequestsTheButton) {
 
 }  // namespace
 }  // namespace hrisim::sim
+
+namespace hrisim::sim {
+namespace {
+
+// The HSR's hand points forward over a table with a cup between its open fingers: closing the gripper
+// holds the cup (both fingers touch it), lifting the arm lifts it, and after putting it down, opening
+// the gripper leaves it standing there.
+TEST(RobotSession, GripperGraspsLiftsAndReleasesACup) {
+  json scenario = testing::room_scenario(json::parse(R"({
+    "world": {"obstacles": [{"name": "table", "box": {"x": 5, "y": 5, "length": 1.2, "width": 0.8}},
+                            {"name": "side_table", "box": {"x": 2.75, "y": 2.078, "length": 0.3, "width": 0.4}, "height": 0.556}]},
+    "humans": [{"id": "ana", "start": {"x": 8.5, "y": 8.5}}],
+    "steps": [{"name": "wait", "actions": [{"agent": "ana", "wait": {"duration": 55}}]}],
+    "objects": [{"name": "cup", "shape": {"kind": "cylinder", "radius": 0.03, "length": 0.1}, "mass": 0.2,
+                 "pose": {"x": 2.685, "y": 2.078, "z": 0.606}}]})"));
+  // arm_lift 0.3 m, arm horizontal, wrist straight: the hand points along +x at 0.606 m, its fingers
+  // open either side of y = 2.078.
+  scenario["robots"] = json::array({{{"id", "hsr"}, {"model", "hsr"}, {"start", {{"x", 2}, {"y", 2}}},
+                                     {"joints", {{"arm_lift_joint", 0.3}, {"arm_flex_joint", -1.5708}, {"hand_motor_joint", 1.2}}}}});
+  Session session(testing::load_valid(scenario), 1);
+  const AgentId hsr = session.agent_id("hsr");
+  for (int i = 0; i < 30; ++i) session.step();
+  EXPECT_NEAR(session.object_pose(0).translation().z(), 0.606, 0.005) << "resting on the side table";
+  session.command_robot_gripper(hsr, true);
+  for (int i = 0; i < 120 && events_of(session, "grasp").empty(); ++i) session.step();
+  ASSERT_EQ(events_of(session, "grasp").size(), 1u);
+  EXPECT_EQ(events_of(session, "grasp")[0]->data["object"], "cup");
+  session.command_robot_joints(hsr, "arm", {0.5, -1.5708, 0.0, 0.0, 0.0, 0.0});
+  for (int i = 0; i < 120; ++i) session.step();
+  EXPECT_GT(session.object_pose(0).translation().z(), 0.606 + 0.15) << "lifted with the arm";
+  // Put it back down and let go: it stands on the table again.
+  session.command_robot_joints(hsr, "arm", {0.3, -1.5708, 0.0, 0.0, 0.0, 0.0});
+  for (int i = 0; i < 120; ++i) session.step();
+  EXPECT_TRUE(events_of(session, "release").empty()) << "held until the gripper opens";
+  session.command_robot_gripper(hsr, false);
+  for (int i = 0; i < 120; ++i) session.step();
+  ASSERT_EQ(events_of(session, "release").size(), 1u);
+  EXPECT_EQ(events_of(session, "release")[0]->data["object"], "cup");
+  EXPECT_NEAR(session.object_pose(0).translation().z(), 0.606, 0.01) << "standing on the side table";
+}
+
+}  // namespace
+}  // namespace hrisim::sim
