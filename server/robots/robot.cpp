@@ -1,5 +1,6 @@
 #include "robots/robot.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "core/error.hpp"
@@ -105,8 +106,12 @@ WheelSpeeds Robot::wheel_speeds() const {
 
 double Robot::joint_position(int joint) const {
   if (motors_.at(joint)) return motors_[joint]->position();
-  if (const auto& mimic = description_->joints[joint].mimic) {
-    return mimic->multiplier * joint_position(description_->find_joint(mimic->joint)) + mimic->offset;
+  const Joint& def = description_->joints[joint];
+  if (def.mimic) {
+    double position = def.mimic->multiplier * joint_position(description_->find_joint(def.mimic->joint)) + def.mimic->offset;
+    if (def.limits.lower) position = std::max(position, *def.limits.lower);
+    if (def.limits.upper) position = std::min(position, *def.limits.upper);
+    return position;
   }
   return 0.0;
 }

@@ -345,6 +345,7 @@ class Loader {
       agent.controller.goal_radius = goal.value("radius", kDefaultGoalRadius);
       const bool drives = agent.controller.kind == Kind::goal || agent.controller.kind == Kind::social;
       if (drives && !agent.controller.goal) error(pointer + "/controller/goal", "a " + type + " controller needs a goal");
+      if (!drives && controller.contains("goal")) error(pointer + "/controller/goal", "only goal and social controllers drive to a goal");
       if (agent.robot_model && !agent.robot_model->drive && agent.controller.kind != Kind::idle) {
         error(pointer + "/controller/type", "robot model '" + agent.robot_model->name + "' has no drive");
       }
@@ -551,6 +552,16 @@ class Loader {
     } else {
       action.kind = Action::Kind::run_task;
       action.target = resolve(names_.tasks, entry["task"], pointer + "/task", "task");
+    }
+    if (action.agent >= 0) {
+      const AgentDef& agent = model_for_checks_->agents[action.agent];
+      using K = Action::Kind;
+      const bool moves = action.kind == K::go_to_location || action.kind == K::go_to_social_space || action.kind == K::go_to_pose ||
+                         action.kind == K::look_at_angle || action.kind == K::look_at_agent || action.kind == K::look_at_location ||
+                         action.kind == K::turn_by || action.kind == K::turn_to;
+      if (moves && agent.robot_model && !agent.robot_model->drive) {
+        error(pointer + "/agent", "robot '" + agent.id + "' (model " + agent.robot_model->name + ") has no drive: it cannot move or turn");
+      }
     }
     return action;
   }

@@ -34,9 +34,14 @@ void Laser::scan(const RayScene& scene, const Vec2& origin, double heading, core
   scene.scan(fan_, origin, heading, params_.max_range, ranges);
   for (double& range : ranges) {
     if (!std::isfinite(range)) continue;
-    if (params_.range_noise > 0.0) range += random.normal(0.0, params_.range_noise);
-    if (range < params_.min_range) range = -std::numeric_limits<double>::infinity();
-    else if (range > params_.max_range) range = std::numeric_limits<double>::infinity();
+    // Too close (the scanner inside something, or nearer than it measures) reads -infinity before
+    // and after the noise.
+    if (range >= params_.min_range && params_.range_noise > 0.0) range += random.normal(0.0, params_.range_noise);
+    if (range < params_.min_range) {
+      range = -std::numeric_limits<double>::infinity();
+    } else if (range > params_.max_range) {
+      range = std::numeric_limits<double>::infinity();
+    }
   }
 }
 

@@ -342,7 +342,10 @@ void Session::command_robot_twist(AgentId robot, const robots::Twist& twist) {
   if (runtime_of_agent_[agent] < 0 || !model_->agents[agent].robot_model->drive) {
     throw core::Error(core::ErrorCode::conflict, "agent '" + model_->agents[agent].id + "' is not a robot with a drive");
   }
-  robots_[runtime_of_agent_[agent]].command = twist;
+  // Velocity commands put the robot under external control, whatever its built-in controller was.
+  RobotRuntime& runtime = robots_[runtime_of_agent_[agent]];
+  runtime.controller.kind = scenario::RobotController::Kind::teleop;
+  runtime.command = twist;
 }
 
 const RobotRuntime* Session::robot_runtime(AgentId agent) const {
@@ -1051,7 +1054,11 @@ void Session::sense() {
     if (runtime.people_detector && due(runtime.people_schedule, state_.tick, model_->dt)) {
       // The detector looks from the first laser's mount (else the base centre) at torso height.
       Pose2 from = runtime.robot.pose();
-      if (!runtime.lasers.empty()) from = runtime.lasers.front().reading.tick >= 0 ? runtime.lasers.front().reading.pose : from;
+      if (!runtime.lasers.empty()) {
+        const Eigen::Isometry3d mount = runtime.robot.sensor_pose(*runtime.lasers.front().mount);
+        const Eigen::Vector3d forward = mount.rotation().col(0);
+        from = {mount.translation().x(), mount.translation().y(), std::atan2(forward.y(), forward.x())};
+      }
       const double torso_height = 0.5 * (kHipHeight + kShoulderHeight);
       const sensors::RayScene scene = range_scene(torso_height, runtime.agent);
       std::vector<sensors::PersonTruth> people;

@@ -24,6 +24,7 @@ TEST(RobotDescription, BuiltinsAreTheAssets) {
     ASSERT_TRUE(from_file.errors.empty()) << name << ": " << from_file.errors.front().pointer << " "
                                           << from_file.errors.front().message;
     ASSERT_NE(builtin_robot(name), nullptr);
+    EXPECT_EQ(builtin_robot(name)->name, name) << "a built-in robot is named by its file";
     EXPECT_EQ(builtin_robot(name)->joints.size(), from_file.description->joints.size());
   }
   EXPECT_EQ(builtin_robot("r2d2"), nullptr);

@@ -170,6 +170,17 @@ TEST(RobotSession, RobotDefinitionsAreValidated) {
                   "/robots/0/controller/goal/pose")) << "inside the table";
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "roman"}, {"start", start}, {"controller", {{"type", "teleop"}}}}), "/robots/0/controller/type"));
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"people_detector", {{"range", -1}}}}), "/robots/0/people_detector/range"));
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "idle"}, {"goal", {{"pose", {{"x", 8}, {"y", 8}}}}}}}}),
+                  "/robots/0/controller/goal only goal and social"));
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"joints", {{"arm_lift_joint", 2.0}}}}), "/robots/0/joints/arm_lift_joint outside"));
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"joints", {{"tail_joint", 0.0}}}}), "/robots/0/joints/tail_joint"));
+  // ROMAN cannot be sent anywhere.
+  json roman = testing::room_scenario(json::object());
+  roman["robots"] = json::array({{{"id", "roman"}, {"model", "roman"}, {"start", start}}});
+  roman["steps"] = json::array({{{"name", "go"}, {"actions", json::array({{{"agent", "roman"}, {"goto", {{"pose", {{"x", 8}, {"y", 8}}}}}}})}}});
+  const auto roman_errors = scenario::load_scenario(roman, {}).errors;
+  ASSERT_EQ(roman_errors.size(), 1u);
+  EXPECT_EQ(roman_errors[0].pointer, "/steps/0/actions/0/agent");
 }
 
 }  // namespace
