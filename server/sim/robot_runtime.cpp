@@ -109,20 +109,25 @@ Vec2 social_velocity(const Pose2& pose, const std::vector<Vec2>& path, double sp
   const Vec2 position = pose.position();
   const double remaining = remaining_length(position, path);
   const Vec2 target = point_along(position, path, std::min(kPurePursuitLookahead, remaining));
-  Vec2 desired = (target - position).normalized() * speed * std::clamp(remaining / kRobotArrivalSlowdown, 0.2, 1.0);
+  const Vec2 onwards = (target - position).normalized() * speed * std::clamp(remaining / kRobotArrivalSlowdown, 0.2, 1.0);
   const Vec2 forward = core::heading_vector(pose.theta);
   double slowest = 1.0;
+  Vec2 push = Vec2::Zero();
   for (const Vec2& person : people) {
     const Vec2 away = position - person;
     const double gap = away.norm() - robot_radius;
     if (gap > kSocialSlowDistance + 1.0) continue;
-    desired += kSocialRepulsion * std::exp(-std::max(gap, 0.0) / kSocialRepulsionRange) * away.normalized();
-    const double angle = std::acos(std::clamp(forward.dot(-away.normalized()), -1.0, 1.0));
+    // Away from the person and, as people do, round them on the right: a standing person right
+    // ahead pushes straight back, and the sideways share lets the robot pass instead of waiting.
+    const Vec2 away_unit = away.normalized(), right_of_person(-away_unit.y(), away_unit.x());
+    push += kSocialRepulsion * std::exp(-std::max(gap, 0.0) / kSocialRepulsionRange) * (away_unit + right_of_person);
+    const double angle = std::acos(std::clamp(forward.dot(-away_unit), -1.0, 1.0));
     if (angle < kSocialYieldAngle) {
       slowest = std::min(slowest, std::clamp((gap - kSocialStopDistance) / (kSocialSlowDistance - kSocialStopDistance), 0.0, 1.0));
     }
   }
-  return desired * slowest;
+  // Yielding slows the progress along the path, not the way round the people.
+  return onwards * slowest + push;
 }
 
 std::array<Vec2, 2> leg_centres(const Vec2& position, double heading, double gait_phase, double speed, double height) {

@@ -259,3 +259,32 @@ TEST(RobotSession, GripperGraspsLiftsAndReleasesACup) {
 
 }  // namespace
 }  // namespace hrisim::sim
+
+namespace hrisim::sim {
+namespace {
+
+/// Closest the robot's centre comes to ana's while driving from (2, 2) to (8, 2) with `controller`,
+/// ana standing on the way at (5, 2).
+double closest_approach(const std::string& controller) {
+  Session session(with_hsr({{"controller", {{"type", controller}, {"goal", {{"pose", {{"x", 8}, {"y", 2}}}}}}}},
+                           {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 5}, {"y", 2}, {"theta", 3.14159}}}}})}}),
+                  1);
+  const AgentId hsr = session.agent_id("hsr"), ana = session.agent_id("ana");
+  double closest = 1e9;
+  for (int i = 0; i < 60 * 40 && events_of(session, "robot_goal_reached").empty(); ++i) {
+    session.step();
+    closest = std::min(closest, (session.state().agents[session.index_of(hsr)].position -
+                                 session.state().agents[session.index_of(ana)].position).norm());
+  }
+  EXPECT_EQ(events_of(session, "robot_goal_reached").size(), 1u) << controller;
+  return closest;
+}
+
+TEST(RobotSession, SocialControllerKeepsMoreDistanceThanThePathFollower) {
+  const double social = closest_approach("social"), plain = closest_approach("goal");
+  EXPECT_GT(social, plain + 0.1) << "the social robot yields";
+  EXPECT_GT(social, 0.215 + kSocialStopDistance - 0.1);
+}
+
+}  // namespace
+}  // namespace hrisim::sim
