@@ -808,7 +808,7 @@ void Session::locomotion() {
 
 void Session::decide_robots() {
   for (RobotRuntime& runtime : robots_) {
-    if (!runtime.robot.description().drive) continue;
+    if (!runtime.robot.description().drive || !state_.agents[runtime.agent].active) continue;
     const AgentState& state = state_.agents[runtime.agent];
     const Pose2 pose = runtime.robot.pose();
     robots::Twist command = runtime.command;  // teleoperation, or an external controller
@@ -836,6 +836,7 @@ void Session::decide_robots() {
 void Session::move_robots() {
   for (RobotRuntime& runtime : robots_) {
     AgentState& state = state_.agents[runtime.agent];
+    if (!state.active) continue;
     const bool was_navigating = state.navigating;
     runtime.robot.step(runtime.motor_random);
     const Pose2& pose = runtime.robot.pose();
@@ -963,6 +964,11 @@ void Session::step_physics() {
     physics_->set_kinematic_pose(body.right_leg, leg_pose(agent.position - side, feet[1]));
   }
   for (RobotRuntime& runtime : robots_) {
+    const bool active = state_.agents[runtime.agent].active;
+    for (const int body : runtime.link_bodies) {
+      if (body >= 0) physics_->set_enabled(body, active);
+    }
+    if (!active) continue;
     const auto poses = runtime.robot.link_poses();
     const auto& links = runtime.robot.description().links;
     for (std::size_t l = 0; l < links.size(); ++l) {
@@ -1032,6 +1038,7 @@ sensors::RayScene Session::range_scene(double height, int robot_agent) const {
 
 void Session::sense() {
   for (RobotRuntime& runtime : robots_) {
+    if (!state_.agents[runtime.agent].active) continue;
     const std::string& id = model_->agents[runtime.agent].id;
     if (runtime.robot.description().drive) {
       runtime.odometry.update(runtime.robot.twist(), model_->dt, runtime.sensor_random);

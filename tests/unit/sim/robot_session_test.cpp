@@ -119,6 +119,15 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
   for (int i = 0; i < 200; ++i) session.step();
   EXPECT_EQ(events_of(session, "contact_end").size(), started.size());
   EXPECT_TRUE(session.robot_runtime(hsr)->contacts.empty());
+  // A robot taken out of the session stops sensing and touching; the others go on.
+  const RobotRuntime* runtime = session.robot_runtime(hsr);
+  const std::int64_t last_scan = runtime->lasers.front().reading.tick;
+  session.command_robot_twist(hsr, {0.2, 0.0});
+  session.remove_agent(hsr);
+  for (int i = 0; i < 200; ++i) session.step();
+  EXPECT_EQ(runtime->lasers.front().reading.tick, last_scan);
+  EXPECT_EQ(events_of(session, "contact_start").size(), started.size()) << "no contacts of a removed robot";
+  EXPECT_THROW(session.robot_runtime(hsr), core::Error) << "its id is stale";
 }
 
 TEST(RobotSession, PeopleDetectorSeesPeopleButNotThroughTheTable) {
