@@ -97,11 +97,11 @@ struct PhysicsWorld::Impl {
       body.body->setCollisionFlags(body.body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
       body.body->setActivationState(DISABLE_DEACTIVATION);
     }
+    body.body->setUserIndex(static_cast<int>(bodies.size()));
+    body.body->setUserIndex2(owner.index);
     body.shape = std::move(shape);
     body.owner = std::move(owner);
     body.mass = mass;
-    body.body->setUserIndex(static_cast<int>(bodies.size()));
-    body.body->setUserIndex2(owner.index);
     body.body->setFriction(kFriction);
     body.body->setRestitution(0.0);
     insert(body);

@@ -118,8 +118,11 @@ double Robot::joint_position(int joint) const {
 
 double Robot::joint_velocity(int joint) const {
   if (motors_.at(joint)) return motors_[joint]->velocity();
-  if (const auto& mimic = description_->joints[joint].mimic) {
-    return mimic->multiplier * joint_velocity(description_->find_joint(mimic->joint));
+  const Joint& def = description_->joints[joint];
+  if (def.mimic) {
+    const double followed = def.mimic->multiplier * joint_position(description_->find_joint(def.mimic->joint)) + def.mimic->offset;
+    if (followed != joint_position(joint)) return 0.0;  // held at its own limit
+    return def.mimic->multiplier * joint_velocity(description_->find_joint(def.mimic->joint));
   }
   return 0.0;
 }

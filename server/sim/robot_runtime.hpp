@@ -132,8 +132,8 @@ robots::Twist follow_velocity(const Pose2& pose, const Vec2& desired);
 Vec2 social_velocity(const Pose2& pose, const std::vector<Vec2>& path, double speed, const std::vector<Vec2>& people,
                      double robot_radius);
 
-/// Height at which a robot's bumper touches legs, m.
-inline constexpr double kBumperHeight = 0.1;
+/// Height of the cylinder that stands for a robot without a model in the physics world, m.
+inline constexpr double kDiscRobotHeight = 1.0;
 
 /// Centres of a human's two legs at `height` (below the hips): a hip width apart, swinging fore and
 /// aft in opposition with the gait phase.

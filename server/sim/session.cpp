@@ -145,8 +145,8 @@ void Session::step() {
   decide_robots();
   locomotion();
   move_robots();
-  if (physics_) step_physics();
   ++state_.tick;
+  if (physics_) step_physics();  // the state after this step: its events carry the new tick, as sensors do
   sense();
   if (time() >= time_limit_) {
     state_.finished = true;
@@ -812,7 +812,9 @@ void Session::decide_robots() {
     const AgentState& state = state_.agents[runtime.agent];
     const Pose2 pose = runtime.robot.pose();
     robots::Twist command = runtime.command;  // teleoperation, or an external controller
-    if (state.navigating && !state.path.empty()) {
+    if (runtime.controller.kind == scenario::RobotController::Kind::teleop) {
+      // Under external control: its commands drive the robot, even along a choreography's goto.
+    } else if (state.navigating && !state.path.empty()) {
       const std::vector<Vec2> path(state.path.begin() + static_cast<std::ptrdiff_t>(state.path_index), state.path.end());
       if (runtime.controller.kind == scenario::RobotController::Kind::social) {
         std::vector<Vec2> people;
@@ -826,7 +828,7 @@ void Session::decide_robots() {
     } else if (state.target_heading) {
       // Turning on the spot to a goal's heading or to look at something.
       command = {0.0, kHeadingGain * core::wrap_angle(*state.target_heading - pose.theta)};
-    } else if (runtime.controller.kind != scenario::RobotController::Kind::teleop) {
+    } else {
       command = {};
     }
     runtime.robot.command_base(command);
@@ -932,6 +934,17 @@ void Session::build_physics() {
     body.right_leg = physics_->add_kinematic(capsule(kLegRadius, kHipHeight - 2 * kLegRadius), upright(at, 0.5 * kHipHeight),
                                              {BodyOwner::Kind::human, agent, "right_leg"});
   }
+  disc_robot_bodies_.assign(state_.agents.size(), -1);
+  for (std::size_t i = 0; i < state_.agents.size(); ++i) {
+    const scenario::AgentDef& def = model_->agents[i];
+    if (def.kind != AgentKind::robot || def.robot_model) continue;
+    robots::Shape disc;
+    disc.kind = robots::Shape::Kind::cylinder;
+    disc.radius = def.radius;
+    disc.length = kDiscRobotHeight;
+    disc_robot_bodies_[i] = physics_->add_kinematic(disc, upright(state_.agents[i].position, 0.5 * kDiscRobotHeight),
+                                                    {BodyOwner::Kind::robot, static_cast<int>(i), "body"});
+  }
   for (RobotRuntime& runtime : robots_) {
     const robots::RobotDescription& description = runtime.robot.description();
     const auto poses = runtime.robot.link_poses();
@@ -963,12 +976,21 @@ void Session::step_physics() {
     physics_->set_kinematic_pose(body.left_leg, leg_pose(agent.position + side, feet[0]));
     physics_->set_kinematic_pose(body.right_leg, leg_pose(agent.position - side, feet[1]));
   }
+  for (std::size_t i = 0; i < disc_robot_bodies_.size(); ++i) {
+    if (disc_robot_bodies_[i] < 0) continue;
+    physics_->set_enabled(disc_robot_bodies_[i], state_.agents[i].active);
+    physics_->set_kinematic_pose(disc_robot_bodies_[i], upright(state_.agents[i].position, 0.5 * kDiscRobotHeight));
+  }
   for (RobotRuntime& runtime : robots_) {
     const bool active = state_.agents[runtime.agent].active;
     for (const int body : runtime.link_bodies) {
       if (body >= 0) physics_->set_enabled(body, active);
     }
-    if (!active) continue;
+    if (!active) {
+      if (runtime.held_object >= 0) physics_->detach(object_bodies_[runtime.held_object]);  // it drops what it held
+      runtime.held_object = -1;
+      continue;
+    }
     const auto poses = runtime.robot.link_poses();
     const auto& links = runtime.robot.description().links;
     for (std::size_t l = 0; l < links.size(); ++l) {
@@ -1021,6 +1043,27 @@ sensors::RayScene Session::range_scene(double height, int robot_agent) const {
     std::vector<world::Segment> edges;
     const Vec2 across = core::left_normal((door.to - door.from).normalized()) * (0.5 * door.thickness);
     world::append_edges({door.from - across, door.to - across, door.to + across, door.from + across}, edges);
+    for (const world::Segment& edge : edges) scene.add(edge);
+  }
+  for (std::size_t o = 0; o < object_bodies_.size(); ++o) {
+    // Movable objects as their footprint at this height, taken upright (a lying cup reads as standing).
+    const scenario::MovableObject& object = model_->objects[o];
+    const Eigen::Isometry3d pose = physics_->pose(object_bodies_[o]);
+    const robots::Shape& shape = object.shape;
+    const double half_height = shape.kind == robots::Shape::Kind::box      ? 0.5 * shape.size.z()
+                               : shape.kind == robots::Shape::Kind::sphere ? shape.radius
+                                                                            : 0.5 * shape.length + (shape.kind == robots::Shape::Kind::capsule ? shape.radius : 0.0);
+    if (std::abs(pose.translation().z() - height) > half_height) continue;
+    const Vec2 centre(pose.translation().x(), pose.translation().y());
+    if (shape.kind != robots::Shape::Kind::box) {
+      scene.add(sensors::Circle{centre, shape.radius});
+      continue;
+    }
+    const Eigen::Vector3d x_axis = pose.rotation().col(0);
+    const Vec2 along = Vec2(x_axis.x(), x_axis.y()).normalized();
+    const Vec2 u = 0.5 * shape.size.x() * along, v = 0.5 * shape.size.y() * core::left_normal(along);
+    std::vector<world::Segment> edges;
+    world::append_edges({centre - u - v, centre + u - v, centre + u + v, centre - u + v}, edges);
     for (const world::Segment& edge : edges) scene.add(edge);
   }
   for (std::size_t i = 0; i < state_.agents.size(); ++i) {

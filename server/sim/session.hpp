@@ -147,6 +147,7 @@ class Session {
   };
   std::vector<HumanBodies> human_bodies_;  ///< per agent (robots: none)
   std::vector<int> door_bodies_;
+  std::vector<int> disc_robot_bodies_;  ///< per agent: the body of a robot without a model, else -1
   std::vector<int> object_bodies_;
   std::vector<int> runtime_of_agent_;  ///< index into robots_ per agent, -1 for agents without a model
   world::PlanningHistory planning_history_;  ///< this session's own: its paths never depend on other sessions

@@ -297,3 +297,28 @@ TEST(RobotSession, SocialControllerKeepsMoreDistanceThanThePathFollower) {
 
 }  // namespace
 }  // namespace hrisim::sim
+
+namespace hrisim::sim {
+namespace {
+
+TEST(RobotSession, LaserSeesMovableObjectsAndRobotsTouchDiscRobots) {
+  json extra = json::parse(R"({
+    "objects": [{"name": "crate", "shape": {"kind": "box", "size": [0.4, 0.4, 0.4]}, "mass": 3, "pose": {"x": 3.5, "y": 2, "z": 0.2}}]})");
+  json scenario = testing::room_scenario(extra);
+  scenario["humans"] = json::array({{{"id", "ana"}, {"start", {{"x", 8.5}, {"y", 8.5}}}}});
+  scenario["steps"] = json::array({{{"name", "wait"}, {"actions", json::array({{{"agent", "ana"}, {"wait", {{"duration", 5}}}}})}}});
+  scenario["robots"] = json::array({{{"id", "hsr"}, {"model", "hsr"}, {"start", {{"x", 2}, {"y", 2}}}},
+                                    {{"id", "cart"}, {"start", {{"x", 2}, {"y", 2.4}}}, {"radius", 0.2}}});
+  Session session(testing::load_valid(scenario), 1);
+  session.step();
+  const LaserReading& scan = session.robot_runtime(session.agent_id("hsr"))->lasers.front().reading;
+  // The crate's near face is at x = 3.3; the laser sits 0.1675 m ahead of the robot's centre.
+  EXPECT_NEAR(scan.ranges[540], 3.3 - 2.1675, 0.05);
+  const auto started = events_of(session, "contact_start");
+  ASSERT_EQ(started.size(), 1u) << "the cart (a robot without a model) is a 0.2 m cylinder in the physics world";
+  EXPECT_EQ(started[0]->data["with"], "cart");
+  EXPECT_EQ(started[0]->data["part"], "body");
+}
+
+}  // namespace
+}  // namespace hrisim::sim
