@@ -3,6 +3,7 @@
 #include <boost/version.hpp>
 
 #include "core/build_info.hpp"
+#include "http/scenarios_api.hpp"
 #include "http/static_files.hpp"
 #include "render/image_codec.hpp"
 #include "render/offscreen_context.hpp"
@@ -110,6 +111,8 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
     }
     return Response::json(200, {{"summary", robot_summary(*robot)}, {"description", robots::builtin_robot_document(name)}});
   });
+
+  add_scenario_routes(*router, store, context.scenarios_dir);
 
   auto files = std::make_shared<StaticFiles>(context.web_root);
   router->set_fallback([files](const Request& request) {

@@ -1,0 +1,54 @@
+#pragma once
+// Scenario sources as people hand them in — native JSON, IMHuS XML, Pedsim XML — compiled to the
+// native document and the model, every problem located (a JSON pointer into the native document, or
+// a line of the XML). The CLI and the REST API both go through here.
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "scenario/import.hpp"
+#include "scenario/load.hpp"
+
+namespace hrisim::scenario {
+
+enum class SourceFormat { json, imhus_xml, pedsim_xml };
+
+/// "json", "imhus_xml" or "pedsim_xml", as stored.
+std::string_view to_string(SourceFormat format);
+/// A format by name: json, imhus, pedsim, or the stored names.
+std::optional<SourceFormat> source_format(std::string_view name);
+/// XML (IMHuS or Pedsim, by its content) when the text starts with '<', JSON otherwise.
+SourceFormat detect_source_format(std::string_view text);
+
+/// A problem with a source: at `pointer` in the native document, or at `line` of the XML.
+struct SourceIssue {
+  std::string pointer;
+  int line = 0;
+  std::string message;
+  /// {"pointer": …} or {"line": …}, with "message".
+  nlohmann::json to_json() const;
+};
+
+struct CompiledSource {
+  SourceFormat format = SourceFormat::json;
+  nlohmann::json document;             ///< the native scenario (imported from XML when needed)
+  std::shared_ptr<const Model> model;  ///< null when there are errors
+  std::vector<SourceIssue> errors;
+  std::vector<SourceIssue> warnings;
+};
+
+struct SourceOptions {
+  ImportOptions import;  ///< for XML sources
+  LoadOptions load;      ///< where maps are looked up
+};
+
+CompiledSource compile_source(std::string_view text, SourceFormat format, const SourceOptions& options);
+
+/// What a list shows of a scenario: name, description, humans, robots (with their models), task,
+/// duration (its time limit, s), steps, dt.
+nlohmann::json summarize(const Model& model);
+
+}  // namespace hrisim::scenario

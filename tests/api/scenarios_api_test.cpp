@@ -1,0 +1,130 @@
+// The scenarios routes against the real server: list, get, upload (JSON, IMHuS XML, Pedsim XML),
+// validate, and bad input that stores nothing.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "test_server.hpp"
+
+namespace hrisim::testing {
+namespace {
+
+using nlohmann::json;
+
+json json_of(const HttpReply& reply) { return json::parse(reply.body); }
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+const std::string kJson = "Content-Type: application/json\r\n";
+const std::string kXml = "Content-Type: application/xml\r\n";
+
+class ScenariosApi : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { server_ = new TestServer(); }
+  static void TearDownTestSuite() {
+    delete server_;
+    server_ = nullptr;
+  }
+  static std::uint16_t port() { return server_->port(); }
+  static TestServer* server_;
+};
+TestServer* ScenariosApi::server_ = nullptr;
+
+const char* kSmall = R"({"name": "tiny", "world": {"bounds": {"min": [0, 0], "max": [5, 5]}},
+  "humans": [{"id": "ana", "start": {"x": 1, "y": 1}}],
+  "steps": [{"name": "walk", "actions": [{"agent": "ana", "goto": {"pose": {"x": 4, "y": 4}}}]}]})";
+
+TEST_F(ScenariosApi, BundledScenariosAreListedWithSummaries) {
+  const json page = json_of(http(port(), "GET", "/api/v1/scenarios?limit=200"));
+  std::map<std::string, json> by_id;
+  for (const json& item : page["items"]) by_id[item["id"]] = item;
+  ASSERT_TRUE(by_id.contains("elevator"));
+  const json& elevator = by_id["elevator"];
+  EXPECT_EQ(elevator["origin"], "bundled");
+  EXPECT_EQ(elevator["humans"], 6);
+  ASSERT_EQ(elevator["robots"].size(), 1u);
+  EXPECT_EQ(elevator["robots"][0]["model"], "hsr");
+  EXPECT_EQ(elevator["steps"], 5);
+  EXPECT_GT(elevator["duration"].get<double>(), 0.0);
+  const json native = json_of(http(port(), "GET", "/api/v1/scenarios/elevator"));
+  EXPECT_EQ(native["name"], "elevator");
+  EXPECT_EQ(native["robots"][0]["model"], "hsr");
+}
+
+TEST_F(ScenariosApi, PagesFollowTheCursor) {
+  const json first = json_of(http(port(), "GET", "/api/v1/scenarios?limit=2"));
+  ASSERT_EQ(first["items"].size(), 2u);
+  ASSERT_TRUE(first["next_cursor"].is_string());
+  const json second = json_of(http(port(), "GET", "/api/v1/scenarios?limit=2&cursor=" + first["next_cursor"].get<std::string>()));
+  ASSERT_FALSE(second["items"].empty());
+  EXPECT_GT(second["items"][0]["id"].get<std::string>(), first["items"][1]["id"].get<std::string>());
+  for (const char* bad : {"0", "201", "x", "5x"}) {
+    const HttpReply reply = http(port(), "GET", std::string("/api/v1/scenarios?limit=") + bad);
+    EXPECT_EQ(reply.status, 400) << bad;
+    EXPECT_EQ(json_of(reply)["error"]["details"]["parameter"], "limit");
+  }
+}
+
+TEST_F(ScenariosApi, UploadStoresTheSourceAndServesTheNativeDocument) {
+  const HttpReply created = http(port(), "POST", "/api/v1/scenarios", kSmall, kJson);
+  ASSERT_EQ(created.status, 201) << created.body;
+  const json summary = json_of(created)["summary"];
+  const std::string id = summary["id"];
+  EXPECT_EQ(id.size(), 33u) << "u and 128 random bits in hex";
+  EXPECT_EQ(summary["origin"], "uploaded");
+  EXPECT_EQ(summary["format"], "json");
+  EXPECT_EQ(summary["humans"], 1);
+  EXPECT_EQ(summary["sha256"].get<std::string>().size(), 64u);
+  EXPECT_EQ(created.headers.at("location"), "/api/v1/scenarios/" + id);
+  EXPECT_EQ(json_of(http(port(), "GET", "/api/v1/scenarios/" + id))["name"], "tiny");
+  const json page = json_of(http(port(), "GET", "/api/v1/scenarios?limit=200"));
+  EXPECT_TRUE(std::any_of(page["items"].begin(), page["items"].end(), [&](const json& item) { return item["id"] == id; }));
+}
+
+TEST_F(ScenariosApi, XmlUploadsAreImportedByContentOrFormat) {
+  const std::string pedsim = file_text(std::string(HRISIM_SOURCE_DIR) + "/../shared/external/pedsim/corridor.xml");
+  if (pedsim.empty()) GTEST_SKIP() << "no Pedsim reference file beside the project";
+  const HttpReply by_content = http(port(), "POST", "/api/v1/scenarios", pedsim, kXml);
+  ASSERT_EQ(by_content.status, 201) << by_content.body;
+  EXPECT_EQ(json_of(by_content)["summary"]["format"], "pedsim_xml");
+  const HttpReply named = http(port(), "POST", "/api/v1/scenarios/validate?format=pedsim", pedsim, kXml);
+  EXPECT_TRUE(json_of(named)["valid"].get<bool>()) << named.body;
+  const HttpReply wrong = http(port(), "POST", "/api/v1/scenarios/validate?format=imhus", pedsim, kXml);
+  EXPECT_FALSE(json_of(wrong)["valid"].get<bool>());
+  EXPECT_TRUE(json_of(wrong)["errors"][0].contains("line")) << "XML errors name their line: " << wrong.body;
+}
+
+TEST_F(ScenariosApi, ValidateReportsEveryErrorAndStoresNothing) {
+  const json before = json_of(http(port(), "GET", "/api/v1/scenarios?limit=200"));
+  json broken = json::parse(kSmall);
+  broken["humans"][0]["start"] = {{"x", 9}, {"y", 9}};  // outside the map
+  broken["steps"][0]["actions"][0]["agent"] = "bob";    // unknown agent
+  const json report = json_of(http(port(), "POST", "/api/v1/scenarios/validate", broken.dump(), kJson));
+  EXPECT_FALSE(report["valid"].get<bool>());
+  std::set<std::string> pointers;
+  for (const json& error : report["errors"]) pointers.insert(error["pointer"]);
+  EXPECT_TRUE(pointers.contains("/humans/0/start"));
+  EXPECT_TRUE(pointers.contains("/steps/0/actions/0/agent"));
+  const HttpReply refused = http(port(), "POST", "/api/v1/scenarios", broken.dump(), kJson);
+  EXPECT_EQ(refused.status, 400);
+  EXPECT_EQ(json_of(refused)["error"]["details"]["errors"].size(), report["errors"].size());
+  const HttpReply malformed = http(port(), "POST", "/api/v1/scenarios", "{\"name\": \"x\",\n  oops}", kJson);
+  EXPECT_EQ(malformed.status, 400);
+  EXPECT_NE(json_of(malformed)["error"]["details"]["errors"][0]["message"].get<std::string>().find("line 2"), std::string::npos);
+  const HttpReply unknown_format = http(port(), "POST", "/api/v1/scenarios?format=yaml", kSmall, kJson);
+  EXPECT_EQ(unknown_format.status, 400);
+  EXPECT_EQ(http(port(), "GET", "/api/v1/scenarios/u0000").status, 404);
+  const json after = json_of(http(port(), "GET", "/api/v1/scenarios?limit=200"));
+  EXPECT_EQ(after["items"].size(), before["items"].size()) << "nothing stored";
+}
+
+}  // namespace
+}  // namespace hrisim::testing
