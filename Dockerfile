@@ -1,5 +1,6 @@
 # hrisim in a container: built on Debian 12 with the same package list and setup script as a
-# developer machine, run as a non-root user. Inside the container the server binds 0.0.0.0.
+# developer machine, run as a non-root user. Inside the container the server binds 0.0.0.0, so it
+# starts only with a token (HRISIM_TOKEN) or HRISIM_ALLOW_UNAUTHENTICATED=1.
 FROM debian:12 AS build
 WORKDIR /src
 COPY scripts/setup scripts/debian-packages.txt scripts/

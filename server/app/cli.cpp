@@ -29,6 +29,9 @@ std::uint64_t parse_unsigned(const std::string& where, const std::string& text, 
   return value;
 }
 
+/// Shortest bearer token accepted: guessing 16 random characters is out of reach.
+constexpr std::size_t kMinimumTokenLength = 16;
+
 const std::vector<Flag>& flags() {
   static const std::vector<Flag> kFlags = {
       {"host", "HRISIM_HOST", "IP address to listen on (default 127.0.0.1)",
@@ -65,6 +68,14 @@ const std::vector<Flag>& flags() {
        }},
       {"log-requests", "HRISIM_LOG_REQUESTS", "1 to log each request to stderr, 0 not to (default 1)",
        [](ServeOptions& o, const std::string& v) { o.server.log_requests = parse_unsigned("--log-requests", v, 0, 1); }},
+      {"token", "HRISIM_TOKEN", "bearer token every /api/ route but version then requires (default none)",
+       [](ServeOptions& o, const std::string& v) {
+         if (v.size() < kMinimumTokenLength) {
+           throw core::Error(core::ErrorCode::bad_request, "--token: at least " + std::to_string(kMinimumTokenLength) + " characters",
+                             {{"option", "--token"}});
+         }
+         o.token = v;
+       }},
   };
   return kFlags;
 }
@@ -80,6 +91,10 @@ ServeOptions parse_serve_options(const std::vector<std::string>& args, const Env
       throw core::Error(core::ErrorCode::bad_request, "unexpected argument '" + arg + "'", {{"argument", arg}});
     }
     std::string name = arg.substr(2), value;
+    if (name == "allow-unauthenticated") {  // a switch: no value
+      options.allow_unauthenticated = true;
+      continue;
+    }
     if (const auto eq = name.find('='); eq != std::string::npos) {
       value = name.substr(eq + 1);
       name.resize(eq);
@@ -107,8 +122,17 @@ ServeOptions parse_serve_options(const std::vector<std::string>& args, const Env
     throw core::Error(core::ErrorCode::bad_request, "unknown option --" + given.begin()->first,
                       {{"option", given.begin()->first}});
   }
+  if (const auto value = env("HRISIM_ALLOW_UNAUTHENTICATED")) options.allow_unauthenticated |= *value == "1";
+  if (options.token.empty() && !options.allow_unauthenticated && !is_loopback(options.server.host)) {
+    throw core::Error(core::ErrorCode::bad_request,
+                      "refusing to listen on " + options.server.host +
+                          " without a token: give --token (or HRISIM_TOKEN), or --allow-unauthenticated to serve anyone who can reach it",
+                      {{"option", "--host"}});
+  }
   return options;
 }
+
+bool is_loopback(const std::string& host) { return host == "localhost" || host == "::1" || host.starts_with("127."); }
 
 std::string serve_usage() {
   std::string text = "usage: hrisim serve [options]\n\noptions (each also read from the variable named):\n";
@@ -117,6 +141,7 @@ std::string serve_usage() {
     text.append(std::max<std::size_t>(2, 22 - std::string(flag.name).size()), ' ');
     text += std::string(flag.help) + "  [" + flag.env + "]\n";
   }
+  text += "  --allow-unauthenticated      listen beyond loopback without a token  [HRISIM_ALLOW_UNAUTHENTICATED=1]\n";
   return text;
 }
 

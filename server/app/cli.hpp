@@ -19,7 +19,12 @@ struct ServeOptions {
   std::filesystem::path database = kDefaultDatabase;
   std::filesystem::path scenarios = kDefaultScenarios;
   std::filesystem::path web_root = kDefaultWebRoot;
+  std::string token;                   ///< bearer token every /api/ route but version requires
+  bool allow_unauthenticated = false;  ///< listen beyond loopback without a token
 };
+
+/// Whether a host address only accepts connections from this machine.
+bool is_loopback(const std::string& host);
 
 /// Reads an environment variable; empty optional when unset.
 using EnvLookup = std::function<std::optional<std::string>(const std::string&)>;

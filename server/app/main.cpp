@@ -48,7 +48,11 @@ int serve(const std::vector<std::string>& args) {
   }
 
   hrisim::storage::Store store(options.database);
-  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios});
+  if (options.token.empty() && !hrisim::app::is_loopback(options.server.host)) {
+    std::fprintf(stderr, "hrisim: warning: listening on %s without a token: anyone who can reach it controls the simulator\n",
+                 options.server.host.c_str());
+  }
+  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios, options.token});
   hrisim::http::Server server(options.server, router);
   std::printf("hrisim %s listening on http://%s:%u (database %s, schema version %d)\n",
               hrisim::http::version_info()["version"].get<std::string>().c_str(), options.server.host.c_str(),

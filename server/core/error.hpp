@@ -11,6 +11,7 @@ namespace hrisim::core {
 /// Error categories; each maps to one HTTP status (see http_status()).
 enum class ErrorCode {
   bad_request,        ///< malformed or invalid input (400)
+  unauthorized,       ///< no or a wrong bearer token (401)
   not_found,          ///< unknown id or path (404)
   method_not_allowed, ///< path exists, method does not (405)
   conflict,           ///< state does not allow the operation (409)

@@ -88,6 +88,27 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
     }
   });
 
+  if (!context.token.empty()) {
+    router->set_guard([token = context.token](const Request& request) -> std::optional<Response> {
+      const bool open = !request.path.starts_with("/api/") || request.path == "/api/v1/version";
+      if (open) return std::nullopt;
+      const auto header = request.headers.find("authorization");
+      const std::string given = header == request.headers.end() ? "" : header->second;
+      const std::string expected = "Bearer " + token;
+      // Compared in time independent of where they differ, so the token cannot be guessed byte by byte.
+      unsigned char difference = given.size() == expected.size() ? 0 : 1;
+      for (std::size_t i = 0; i < expected.size(); ++i) {
+        difference |= static_cast<unsigned char>(expected[i] ^ (i < given.size() ? given[i] : 0));
+      }
+      if (difference == 0) return std::nullopt;
+      Response response = Response::error(core::Error(core::ErrorCode::unauthorized,
+                                                      header == request.headers.end() ? "this route needs Authorization: Bearer <token>"
+                                                                                      : "the bearer token is wrong"));
+      response.headers.emplace_back("WWW-Authenticate", "Bearer realm=\"hrisim\"");
+      return response;
+    });
+  }
+
   const nlohmann::json version = version_info();
   router->add("GET", "/api/v1/version", [version](const Request&) { return Response::json(200, version); });
 

@@ -15,6 +15,7 @@ struct ApiContext {
   storage::Store* store = nullptr;       ///< must outlive the router
   std::filesystem::path web_root;        ///< browser UI served at /
   std::filesystem::path scenarios_dir;   ///< bundled scenarios
+  std::string token;                     ///< when set, /api/ routes but version need "Bearer <token>"
 };
 
 /// Build and library versions, as served at /api/v1/version.

@@ -54,6 +54,9 @@ void Router::add(std::string method, std::string pattern, Handler handler) {
 
 Response Router::dispatch(Request request) const {
   try {
+    if (guard_) {
+      if (auto refused = guard_(request)) return *refused;
+    }
     const std::vector<std::string> segments = split_path(request.path);
     std::string allowed;
     for (const Route& route : routes_) {

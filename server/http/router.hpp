@@ -3,6 +3,7 @@
 // Free of Beast so that handlers and their tests compile without it.
 #include <functional>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -38,6 +39,8 @@ class Router {
  public:
   /// Registers a handler; pattern segments written {name} match any one segment and land in path_params.
   void add(std::string method, std::string pattern, Handler handler);
+  /// Runs before every request: a response from it is the answer (e.g. 401), nothing lets the request on.
+  void set_guard(std::function<std::optional<Response>(const Request&)> guard) { guard_ = std::move(guard); }
   /// Answers requests no pattern matches (static files); without it they get 404.
   void set_fallback(Handler handler) { fallback_ = std::move(handler); }
 
@@ -53,6 +56,7 @@ class Router {
   };
   std::vector<Route> routes_;
   Handler fallback_;
+  std::function<std::optional<Response>(const Request&)> guard_;
 };
 
 /// Decodes %XX escapes; throws core::Error(bad_request) on a malformed escape or an encoded NUL.

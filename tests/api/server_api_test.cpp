@@ -204,6 +204,22 @@ TEST(ServerLifecycle, SigtermClosesIdleConnectionsAndTheDatabaseCleanly) {
   EXPECT_FALSE(std::filesystem::exists(server.database().string() + "-wal"));
 }
 
+TEST(ServerAuth, TokenGuardsTheApiButNotHealthVersionOrTheUi) {
+  TestServer server({"--token", "s3cret-token-0123456789"});
+  const std::uint16_t port = server.port();
+  EXPECT_EQ(http(port, "GET", "/healthz").status, 200);
+  EXPECT_EQ(http(port, "GET", "/api/v1/version").status, 200);
+  EXPECT_EQ(http(port, "GET", "/").status, 200);
+  const HttpReply missing = http(port, "GET", "/api/v1/robots");
+  EXPECT_EQ(missing.status, 401);
+  EXPECT_EQ(json_of(missing)["error"]["code"], "unauthorized");
+  EXPECT_EQ(missing.headers.at("www-authenticate"), "Bearer realm=\"hrisim\"");
+  EXPECT_EQ(http(port, "GET", "/api/v1/robots", "", "Authorization: Bearer wrong-token-0123456789\r\n").status, 401);
+  EXPECT_EQ(http(port, "GET", "/api/v1/robots", "", "Authorization: Bearer s3cret-token-0123456789\r\n").status, 200);
+  EXPECT_EQ(http(port, "POST", "/api/v1/scenarios", "{}", "Authorization: Bearer s3cret\r\n").status, 401)
+      << "a prefix of the token is not the token";
+}
+
 TEST(ServerLifecycle, BadFlagExitsWithMessage) {
   const CommandResult result = run_command(std::string(HRISIM_BINARY) + " serve --port 70000");
   EXPECT_EQ(result.exit_status, 2);

@@ -30,7 +30,8 @@ TEST(ServeOptions, Defaults) {
 
 TEST(ServeOptions, FlagsBeatEnvironmentWhichBeatsDefaults) {
   const ServeOptions options = parse_serve_options(
-      {"--port", "9000", "--db=/tmp/x.db"}, env_of({{"HRISIM_PORT", "7000"}, {"HRISIM_HOST", "0.0.0.0"}}));
+      {"--port", "9000", "--db=/tmp/x.db"},
+      env_of({{"HRISIM_PORT", "7000"}, {"HRISIM_HOST", "0.0.0.0"}, {"HRISIM_TOKEN", "0123456789abcdef"}}));
   EXPECT_EQ(options.server.port, 9000);
   EXPECT_EQ(options.server.host, "0.0.0.0");
   EXPECT_EQ(options.database, "/tmp/x.db");
@@ -67,9 +68,22 @@ TEST(ServeOptions, BadValuesSayWhichOptionAndWhy) {
   expect_error_mentions({"serve"}, {}, "unexpected argument");
 }
 
+TEST(ServeOptions, BeyondLoopbackOnlyWithATokenOrWhenToldSo) {
+  expect_error_mentions({"--host", "0.0.0.0"}, {}, "without a token");
+  EXPECT_EQ(parse_serve_options({"--host", "0.0.0.0", "--token", "0123456789abcdef"}, env_of({})).token, "0123456789abcdef");
+  EXPECT_TRUE(parse_serve_options({"--host", "0.0.0.0", "--allow-unauthenticated"}, env_of({})).allow_unauthenticated);
+  EXPECT_TRUE(parse_serve_options({"--host", "10.0.0.5"}, env_of({{"HRISIM_ALLOW_UNAUTHENTICATED", "1"}})).allow_unauthenticated);
+  for (const char* loopback : {"127.0.0.1", "127.0.1.1", "::1", "localhost"}) {
+    EXPECT_NO_THROW(parse_serve_options({"--host", loopback}, env_of({}))) << loopback;
+  }
+  expect_error_mentions({"--token", "short"}, {}, "--token: at least 16");
+  expect_error_mentions({}, {{"HRISIM_TOKEN", "short"}}, "HRISIM_TOKEN");
+}
+
 TEST(ServeOptions, UsageListsEveryVariable) {
   const std::string usage = serve_usage();
-  for (const char* variable : {"HRISIM_HOST", "HRISIM_PORT", "HRISIM_DB", "HRISIM_SCENARIOS", "HRISIM_WEB_ROOT"}) {
+  for (const char* variable : {"HRISIM_HOST", "HRISIM_PORT", "HRISIM_DB", "HRISIM_SCENARIOS", "HRISIM_WEB_ROOT", "HRISIM_TOKEN",
+                               "HRISIM_ALLOW_UNAUTHENTICATED"}) {
     EXPECT_NE(usage.find(variable), std::string::npos) << variable;
   }
 }

@@ -23,6 +23,7 @@ TEST(Error, EmptyDetailsAreOmitted) {
 
 TEST(Error, StatusesFollowHttpSemantics) {
   EXPECT_EQ(http_status(ErrorCode::bad_request), 400);
+  EXPECT_EQ(http_status(ErrorCode::unauthorized), 401);
   EXPECT_EQ(http_status(ErrorCode::not_found), 404);
   EXPECT_EQ(http_status(ErrorCode::method_not_allowed), 405);
   EXPECT_EQ(http_status(ErrorCode::conflict), 409);
@@ -35,12 +36,12 @@ TEST(Error, StatusesFollowHttpSemantics) {
 
 TEST(Error, CodeNamesAreDistinct) {
   std::set<std::string_view> names;
-  for (ErrorCode code : {ErrorCode::bad_request, ErrorCode::not_found, ErrorCode::method_not_allowed,
+  for (ErrorCode code : {ErrorCode::bad_request, ErrorCode::unauthorized, ErrorCode::not_found, ErrorCode::method_not_allowed,
                          ErrorCode::conflict, ErrorCode::payload_too_large, ErrorCode::headers_too_large,
                          ErrorCode::unavailable, ErrorCode::storage, ErrorCode::internal}) {
     names.insert(to_string(code));
   }
-  EXPECT_EQ(names.size(), 9u);
+  EXPECT_EQ(names.size(), 10u);
 }
 
 }  // namespace
