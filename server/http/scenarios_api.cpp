@@ -133,6 +133,39 @@ scenario::SourceFormat body_format(const Request& request) {
   return scenario::detect_source_format(request.body);
 }
 
+/// Refuses JSON nested deeper than kMaxJsonDepth before anything parses it (strings skipped).
+void check_nesting(const std::string& text) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) {
+        throw core::Error(core::ErrorCode::bad_request, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels",
+                          {{"limit", kMaxJsonDepth}});
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
+/// The body compiled as the format it is in.
+scenario::CompiledSource compile_body(const Request& request, const Catalogue& catalogue) {
+  const scenario::SourceFormat format = body_format(request);
+  if (format == scenario::SourceFormat::json) check_nesting(request.body);
+  return scenario::compile_source(request.body, format, catalogue.options());
+}
+
 json issues(const std::vector<scenario::SourceIssue>& list) {
   json result = json::array();
   for (const auto& issue : list) result.push_back(issue.to_json());
@@ -178,7 +211,7 @@ void add_scenario_routes(Router& router, storage::Store* store, const std::files
   });
 
   router.add("POST", "/api/v1/scenarios/validate", [catalogue](const Request& request) {
-    const auto compiled = scenario::compile_source(request.body, body_format(request), catalogue->options());
+    const auto compiled = compile_body(request, *catalogue);
     json reply{{"valid", compiled.errors.empty()},
                {"format", scenario::to_string(compiled.format)},
                {"errors", issues(compiled.errors)},
@@ -188,7 +221,7 @@ void add_scenario_routes(Router& router, storage::Store* store, const std::files
   });
 
   router.add("POST", "/api/v1/scenarios", [catalogue](const Request& request) {
-    auto compiled = scenario::compile_source(request.body, body_format(request), catalogue->options());
+    auto compiled = compile_body(request, *catalogue);
     if (!compiled.errors.empty()) {
       throw core::Error(core::ErrorCode::bad_request, "the scenario is not valid: nothing was stored",
                         {{"format", scenario::to_string(compiled.format)}, {"errors", issues(compiled.errors)}});

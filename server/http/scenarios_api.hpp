@@ -12,6 +12,8 @@ class Store;
 
 namespace hrisim::http {
 
+/// Deepest nesting of arrays and objects accepted in a JSON body (a scenario needs about 10).
+inline constexpr int kMaxJsonDepth = 64;
 /// Largest `limit` of a scenarios page; the default page size.
 inline constexpr int kMaxPageSize = 200;
 inline constexpr int kDefaultPageSize = 50;

@@ -4,9 +4,11 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 #include <sstream>
 
+#include "storage/store.hpp"
 #include "test_server.hpp"
 
 namespace hrisim::testing {
@@ -124,6 +126,76 @@ TEST_F(ScenariosApi, ValidateReportsEveryErrorAndStoresNothing) {
   EXPECT_EQ(http(port(), "GET", "/api/v1/scenarios/u0000").status, 404);
   const json after = json_of(http(port(), "GET", "/api/v1/scenarios?limit=200"));
   EXPECT_EQ(after["items"].size(), before["items"].size()) << "nothing stored";
+}
+
+}  // namespace
+}  // namespace hrisim::testing
+
+namespace hrisim::testing {
+namespace {
+
+/// A thousand malformed bodies and queries, generated from a fixed seed: each gets a JSON answer
+/// below 500, the server stays healthy, nothing is stored, and the database is sound afterwards.
+TEST(ScenariosApiFuzz, MalformedRequestsStoreNothingAndBreakNothing) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const std::size_t listed = json_of(http(port, "GET", "/api/v1/scenarios?limit=200"))["items"].size();
+  std::mt19937_64 random(20261122);
+  const std::string valid = json::parse(kSmall).dump();
+  auto pick = [&](std::size_t n) { return static_cast<std::size_t>(random() % n); };
+  int statuses_below_500 = 0;
+  for (int i = 0; i < 1000; ++i) {
+    std::string body, headers = kJson, target = i % 2 == 0 ? "/api/v1/scenarios" : "/api/v1/scenarios/validate";
+    switch (i % 8) {
+      case 0:  // truncated
+        body = valid.substr(0, pick(valid.size()));
+        break;
+      case 1:  // random bytes, control characters and invalid UTF-8 included
+        for (std::size_t k = 0, n = 1 + pick(300); k < n; ++k) body += static_cast<char>(random() & 0xFF);
+        break;
+      case 2:  // nested far too deep
+        body = std::string(1000 + pick(50000), '[') + std::string(10, ']');
+        break;
+      case 3: {  // a valid document with one value of the wrong type
+        json document = json::parse(valid);
+        const json wrong[] = {5, "fast", json::array(), nullptr, 1e308, -1, json::object(), "🙂"};
+        const char* keys[] = {"name", "dt", "humans", "steps", "world", "time_limit"};
+        document[keys[pick(6)]] = wrong[pick(8)];
+        body = document.dump();
+        break;
+      }
+      case 4: {  // an agent that does not exist, or a place off the map
+        json document = json::parse(valid);
+        document["steps"][0]["actions"][0]["agent"] = "ghost" + std::to_string(i);
+        document["humans"][0]["start"]["x"] = random() % 2 ? 1e9 : -1e9;
+        body = document.dump();
+        break;
+      }
+      case 5:  // XML that is broken or not a scenario
+        headers = kXml;
+        body = std::string("<?xml version=\"1.0\"?>\n<scenario><agent x=\"") + std::to_string(i) + (i % 3 ? "\"/>" : "");
+        break;
+      case 6:  // a format nobody knows
+        target += "?format=" + std::string(1 + pick(5), static_cast<char>('a' + pick(26)));
+        body = valid;
+        break;
+      case 7:  // JSON that is not an object
+        body = json::array({valid, i}).dump();
+        break;
+    }
+    const HttpReply reply = http(port, "POST", target, body, headers);
+    ASSERT_LT(reply.status, 500) << "request " << i << ": " << reply.body;
+    ASSERT_NE(reply.status, 201) << "request " << i << " was stored";
+    EXPECT_NO_THROW(json_of(reply)) << "request " << i;
+    ++statuses_below_500;
+  }
+  EXPECT_EQ(statuses_below_500, 1000);
+  EXPECT_EQ(http(port, "GET", "/healthz").status, 200);
+  EXPECT_EQ(json_of(http(port, "GET", "/api/v1/scenarios?limit=200"))["items"].size(), listed) << "nothing stored";
+  ASSERT_EQ(server.terminate(std::chrono::seconds(10)), 0);
+  storage::Store store(server.database());
+  EXPECT_EQ(store.integrity_check(), "ok");
+  EXPECT_EQ(store.counts().scenarios, 0);
 }
 
 }  // namespace
