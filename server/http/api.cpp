@@ -113,7 +113,7 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
   router->add("GET", "/api/v1/version", [version](const Request&) { return Response::json(200, version); });
 
   router->add("GET", "/api/v1/openapi.yaml", [](const Request&) {
-    return Response{200, "application/yaml", std::string(embedded_file("openapi.yaml")), {}};
+    return Response{200, "application/yaml", std::string(embedded_file("openapi.yaml")), {}, {}};
   });
 
   router->add("GET", "/api/v1/robots", [](const Request&) {
@@ -133,7 +133,8 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
     return Response::json(200, {{"summary", robot_summary(*robot)}, {"description", robots::builtin_robot_document(name)}});
   });
 
-  add_scenario_routes(*router, store, context.scenarios_dir);
+  auto catalogue = std::make_shared<ScenarioCatalogue>(store, context.scenarios_dir);
+  add_scenario_routes(*router, catalogue);
 
   auto files = std::make_shared<StaticFiles>(context.web_root);
   router->set_fallback([files](const Request& request) {

@@ -43,10 +43,16 @@ int hex_value(char c) {
 }  // namespace
 
 Response Response::json(int status, const nlohmann::json& value) {
-  return Response{status, "application/json", value.dump(), {}};
+  return Response{status, "application/json", value.dump(), {}, {}};
 }
 
 Response Response::error(const core::Error& error) { return json(core::http_status(error.code()), error.to_json()); }
+
+Response Response::later(std::function<Response()> work) {
+  Response response;
+  response.deferred = std::move(work);
+  return response;
+}
 
 void Router::add(std::string method, std::string pattern, Handler handler) {
   routes_.push_back({std::move(method), split_path(pattern), std::move(handler)});

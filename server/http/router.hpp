@@ -28,9 +28,15 @@ struct Response {
   std::string body;
   std::vector<std::pair<std::string, std::string>> headers;
 
+  /// When set, the answer is what this returns, computed on the server's worker pool so that long
+  /// work (stepping a simulation) never holds an I/O thread; the other fields are then ignored.
+  std::function<Response()> deferred;
+
   static Response json(int status, const nlohmann::json& value);
   /// {"error":{code,message,details}} with the error's HTTP status.
   static Response error(const core::Error& error);
+  /// An answer computed later on the worker pool by `work` (which may throw core::Error).
+  static Response later(std::function<Response()> work);
 };
 
 using Handler = std::function<Response(const Request&)>;

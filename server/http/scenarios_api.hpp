@@ -2,22 +2,17 @@
 // The scenarios routes: list (bundled and uploaded, with summaries), get (the native JSON), upload
 // (native JSON, IMHuS XML or Pedsim XML; stored with its source and hash) and validate (all errors,
 // located, nothing stored).
-#include <filesystem>
+#include <memory>
 
 #include "http/router.hpp"
-
-namespace hrisim::storage {
-class Store;
-}
+#include "http/scenario_catalogue.hpp"
 
 namespace hrisim::http {
 
-/// Deepest nesting of arrays and objects accepted in a JSON body (a scenario needs about 10).
-inline constexpr int kMaxJsonDepth = 64;
 /// Largest `limit` of a scenarios page; the default page size.
 inline constexpr int kMaxPageSize = 200;
 inline constexpr int kDefaultPageSize = 50;
 
-void add_scenario_routes(Router& router, storage::Store* store, const std::filesystem::path& scenarios_dir);
+void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue);
 
 }  // namespace hrisim::http

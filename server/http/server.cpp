@@ -6,7 +6,9 @@
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/strand.hpp>
+#include <boost/asio/thread_pool.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <cctype>
@@ -40,6 +42,7 @@ class Connection;
 struct Shared {
   ServerOptions options;
   std::shared_ptr<const Router> router;
+  net::thread_pool* workers = nullptr;  ///< runs deferred answers; owned by the server
   std::atomic<bool> stopping{false};
   std::mutex mutex;
   std::unordered_map<const Connection*, std::weak_ptr<Connection>> connections;
@@ -165,12 +168,42 @@ class Connection : public std::enable_shared_from_this<Connection> {
       request.path = std::string(target.substr(0, query_start));
       response = Response::error(e);
     }
+    Answered answered{std::string(message.method_string()), std::string(target), started, message.version(), keep_alive, head};
+    if (!response.deferred) return finish(std::move(response), answered);
+    // The work runs on the worker pool; the reply goes back through this connection's strand. The
+    // guard keeps the I/O threads running until it has.
+    net::post(*shared_->workers, [self = shared_from_this(), work = std::move(response.deferred), answered = std::move(answered),
+                                  guard = net::make_work_guard(stream_.get_executor())]() mutable {
+      Response result;
+      try {
+        result = work();
+      } catch (const core::Error& e) {
+        result = Response::error(e);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "hrisim: internal error on %s %s: %s\n", answered.method.c_str(), answered.target.c_str(), e.what());
+        result = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
+      }
+      net::post(self->stream_.get_executor(), [self, result = std::move(result), answered = std::move(answered)]() mutable {
+        self->finish(std::move(result), answered);
+      });
+    });
+  }
+
+  /// What the reply to a request needs to know about it.
+  struct Answered {
+    std::string method, target;
+    std::chrono::steady_clock::time_point started;
+    unsigned version;
+    bool keep_alive, head;
+  };
+
+  void finish(Response response, const Answered& answered) {
     if (shared_->options.log_requests) {
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-      std::fprintf(stderr, "%s %s %s %d %.2f ms\n", utc_timestamp().c_str(), std::string(message.method_string()).c_str(),
-                   std::string(target).c_str(), response.status, ms);
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - answered.started).count();
+      std::fprintf(stderr, "%s %s %s %d %.2f ms\n", utc_timestamp().c_str(), answered.method.c_str(), answered.target.c_str(),
+                   response.status, ms);
     }
-    send(std::move(response), message.version(), keep_alive, head);
+    send(std::move(response), answered.version, answered.keep_alive, answered.head);
   }
 
   void send(Response response, unsigned version, bool keep_alive, bool head) {
@@ -297,9 +330,11 @@ class Server::Impl {
   Impl(ServerOptions options, std::shared_ptr<const Router> router)
       : threads_(options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency())),
         io_(static_cast<int>(threads_)),
+        workers_(options.workers ? options.workers : std::max(1u, std::thread::hardware_concurrency())),
         signals_(io_, SIGINT, SIGTERM),
         shared_(std::make_shared<Shared>()) {
     shared_->router = std::move(router);
+    shared_->workers = &workers_;
     beast::error_code ec;
     const auto address = net::ip::make_address(options.host, ec);
     if (ec) {
@@ -321,6 +356,7 @@ class Server::Impl {
     for (unsigned i = 1; i < threads_; ++i) pool.emplace_back([this] { io_.run(); });
     io_.run();
     for (std::thread& thread : pool) thread.join();
+    workers_.join();
   }
 
   void stop() {
@@ -345,6 +381,7 @@ class Server::Impl {
 
   unsigned threads_;
   net::io_context io_;
+  net::thread_pool workers_;
   net::signal_set signals_;
   std::shared_ptr<Shared> shared_;
   std::shared_ptr<Listener> listener_;

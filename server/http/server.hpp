@@ -32,6 +32,7 @@ struct ServerOptions {
   std::chrono::milliseconds write_timeout = kDefaultWriteTimeout;
   std::size_t max_connections = kDefaultMaxConnections;
   unsigned threads = 0;  ///< 0 = one per core
+  unsigned workers = 0;  ///< threads for deferred answers (simulation work); 0 = one per core
   bool log_requests = true;
 };
 

@@ -62,7 +62,7 @@ Response StaticFiles::serve(const Request& request) const {
   if (!in) return Response::error(not_found);
   std::ostringstream content;
   content << in.rdbuf();
-  Response response{200, std::string(content_type_for(file)), content.str(), {}};
+  Response response{200, std::string(content_type_for(file)), content.str(), {}, {}};
   response.headers.emplace_back("Cache-Control", "no-cache");
   return response;
 }

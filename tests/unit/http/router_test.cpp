@@ -75,7 +75,7 @@ TEST(Router, MalformedJsonBodyIs400) {
 
 TEST(Router, FallbackAnswersUnmatchedPaths) {
   Router router = sample_router();
-  router.set_fallback([](const Request& r) { return Response{200, "text/plain", "fallback " + r.path, {}}; });
+  router.set_fallback([](const Request& r) { return Response{200, "text/plain", "fallback " + r.path, {}, {}}; });
   EXPECT_EQ(router.dispatch(get("/index.html")).body, "fallback /index.html");
 }
 

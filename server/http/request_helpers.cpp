@@ -1,0 +1,90 @@
+#include "http/request_helpers.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace hrisim::http {
+
+/// The value of `key` in a raw query string (no percent-decoding: the values used here are plain).
+std::optional<std::string> query_value(const std::string& query, const std::string& key) {
+  std::istringstream in(query);
+  std::string pair;
+  while (std::getline(in, pair, '&')) {
+    const std::size_t equals = pair.find('=');
+    if (pair.substr(0, equals) == key) return equals == std::string::npos ? "" : pair.substr(equals + 1);
+  }
+  return std::nullopt;
+}
+
+void check_json_nesting(const std::string& text) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) {
+        throw core::Error(core::ErrorCode::bad_request, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels",
+                          {{"limit", kMaxJsonDepth}});
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
+nlohmann::json json_object_body(const Request& request) {
+  if (request.body.find_first_not_of(" \t\r\n") == std::string::npos) return nlohmann::json::object();
+  check_json_nesting(request.body);
+  nlohmann::json body;
+  try {
+    body = nlohmann::json::parse(request.body);
+  } catch (const nlohmann::json::parse_error& e) {
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < request.body.size(); ++i) {
+      column = request.body[i] == '\n' ? 1 : column + 1;
+      line += request.body[i] == '\n';
+    }
+    throw core::Error(core::ErrorCode::bad_request, "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column),
+                      {{"line", line}, {"column", column}});
+  }
+  if (!body.is_object()) throw core::Error(core::ErrorCode::bad_request, "the body must be a JSON object", {{"pointer", ""}});
+  return body;
+}
+
+void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const char*> known) {
+  for (const auto& [key, unused] : body.items()) {
+    if (std::none_of(known.begin(), known.end(), [&](const char* name) { return key == name; })) {
+      std::string names;
+      for (const char* name : known) names += (names.empty() ? "" : ", ") + std::string(name);
+      throw core::Error(core::ErrorCode::bad_request, "unknown field '" + key + "' (known: " + names + ")", {{"pointer", "/" + key}});
+    }
+  }
+}
+
+std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int64_t low, std::int64_t high, std::int64_t fallback) {
+  if (!body.contains(key)) return fallback;
+  const nlohmann::json& value = body[key];
+  const bool integral = value.is_number_integer() || (value.is_number_float() && std::floor(value.get<double>()) == value.get<double>() &&
+                                                      std::abs(value.get<double>()) < 9.0e15);
+  const auto number = integral ? (value.is_number_integer() ? value.get<std::int64_t>() : static_cast<std::int64_t>(value.get<double>())) : 0;
+  if (!integral || number < low || number > high) {
+    throw core::Error(core::ErrorCode::bad_request,
+                      std::string(key) + " must be an integer from " + std::to_string(low) + " to " + std::to_string(high),
+                      {{"pointer", "/" + std::string(key)}});
+  }
+  return number;
+}
+
+}  // namespace hrisim::http

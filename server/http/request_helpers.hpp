@@ -1,0 +1,32 @@
+#pragma once
+// Small pieces every route needs: query values, JSON bodies refused when nested too deep, and typed
+// fields read from a body with errors that name their JSON pointer.
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "http/router.hpp"
+
+namespace hrisim::http {
+
+/// Deepest nesting of arrays and objects accepted in a JSON body (a scenario needs about 10).
+inline constexpr int kMaxJsonDepth = 64;
+
+/// The value of `key` in a raw query string (no percent-decoding: the values used here are plain).
+std::optional<std::string> query_value(const std::string& query, const std::string& key);
+
+/// Throws core::Error(bad_request) for JSON nested deeper than kMaxJsonDepth (strings skipped), before
+/// anything parses it.
+void check_json_nesting(const std::string& text);
+
+/// The request body as a JSON object: 400 with the line and column of a syntax error, for a body
+/// nested too deep, or for anything but an object. An empty body is an empty object.
+nlohmann::json json_object_body(const Request& request);
+
+/// 400 naming the first key of `body` that is not among `known` (e.g. a typo in a field name).
+void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const char*> known);
+
+/// An integer field in [low, high], or `fallback` when absent; 400 naming /key otherwise.
+std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int64_t low, std::int64_t high, std::int64_t fallback);
+
+}  // namespace hrisim::http
