@@ -68,6 +68,14 @@ const std::vector<Flag>& flags() {
        }},
       {"log-requests", "HRISIM_LOG_REQUESTS", "1 to log each request to stderr, 0 not to (default 1)",
        [](ServeOptions& o, const std::string& v) { o.server.log_requests = parse_unsigned("--log-requests", v, 0, 1); }},
+      {"max-sessions", "HRISIM_MAX_SESSIONS", "live sessions beyond which creating one gets 503 (default 8)",
+       [](ServeOptions& o, const std::string& v) { o.sessions.max_sessions = static_cast<int>(parse_unsigned("--max-sessions", v, 1, 10000)); }},
+      {"session-idle-timeout", "HRISIM_SESSION_IDLE_TIMEOUT", "seconds an unused session lives (default 600)",
+       [](ServeOptions& o, const std::string& v) {
+         o.sessions.idle_timeout = std::chrono::seconds(parse_unsigned("--session-idle-timeout", v, 1, 7 * 24 * 3600));
+       }},
+      {"workers", "HRISIM_WORKERS", "threads that step sessions, 0 for one per core (default 0)",
+       [](ServeOptions& o, const std::string& v) { o.server.workers = static_cast<unsigned>(parse_unsigned("--workers", v, 0, 256)); }},
       {"token", "HRISIM_TOKEN", "bearer token every /api/ route but version then requires (default none)",
        [](ServeOptions& o, const std::string& v) {
          if (v.size() < kMinimumTokenLength) {

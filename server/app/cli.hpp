@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "http/server.hpp"
+#include "http/session_limits.hpp"
 
 namespace hrisim::app {
 
@@ -19,6 +20,7 @@ struct ServeOptions {
   std::filesystem::path database = kDefaultDatabase;
   std::filesystem::path scenarios = kDefaultScenarios;
   std::filesystem::path web_root = kDefaultWebRoot;
+  http::SessionLimits sessions;
   std::string token;                   ///< bearer token every /api/ route but version requires
   bool allow_unauthenticated = false;  ///< listen beyond loopback without a token
 };

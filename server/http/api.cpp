@@ -4,6 +4,7 @@
 
 #include "core/build_info.hpp"
 #include "http/scenarios_api.hpp"
+#include "http/sessions_api.hpp"
 #include "http/static_files.hpp"
 #include "render/image_codec.hpp"
 #include "render/offscreen_context.hpp"
@@ -135,6 +136,7 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
 
   auto catalogue = std::make_shared<ScenarioCatalogue>(store, context.scenarios_dir);
   add_scenario_routes(*router, catalogue);
+  add_session_routes(*router, catalogue, context.sessions);
 
   auto files = std::make_shared<StaticFiles>(context.web_root);
   router->set_fallback([files](const Request& request) {

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "http/router.hpp"
+#include "http/session_limits.hpp"
 
 namespace hrisim::storage {
 class Store;
@@ -16,6 +17,7 @@ struct ApiContext {
   std::filesystem::path web_root;        ///< browser UI served at /
   std::filesystem::path scenarios_dir;   ///< bundled scenarios
   std::string token;                     ///< when set, /api/ routes but version need "Bearer <token>"
+  SessionLimits sessions;                ///< how many live sessions, how long they may idle
 };
 
 /// Build and library versions, as served at /api/v1/version.

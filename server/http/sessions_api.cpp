@@ -1,0 +1,243 @@
+#include "http/sessions_api.hpp"
+
+#include <iomanip>
+#include <map>
+#include <mutex>
+#include <random>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "http/request_helpers.hpp"
+#include "sim/session.hpp"
+
+namespace hrisim::http {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+/// "s" and 128 random bits in hex: a session id nobody can guess.
+std::string new_session_id() {
+  std::random_device device;
+  std::ostringstream id;
+  id << 's' << std::hex;
+  for (int i = 0; i < 4; ++i) id << std::setw(8) << std::setfill('0') << device();
+  return id.str();
+}
+
+struct Live {
+  std::string id, scenario;
+  std::int64_t seed = 0;
+  std::mutex mutex;  ///< one request at a time works on the session
+  std::unique_ptr<sim::Session> session;
+  Clock::time_point last_used;
+};
+
+json event_json(const sim::Event& event) {
+  return {{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}};
+}
+
+/// Status of a session (its lock held).
+json status_of(const Live& live) {
+  const sim::Session& session = *live.session;
+  const sim::State& state = session.state();
+  const bool in_step = state.step < static_cast<int>(session.model().steps.size());
+  return {{"id", live.id},
+          {"scenario", live.scenario},
+          {"seed", live.seed},
+          {"tick", state.tick},
+          {"time", session.time()},
+          {"dt", session.model().dt},
+          {"status", state.finished ? "finished" : "running"},
+          {"termination", state.finished ? json(state.termination) : json()},
+          {"step", in_step ? json{{"index", state.step}, {"name", session.model().steps[state.step].name}} : json()},
+          {"state_hash", [&] {
+             std::ostringstream hex;
+             hex << std::hex << std::setw(16) << std::setfill('0') << session.state_hash();
+             return hex.str();
+           }()}};
+}
+
+/// Every agent's pose and motion, requests waiting for an answer, and the events since a tick.
+json state_of(const Live& live, std::int64_t events_since) {
+  const sim::Session& session = *live.session;
+  const sim::State& state = session.state();
+  json agents = json::array();
+  for (std::size_t i = 0; i < state.agents.size(); ++i) {
+    const sim::AgentState& agent = state.agents[i];
+    const scenario::AgentDef& def = session.model().agents[i];
+    agents.push_back({{"id", def.id},
+                      {"kind", def.kind == scenario::AgentKind::human ? "human" : "robot"},
+                      {"active", agent.active},
+                      {"x", agent.position.x()},
+                      {"y", agent.position.y()},
+                      {"theta", agent.heading},
+                      {"vx", agent.velocity.x()},
+                      {"vy", agent.velocity.y()},
+                      {"busy", !agent.program.empty()}});
+  }
+  json requests = json::array();
+  for (const sim::OpenRequest& open : state.requests) {
+    requests.push_back({{"robot", session.model().agents[open.robot].id}, {"task", session.model().tasks[open.task].name}});
+  }
+  json events = json::array();
+  for (const sim::Event& event : state.events) {
+    if (event.tick >= events_since) events.push_back(event_json(event));
+  }
+  json reply = status_of(live);
+  reply["agents"] = agents;
+  reply["requests"] = requests;
+  reply["events"] = events;
+  return reply;
+}
+
+class Registry {
+ public:
+  explicit Registry(SessionLimits limits) : limits_(limits) {}
+
+  std::shared_ptr<Live> create(const std::string& scenario, std::shared_ptr<const scenario::Model> model, std::int64_t seed) {
+    std::lock_guard lock(mutex_);
+    expire_idle();
+    if (static_cast<int>(sessions_.size()) >= limits_.max_sessions) {
+      throw core::Error(core::ErrorCode::unavailable,
+                        "the server holds its maximum of " + std::to_string(limits_.max_sessions) + " sessions: delete one or retry later",
+                        {{"max_sessions", limits_.max_sessions}, {"retry_after", kSessionRetryAfter}});
+    }
+    auto live = std::make_shared<Live>();
+    live->id = new_session_id();
+    live->scenario = scenario;
+    live->seed = seed;
+    live->session = std::make_unique<sim::Session>(std::move(model), static_cast<std::uint64_t>(seed));
+    live->last_used = Clock::now();
+    sessions_.emplace(live->id, live);
+    return live;
+  }
+
+  std::shared_ptr<Live> find(const std::string& id) {
+    std::lock_guard lock(mutex_);
+    expire_idle();
+    const auto found = sessions_.find(id);
+    if (found == sessions_.end()) throw core::Error(core::ErrorCode::not_found, "no session '" + id + "'", {{"id", id}});
+    found->second->last_used = Clock::now();
+    return found->second;
+  }
+
+  void remove(const std::string& id) {
+    std::lock_guard lock(mutex_);
+    if (sessions_.erase(id) == 0) throw core::Error(core::ErrorCode::not_found, "no session '" + id + "'", {{"id", id}});
+  }
+
+  std::vector<std::shared_ptr<Live>> all() {
+    std::lock_guard lock(mutex_);
+    expire_idle();
+    std::vector<std::shared_ptr<Live>> list;
+    for (const auto& [id, live] : sessions_) list.push_back(live);
+    return list;
+  }
+
+ private:
+  /// Idle sessions go (checked whenever the registry is used; the wall clock never enters a session).
+  void expire_idle() {
+    const auto now = Clock::now();
+    std::erase_if(sessions_, [&](const auto& entry) { return now - entry.second->last_used > limits_.idle_timeout; });
+  }
+
+  SessionLimits limits_;
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<Live>> sessions_;
+};
+
+/// A 503 for too many sessions carries Retry-After.
+Response refused(const core::Error& error) {
+  Response response = Response::error(error);
+  if (error.code() == core::ErrorCode::unavailable) response.headers.emplace_back("Retry-After", std::to_string(kSessionRetryAfter));
+  return response;
+}
+
+}  // namespace
+
+void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits) {
+  auto registry = std::make_shared<Registry>(limits);
+
+  router.add("POST", "/api/v1/sessions", [catalogue, registry](const Request& request) {
+    const json body = json_object_body(request);
+    refuse_unknown_keys(body, {"scenario", "seed"});
+    if (!body.contains("scenario") || !body["scenario"].is_string()) {
+      throw core::Error(core::ErrorCode::bad_request, "scenario: the id of a scenario is required", {{"pointer", "/scenario"}});
+    }
+    const std::string scenario = body["scenario"];
+    const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, 0);
+    const auto* entry = catalogue->find(scenario);
+    if (!entry || !entry->source.model) {
+      throw core::Error(core::ErrorCode::not_found, "no scenario '" + scenario + "'", {{"pointer", "/scenario"}, {"id", scenario}});
+    }
+    try {
+      const auto live = registry->create(scenario, entry->source.model, seed);
+      std::lock_guard lock(live->mutex);
+      Response response = Response::json(201, status_of(*live));
+      response.headers.emplace_back("Location", "/api/v1/sessions/" + live->id);
+      return response;
+    } catch (const core::Error& error) {
+      return refused(error);
+    }
+  });
+
+  router.add("GET", "/api/v1/sessions", [registry](const Request&) {
+    json items = json::array();
+    for (const auto& live : registry->all()) {
+      std::lock_guard lock(live->mutex);
+      items.push_back(status_of(*live));
+    }
+    return Response::json(200, {{"items", items}});
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    std::lock_guard lock(live->mutex);
+    return Response::json(200, status_of(*live));
+  });
+
+  router.add("DELETE", "/api/v1/sessions/{id}", [registry](const Request& request) {
+    registry->remove(request.path_params.at("id"));
+    return Response{204, "application/json", "", {}, {}};
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}/state", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    std::int64_t since = 0;
+    if (const auto text = query_value(request.query, "events_since")) {
+      const json parsed = json::parse(*text, nullptr, false);
+      if (parsed.is_discarded() || !parsed.is_number_integer() || parsed.get<std::int64_t>() < 0) {
+        throw core::Error(core::ErrorCode::bad_request, "events_since must be a tick (an integer ≥ 0)", {{"parameter", "events_since"}});
+      }
+      since = parsed.get<std::int64_t>();
+    }
+    std::lock_guard lock(live->mutex);
+    return Response::json(200, state_of(*live, since));
+  });
+
+  router.add("POST", "/api/v1/sessions/{id}/step", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    const json body = json_object_body(request);
+    refuse_unknown_keys(body, {"n"});
+    const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
+    // Stepping may take long: on the worker pool, never on an I/O thread.
+    return Response::later([live, steps] {
+      std::lock_guard lock(live->mutex);
+      sim::Session& session = *live->session;
+      const std::int64_t first = session.state().tick;
+      for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) session.step();
+      json reply = status_of(*live);
+      json events = json::array();
+      for (const sim::Event& event : session.state().events) {
+        if (event.tick >= first) events.push_back(event_json(event));
+      }
+      reply["events"] = events;
+      reply["terminated"] = session.state().termination == "scenario_end";
+      reply["truncated"] = session.state().termination == "timeout";
+      return Response::json(200, reply);
+    });
+  });
+}
+
+}  // namespace hrisim::http

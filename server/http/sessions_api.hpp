@@ -1,0 +1,15 @@
+#pragma once
+// Live sessions over REST: create one from a scenario and a seed, read its status and state, step it
+// (on the worker pool), delete it. Sessions have unguessable ids (128 random bits), expire when idle,
+// and are limited in number (503 with Retry-After beyond).
+#include <memory>
+
+#include "http/router.hpp"
+#include "http/session_limits.hpp"
+#include "http/scenario_catalogue.hpp"
+
+namespace hrisim::http {
+
+void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits);
+
+}  // namespace hrisim::http

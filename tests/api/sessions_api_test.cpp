@@ -1,0 +1,140 @@
+// Live sessions over REST against the real server: create, status, step (on the worker pool), state,
+// delete; determinism across sessions; limits, expiry and bad input.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "test_server.hpp"
+
+namespace hrisim::testing {
+namespace {
+
+using nlohmann::json;
+
+json json_of(const HttpReply& reply) { return json::parse(reply.body); }
+
+class SessionsApi : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { server_ = new TestServer({"--max-sessions", "64"}); }
+  static void TearDownTestSuite() {
+    delete server_;
+    server_ = nullptr;
+  }
+  static std::uint16_t port() { return server_->port(); }
+  static std::string create(const std::string& scenario, std::int64_t seed) {
+    const HttpReply reply = http(port(), "POST", "/api/v1/sessions", json{{"scenario", scenario}, {"seed", seed}}.dump());
+    EXPECT_EQ(reply.status, 201) << reply.body;
+    return json_of(reply)["id"];
+  }
+  static TestServer* server_;
+};
+TestServer* SessionsApi::server_ = nullptr;
+
+TEST_F(SessionsApi, CreateStepReadAndDelete) {
+  const HttpReply created = http(port(), "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 3})");
+  ASSERT_EQ(created.status, 201) << created.body;
+  const json status = json_of(created);
+  const std::string id = status["id"];
+  EXPECT_EQ(id.size(), 33u) << "s and 128 random bits in hex";
+  EXPECT_EQ(created.headers.at("location"), "/api/v1/sessions/" + id);
+  EXPECT_EQ(status["tick"], 0);
+  EXPECT_EQ(status["status"], "running");
+  EXPECT_EQ(status["step"]["name"], "gather");
+  const json stepped = json_of(http(port(), "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 60})"));
+  EXPECT_EQ(stepped["tick"], 60);
+  EXPECT_NEAR(stepped["time"].get<double>(), 1.0, 1e-12);
+  EXPECT_FALSE(stepped["terminated"].get<bool>());
+  EXPECT_TRUE(std::any_of(stepped["events"].begin(), stepped["events"].end(), [](const json& e) { return e["kind"] == "step_started"; }));
+  const json state = json_of(http(port(), "GET", "/api/v1/sessions/" + id + "/state?events_since=30"));
+  ASSERT_EQ(state["agents"].size(), 7u);
+  EXPECT_EQ(state["agents"][6]["id"], "robot");
+  EXPECT_EQ(state["agents"][6]["kind"], "robot");
+  for (const json& event : state["events"]) EXPECT_GE(event["tick"].get<int>(), 30);
+  EXPECT_EQ(http(port(), "DELETE", "/api/v1/sessions/" + id).status, 204);
+  EXPECT_EQ(http(port(), "GET", "/api/v1/sessions/" + id).status, 404);
+  EXPECT_EQ(http(port(), "DELETE", "/api/v1/sessions/" + id).status, 404);
+}
+
+TEST_F(SessionsApi, SameSeedSameStateAndTheScenarioRunsToItsEnd) {
+  const std::string a = create("elevator", 5), b = create("elevator", 5), c = create("elevator", 6);
+  for (const std::string& id : {a, b, c}) {
+    EXPECT_EQ(http(port(), "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 600})").status, 200);
+  }
+  const auto hash = [&](const std::string& id) { return json_of(http(port(), "GET", "/api/v1/sessions/" + id))["state_hash"]; };
+  EXPECT_EQ(hash(a), hash(b));
+  EXPECT_NE(hash(a), hash(c));
+  const json end = json_of(http(port(), "POST", "/api/v1/sessions/" + a + "/step", R"({"n": 100000})"));
+  EXPECT_EQ(end["status"], "finished");
+  EXPECT_TRUE(end["terminated"].get<bool>());
+  EXPECT_FALSE(end["truncated"].get<bool>());
+  EXPECT_EQ(json_of(http(port(), "POST", "/api/v1/sessions/" + a + "/step", "{}"))["tick"], end["tick"]) << "a finished session stays put";
+  for (const std::string& id : {a, b, c}) http(port(), "DELETE", "/api/v1/sessions/" + id);
+}
+
+TEST_F(SessionsApi, BadInputIsRefusedWithItsPlace) {
+  const auto error = [&](const std::string& method, const std::string& target, const std::string& body) {
+    const HttpReply reply = http(port(), method, target, body);
+    return std::pair{reply.status, json_of(reply)["error"]};
+  };
+  EXPECT_EQ(error("POST", "/api/v1/sessions", R"({"scenario": "nowhere"})").first, 404);
+  EXPECT_EQ(error("POST", "/api/v1/sessions", R"({"scenario": "nowhere"})").second["details"]["pointer"], "/scenario");
+  EXPECT_EQ(error("POST", "/api/v1/sessions", R"({"seed": 1})").second["details"]["pointer"], "/scenario");
+  for (const char* seed : {"-1", "1.5", "\"x\"", "9007199254740992", "null"}) {
+    const auto [status, body] = error("POST", "/api/v1/sessions", std::string(R"({"scenario": "queue", "seed": )") + seed + "}");
+    EXPECT_EQ(status, 400) << seed;
+    EXPECT_EQ(body["details"]["pointer"], "/seed") << seed;
+  }
+  EXPECT_EQ(error("POST", "/api/v1/sessions", R"({"scenario": "queue", "colour": 1})").second["details"]["pointer"], "/colour");
+  const auto [status, body] = error("POST", "/api/v1/sessions", "{\"scenario\":\n \"queue\",,}");
+  EXPECT_EQ(status, 400);
+  EXPECT_EQ(body["details"]["line"], 2);
+  EXPECT_EQ(error("POST", "/api/v1/sessions", "[1, 2]").first, 400);
+  const std::string id = create("queue", 1);
+  for (const char* n : {"0", "100001", "\"ten\"", "2.5"}) {
+    const auto [n_status, n_body] = error("POST", "/api/v1/sessions/" + id + "/step", std::string(R"({"n": )") + n + "}");
+    EXPECT_EQ(n_status, 400) << n;
+    EXPECT_EQ(n_body["details"]["pointer"], "/n") << n;
+  }
+  EXPECT_EQ(error("GET", "/api/v1/sessions/" + id + "/state?events_since=-3", "").first, 400);
+  EXPECT_EQ(error("POST", "/api/v1/sessions/s0123/step", "{}").first, 404);
+  http(port(), "DELETE", "/api/v1/sessions/" + id);
+}
+
+TEST(SessionWorkers, LongStepsNeverHoldTheOnlyIoThread) {
+  // One I/O thread: if stepping ran on it, nothing else could be answered until it finished.
+  TestServer server({"--threads", "1", "--workers", "1"});
+  const std::string id = json_of(http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "elevator"})"))["id"];
+  const std::string body = R"({"n": 100000})";  // the whole scenario: several hundred milliseconds of work
+  RawConnection stepping(server.port(), std::chrono::seconds(60));
+  ASSERT_TRUE(stepping.send("POST /api/v1/sessions/" + id + "/step HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+                            "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body));
+  std::atomic<bool> stepping_done{false};
+  std::thread reader([&] {
+    EXPECT_EQ(stepping.read_reply().status, 200);
+    stepping_done = true;
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the step is under way by now
+  EXPECT_EQ(http(server.port(), "GET", "/healthz").status, 200);
+  EXPECT_FALSE(stepping_done) << "health was answered only after the step: the step held the I/O thread";
+  reader.join();
+  EXPECT_EQ(json_of(http(server.port(), "GET", "/api/v1/sessions/" + id))["status"], "finished");
+}
+
+TEST(SessionLimits, BeyondTheMaximumIs503AndIdleSessionsExpire) {
+  TestServer server({"--max-sessions", "2", "--session-idle-timeout", "1"});
+  const auto post = [&] { return http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "queue"})"); };
+  const std::string first = json_of(post())["id"];
+  ASSERT_EQ(post().status, 201);
+  const HttpReply third = post();
+  EXPECT_EQ(third.status, 503);
+  EXPECT_EQ(third.headers.at("retry-after"), "10");
+  EXPECT_EQ(json_of(third)["error"]["code"], "unavailable");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1600));
+  EXPECT_EQ(http(server.port(), "GET", "/api/v1/sessions/" + first).status, 404) << "expired after 1 s unused";
+  EXPECT_EQ(post().status, 201) << "room again";
+}
+
+}  // namespace
+}  // namespace hrisim::testing
