@@ -1,5 +1,8 @@
 #include "http/sessions_api.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <functional>
 #include <iomanip>
 #include <map>
 #include <mutex>
@@ -89,6 +92,91 @@ json state_of(const Live& live, std::int64_t events_since) {
   reply["requests"] = requests;
   reply["events"] = events;
   return reply;
+}
+
+/// A number field of a command; 400 naming it otherwise.
+double number_of(const json& object, const char* key, const std::string& at) {
+  if (!object.is_object() || !object.contains(key) || !object[key].is_number() || !std::isfinite(object[key].get<double>())) {
+    throw core::Error(core::ErrorCode::bad_request, std::string(key) + " must be a number", {{"pointer", at + "/" + key}});
+  }
+  return object[key].get<double>();
+}
+
+/// Checks one command against the session and returns what gives it (nothing is changed yet).
+std::function<void()> checked_command(sim::Session& session, const json& command, const std::string& at) {
+  if (!command.is_object()) throw core::Error(core::ErrorCode::bad_request, "a command is an object", {{"pointer", at}});
+  const bool human = command.contains("human"), robot = command.contains("robot");
+  if (human == robot || !command[human ? "human" : "robot"].is_string()) {
+    throw core::Error(core::ErrorCode::bad_request, "a command names a \"human\" or a \"robot\"", {{"pointer", at}});
+  }
+  const std::string who = command[human ? "human" : "robot"];
+  sim::AgentId id;
+  try {
+    id = session.agent_id(who);
+  } catch (const core::Error&) {
+    throw core::Error(core::ErrorCode::bad_request, "no agent '" + who + "'", {{"pointer", at + (human ? "/human" : "/robot")}});
+  }
+  const auto& def = session.model().agents[session.index_of(id)];
+  if (human) {
+    refuse_unknown_keys(command, {"human", "command"});
+    if (!command.contains("command") || !command["command"].is_string()) {
+      throw core::Error(core::ErrorCode::bad_request, "command: the text of a command is required", {{"pointer", at + "/command"}});
+    }
+    const std::string text = command["command"];
+    session.parse_human_command(id, text);  // throws when it is wrong
+    return [&session, id, text] { session.command_human(id, text); };
+  }
+  refuse_unknown_keys(command, {"robot", "velocity", "joints", "gripper", "request"});
+  if (def.kind != scenario::AgentKind::robot) throw core::Error(core::ErrorCode::bad_request, "'" + who + "' is not a robot", {{"pointer", at + "/robot"}});
+  const sim::RobotRuntime* runtime = session.robot_runtime(id);
+  if (command.contains("velocity")) {
+    const json& velocity = command["velocity"];
+    const double linear = number_of(velocity, "linear", at + "/velocity"), angular = number_of(velocity, "angular", at + "/velocity");
+    if (!runtime || !def.robot_model->drive) {
+      throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no drive to take a velocity", {{"pointer", at + "/velocity"}});
+    }
+    return [&session, id, linear, angular] { session.command_robot_twist(id, {linear, angular}); };
+  }
+  if (command.contains("joints")) {
+    const json& joints = command["joints"];
+    if (!runtime) throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no joints", {{"pointer", at + "/joints"}});
+    if (!joints.is_object() || !joints.contains("group") || !joints["group"].is_string()) {
+      throw core::Error(core::ErrorCode::bad_request, "joints: a group name is required", {{"pointer", at + "/joints/group"}});
+    }
+    const std::string group = joints["group"];
+    const auto found = def.robot_model->groups.find(group);
+    if (found == def.robot_model->groups.end()) {
+      throw core::Error(core::ErrorCode::bad_request, "robot model '" + def.robot_model->name + "' has no joint group '" + group + "'",
+                        {{"pointer", at + "/joints/group"}});
+    }
+    const bool velocities = joints.contains("velocities");
+    const json& values = joints[velocities ? "velocities" : "positions"];
+    if (!values.is_array() || values.size() != found->second.size() ||
+        !std::all_of(values.begin(), values.end(), [](const json& v) { return v.is_number() && std::isfinite(v.get<double>()); })) {
+      throw core::Error(core::ErrorCode::bad_request,
+                        std::string(velocities ? "velocities" : "positions") + ": " + std::to_string(found->second.size()) + " numbers for group '" + group + "'",
+                        {{"pointer", at + "/joints/" + (velocities ? "velocities" : "positions")}});
+    }
+    const std::vector<double> targets = values.get<std::vector<double>>();
+    return [&session, id, group, targets, velocities] { session.command_robot_joints(id, group, targets, velocities); };
+  }
+  if (command.contains("gripper")) {
+    const json& gripper = command["gripper"];
+    if (!gripper.is_string() || (gripper != "open" && gripper != "close")) {
+      throw core::Error(core::ErrorCode::bad_request, "gripper: \"open\" or \"close\"", {{"pointer", at + "/gripper"}});
+    }
+    if (!runtime || !def.robot_model->gripper) {
+      throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no gripper", {{"pointer", at + "/gripper"}});
+    }
+    const bool close = gripper == "close";
+    return [&session, id, close] { session.command_robot_gripper(id, close); };
+  }
+  if (command.contains("request")) {
+    const int task = command["request"].is_string() ? session.model().find_task(command["request"]) : -1;
+    if (task < 0) throw core::Error(core::ErrorCode::bad_request, "request: no task by that name", {{"pointer", at + "/request"}});
+    return [&session, id, task] { session.request(id, task); };
+  }
+  throw core::Error(core::ErrorCode::bad_request, "a robot command gives velocity, joints, gripper or request", {{"pointer", at}});
 }
 
 class Registry {
@@ -214,6 +302,33 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     }
     std::lock_guard lock(live->mutex);
     return Response::json(200, state_of(*live, since));
+  });
+
+  router.add("POST", "/api/v1/sessions/{id}/commands", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    const json body = json_object_body(request);
+    refuse_unknown_keys(body, {"commands"});
+    if (!body.contains("commands") || !body["commands"].is_array()) {
+      throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
+    }
+    std::lock_guard lock(live->mutex);
+    sim::Session& session = *live->session;
+    // Every command is checked before any is given: a list is taken whole or not at all.
+    std::vector<std::function<void()>> apply;
+    for (std::size_t i = 0; i < body["commands"].size(); ++i) {
+      const json& command = body["commands"][i];
+      const std::string at = "/commands/" + std::to_string(i);
+      try {
+        apply.push_back(checked_command(session, command, at));
+      } catch (const core::Error& e) {
+        json details = e.details();
+        const std::string inner = details.value("pointer", "");
+        details["pointer"] = inner.starts_with(at) ? inner : at + inner;
+        throw core::Error(core::ErrorCode::bad_request, at + ": " + e.what(), details);
+      }
+    }
+    for (const auto& give : apply) give();
+    return Response::json(200, {{"applied", apply.size()}, {"tick", session.state().tick}});
   });
 
   router.add("POST", "/api/v1/sessions/{id}/step", [registry](const Request& request) {

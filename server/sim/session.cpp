@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 
 #include "core/error.hpp"
 #include "core/portable_math.hpp"
@@ -107,8 +108,79 @@ void Session::emit(std::string kind, std::string subject, nlohmann::json data) {
 }
 
 const Action& Session::action_of(const PendingAction& pending) const {
+  if (pending.task == kCommandedAction) return state_.commanded[pending.index];
   return pending.task >= 0 ? model_->tasks[pending.task].actions[pending.index]
                            : model_->steps[pending.step].actions[pending.index];
+}
+
+scenario::Action Session::parse_human_command(AgentId human, std::string_view text) const {
+  const int agent = index_of(human);
+  if (model_->agents[agent].kind != AgentKind::human) {
+    throw core::Error(core::ErrorCode::bad_request, "'" + model_->agents[agent].id + "' is not a human");
+  }
+  std::istringstream in{std::string(text)};
+  std::string verb;
+  in >> verb;
+  auto number = [&](const char* what) {
+    double value = 0.0;
+    if (!(in >> value) || !std::isfinite(value)) {
+      throw core::Error(core::ErrorCode::bad_request, verb + ": " + what + " must be a number (" + std::string(text) + ")");
+    }
+    return value;
+  };
+  Action action;
+  action.agent = agent;
+  action.pointer = "command: " + std::string(text);
+  if (verb == "walk") {
+    action.kind = Kind::go_to_pose;
+    const double x = number("x"), y = number("y");
+    action.pose = {x, y, 0.0};
+    action.radius = scenario::kDefaultGoalRadius;
+    const Vec2 goal(x, y);
+    if (!model_->grid.in_bounds(model_->grid.cell_of(goal)) || model_->grid.blocked(goal)) {
+      throw core::Error(core::ErrorCode::bad_request, "walk: (" + std::to_string(x) + ", " + std::to_string(y) + ") is not free floor");
+    }
+  } else if (verb == "wait") {
+    action.kind = Kind::wait_duration;
+    action.value = number("seconds");
+    if (action.value < 0.0) throw core::Error(core::ErrorCode::bad_request, "wait: seconds must not be negative");
+  } else if (verb == "turn_to") {
+    action.kind = Kind::turn_to;
+    action.value = number("heading");
+  } else if (verb == "look_at") {
+    std::string name;
+    if (!(in >> name)) throw core::Error(core::ErrorCode::bad_request, "look_at: whom or what? (an agent or a location)");
+    if (const int other = model_->find_agent(name); other >= 0) {
+      action.kind = Kind::look_at_agent;
+      action.target = other;
+    } else {
+      const auto location = std::find_if(model_->locations.begin(), model_->locations.end(),
+                                         [&](const scenario::Location& l) { return l.name == name; });
+      if (location == model_->locations.end()) {
+        throw core::Error(core::ErrorCode::bad_request, "look_at: no agent or location named '" + name + "'");
+      }
+      action.kind = Kind::look_at_location;
+      action.target = static_cast<int>(location - model_->locations.begin());
+    }
+  } else {
+    throw core::Error(core::ErrorCode::bad_request, "unknown command '" + verb + "' (walk X Y, wait S, turn_to RAD, look_at NAME)");
+  }
+  std::string extra;
+  if (in >> extra) throw core::Error(core::ErrorCode::bad_request, verb + ": unexpected '" + extra + "'");
+  return action;
+}
+
+void Session::command_human(AgentId human, std::string_view text) {
+  const Action action = parse_human_command(human, text);
+  const int agent = action.agent;
+  AgentState& state = state_.agents[agent];
+  // The command goes first; what the human was doing starts again afterwards.
+  state_.commanded.push_back(action);
+  state.program.push_front({kCommandedAction, static_cast<int>(state_.commanded.size()) - 1, -1});
+  state.action_started = false;
+  state.navigating = false;
+  state.path.clear();
+  emit("command", model_->agents[agent].id, {{"text", std::string(text)}});
 }
 
 void Session::start_step(int step) {
@@ -1177,6 +1249,7 @@ std::uint64_t Session::state_hash() const {
     hash.add(static_cast<int>(cabin.phase)).add(cabin.floor).add(static_cast<std::int64_t>(cabin.queue.size()));
   }
   hash.add(static_cast<std::int64_t>(state_.requests.size())).add(static_cast<std::int64_t>(state_.events.size()));
+  hash.add(static_cast<std::int64_t>(state_.commanded.size()));
   for (std::uint64_t word : state_.random.state()) hash.add(word);
   for (const AgentState& agent : state_.agents) hash.add(agent.gait_phase);
   for (const RobotRuntime& runtime : robots_) runtime.hash(hash);

@@ -18,8 +18,11 @@ using core::Pose2;
 using core::Vec2;
 
 /// An action waiting or running for one agent; compound tasks are expanded when they start.
+/// PendingAction::task of an action given by a command (index into State::commanded).
+inline constexpr int kCommandedAction = -2;
+
 struct PendingAction {
-  int task = -1;    ///< compound task the action belongs to, -1 for a step action
+  int task = -1;    ///< compound task the action belongs to, -1 for a step action, kCommandedAction
   int index = -1;   ///< index of the action in the step or task
   int step = -1;    ///< step it belongs to; -1 when it answers a robot request
   int role = 0;     ///< place in the group for a group action (0 leads)
@@ -136,6 +139,7 @@ struct State {
   std::int64_t next_request_id = 1;
   std::vector<ScheduledRequest> scheduled;  ///< robot requests still to come, by time
   std::vector<Event> events;
+  std::vector<scenario::Action> commanded;  ///< actions given by textual commands, in order
   core::Random random;
   bool finished = false;
   std::string termination;  ///< "scenario_end" or "timeout" once finished

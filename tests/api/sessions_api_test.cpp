@@ -138,3 +138,48 @@ TEST(SessionLimits, BeyondTheMaximumIs503AndIdleSessionsExpire) {
 
 }  // namespace
 }  // namespace hrisim::testing
+
+namespace hrisim::testing {
+namespace {
+
+TEST(SessionCommands, HumansAndRobotsTakeCommandsAndABadListChangesNothing) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const std::string id = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 2})"))["id"];
+  const std::string commands = "/api/v1/sessions/" + id + "/commands";
+  // The second command is wrong: neither is given.
+  const HttpReply refused = http(port, "POST", commands, R"({"commands": [
+    {"human": "dev", "command": "walk 8 -3"}, {"robot": "robot", "joints": {"group": "arm", "positions": [0.1]}}]})");
+  EXPECT_EQ(refused.status, 400);
+  EXPECT_EQ(json_of(refused)["error"]["details"]["pointer"], "/commands/1/joints/positions");
+  const HttpReply given = http(port, "POST", commands, R"({"commands": [
+    {"human": "dev", "command": "walk 8 -3"},
+    {"robot": "robot", "velocity": {"linear": 0.2, "angular": 0.0}},
+    {"robot": "robot", "joints": {"group": "head", "positions": [0.5, -0.2]}},
+    {"robot": "robot", "gripper": "close"}]})");
+  ASSERT_EQ(given.status, 200) << given.body;
+  EXPECT_EQ(json_of(given)["applied"], 4);
+  const json stepped = json_of(http(port, "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 120})"));
+  int commands_seen = 0;
+  for (const json& event : stepped["events"]) commands_seen += event["kind"] == "command";
+  EXPECT_EQ(commands_seen, 1) << "only the accepted list's human command";
+  const json state = json_of(http(port, "GET", "/api/v1/sessions/" + id + "/state"));
+  const json& robot = state["agents"][6];
+  EXPECT_LT(robot["x"].get<double>(), 2.6 - 0.2) << "driven by its velocity command (west, its heading)";
+  const auto bad = [&](const std::string& body) {
+    const HttpReply reply = http(port, "POST", commands, body);
+    EXPECT_EQ(reply.status, 400) << body;
+    return json_of(reply)["error"]["details"]["pointer"].get<std::string>();
+  };
+  EXPECT_EQ(bad(R"({"commands": [{"human": "zed", "command": "wait 1"}]})"), "/commands/0/human");
+  EXPECT_EQ(bad(R"({"commands": [{"human": "dev", "command": "fly 1 2"}]})"), "/commands/0");
+  EXPECT_EQ(bad(R"({"commands": [{"robot": "robot", "gripper": "squeeze"}]})"), "/commands/0/gripper");
+  EXPECT_EQ(bad(R"({"commands": [{"robot": "robot", "velocity": {"linear": "fast", "angular": 0}}]})"), "/commands/0/velocity/linear");
+  EXPECT_EQ(bad(R"({"commands": [{"robot": "robot", "teleport": {}}]})"), "/commands/0/teleport");
+  EXPECT_EQ(bad(R"({"commands": [{"robot": "ada", "gripper": "open"}]})"), "/commands/0/robot");
+  EXPECT_EQ(bad(R"({"commands": [{"robot": "robot", "request": "fetch_coffee"}]})"), "/commands/0/request");
+  EXPECT_EQ(bad(R"({"commands": 3})"), "/commands");
+}
+
+}  // namespace
+}  // namespace hrisim::testing

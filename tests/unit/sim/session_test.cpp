@@ -434,3 +434,56 @@ TEST(AgentIds, RemovedAgentsLeaveAndTheirIdsGoStale) {
 
 }  // namespace
 }  // namespace hrisim::sim
+
+namespace hrisim::sim {
+namespace {
+
+TEST(Session, TextualCommandsGoFirstAndTheChoreographyResumes) {
+  Session session(model_of(R"({
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}, "preferred_speed": 1.2}, {"id": "ben", "start": {"x": 8, "y": 8}}],
+    "steps": [{"name": "walk", "actions": [{"agent": "ana", "goto": {"pose": {"x": 8, "y": 2}}}]}]})"), 1);
+  const AgentId ana = session.agent_id("ana");
+  session.command_human(ana, "walk 2 8");
+  double closest_to_detour = 1e9;
+  while (!session.state().finished && session.time() < 50) {
+    session.step();
+    closest_to_detour = std::min(closest_to_detour, (session.state().agents[0].position - Vec2(2, 8)).norm());
+  }
+  EXPECT_LE(closest_to_detour, scenario::kDefaultGoalRadius + 1e-9) << "walked to the commanded spot first";
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_LE((session.state().agents[0].position - Vec2(8, 2)).norm(), 0.2 + 1e-9) << "then did her step";
+  ASSERT_EQ(events_of(session, "command").size(), 1u);
+  EXPECT_EQ(events_of(session, "command")[0]->data["text"], "walk 2 8");
+}
+
+TEST(Session, BadTextualCommandsSayWhatIsWrong) {
+  Session session(model_of(R"({
+    "locations": {"door": {"x": 1, "y": 1}},
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
+    "robots": [{"id": "bot", "start": {"x": 3, "y": 3}}],
+    "steps": [{"name": "wait", "actions": [{"agent": "ana", "wait": {"duration": 1}}]}]})"), 1);
+  const AgentId ana = session.agent_id("ana");
+  const auto message = [&](AgentId who, const std::string& text) {
+    try {
+      session.command_human(who, text);
+    } catch (const core::Error& e) {
+      EXPECT_EQ(e.code(), core::ErrorCode::bad_request) << text;
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message(ana, "dance").find("unknown command 'dance'"), std::string::npos);
+  EXPECT_NE(message(ana, "walk 5").find("walk: y must be a number"), std::string::npos);
+  EXPECT_NE(message(ana, "walk 5 5").find("not free floor"), std::string::npos) << "the table";
+  EXPECT_NE(message(ana, "walk 50 5").find("not free floor"), std::string::npos) << "off the map";
+  EXPECT_NE(message(ana, "wait -1").find("must not be negative"), std::string::npos);
+  EXPECT_NE(message(ana, "wait 2 3").find("unexpected '3'"), std::string::npos);
+  EXPECT_NE(message(ana, "look_at nobody").find("no agent or location named 'nobody'"), std::string::npos);
+  EXPECT_NE(message(session.agent_id("bot"), "wait 1").find("is not a human"), std::string::npos);
+  EXPECT_EQ(message(ana, "look_at door"), "accepted");
+  EXPECT_EQ(message(ana, "look_at bot"), "accepted");
+  EXPECT_EQ(session.state().commanded.size(), 2u) << "refused commands leave nothing behind";
+}
+
+}  // namespace
+}  // namespace hrisim::sim
