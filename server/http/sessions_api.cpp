@@ -179,6 +179,30 @@ std::function<void()> checked_command(sim::Session& session, const json& command
   throw core::Error(core::ErrorCode::bad_request, "a robot command gives velocity, joints, gripper or request", {{"pointer", at}});
 }
 
+/// A pose as x, y, z, roll, pitch, yaw (rpy about fixed x, y, z).
+json pose_json(const Eigen::Isometry3d& pose) {
+  const Eigen::Matrix3d r = pose.rotation();  // = Rz(yaw) Ry(pitch) Rx(roll)
+  const double yaw = std::atan2(r(1, 0), r(0, 0)), pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0)), roll = std::atan2(r(2, 1), r(2, 2));
+  return {{"x", pose.translation().x()}, {"y", pose.translation().y()}, {"z", pose.translation().z()},
+          {"roll", roll}, {"pitch", pitch}, {"yaw", yaw}};
+}
+
+/// Every agent's and movable object's pose.
+json poses_of(const sim::Session& session) {
+  json agents = json::array(), objects = json::array();
+  for (std::size_t i = 0; i < session.state().agents.size(); ++i) {
+    const sim::AgentState& agent = session.state().agents[i];
+    agents.push_back({{"id", session.model().agents[i].id}, {"x", agent.position.x()}, {"y", agent.position.y()}, {"z", 0.0},
+                      {"roll", 0.0}, {"pitch", 0.0}, {"yaw", agent.heading}});
+  }
+  for (std::size_t o = 0; o < session.model().objects.size(); ++o) {
+    json pose = pose_json(session.object_pose(static_cast<int>(o)));
+    pose["name"] = session.model().objects[o].name;
+    objects.push_back(pose);
+  }
+  return {{"agents", agents}, {"objects", objects}};
+}
+
 class Registry {
  public:
   explicit Registry(SessionLimits limits) : limits_(limits) {}
@@ -302,6 +326,50 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     }
     std::lock_guard lock(live->mutex);
     return Response::json(200, state_of(*live, since));
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}/poses", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    std::lock_guard lock(live->mutex);
+    return Response::json(200, poses_of(*live->session));
+  });
+
+  router.add("PUT", "/api/v1/sessions/{id}/poses/{name}", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    const std::string& name = request.path_params.at("name");
+    const json body = json_object_body(request);
+    refuse_unknown_keys(body, {"x", "y", "z", "roll", "pitch", "yaw"});
+    std::lock_guard lock(live->mutex);
+    sim::Session& session = *live->session;
+    const double x = number_of(body, "x", ""), y = number_of(body, "y", "");
+    const auto optional = [&](const char* key) { return body.contains(key) ? number_of(body, key, "") : 0.0; };
+    const double z = optional("z"), roll = optional("roll"), pitch = optional("pitch"), yaw = optional("yaw");
+    if (session.model().find_agent(name) >= 0) {
+      // People and robots stand on the floor, upright.
+      for (const char* key : {"z", "roll", "pitch"}) {
+        if (optional(key) != 0.0) {
+          throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": agents stand upright on the floor", {{"pointer", "/" + std::string(key)}});
+        }
+      }
+      session.place_agent(session.agent_id(name), {x, y, yaw});
+    } else {
+      const auto& objects = session.model().objects;
+      const auto found = std::find_if(objects.begin(), objects.end(), [&](const scenario::MovableObject& o) { return o.name == name; });
+      if (found == objects.end()) throw core::Error(core::ErrorCode::not_found, "no agent or object '" + name + "'", {{"name", name}});
+      session.place_object(static_cast<int>(found - objects.begin()), robots::to_isometry({x, y, z, roll, pitch, yaw}));
+    }
+    return Response::json(200, poses_of(session));
+  });
+
+  router.add("POST", "/api/v1/sessions/{id}/reset", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    const json body = json_object_body(request);
+    refuse_unknown_keys(body, {"seed"});
+    std::lock_guard lock(live->mutex);
+    live->seed = integer_field(body, "seed", 0, kMaxSeed, live->seed);
+    // A fresh session of the same scenario: everything starts again from tick 0.
+    live->session = std::make_unique<sim::Session>(live->session->shared_model(), static_cast<std::uint64_t>(live->seed));
+    return Response::json(200, status_of(*live));
   });
 
   router.add("POST", "/api/v1/sessions/{id}/commands", [registry](const Request& request) {

@@ -175,6 +175,15 @@ void PhysicsWorld::set_kinematic_pose(int body, const Eigen::Isometry3d& pose) {
   entry.body->setWorldTransform(to_bullet(pose));
 }
 
+void PhysicsWorld::place(int body, const Eigen::Isometry3d& pose) {
+  Impl::Body& entry = impl_->at(body);
+  entry.motion->setWorldTransform(to_bullet(pose));
+  entry.body->setWorldTransform(to_bullet(pose));
+  entry.body->setLinearVelocity(btVector3(0, 0, 0));
+  entry.body->setAngularVelocity(btVector3(0, 0, 0));
+  entry.body->activate(true);
+}
+
 void PhysicsWorld::set_enabled(int body, bool enabled) {
   Impl::Body& entry = impl_->at(body);
   if (entry.enabled == enabled) return;

@@ -45,6 +45,8 @@ class PhysicsWorld {
   int add_kinematic(const robots::Shape& shape, const Eigen::Isometry3d& pose, BodyOwner owner);
   int add_dynamic(const robots::Shape& shape, double mass, const Eigen::Isometry3d& pose, BodyOwner owner);
 
+  /// Places a dynamic body, at rest (the uniform set-pose interface: moving a cup before a test).
+  void place(int body, const Eigen::Isometry3d& pose);
   /// Moves a kinematic body (people, robot links) to where its owner is now.
   void set_kinematic_pose(int body, const Eigen::Isometry3d& pose);
   /// Takes a body out of the world (a person who left) or puts it back.

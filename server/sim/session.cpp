@@ -946,6 +946,37 @@ Eigen::Isometry3d Session::object_pose(int object) const {
   return physics_->pose(object_bodies_[object]);
 }
 
+void Session::place_agent(AgentId id, const Pose2& pose) {
+  const int agent = index_of(id);
+  const Vec2 at = pose.position();
+  if (!model_->grid.in_bounds(model_->grid.cell_of(at)) || model_->grid.blocked(at)) {
+    throw core::Error(core::ErrorCode::bad_request, "(" + std::to_string(pose.x) + ", " + std::to_string(pose.y) + ") is not free floor");
+  }
+  AgentState& state = state_.agents[agent];
+  state.position = at;
+  state.heading = core::wrap_angle(pose.theta);
+  state.velocity = Vec2::Zero();
+  state.target_heading.reset();
+  if (state.navigating) {
+    state.path.clear();  // planned again from here on the next step
+    state.replan_at_tick = -1;
+  } else {
+    state.hold = at;
+  }
+  if (const int runtime = runtime_of_agent_[agent]; runtime >= 0) robots_[runtime].robot.set_pose({at.x(), at.y(), state.heading});
+  emit("placed", model_->agents[agent].id, {{"x", at.x()}, {"y", at.y()}, {"theta", state.heading}});
+}
+
+void Session::place_object(int object, const Eigen::Isometry3d& pose) {
+  object_pose(object);  // checks the index
+  const int body = object_bodies_[object];
+  if (physics_->holder(body) >= 0) {
+    throw core::Error(core::ErrorCode::conflict, "object '" + model_->objects[object].name + "' is held by a gripper");
+  }
+  physics_->place(body, pose);
+  emit("placed", model_->objects[object].name, {{"x", pose.translation().x()}, {"y", pose.translation().y()}, {"z", pose.translation().z()}});
+}
+
 namespace {
 
 /// A leg as a capsule from the hip to the foot.

@@ -90,9 +90,16 @@ class Session {
   void command_robot_gripper(AgentId robot, bool closed);
   /// The pose of movable object `object` (index in the model's objects) in the map frame.
   Eigen::Isometry3d object_pose(int object) const;
+  /// Places an agent (seed 000's uniform pose interface) on free floor, facing pose.theta; a path it
+  /// was following is planned again from there, a standing agent stays there. Throws bad_request for
+  /// a place off the floor.
+  void place_agent(AgentId agent, const Pose2& pose);
+  /// Places a movable object, at rest. Throws conflict while a gripper holds it.
+  void place_object(int object, const Eigen::Isometry3d& pose);
 
   const State& state() const { return state_; }
   const scenario::Model& model() const { return *model_; }
+  const std::shared_ptr<const scenario::Model>& shared_model() const { return model_; }
   double time() const { return static_cast<double>(state_.tick) * model_->dt; }
   /// Hash of everything that changes, bit for bit.
   std::uint64_t state_hash() const;

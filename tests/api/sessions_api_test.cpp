@@ -183,3 +183,49 @@ TEST(SessionCommands, HumansAndRobotsTakeCommandsAndABadListChangesNothing) {
 
 }  // namespace
 }  // namespace hrisim::testing
+
+namespace hrisim::testing {
+namespace {
+
+TEST(SessionPoses, AgentsAndObjectsArePlacedAndResetStartsAgain) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const json scenario = json::parse(R"({"name": "cup", "world": {"bounds": {"min": [0, 0], "max": [6, 6]},
+      "obstacles": [{"name": "table", "box": {"x": 4, "y": 4, "length": 1, "width": 1}, "height": 0.75}]},
+    "humans": [{"id": "ana", "start": {"x": 1, "y": 1}}],
+    "robots": [{"id": "hsr", "model": "hsr", "start": {"x": 1, "y": 4}}],
+    "objects": [{"name": "cup", "shape": {"kind": "cylinder", "radius": 0.04, "length": 0.1}, "mass": 0.2,
+                 "pose": {"x": 4, "y": 4, "z": 0.8}}],
+    "steps": [{"name": "wait", "actions": [{"agent": "ana", "wait": {"duration": 30}}]}]})");
+  const std::string scenario_id = json_of(http(port, "POST", "/api/v1/scenarios", scenario.dump()))["summary"]["id"];
+  const std::string id = json_of(http(port, "POST", "/api/v1/sessions", json{{"scenario", scenario_id}, {"seed", 4}}.dump()))["id"];
+  const std::string poses = "/api/v1/sessions/" + id + "/poses";
+  const HttpReply moved = http(port, "PUT", poses + "/ana", R"({"x": 2, "y": 1.5, "yaw": 1.5708})", "Content-Type: application/json\r\n");
+  ASSERT_EQ(moved.status, 200) << moved.body;
+  EXPECT_EQ(json_of(moved)["agents"][0]["x"], 2.0);
+  EXPECT_EQ(json_of(moved)["agents"][0]["yaw"], 1.5708);
+  ASSERT_EQ(http(port, "PUT", poses + "/cup", R"({"x": 4.2, "y": 3.9, "z": 0.8, "yaw": 0.3})", "Content-Type: application/json\r\n").status, 200);
+  http(port, "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 60})");
+  const json after = json_of(http(port, "GET", poses));
+  EXPECT_NEAR(after["objects"][0]["x"].get<double>(), 4.2, 1e-3);
+  EXPECT_NEAR(after["objects"][0]["z"].get<double>(), 0.75 + 0.05, 0.01) << "it settled on the table top";
+  EXPECT_NEAR(after["objects"][0]["yaw"].get<double>(), 0.3, 0.01) << "settling turns it a little";
+  EXPECT_NEAR(after["agents"][0]["x"].get<double>(), 2.0, 0.05) << "she stays where she was put";
+  const auto status = [&](const std::string& body) {
+    return http(port, "PUT", poses + "/ana", body, "Content-Type: application/json\r\n").status;
+  };
+  EXPECT_EQ(status(R"({"x": 4, "y": 4})"), 400) << "on the table";
+  EXPECT_EQ(status(R"({"x": 1, "y": 1, "z": 0.5})"), 400) << "people stand on the floor";
+  EXPECT_EQ(status(R"({"y": 1})"), 400);
+  EXPECT_EQ(http(port, "PUT", poses + "/teapot", R"({"x": 1, "y": 1})", "Content-Type: application/json\r\n").status, 404);
+  // Reset: tick 0 and the scenario's own poses again, with a new seed when given.
+  const json reset = json_of(http(port, "POST", "/api/v1/sessions/" + id + "/reset", R"({"seed": 9})"));
+  EXPECT_EQ(reset["tick"], 0);
+  EXPECT_EQ(reset["seed"], 9);
+  const json fresh = json_of(http(port, "GET", poses));
+  EXPECT_EQ(fresh["agents"][0]["x"], 1.0);
+  EXPECT_NEAR(fresh["objects"][0]["x"].get<double>(), 4.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace hrisim::testing
