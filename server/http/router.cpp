@@ -58,6 +58,28 @@ void Router::add(std::string method, std::string pattern, Handler handler) {
   routes_.push_back({std::move(method), split_path(pattern), std::move(handler)});
 }
 
+void Router::add_websocket(std::string pattern, WebSocketFactory factory) {
+  websockets_.push_back({split_path(pattern), std::move(factory)});
+}
+
+std::variant<std::shared_ptr<WebSocketPeer>, Response> Router::upgrade(Request request) const {
+  try {
+    if (guard_) {
+      if (auto refused = guard_(request)) return *refused;
+    }
+    const std::vector<std::string> segments = split_path(request.path);
+    for (const WebSocketRoute& route : websockets_) {
+      auto params = match(route.segments, segments);
+      if (!params) continue;
+      request.path_params = std::move(*params);
+      return route.factory(request);
+    }
+    return Response::error(core::Error(core::ErrorCode::not_found, "no WebSocket endpoint at " + request.path, {{"path", request.path}}));
+  } catch (const core::Error& e) {
+    return Response::error(e);
+  }
+}
+
 Response Router::dispatch(Request request) const {
   try {
     if (guard_) {

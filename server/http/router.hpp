@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "core/error.hpp"
@@ -41,6 +42,18 @@ struct Response {
 
 using Handler = std::function<Response(const Request&)>;
 
+/// One WebSocket peer: each text message in gets one answer out, in order (a message is not read
+/// before the previous one is answered). The answer's body is the text sent back; it may be deferred
+/// to the worker pool like an HTTP answer.
+class WebSocketPeer {
+ public:
+  virtual ~WebSocketPeer() = default;
+  virtual Response on_message(const std::string& text) = 0;
+};
+
+/// Makes the peer for an upgrade request (throws core::Error to refuse it: 404, 401, …).
+using WebSocketFactory = std::function<std::shared_ptr<WebSocketPeer>(const Request&)>;
+
 class Router {
  public:
   /// Registers a handler; pattern segments written {name} match any one segment and land in path_params.
@@ -49,6 +62,12 @@ class Router {
   void set_guard(std::function<std::optional<Response>(const Request&)> guard) { guard_ = std::move(guard); }
   /// Answers requests no pattern matches (static files); without it they get 404.
   void set_fallback(Handler handler) { fallback_ = std::move(handler); }
+
+  /// Registers a WebSocket endpoint (GET with Upgrade: websocket).
+  void add_websocket(std::string pattern, WebSocketFactory factory);
+  /// The peer for an upgrade request: guard first, then the endpoint; an HTTP error response when the
+  /// upgrade is refused.
+  std::variant<std::shared_ptr<WebSocketPeer>, Response> upgrade(Request request) const;
 
   /// Finds and runs the handler. Unknown path → 404, known path with another method → 405 with Allow;
   /// a core::Error thrown by a handler becomes its JSON error, any other exception a 500.
@@ -61,6 +80,11 @@ class Router {
     Handler handler;
   };
   std::vector<Route> routes_;
+  struct WebSocketRoute {
+    std::vector<std::string> segments;
+    WebSocketFactory factory;
+  };
+  std::vector<WebSocketRoute> websockets_;
   Handler fallback_;
   std::function<std::optional<Response>(const Request&)> guard_;
 };

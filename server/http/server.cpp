@@ -11,6 +11,8 @@
 #include <boost/asio/thread_pool.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <deque>
 #include <cctype>
 #include <chrono>
 #include <csignal>
@@ -37,6 +39,10 @@ using tcp = net::ip::tcp;
 constexpr std::chrono::seconds kLingerTimeout{2};
 
 class Connection;
+class WebSocketSession;
+
+/// Largest WebSocket message accepted; bigger ones close the connection (code 1009).
+constexpr std::size_t kMaxWebSocketMessage = 1 << 20;
 
 /// State shared by the listener and every connection.
 struct Shared {
@@ -46,6 +52,99 @@ struct Shared {
   std::atomic<bool> stopping{false};
   std::mutex mutex;
   std::unordered_map<const Connection*, std::weak_ptr<Connection>> connections;
+  std::unordered_map<const WebSocketSession*, std::weak_ptr<WebSocketSession>> websockets;
+};
+
+/// A WebSocket connection: one message read, answered (on the worker pool when deferred), its
+/// answer queued, then the next read — so answers come in the order of the messages. Writes go out one
+/// at a time from a queue. Beast's suggested server timeouts ping idle peers and drop dead ones.
+class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
+ public:
+  WebSocketSession(tcp::socket&& socket, std::shared_ptr<WebSocketPeer> peer, std::shared_ptr<Shared> shared)
+      : ws_(std::move(socket)), peer_(std::move(peer)), shared_(std::move(shared)) {}
+
+  ~WebSocketSession() {
+    std::lock_guard lock(shared_->mutex);
+    shared_->websockets.erase(this);
+  }
+
+  void start(bhttp::request<bhttp::string_body> upgrade) {
+    {
+      std::lock_guard lock(shared_->mutex);
+      shared_->websockets.emplace(this, weak_from_this());
+    }
+    ws_.set_option(beast::websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.read_message_max(kMaxWebSocketMessage);
+    ws_.text(true);
+    ws_.async_accept(upgrade, [self = shared_from_this()](beast::error_code ec) {
+      if (!ec) self->read();
+    });
+  }
+
+  /// On shutdown: a normal close.
+  void close() {
+    net::dispatch(ws_.get_executor(), [self = shared_from_this()] {
+      self->ws_.async_close(beast::websocket::close_code::going_away, [self](beast::error_code) {});
+    });
+  }
+
+ private:
+  void read() {
+    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return;  // closed, timed out or too big: Beast has told the peer
+      std::string text = beast::buffers_to_string(self->buffer_.data());
+      self->buffer_.consume(self->buffer_.size());
+      self->answer(std::move(text));
+    });
+  }
+
+  void answer(std::string text) {
+    Response response;
+    try {
+      response = peer_->on_message(text);
+    } catch (const core::Error& e) {
+      response = Response::error(e);
+    }
+    if (!response.deferred) {
+      send(std::move(response.body));
+      return read();
+    }
+    net::post(*shared_->workers, [self = shared_from_this(), work = std::move(response.deferred),
+                                  guard = net::make_work_guard(ws_.get_executor())]() mutable {
+      Response result;
+      try {
+        result = work();
+      } catch (const core::Error& e) {
+        result = Response::error(e);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "hrisim: internal error on a WebSocket: %s\n", e.what());
+        result = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
+      }
+      net::post(self->ws_.get_executor(), [self, body = std::move(result.body)]() mutable {
+        self->send(std::move(body));
+        self->read();
+      });
+    });
+  }
+
+  void send(std::string text) {
+    outbox_.push_back(std::move(text));
+    if (outbox_.size() == 1) write_next();
+  }
+
+  void write_next() {
+    ws_.async_write(net::buffer(outbox_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return;
+      self->outbox_.pop_front();
+      if (!self->outbox_.empty()) self->write_next();
+    });
+  }
+
+  beast::websocket::stream<beast::tcp_stream> ws_;
+  std::shared_ptr<WebSocketPeer> peer_;
+  std::shared_ptr<Shared> shared_;
+  beast::flat_buffer buffer_;
+  std::deque<std::string> outbox_;  ///< answers waiting to be written, the first one being written
 };
 
 std::string utc_timestamp() {
@@ -141,8 +240,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
     handle(parser_->release());
   }
 
-  void handle(bhttp::request<bhttp::string_body> message) {
-    const auto started = std::chrono::steady_clock::now();
+  /// Method, query and headers (names in lower case) of a request; the path is the caller's.
+  static Request request_of(const bhttp::request<bhttp::string_body>& message) {
     Request request;
     request.method = std::string(message.method_string());
     const std::string_view target(message.target().data(), message.target().size());
@@ -153,6 +252,15 @@ class Connection : public std::enable_shared_from_this<Connection> {
       for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
       request.headers[name] = std::string(field.value());
     }
+    return request;
+  }
+
+  void handle(bhttp::request<bhttp::string_body> message) {
+    if (beast::websocket::is_upgrade(message)) return upgrade(std::move(message));
+    const auto started = std::chrono::steady_clock::now();
+    Request request = request_of(message);
+    const std::string_view target(message.target().data(), message.target().size());
+    const std::size_t query_start = target.find('?');
     request.body = std::move(message.body());
     const bool head = message.method() == bhttp::verb::head;
     const bool keep_alive = message.keep_alive() && !shared_->stopping;
@@ -187,6 +295,19 @@ class Connection : public std::enable_shared_from_this<Connection> {
         self->finish(std::move(result), answered);
       });
     });
+  }
+
+  /// A WebSocket upgrade: the router finds the endpoint (or answers with an HTTP error), and the
+  /// socket moves on to a WebSocket session.
+  void upgrade(bhttp::request<bhttp::string_body> message) {
+    Request request = request_of(message);
+    const std::string_view target(message.target().data(), message.target().size());
+    request.path = std::string(target.substr(0, target.find('?')));
+    auto outcome = shared_->router->upgrade(std::move(request));
+    if (auto* refused = std::get_if<Response>(&outcome)) return send(std::move(*refused), message.version(), false, false);
+    stream_.expires_never();
+    std::make_shared<WebSocketSession>(stream_.release_socket(), std::get<std::shared_ptr<WebSocketPeer>>(outcome), shared_)
+        ->start(std::move(message));
   }
 
   /// What the reply to a request needs to know about it.
@@ -377,6 +498,14 @@ class Server::Impl {
       }
     }
     for (const auto& connection : live) connection->shutdown_if_idle();
+    std::vector<std::shared_ptr<WebSocketSession>> sockets;
+    {
+      std::lock_guard lock(shared_->mutex);
+      for (const auto& [key, weak] : shared_->websockets) {
+        if (auto socket = weak.lock()) sockets.push_back(std::move(socket));
+      }
+    }
+    for (const auto& socket : sockets) socket->close();
   }
 
   unsigned threads_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <random>
@@ -203,6 +204,42 @@ json poses_of(const sim::Session& session) {
   return {{"agents", agents}, {"objects", objects}};
 }
 
+/// Gives a list of commands, each checked before any is given (the session's lock held).
+json give_commands(Live& live, const json& commands) {
+  sim::Session& session = *live.session;
+  std::vector<std::function<void()>> apply;
+  for (std::size_t i = 0; i < commands.size(); ++i) {
+    const std::string at = "/commands/" + std::to_string(i);
+    try {
+      apply.push_back(checked_command(session, commands[i], at));
+    } catch (const core::Error& e) {
+      json details = e.details();
+      const std::string inner = details.value("pointer", "");
+      details["pointer"] = inner.starts_with(at) ? inner : at + inner;
+      throw core::Error(core::ErrorCode::bad_request, at + ": " + e.what(), details);
+    }
+  }
+  for (const auto& give : apply) give();
+  return {{"applied", apply.size()}, {"tick", session.state().tick}};
+}
+
+/// Advances up to `steps` steps (the session's lock held): the status, the events of those steps, and
+/// Gymnasium's terminated (the scenario's last step is done) and truncated (its time limit).
+json step_session(Live& live, std::int64_t steps) {
+  sim::Session& session = *live.session;
+  const std::int64_t first = session.state().tick;
+  for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) session.step();
+  json reply = status_of(live);
+  json events = json::array();
+  for (const sim::Event& event : session.state().events) {
+    if (event.tick >= first) events.push_back(event_json(event));
+  }
+  reply["events"] = events;
+  reply["terminated"] = session.state().termination == "scenario_end";
+  reply["truncated"] = session.state().termination == "timeout";
+  return reply;
+}
+
 class Registry {
  public:
   explicit Registry(SessionLimits limits) : limits_(limits) {}
@@ -259,6 +296,70 @@ class Registry {
   std::map<std::string, std::shared_ptr<Live>> sessions_;
 };
 
+/// A session's WebSocket: lockstep messages, one answer each, in order.
+///   {"type": "step", "n": 1}        → {"type": "step", …status, events, terminated, truncated}
+///   {"type": "commands", "commands": [...]} → {"type": "commands", "applied", "tick"}
+///   {"type": "state", "events_since": 0}    → {"type": "state", …}
+/// A wrong message gets {"type": "error", "error": {code, message, details}} and the socket stays open.
+class SessionSocket : public WebSocketPeer {
+ public:
+  explicit SessionSocket(std::shared_ptr<Registry> registry, std::string id) : registry_(std::move(registry)), id_(std::move(id)) {}
+
+  Response on_message(const std::string& text) override {
+    try {
+      Request message;
+      message.body = text;
+      json body = json_object_body(message);
+      const std::string type = body.value("type", "");
+      body.erase("type");
+      const auto live = registry_->find(id_);  // also keeps it from expiring while in use
+      if (type == "step") {
+        refuse_unknown_keys(body, {"n"});
+        const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
+        return Response::later([live, steps] {
+          try {
+            std::lock_guard lock(live->mutex);
+            return reply("step", step_session(*live, steps));
+          } catch (const core::Error& e) {
+            return failure(e);
+          }
+        });
+      }
+      if (type == "commands") {
+        refuse_unknown_keys(body, {"commands"});
+        if (!body.contains("commands") || !body["commands"].is_array()) {
+          throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
+        }
+        std::lock_guard lock(live->mutex);
+        return reply("commands", give_commands(*live, body["commands"]));
+      }
+      if (type == "state") {
+        refuse_unknown_keys(body, {"events_since"});
+        const auto since = integer_field(body, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
+        std::lock_guard lock(live->mutex);
+        return reply("state", state_of(*live, since));
+      }
+      throw core::Error(core::ErrorCode::bad_request, "type must be step, commands or state", {{"pointer", "/type"}});
+    } catch (const core::Error& e) {
+      return failure(e);
+    }
+  }
+
+ private:
+  static Response reply(const char* type, json body) {
+    body["type"] = type;
+    return Response::json(200, body);
+  }
+  static Response failure(const core::Error& error) {
+    json body = error.to_json();
+    body["type"] = "error";
+    return Response::json(http_status(error.code()), body);
+  }
+
+  std::shared_ptr<Registry> registry_;
+  std::string id_;
+};
+
 /// A 503 for too many sessions carries Retry-After.
 Response refused(const core::Error& error) {
   Response response = Response::error(error);
@@ -301,6 +402,12 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       items.push_back(status_of(*live));
     }
     return Response::json(200, {{"items", items}});
+  });
+
+  router.add_websocket("/api/v1/sessions/{id}/ws", [registry](const Request& request) -> std::shared_ptr<WebSocketPeer> {
+    const std::string& id = request.path_params.at("id");
+    registry->find(id);  // 404 for an unknown session, before the upgrade
+    return std::make_shared<SessionSocket>(registry, id);
   });
 
   router.add("GET", "/api/v1/sessions/{id}", [registry](const Request& request) {
@@ -380,23 +487,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
     }
     std::lock_guard lock(live->mutex);
-    sim::Session& session = *live->session;
-    // Every command is checked before any is given: a list is taken whole or not at all.
-    std::vector<std::function<void()>> apply;
-    for (std::size_t i = 0; i < body["commands"].size(); ++i) {
-      const json& command = body["commands"][i];
-      const std::string at = "/commands/" + std::to_string(i);
-      try {
-        apply.push_back(checked_command(session, command, at));
-      } catch (const core::Error& e) {
-        json details = e.details();
-        const std::string inner = details.value("pointer", "");
-        details["pointer"] = inner.starts_with(at) ? inner : at + inner;
-        throw core::Error(core::ErrorCode::bad_request, at + ": " + e.what(), details);
-      }
-    }
-    for (const auto& give : apply) give();
-    return Response::json(200, {{"applied", apply.size()}, {"tick", session.state().tick}});
+    return Response::json(200, give_commands(*live, body["commands"]));
   });
 
   router.add("POST", "/api/v1/sessions/{id}/step", [registry](const Request& request) {
@@ -407,18 +498,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     // Stepping may take long: on the worker pool, never on an I/O thread.
     return Response::later([live, steps] {
       std::lock_guard lock(live->mutex);
-      sim::Session& session = *live->session;
-      const std::int64_t first = session.state().tick;
-      for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) session.step();
-      json reply = status_of(*live);
-      json events = json::array();
-      for (const sim::Event& event : session.state().events) {
-        if (event.tick >= first) events.push_back(event_json(event));
-      }
-      reply["events"] = events;
-      reply["terminated"] = session.state().termination == "scenario_end";
-      reply["truncated"] = session.state().termination == "timeout";
-      return Response::json(200, reply);
+      return Response::json(200, step_session(*live, steps));
     });
   });
 }

@@ -229,3 +229,101 @@ TEST(SessionPoses, AgentsAndObjectsArePlacedAndResetStartsAgain) {
 
 }  // namespace
 }  // namespace hrisim::testing
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+namespace hrisim::testing {
+namespace {
+
+namespace net = boost::asio;
+namespace beast = boost::beast;
+
+/// A blocking WebSocket client on loopback.
+class WebSocketClient {
+ public:
+  /// Connects and upgrades; `status` is the HTTP status of a refused upgrade (0 when accepted).
+  WebSocketClient(std::uint16_t port, const std::string& target, const std::string& authorization = "") {
+    net::ip::tcp::endpoint endpoint(net::ip::make_address("127.0.0.1"), port);
+    ws_.next_layer().connect(endpoint);
+    ws_.set_option(beast::websocket::stream_base::decorator([authorization](beast::websocket::request_type& request) {
+      if (!authorization.empty()) request.set(beast::http::field::authorization, authorization);
+    }));
+    beast::websocket::response_type response;
+    beast::error_code ec;
+    ws_.handshake(response, "127.0.0.1", target, ec);
+    if (ec) status = static_cast<int>(response.result_int());
+  }
+
+  json exchange(const json& message) {
+    ws_.write(net::buffer(message.dump()));
+    beast::flat_buffer buffer;
+    ws_.read(buffer);
+    return json::parse(beast::buffers_to_string(buffer.data()));
+  }
+
+  int status = 0;
+
+ private:
+  net::io_context io_;
+  beast::websocket::stream<net::ip::tcp::socket> ws_{io_};
+};
+
+TEST(SessionWebSocket, LockstepStepsCommandsAndStateInOrder) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const auto create = [&] { return json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 8})"))["id"].get<std::string>(); };
+  const std::string socket_session = create(), rest_session = create();
+  WebSocketClient client(port, "/api/v1/sessions/" + socket_session + "/ws");
+  ASSERT_EQ(client.status, 0);
+  for (int i = 1; i <= 100; ++i) {
+    const json reply = client.exchange({{"type", "step"}, {"n", 1}});
+    ASSERT_EQ(reply["type"], "step");
+    ASSERT_EQ(reply["tick"], i) << "one step message, one step";
+  }
+  const json given = client.exchange(json::parse(R"({"type": "commands", "commands": [{"human": "dev", "command": "wait 2"}]})"));
+  EXPECT_EQ(given["type"], "commands");
+  EXPECT_EQ(given["applied"], 1);
+  const json wrong = client.exchange({{"type", "dance"}});
+  EXPECT_EQ(wrong["type"], "error");
+  EXPECT_EQ(wrong["error"]["details"]["pointer"], "/type");
+  EXPECT_EQ(client.exchange({{"type", "step"}, {"n", 0}})["error"]["details"]["pointer"], "/n");
+  EXPECT_EQ(client.exchange({{"type", "step"}, {"n", 200}})["tick"], 300) << "the socket stays open after errors";
+  const json state = client.exchange({{"type", "state"}, {"events_since", 250}});
+  EXPECT_EQ(state["type"], "state");
+  EXPECT_EQ(state["agents"].size(), 7u);
+  // The same scenario, seed and commands over REST end in the same state.
+  http(port, "POST", "/api/v1/sessions/" + rest_session + "/step", R"({"n": 100})");
+  http(port, "POST", "/api/v1/sessions/" + rest_session + "/commands", R"({"commands": [{"human": "dev", "command": "wait 2"}]})");
+  http(port, "POST", "/api/v1/sessions/" + rest_session + "/step", R"({"n": 200})");
+  EXPECT_EQ(json_of(http(port, "GET", "/api/v1/sessions/" + rest_session))["state_hash"], state["state_hash"]);
+}
+
+/// The HTTP answer to a WebSocket upgrade request, written by hand.
+HttpReply upgrade(std::uint16_t port, const std::string& target, const std::string& extra_headers = "") {
+  RawConnection connection(port);
+  connection.send("GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: Upgrade\r\nUpgrade: websocket\r\n"
+                  "Sec-WebSocket-Version: 13\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n" + extra_headers + "\r\n");
+  return connection.read_reply();
+}
+
+TEST(SessionWebSocket, UpgradesAreRefusedForUnknownSessionsAndWithoutTheToken) {
+  TestServer server({"--token", "a-token-of-16-chars"});
+  const std::uint16_t port = server.port();
+  const HttpReply unknown = upgrade(port, "/api/v1/sessions/s00/ws", "Authorization: Bearer a-token-of-16-chars\r\n");
+  EXPECT_EQ(unknown.status, 404);
+  EXPECT_EQ(json_of(unknown)["error"]["code"], "not_found");
+  const std::string id = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "queue"})",
+                                      "Authorization: Bearer a-token-of-16-chars\r\n"))["id"];
+  EXPECT_EQ(upgrade(port, "/api/v1/sessions/" + id + "/ws").status, 401);
+  EXPECT_EQ(upgrade(port, "/api/v1/sessions/" + id + "/nowhere", "Authorization: Bearer a-token-of-16-chars\r\n").status, 404);
+  WebSocketClient authorised(port, "/api/v1/sessions/" + id + "/ws", "Bearer a-token-of-16-chars");
+  EXPECT_EQ(authorised.status, 0);
+  EXPECT_EQ(authorised.exchange({{"type", "step"}})["tick"], 1);
+}
+
+}  // namespace
+}  // namespace hrisim::testing
