@@ -41,6 +41,16 @@ json event_json(const sim::Event& event) {
   return {{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}};
 }
 
+/// The events of tick `first` and later; they are kept in tick order, so only the new ones are looked at.
+json events_since(const sim::Session& session, std::int64_t first) {
+  const auto& events = session.state().events;
+  auto begin = events.end();
+  while (begin != events.begin() && std::prev(begin)->tick >= first) --begin;
+  json list = json::array();
+  for (auto event = begin; event != events.end(); ++event) list.push_back(event_json(*event));
+  return list;
+}
+
 /// Status of a session (its lock held).
 json status_of(const Live& live) {
   const sim::Session& session = *live.session;
@@ -63,7 +73,7 @@ json status_of(const Live& live) {
 }
 
 /// Every agent's pose and motion, requests waiting for an answer, and the events since a tick.
-json state_of(const Live& live, std::int64_t events_since) {
+json state_of(const Live& live, std::int64_t events_since_tick) {
   const sim::Session& session = *live.session;
   const sim::State& state = session.state();
   json agents = json::array();
@@ -84,14 +94,10 @@ json state_of(const Live& live, std::int64_t events_since) {
   for (const sim::OpenRequest& open : state.requests) {
     requests.push_back({{"robot", session.model().agents[open.robot].id}, {"task", session.model().tasks[open.task].name}});
   }
-  json events = json::array();
-  for (const sim::Event& event : state.events) {
-    if (event.tick >= events_since) events.push_back(event_json(event));
-  }
   json reply = status_of(live);
   reply["agents"] = agents;
   reply["requests"] = requests;
-  reply["events"] = events;
+  reply["events"] = events_since(session, events_since_tick);
   return reply;
 }
 
@@ -230,11 +236,7 @@ json step_session(Live& live, std::int64_t steps) {
   const std::int64_t first = session.state().tick;
   for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) session.step();
   json reply = status_of(live);
-  json events = json::array();
-  for (const sim::Event& event : session.state().events) {
-    if (event.tick >= first) events.push_back(event_json(event));
-  }
-  reply["events"] = events;
+  reply["events"] = events_since(session, first);
   reply["terminated"] = session.state().termination == "scenario_end";
   reply["truncated"] = session.state().termination == "timeout";
   return reply;

@@ -1,0 +1,102 @@
+// Session round trips on loopback against a running `hrisim serve` (bench/api_bench.sh starts one):
+// REST `POST /step {"n":1}` on one keep-alive connection, and WebSocket lockstep `{"type":"step"}`
+// messages, both on a session of the bundled elevator scenario (six people, an HSR with laser, people
+// detector and physics). Prints steps per second and the median and 99th-percentile round trip.
+//   usage: api_bench PORT [seconds per case=5]
+#include <algorithm>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace net = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+using tcp = net::ip::tcp;
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+struct Figures {
+  double steps_per_second;
+  double median_us, p99_us;
+};
+
+Figures summarise(std::vector<double>& round_trips_us, double seconds) {
+  std::sort(round_trips_us.begin(), round_trips_us.end());
+  return {round_trips_us.size() / seconds, round_trips_us[round_trips_us.size() / 2], round_trips_us[round_trips_us.size() * 99 / 100]};
+}
+
+/// One HTTP request on an open keep-alive connection; the answer's body.
+std::string request(beast::tcp_stream& stream, http::verb verb, const std::string& target, const std::string& body) {
+  http::request<http::string_body> message(verb, target, 11);
+  message.set(http::field::host, "127.0.0.1");
+  message.set(http::field::content_type, "application/json");
+  message.keep_alive(true);
+  message.body() = body;
+  message.prepare_payload();
+  http::write(stream, message);
+  beast::flat_buffer buffer;
+  http::response<http::string_body> response;
+  http::read(stream, buffer, response);
+  if (response.result_int() >= 300) throw std::runtime_error(target + ": " + response.body());
+  return response.body();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: api_bench PORT [seconds=5]\n");
+    return 2;
+  }
+  const auto port = static_cast<unsigned short>(std::atoi(argv[1]));
+  const double seconds = argc > 2 ? std::atof(argv[2]) : 5.0;
+  net::io_context io;
+  const tcp::endpoint endpoint(net::ip::make_address("127.0.0.1"), port);
+
+  beast::tcp_stream rest(io);
+  rest.connect(endpoint);
+  const std::string id = json::parse(request(rest, http::verb::post, "/api/v1/sessions", R"({"scenario": "elevator"})"))["id"];
+  std::vector<double> trips;
+  auto start = Clock::now();
+  while (std::chrono::duration<double>(Clock::now() - start).count() < seconds) {
+    const auto before = Clock::now();
+    const json reply = json::parse(request(rest, http::verb::post, "/api/v1/sessions/" + id + "/step", R"({"n": 1})"));
+    trips.push_back(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
+    if (reply["status"] == "finished") request(rest, http::verb::post, "/api/v1/sessions/" + id + "/reset", "{}");
+  }
+  const Figures over_rest = summarise(trips, std::chrono::duration<double>(Clock::now() - start).count());
+
+  beast::websocket::stream<tcp::socket> socket(io);
+  socket.next_layer().connect(endpoint);
+  socket.handshake("127.0.0.1", "/api/v1/sessions/" + id + "/ws");
+  socket.text(true);
+  trips.clear();
+  const std::string step = R"({"type": "step", "n": 1})";
+  beast::flat_buffer buffer;
+  start = Clock::now();
+  while (std::chrono::duration<double>(Clock::now() - start).count() < seconds) {
+    const auto before = Clock::now();
+    socket.write(net::buffer(step));
+    socket.read(buffer);
+    trips.push_back(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
+    const bool finished = beast::buffers_to_string(buffer.data()).find("\"finished\"") != std::string::npos;
+    buffer.consume(buffer.size());
+    if (finished) request(rest, http::verb::post, "/api/v1/sessions/" + id + "/reset", "{}");
+  }
+  const Figures over_socket = summarise(trips, std::chrono::duration<double>(Clock::now() - start).count());
+  std::printf("api_bench: elevator session, one step per round trip, %.0f s per case\n", seconds);
+  std::printf("REST POST /step (keep-alive)   %8.0f steps/s   median %6.1f us   p99 %7.1f us\n", over_rest.steps_per_second,
+              over_rest.median_us, over_rest.p99_us);
+  std::printf("WebSocket lockstep step        %8.0f steps/s   median %6.1f us   p99 %7.1f us\n", over_socket.steps_per_second,
+              over_socket.median_us, over_socket.p99_us);
+  return 0;
+}
