@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -93,10 +94,46 @@ int main(int argc, char** argv) {
     if (finished) request(rest, http::verb::post, "/api/v1/sessions/" + id + "/reset", "{}");
   }
   const Figures over_socket = summarise(trips, std::chrono::duration<double>(Clock::now() - start).count());
+
+  // Two sessions stepped at once, each over its own WebSocket, 1000 steps per message: the worker
+  // pool runs them in parallel.
+  auto stepped_in = [&](int sessions) {
+    std::vector<std::thread> clients;
+    std::vector<double> steps_done(sessions, 0.0);
+    const auto begin = Clock::now();
+    for (int s = 0; s < sessions; ++s) {
+      clients.emplace_back([&, s] {
+        net::io_context own;
+        beast::tcp_stream control(own);
+        control.connect(endpoint);
+        const std::string session = json::parse(request(control, http::verb::post, "/api/v1/sessions", R"({"scenario": "elevator"})"))["id"];
+        beast::websocket::stream<tcp::socket> ws(own);
+        ws.next_layer().connect(endpoint);
+        ws.handshake("127.0.0.1", "/api/v1/sessions/" + session + "/ws");
+        beast::flat_buffer reply;
+        while (std::chrono::duration<double>(Clock::now() - begin).count() < seconds) {
+          ws.write(net::buffer(std::string(R"({"type": "step", "n": 1000})")));
+          ws.read(reply);
+          const bool finished = beast::buffers_to_string(reply.data()).find("\"finished\"") != std::string::npos;
+          reply.consume(reply.size());
+          steps_done[s] += 1000;
+          if (finished) request(control, http::verb::post, "/api/v1/sessions/" + session + "/reset", "{}");
+        }
+        request(control, http::verb::delete_, "/api/v1/sessions/" + session, "");
+      });
+    }
+    for (std::thread& client : clients) client.join();
+    double total = 0.0;
+    for (const double done : steps_done) total += done;
+    return total / std::chrono::duration<double>(Clock::now() - begin).count();
+  };
+  const double one = stepped_in(1), two = stepped_in(2);
   std::printf("api_bench: elevator session, one step per round trip, %.0f s per case\n", seconds);
   std::printf("REST POST /step (keep-alive)   %8.0f steps/s   median %6.1f us   p99 %7.1f us\n", over_rest.steps_per_second,
               over_rest.median_us, over_rest.p99_us);
   std::printf("WebSocket lockstep step        %8.0f steps/s   median %6.1f us   p99 %7.1f us\n", over_socket.steps_per_second,
               over_socket.median_us, over_socket.p99_us);
+  std::printf("1 session,  1000 steps per message  %8.0f steps/s\n", one);
+  std::printf("2 sessions, 1000 steps per message  %8.0f steps/s   (%.2fx one)\n", two, two / one);
   return 0;
 }
