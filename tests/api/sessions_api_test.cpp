@@ -327,3 +327,60 @@ TEST(SessionWebSocket, UpgradesAreRefusedForUnknownSessionsAndWithoutTheToken) {
 
 }  // namespace
 }  // namespace hrisim::testing
+
+#include <random>
+
+namespace hrisim::testing {
+namespace {
+
+/// A thousand generated malformed session requests — creation, steps, commands, poses, state — on a
+/// server with one valid session: never a 5xx, every answer JSON, no session created or lost.
+TEST(SessionsFuzz, MalformedRequestsBreakNothing) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const std::string id = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator"})"))["id"];
+  std::mt19937_64 random(7);
+  const auto pick = [&](std::size_t n) { return static_cast<std::size_t>(random() % n); };
+  const json junk[] = {nullptr, true, -1, 1e308, "x", json::array(), json::object(), 0.5, std::string(300, 'z'), json::array({1, "a"})};
+  const auto any = [&] { return junk[pick(std::size(junk))]; };
+  for (int i = 0; i < 1000; ++i) {
+    std::string method = "POST", target, body;
+    switch (i % 6) {
+      case 0:
+        target = "/api/v1/sessions";
+        body = json{{"scenario", i % 3 ? any() : json("elevator")}, {"seed", any()}}.dump();
+        break;
+      case 1:
+        target = "/api/v1/sessions/" + id + "/step";
+        body = json{{"n", any()}}.dump();
+        break;
+      case 2:
+        target = "/api/v1/sessions/" + id + "/commands";
+        body = json{{"commands", json::array({{{pick(2) ? "human" : "robot", any()}, {"command", any()}, {"velocity", any()}}})}}.dump();
+        break;
+      case 3:
+        method = "PUT";
+        target = "/api/v1/sessions/" + id + "/poses/" + (pick(2) ? "ada" : "robot");
+        body = json{{"x", any()}, {"y", any()}, {"roll", any()}}.dump();
+        break;
+      case 4:
+        method = "GET";
+        target = "/api/v1/sessions/" + id + "/state?events_since=" + std::to_string(static_cast<long long>(random() % 2000) - 1000);
+        break;
+      case 5:  // cut-off or random bytes
+        target = "/api/v1/sessions/" + (pick(2) ? id : "s" + std::to_string(i)) + "/step";
+        for (std::size_t k = 0, n = pick(80); k < n; ++k) body += static_cast<char>(random() & 0xFF);
+        break;
+    }
+    const HttpReply reply = http(port, method, target, body);
+    ASSERT_LT(reply.status, 500) << i << " " << method << " " << target << " " << body << " → " << reply.body;
+    EXPECT_NO_THROW(json_of(reply)) << i;
+  }
+  EXPECT_EQ(http(port, "GET", "/healthz").status, 200);
+  const json sessions = json_of(http(port, "GET", "/api/v1/sessions"));
+  ASSERT_GE(sessions["items"].size(), 1u) << "the valid session is still there";
+  EXPECT_LE(sessions["items"].size(), 8u) << "never beyond the limit";
+}
+
+}  // namespace
+}  // namespace hrisim::testing
