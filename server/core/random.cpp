@@ -1,5 +1,7 @@
 #include "core/random.hpp"
 
+#include <random>
+
 #include <bit>
 #include <cmath>
 #include <numbers>
@@ -62,6 +64,17 @@ double Random::normal(double mean, double stddev) {
   spare_normal_ = radius * std::sin(angle);
   has_spare_normal_ = true;
   return mean + stddev * radius * std::cos(angle);
+}
+
+std::string unguessable_id(char prefix) {
+  std::random_device device;
+  std::string id(1, prefix);
+  static constexpr char kHex[] = "0123456789abcdef";
+  for (int word = 0; word < 4; ++word) {
+    const std::uint32_t bits = device();
+    for (int shift = 28; shift >= 0; shift -= 4) id += kHex[(bits >> shift) & 0xF];
+  }
+  return id;
 }
 
 }  // namespace hrisim::core

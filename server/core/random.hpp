@@ -5,6 +5,7 @@
 // one subsystem does not shift the numbers another one sees.
 #include <array>
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 namespace hrisim::core {
@@ -34,6 +35,10 @@ class Random {
   double spare_normal_ = 0.0;
   bool has_spare_normal_ = false;
 };
+
+/// `prefix` and 128 bits from the operating system's random source, in hex: ids of uploaded
+/// scenarios, sessions, runs and episodes, which nobody can guess. Never used inside a simulation.
+std::string unguessable_id(char prefix);
 
 /// FNV-1a 64-bit hash of bytes (stable across platforms), used for stream names and state hashes.
 std::uint64_t fnv1a(std::string_view bytes, std::uint64_t hash = 0xcbf29ce484222325ULL);

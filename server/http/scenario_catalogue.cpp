@@ -2,26 +2,12 @@
 
 #include <algorithm>
 #include <fstream>
-#include <iomanip>
-#include <random>
 #include <sstream>
 
+#include "core/random.hpp"
 #include "storage/store.hpp"
 
 namespace hrisim::http {
-namespace {
-
-/// An uploaded scenario's id: "u" and 128 random bits in hex, so ids cannot be guessed or collide.
-std::string new_scenario_id() {
-  std::random_device device;
-  std::ostringstream id;
-  id << 'u' << std::hex;
-  for (int i = 0; i < 4; ++i) id << std::setw(8) << std::setfill('0') << device();
-  return id.str();
-}
-
-}  // namespace
-
 ScenarioCatalogue::ScenarioCatalogue(storage::Store* store, std::filesystem::path scenarios_dir)
     : store_(store), dir_(std::move(scenarios_dir)) {
   std::error_code ignored;
@@ -75,7 +61,7 @@ std::vector<std::string> ScenarioCatalogue::page(const std::string& cursor, int 
 
 std::string ScenarioCatalogue::store(const std::string& text, scenario::CompiledSource compiled) {
   storage::ScenarioRecord record;
-  record.id = new_scenario_id();
+  record.id = core::unguessable_id('u');
   record.name = compiled.model->name;
   record.format = std::string(scenario::to_string(compiled.format));
   record.source = text;

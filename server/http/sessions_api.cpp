@@ -7,10 +7,10 @@
 #include <limits>
 #include <map>
 #include <mutex>
-#include <random>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/random.hpp"
 #include "http/request_helpers.hpp"
 #include "sim/session.hpp"
 
@@ -19,15 +19,6 @@ namespace {
 
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
-
-/// "s" and 128 random bits in hex: a session id nobody can guess.
-std::string new_session_id() {
-  std::random_device device;
-  std::ostringstream id;
-  id << 's' << std::hex;
-  for (int i = 0; i < 4; ++i) id << std::setw(8) << std::setfill('0') << device();
-  return id.str();
-}
 
 struct Live {
   std::string id, scenario;
@@ -255,7 +246,7 @@ class Registry {
                         {{"max_sessions", limits_.max_sessions}, {"retry_after", kSessionRetryAfter}});
     }
     auto live = std::make_shared<Live>();
-    live->id = new_session_id();
+    live->id = core::unguessable_id('s');
     live->scenario = scenario;
     live->seed = seed;
     live->session = std::make_unique<sim::Session>(std::move(model), static_cast<std::uint64_t>(seed));
