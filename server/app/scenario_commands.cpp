@@ -3,21 +3,28 @@
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/random.hpp"
+#include "core/sha256.hpp"
 #include "scenario/import.hpp"
 #include "scenario/load.hpp"
+#include "scenario/source.hpp"
 #include "sim/session.hpp"
+#include "storage/store.hpp"
 
 namespace hrisim::app {
 namespace {
 
 /// Samples per second written by `hrisim run --trajectory`.
 constexpr double kTrajectoryRate = 10.0;
+/// Most seeds one `hrisim run --seeds A-B` runs.
+constexpr std::uint64_t kMaxSeedsPerRun = 100000;
 
 [[noreturn]] void usage_error(const std::string& message) {
   throw core::Error(core::ErrorCode::bad_request, message);
@@ -153,39 +160,53 @@ int validate_command(const std::vector<std::string>& args) {
   return status;
 }
 
-int run_command(const std::vector<std::string>& args) {
-  const ParsedArgs parsed = parse_args(
-      args, {"--seed", "--max-time", "--request", "--scenario", "--map", "--trajectory"}, {"--events"},
-      "usage: hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME] "
-      "[--map FILE] [--trajectory FILE.csv]");
-  const std::string& file = parsed.file;
-  std::uint64_t seed = 0;
-  if (const auto text = parsed.last("--seed")) {
-    const auto [end, ec] = std::from_chars(text->data(), text->data() + text->size(), seed);
-    if (ec != std::errc() || end != text->data() + text->size()) usage_error("--seed: expected a whole number, got '" + *text + "'");
-  }
-  std::optional<double> max_time;
-  if (const auto text = parsed.last("--max-time")) max_time = parse_seconds("--max-time", *text);
-  const bool with_events = parsed.flags.contains("--events");
-  std::vector<std::pair<double, std::string>> requests;
-  if (parsed.values.contains("--request")) {
-    for (const std::string& text : parsed.values.at("--request")) {
-      const auto colon = text.find(':');
-      if (colon == std::string::npos) usage_error("--request: expected TIME:TASK, got '" + text + "'");
-      requests.emplace_back(parse_seconds("--request", text.substr(0, colon)), text.substr(colon + 1));
+namespace {
+
+/// Seeds of `--seeds`: "A-B" (inclusive) or "A,B,C".
+std::vector<std::uint64_t> parse_seeds(const std::string& text) {
+  auto number = [&](std::string_view part) {
+    std::uint64_t value = 0;
+    const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
+    if (ec != std::errc() || end != part.data() + part.size()) usage_error("--seeds: expected A-B or A,B,C of whole numbers, got '" + text + "'");
+    return value;
+  };
+  std::vector<std::uint64_t> seeds;
+  if (text.empty()) usage_error("--seeds: expected A-B or A,B,C of whole numbers, got nothing");
+  if (const auto dash = text.find('-'); dash != std::string::npos) {
+    const std::uint64_t first = number(std::string_view(text).substr(0, dash)), last = number(std::string_view(text).substr(dash + 1));
+    if (last < first || last - first >= kMaxSeedsPerRun) {
+      usage_error("--seeds: A-B needs A <= B and at most " + std::to_string(kMaxSeedsPerRun) + " seeds, got '" + text + "'");
+    }
+    for (std::uint64_t seed = first; seed <= last; ++seed) seeds.push_back(seed);
+  } else {
+    std::string_view rest(text);
+    while (!rest.empty()) {
+      const auto comma = rest.find(',');
+      seeds.push_back(number(rest.substr(0, comma)));
+      rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
     }
   }
-  const SourceOptions source = source_options(parsed);
+  return seeds;
+}
 
-  const scenario::LoadResult loaded = load(file, source);
-  print_errors(file, loaded.warnings, "warning: ");
-  if (!loaded.model) {
-    print_errors(file, loaded.errors);
-    return 1;
-  }
-  const scenario::Model& model = *loaded.model;
-  sim::Session session(loaded.model, seed);
-  for (const auto& [time, task_name] : requests) {
+struct RunOptions {
+  std::optional<double> max_time;
+  bool with_events = false;
+  std::vector<std::pair<double, std::string>> requests;
+  std::ofstream* trajectory_csv = nullptr;  ///< every agent at kTrajectoryRate, when given
+};
+
+struct Episode {
+  nlohmann::json summary;
+  std::vector<storage::EventRecord> events;
+  std::vector<storage::TrajectorySample> trajectory;  ///< every agent at kTrajectoryRate
+};
+
+/// Runs one episode of the model with this seed to its end (or max_time).
+Episode run_episode(const std::shared_ptr<const scenario::Model>& shared, std::uint64_t seed, const RunOptions& options) {
+  const scenario::Model& model = *shared;
+  sim::Session session(shared, seed);
+  for (const auto& [time, task_name] : options.requests) {
     const int task = model.find_task(task_name);
     if (task < 0) usage_error("--request: the scenario has no task '" + task_name + "'");
     int robot = -1;
@@ -195,37 +216,34 @@ int run_command(const std::vector<std::string>& args) {
     if (robot < 0) usage_error("--request: the scenario has no robot to make the request");
     session.schedule_request(time, session.agent_id(model.agents[robot].id), task);
   }
-  std::ofstream trajectory;
-  std::int64_t sample_every = 1;
-  if (const auto path = parsed.last("--trajectory")) {
-    trajectory.open(*path);
-    if (!trajectory) usage_error("--trajectory: cannot write " + *path);
-    trajectory << "time,tick,agent,x,y,theta,vx,vy\n";
-    trajectory.precision(17);
-    sample_every = std::max<std::int64_t>(1, std::llround(1.0 / (kTrajectoryRate * model.dt)));
-  }
+  Episode episode;
+  const std::int64_t sample_every = std::max<std::int64_t>(1, std::llround(1.0 / (kTrajectoryRate * model.dt)));
+  std::int64_t last_sampled = -1;
   auto record = [&](const sim::Session& running) {
     const sim::State& state = running.state();
-    if (!trajectory.is_open() || state.tick % sample_every != 0) return;
+    if (state.tick % sample_every != 0 || state.tick == last_sampled) return;  // the end may be observed twice
+    last_sampled = state.tick;
     for (const sim::AgentId id : running.agent_ids()) {
       const int index = running.index_of(id);
       const sim::AgentState& agent = state.agents[index];
-      trajectory << running.time() << ',' << state.tick << ',' << model.agents[index].id << ',' << agent.position.x() << ','
-                 << agent.position.y() << ',' << agent.heading << ',' << agent.velocity.x() << ',' << agent.velocity.y() << '\n';
+      episode.trajectory.push_back({model.agents[index].id, state.tick, agent.position.x(), agent.position.y(), agent.heading});
+      if (options.trajectory_csv) {
+        *options.trajectory_csv << running.time() << ',' << state.tick << ',' << model.agents[index].id << ',' << agent.position.x() << ','
+                                << agent.position.y() << ',' << agent.heading << ',' << agent.velocity.x() << ',' << agent.velocity.y() << '\n';
+      }
     }
   };
   record(session);
-  session.run(max_time, record);
+  session.run(options.max_time, record);
 
   const sim::State& state = session.state();
   nlohmann::json steps = nlohmann::json::array();
   for (std::size_t s = 0; s < model.steps.size(); ++s) {
-    const sim::StepRecord& record = state.steps[s];
+    const sim::StepRecord& step = state.steps[s];
     nlohmann::json entry{{"name", model.steps[s].name}};
-    entry["started"] = record.started_tick < 0 ? nlohmann::json() : nlohmann::json(record.started_tick * model.dt);
-    entry["finished"] = record.finished_tick < 0 ? nlohmann::json() : nlohmann::json(record.finished_tick * model.dt);
-    entry["duration"] = record.finished_tick < 0 ? nlohmann::json()
-                                                 : nlohmann::json((record.finished_tick - record.started_tick) * model.dt);
+    entry["started"] = step.started_tick < 0 ? nlohmann::json() : nlohmann::json(step.started_tick * model.dt);
+    entry["finished"] = step.finished_tick < 0 ? nlohmann::json() : nlohmann::json(step.finished_tick * model.dt);
+    entry["duration"] = step.finished_tick < 0 ? nlohmann::json() : nlohmann::json((step.finished_tick - step.started_tick) * model.dt);
     steps.push_back(entry);
   }
   nlohmann::json agents = nlohmann::json::array();
@@ -238,11 +256,14 @@ int run_command(const std::vector<std::string>& args) {
                       {"busy", !agent.program.empty()}});
   }
   std::map<std::string, int> counts;
-  for (const sim::Event& event : state.events) ++counts[event.kind];
+  for (const sim::Event& event : state.events) {
+    ++counts[event.kind];
+    episode.events.push_back({event.tick, event.time, event.kind, event.subject, event.data});
+  }
   const bool in_step = state.step < static_cast<int>(model.steps.size());
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(session.state_hash()));
-  nlohmann::json summary{
+  episode.summary = {
       {"scenario", model.name},
       {"seed", seed},
       {"dt", model.dt},
@@ -255,13 +276,114 @@ int run_command(const std::vector<std::string>& args) {
       {"events", counts},
       {"agents", agents},
       {"state_hash", hash}};
-  if (with_events) {
+  if (options.with_events) {
     nlohmann::json log = nlohmann::json::array();
     for (const sim::Event& event : state.events) {
       log.push_back({{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}});
     }
-    summary["event_log"] = log;
+    episode.summary["event_log"] = log;
   }
+  return episode;
+}
+
+}  // namespace
+
+int run_command(const std::vector<std::string>& args) {
+  const ParsedArgs parsed = parse_args(
+      args, {"--seed", "--seeds", "--db", "--max-time", "--request", "--scenario", "--map", "--trajectory"}, {"--events"},
+      "usage: hrisim run FILE [--seed N | --seeds A-B|A,B,C] [--db FILE] [--max-time S] [--events] [--request TIME:TASK ...] "
+      "[--scenario NAME] [--map FILE] [--trajectory FILE.csv]");
+  const std::string& file = parsed.file;
+  std::vector<std::uint64_t> seeds{0};
+  if (const auto text = parsed.last("--seed")) {
+    const auto [end, ec] = std::from_chars(text->data(), text->data() + text->size(), seeds[0]);
+    if (ec != std::errc() || end != text->data() + text->size()) usage_error("--seed: expected a whole number, got '" + *text + "'");
+  }
+  const bool batch = parsed.last("--seeds").has_value();
+  if (batch) {
+    if (parsed.last("--seed")) usage_error("--seed and --seeds: give one of them");
+    seeds = parse_seeds(*parsed.last("--seeds"));
+  }
+  RunOptions options;
+  if (const auto text = parsed.last("--max-time")) options.max_time = parse_seconds("--max-time", *text);
+  options.with_events = parsed.flags.contains("--events");
+  if (parsed.values.contains("--request")) {
+    for (const std::string& text : parsed.values.at("--request")) {
+      const auto colon = text.find(':');
+      if (colon == std::string::npos) usage_error("--request: expected TIME:TASK, got '" + text + "'");
+      options.requests.emplace_back(parse_seconds("--request", text.substr(0, colon)), text.substr(colon + 1));
+    }
+  }
+  const SourceOptions source = source_options(parsed);
+
+  const scenario::LoadResult loaded = load(file, source);
+  print_errors(file, loaded.warnings, "warning: ");
+  if (!loaded.model) {
+    print_errors(file, loaded.errors);
+    return 1;
+  }
+  std::ofstream trajectory;
+  if (const auto path = parsed.last("--trajectory")) {
+    trajectory.open(*path);
+    if (!trajectory) usage_error("--trajectory: cannot write " + *path);
+    trajectory << "time,tick,agent,x,y,theta,vx,vy\n";
+    trajectory.precision(17);
+    options.trajectory_csv = &trajectory;
+  }
+  // With --db the run and its episodes are stored, each episode in one transaction as it ends.
+  std::optional<storage::Store> store;
+  storage::RunRecord run;
+  std::string scenario_id;
+  if (const auto path = parsed.last("--db")) {
+    if (const auto folder = std::filesystem::path(*path).parent_path(); !folder.empty()) std::filesystem::create_directories(folder);
+    store.emplace(*path);
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string sha = core::sha256_hex(text.str());
+    scenario_id = "f" + sha.substr(0, 32);  // one record per distinct file content
+    if (!store->scenario(scenario_id)) {
+      const auto format = std::filesystem::path(file).extension() == ".xml"
+                              ? std::string(scenario::to_string(scenario::detect_source_format(text.str())))
+                              : std::string("json");
+      store->put_scenario({scenario_id, loaded.model->name, format, text.str(), "", ""});
+    }
+    run = store->put_run({core::unguessable_id('r'), scenario_id, "builtin", {{"seeds", seeds}, {"max_time", options.max_time ? nlohmann::json(*options.max_time) : nlohmann::json()}},
+                          "running", "", std::nullopt});
+  }
+  nlohmann::json episodes = nlohmann::json::array();
+  int completed = 0;
+  for (const std::uint64_t seed : seeds) {
+    Episode episode = run_episode(loaded.model, seed, options);
+    completed += episode.summary["completed"].get<bool>();
+    if (store) {
+      storage::EpisodeRecord record;
+      record.id = core::unguessable_id('e');
+      record.run_id = run.id;
+      record.scenario_id = scenario_id;
+      record.seed = seed;
+      record.controller = "builtin";
+      record.status = "finished";
+      record.termination_reason = episode.summary["termination"];
+      record.ticks = episode.summary["ticks"];
+      record.sim_time = episode.summary["sim_time"];
+      record.events = std::move(episode.events);
+      record.trajectory = std::move(episode.trajectory);
+      store->write_episode(record);
+      episode.summary["episode_id"] = record.id;
+    }
+    if (batch) std::fprintf(stderr, "seed %llu: %s at %.1f s\n", static_cast<unsigned long long>(seed),
+                            episode.summary["termination"].get<std::string>().c_str(), episode.summary["sim_time"].get<double>());
+    episodes.push_back(std::move(episode.summary));
+  }
+  if (store) store->set_run_status(run.id, "finished");
+  if (!batch) {
+    if (store) episodes[0]["run_id"] = run.id;
+    std::printf("%s\n", episodes[0].dump(2).c_str());
+    return 0;
+  }
+  nlohmann::json summary{{"scenario", loaded.model->name}, {"episodes", episodes}, {"completed", completed}, {"of", seeds.size()}};
+  if (store) summary["run_id"] = run.id;
   std::printf("%s\n", summary.dump(2).c_str());
   return 0;
 }

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "storage/store.hpp"
 #include "test_server.hpp"
 
 namespace hrisim::testing {
@@ -126,6 +127,56 @@ TEST(Cli, RunWritesTheTrajectoryAtTenHertz) {
   EXPECT_EQ(rows, 6 * 21) << "six agents at t = 0, 0.1, ..., 2.0 s";
   EXPECT_EQ(last.substr(0, last.find(',')), "2") << last;
   EXPECT_EQ(run_command(kHrisim + " run " + kScenarios + "/queue.json --trajectory /nonexistent/x.csv").exit_status, 2);
+}
+
+}  // namespace
+}  // namespace hrisim::testing
+
+namespace hrisim::testing {
+namespace {
+
+TEST(Cli, RunsSeveralSeedsAndStoresTheEpisodes) {
+  TempDir dir;
+  const std::string db = (dir.path() / "runs" / "hrisim.db").string();
+  const CommandResult result = run_command(kHrisim + " run " + kScenarios + "/queue.json --seeds 3-5 --db " + db, false);
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  const nlohmann::json summary = nlohmann::json::parse(result.output);
+  ASSERT_EQ(summary["episodes"].size(), 3u);
+  EXPECT_EQ(summary["episodes"][0]["seed"], 3);
+  EXPECT_EQ(summary["episodes"][2]["seed"], 5);
+  EXPECT_EQ(summary["completed"], 3);
+  EXPECT_NE(summary["episodes"][0]["state_hash"], summary["episodes"][1]["state_hash"]);
+  // The same seed alone gives the same episode.
+  const nlohmann::json alone = nlohmann::json::parse(run_command(kHrisim + " run " + kScenarios + "/queue.json --seed 4", false).output);
+  EXPECT_EQ(alone["state_hash"], summary["episodes"][1]["state_hash"]);
+  storage::Store store(db);
+  EXPECT_EQ(store.integrity_check(), "ok");
+  const auto run = store.run(summary["run_id"]);
+  ASSERT_TRUE(run);
+  EXPECT_EQ(run->status, "finished");
+  const auto ids = store.episode_ids_of_run(run->id);
+  ASSERT_EQ(ids.size(), 3u);
+  const auto episode = store.episode(ids[1]);
+  ASSERT_TRUE(episode);
+  EXPECT_EQ(episode->seed, 4u);
+  EXPECT_EQ(episode->termination_reason, "scenario_end");
+  EXPECT_FALSE(episode->events.empty());
+  // Every agent at 10 Hz: the first sample of each at tick 0.
+  EXPECT_EQ(episode->trajectory.front().tick, 0);
+  EXPECT_GT(episode->trajectory.size(), 10u);
+  // A second run of the same file reuses its scenario record.
+  ASSERT_EQ(run_command(kHrisim + " run " + kScenarios + "/queue.json --seeds 1,2 --db " + db, false).exit_status, 0);
+  EXPECT_EQ(store.counts().scenarios, 1);
+  EXPECT_EQ(store.counts().episodes, 5);
+}
+
+TEST(Cli, BadSeedListsExitWithTwo) {
+  for (const char* seeds : {"5-3", "1-x", "a,b", "1-200001", ""}) {
+    const CommandResult result = run_command(kHrisim + " run " + kScenarios + "/queue.json --seeds '" + seeds + "'");
+    EXPECT_EQ(result.exit_status, 2) << seeds << ": " << result.output;
+    EXPECT_NE(result.output.find("--seeds"), std::string::npos) << seeds;
+  }
+  EXPECT_EQ(run_command(kHrisim + " run " + kScenarios + "/queue.json --seed 1 --seeds 1-2").exit_status, 2);
 }
 
 }  // namespace
