@@ -242,8 +242,6 @@ Eigen::Isometry3d PhysicsWorld::pose(int body) const { return from_bullet(impl_-
 
 const BodyOwner& PhysicsWorld::owner(int body) const { return impl_->at(body).owner; }
 
-int PhysicsWorld::bodies() const { return static_cast<int>(impl_->bodies.size()); }
-
 std::vector<std::pair<int, int>> PhysicsWorld::touching() const {
   std::vector<std::pair<int, int>> pairs;
   btDispatcher& dispatcher = impl_->dispatcher;

@@ -63,7 +63,6 @@ class PhysicsWorld {
 
   Eigen::Isometry3d pose(int body) const;
   const BodyOwner& owner(int body) const;
-  int bodies() const;
   /// Pairs of bodies (lower id first) touching after the last step, sorted.
   std::vector<std::pair<int, int>> touching() const;
 

@@ -57,7 +57,6 @@ class Robot {
   int joint_index(std::string_view name) const;
   double joint_position(int joint) const;
   double joint_velocity(int joint) const;
-  const Motor* motor(int joint) const { return motors_[joint] ? &*motors_[joint] : nullptr; }
 
   /// Every link's pose in the map frame (z up from the floor), in description order.
   std::vector<Eigen::Isometry3d> link_poses() const;

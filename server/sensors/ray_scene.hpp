@@ -53,7 +53,6 @@ class RayScene {
   /// +infinity when nothing is within `max_range` (REP 117). Noise-free; `ranges` has fan.beams().
   void scan(const BeamFan& fan, const Vec2& origin, double heading, double max_range, std::span<double> ranges) const;
 
-  std::size_t static_segments() const { return static_.size(); }
 
  private:
   std::span<const Segment> static_;
