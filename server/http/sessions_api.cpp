@@ -185,6 +185,60 @@ json pose_json(const Eigen::Isometry3d& pose) {
           {"roll", roll}, {"pitch", pitch}, {"yaw", yaw}};
 }
 
+/// A range as JSON: a number, or REP 117's out-of-range values spelled "inf" (no return) and "-inf"
+/// (closer than the minimum), which JSON numbers cannot hold.
+json range_json(double range) {
+  if (std::isfinite(range)) return range;
+  return range > 0 ? "inf" : "-inf";
+}
+
+/// A robot's latest sensor readings and its joints (the session's lock held).
+json sensors_of(const sim::Session& session, const std::string& name) {
+  const int agent = session.model().find_agent(name);
+  if (agent < 0) throw core::Error(core::ErrorCode::not_found, "no agent '" + name + "'", {{"name", name}});
+  const sim::RobotRuntime* runtime = session.robot_runtime(session.agent_id(name));
+  if (!runtime) throw core::Error(core::ErrorCode::not_found, "'" + name + "' is not a robot with a model", {{"name", name}});
+  json lasers = json::array();
+  for (const auto& sensor : runtime->lasers) {
+    const sim::LaserReading& reading = sensor.reading;
+    json ranges = json::array();
+    for (const double range : reading.ranges) ranges.push_back(range_json(range));
+    lasers.push_back({{"sensor", reading.sensor}, {"type", sensor.mount->type}, {"tick", reading.tick},
+                      {"pose", {{"x", reading.pose.x}, {"y", reading.pose.y}, {"theta", reading.pose.theta}}}, {"height", reading.height},
+                      {"angle_min", reading.angle_min}, {"angle_increment", reading.angle_increment}, {"range_min", reading.range_min},
+                      {"range_max", reading.range_max}, {"ranges", ranges}});
+  }
+  json people = json::array();
+  for (const sensors::Detection& person : runtime->people.people) {
+    people.push_back({{"id", session.model().agents[person.agent].id}, {"x", person.position.x()}, {"y", person.position.y()},
+                      {"vx", person.velocity.x()}, {"vy", person.velocity.y()}, {"range", person.range}, {"bearing", person.bearing}});
+  }
+  json joints = json::array();
+  const auto& description = runtime->robot.description();
+  for (std::size_t j = 0; j < description.joints.size(); ++j) {
+    if (description.joints[j].type == robots::JointType::fixed) continue;
+    joints.push_back({{"name", description.joints[j].name}, {"position", runtime->robot.joint_position(static_cast<int>(j))},
+                      {"velocity", runtime->robot.joint_velocity(static_cast<int>(j))}});
+  }
+  json contacts = json::array();
+  for (const sim::Contact& contact : runtime->contacts) {
+    const std::string with = contact.agent >= 0    ? session.model().agents[contact.agent].id
+                             : contact.object >= 0 ? session.model().objects[contact.object].name
+                                                   : "map";
+    contacts.push_back({{"with", with}, {"part", contact.part}});
+  }
+  const sim::OdometryReading& odometry = runtime->odometry_reading;
+  return {{"robot", name},
+          {"tick", session.state().tick},
+          {"lasers", lasers},
+          {"people", {{"tick", runtime->people.tick}, {"detections", people}}},
+          {"odometry", {{"tick", odometry.tick}, {"x", odometry.pose.x}, {"y", odometry.pose.y}, {"theta", odometry.pose.theta},
+                        {"linear", odometry.twist.linear}, {"angular", odometry.twist.angular}}},
+          {"joints", joints},
+          {"gripper_closed", runtime->robot.gripper_closed()},
+          {"contacts", contacts}};
+}
+
 /// Every agent's and movable object's pose.
 json poses_of(const sim::Session& session) {
   json agents = json::array(), objects = json::array();
@@ -326,13 +380,21 @@ class SessionSocket : public WebSocketPeer {
         std::lock_guard lock(live->mutex);
         return reply("commands", give_commands(*live, body["commands"]));
       }
+      if (type == "sensors") {
+        refuse_unknown_keys(body, {"robot"});
+        if (!body.contains("robot") || !body["robot"].is_string()) {
+          throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
+        }
+        std::lock_guard lock(live->mutex);
+        return reply("sensors", sensors_of(*live->session, body["robot"]));
+      }
       if (type == "state") {
         refuse_unknown_keys(body, {"events_since"});
         const auto since = integer_field(body, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
         std::lock_guard lock(live->mutex);
         return reply("state", state_of(*live, since));
       }
-      throw core::Error(core::ErrorCode::bad_request, "type must be step, commands or state", {{"pointer", "/type"}});
+      throw core::Error(core::ErrorCode::bad_request, "type must be step, commands, state or sensors", {{"pointer", "/type"}});
     } catch (const core::Error& e) {
       return failure(e);
     }
@@ -426,6 +488,12 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     }
     std::lock_guard lock(live->mutex);
     return Response::json(200, state_of(*live, since));
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}/robots/{robot}/sensors", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    std::lock_guard lock(live->mutex);
+    return Response::json(200, sensors_of(*live->session, request.path_params.at("robot")));
   });
 
   router.add("GET", "/api/v1/sessions/{id}/poses", [registry](const Request& request) {

@@ -384,3 +384,42 @@ TEST(SessionsFuzz, MalformedRequestsBreakNothing) {
 
 }  // namespace
 }  // namespace hrisim::testing
+
+namespace hrisim::testing {
+namespace {
+
+TEST(SessionSensors, TheRobotsLatestReadingsOverRestAndWebSocket) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const std::string id = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 1})"))["id"];
+  http(port, "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 30})");
+  const json sensors = json_of(http(port, "GET", "/api/v1/sessions/" + id + "/robots/robot/sensors"));
+  ASSERT_EQ(sensors["lasers"].size(), 1u);
+  const json& scan = sensors["lasers"][0];
+  EXPECT_EQ(scan["sensor"], "base_scan");
+  EXPECT_EQ(scan["ranges"].size(), 1081u);
+  EXPECT_GE(scan["tick"].get<int>(), 28) << "40 Hz";
+  int finite = 0;
+  for (const json& range : scan["ranges"]) {
+    if (range.is_number()) {
+      ++finite;
+      EXPECT_GE(range.get<double>(), scan["range_min"].get<double>());
+    } else {
+      EXPECT_TRUE(range == "inf" || range == "-inf") << range;  // REP 117, spelled out
+    }
+  }
+  EXPECT_GT(finite, 500) << "the elevator hall's walls are within 20 m";
+  EXPECT_GE(sensors["people"]["tick"].get<int>(), 25) << "10 Hz";
+  EXPECT_EQ(sensors["odometry"]["tick"], 30);
+  EXPECT_FALSE(sensors["joints"].empty());
+  EXPECT_EQ(http(port, "GET", "/api/v1/sessions/" + id + "/robots/ada/sensors").status, 404) << "a human";
+  EXPECT_EQ(http(port, "GET", "/api/v1/sessions/" + id + "/robots/nobody/sensors").status, 404);
+  WebSocketClient client(port, "/api/v1/sessions/" + id + "/ws");
+  const json over_socket = client.exchange({{"type", "sensors"}, {"robot", "robot"}});
+  EXPECT_EQ(over_socket["type"], "sensors");
+  EXPECT_EQ(over_socket["lasers"][0]["ranges"], scan["ranges"]);
+  EXPECT_EQ(client.exchange({{"type", "sensors"}})["error"]["details"]["pointer"], "/robot");
+}
+
+}  // namespace
+}  // namespace hrisim::testing
