@@ -214,4 +214,13 @@ void JsonSchema::check(const nlohmann::json& schema_in, const nlohmann::json& va
   }
 }
 
+std::pair<std::size_t, std::size_t> line_and_column(std::string_view text, std::size_t offset) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+    column = text[i] == '\n' ? 1 : column + 1;
+    line += text[i] == '\n';
+  }
+  return {line, column};
+}
+
 }  // namespace hrisim::core

@@ -5,6 +5,8 @@
 // Every error is reported, each with the JSON pointer of the offending value.
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace hrisim::core {
@@ -34,6 +36,9 @@ class JsonSchema {
 
 /// Escapes a key for use in a JSON pointer ("~" → "~0", "/" → "~1").
 std::string pointer_token(const std::string& key);
+
+/// 1-based line and column of byte `offset` in `text` (for syntax errors people can find).
+std::pair<std::size_t, std::size_t> line_and_column(std::string_view text, std::size_t offset);
 
 /// "object", "array", "string", "number", "integer", "boolean" or "null".
 std::string json_type_name(const nlohmann::json& value);

@@ -1,10 +1,12 @@
 #include "http/request_helpers.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/json_schema.hpp"
 
 namespace hrisim::http {
 
@@ -44,6 +46,18 @@ void check_json_nesting(const std::string& text) {
   }
 }
 
+std::int64_t integer_query(const Request& request, const std::string& key, std::int64_t low, std::int64_t high, std::int64_t fallback) {
+  const auto text = query_value(request.query, key);
+  if (!text) return fallback;
+  std::int64_t value = 0;
+  const auto [end, ec] = std::from_chars(text->data(), text->data() + text->size(), value);
+  if (ec != std::errc() || end != text->data() + text->size() || value < low || value > high) {
+    throw core::Error(core::ErrorCode::bad_request, key + " must be an integer from " + std::to_string(low) + " to " + std::to_string(high),
+                      {{"parameter", key}});
+  }
+  return value;
+}
+
 nlohmann::json json_object_body(const Request& request) {
   if (request.body.find_first_not_of(" \t\r\n") == std::string::npos) return nlohmann::json::object();
   check_json_nesting(request.body);
@@ -51,11 +65,7 @@ nlohmann::json json_object_body(const Request& request) {
   try {
     body = nlohmann::json::parse(request.body);
   } catch (const nlohmann::json::parse_error& e) {
-    std::size_t line = 1, column = 1;
-    for (std::size_t i = 0; i + 1 < e.byte && i < request.body.size(); ++i) {
-      column = request.body[i] == '\n' ? 1 : column + 1;
-      line += request.body[i] == '\n';
-    }
+    const auto [line, column] = core::line_and_column(request.body, e.byte > 0 ? e.byte - 1 : 0);
     throw core::Error(core::ErrorCode::bad_request, "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column),
                       {{"line", line}, {"column", column}});
   }

@@ -15,6 +15,9 @@ inline constexpr int kMaxJsonDepth = 64;
 /// The value of `key` in a raw query string (no percent-decoding: the values used here are plain).
 std::optional<std::string> query_value(const std::string& query, const std::string& key);
 
+/// An integer query parameter in [low, high], or `fallback` when absent; 400 naming it otherwise.
+std::int64_t integer_query(const Request& request, const std::string& key, std::int64_t low, std::int64_t high, std::int64_t fallback);
+
 /// Throws core::Error(bad_request) for JSON nested deeper than kMaxJsonDepth (strings skipped), before
 /// anything parses it.
 void check_json_nesting(const std::string& text);

@@ -41,20 +41,7 @@ json issues(const std::vector<scenario::SourceIssue>& list) {
 void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue) {
 
   router.add("GET", "/api/v1/scenarios", [catalogue](const Request& request) {
-    int limit = kDefaultPageSize;
-    if (const auto text = query_value(request.query, "limit")) {
-      try {
-        std::size_t used = 0;
-        limit = std::stoi(*text, &used);
-        if (used != text->size()) throw std::invalid_argument("trailing characters");
-      } catch (const std::exception&) {
-        limit = 0;
-      }
-      if (limit < 1 || limit > kMaxPageSize) {
-        throw core::Error(core::ErrorCode::bad_request, "limit must be an integer from 1 to " + std::to_string(kMaxPageSize),
-                          {{"parameter", "limit"}});
-      }
-    }
+    const int limit = static_cast<int>(integer_query(request, "limit", 1, kMaxPageSize, kDefaultPageSize));
     const std::string cursor = query_value(request.query, "cursor").value_or("");
     const auto ids = catalogue->page(cursor, limit + 1);
     json items = json::array();

@@ -478,14 +478,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
 
   router.add("GET", "/api/v1/sessions/{id}/state", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"));
-    std::int64_t since = 0;
-    if (const auto text = query_value(request.query, "events_since")) {
-      const json parsed = json::parse(*text, nullptr, false);
-      if (parsed.is_discarded() || !parsed.is_number_integer() || parsed.get<std::int64_t>() < 0) {
-        throw core::Error(core::ErrorCode::bad_request, "events_since must be a tick (an integer ≥ 0)", {{"parameter", "events_since"}});
-      }
-      since = parsed.get<std::int64_t>();
-    }
+    const auto since = integer_query(request, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
     std::lock_guard lock(live->mutex);
     return Response::json(200, state_of(*live, since));
   });

@@ -769,16 +769,8 @@ LoadResult load_scenario_text(std::string_view text, const LoadOptions& options)
   try {
     return load_scenario(json::parse(text), options);
   } catch (const json::parse_error& e) {
-    // Turn the byte offset into a line and column people can find.
-    std::size_t line = 1, column = 1;
-    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
+    // nlohmann's byte count is 1-based: the offending character is at offset byte - 1.
+    const auto [line, column] = core::line_and_column(text, e.byte > 0 ? e.byte - 1 : 0);
     const std::string message = e.what();
     const std::size_t reason = message.find(": ", message.find("syntax error"));
     return {nullptr, {{"", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
