@@ -1,0 +1,133 @@
+'use strict';
+// Scenarios: the paged list, one scenario, validate, upload (JSON and XML) and bad input.
+const assert = require('node:assert/strict');
+const crypto = require('node:crypto');
+const { describe, it } = require('node:test');
+const { api } = require('../lib/client');
+const { cupOnASideTable, fixture } = require('../lib/fixtures');
+
+const BUNDLED = ['conversation_group', 'corridor_passing', 'elevator', 'pair_walking', 'perpendicular_crossing', 'queue'];
+
+/** The cup scenario with a human placed outside the map and a step naming an unknown agent. */
+function brokenScenario() {
+  const broken = structuredClone(cupOnASideTable);
+  broken.humans = [{ id: 'ana', start: { x: 50, y: 50 } }];
+  broken.steps[0].actions[0].agent = 'nobody';
+  return broken;
+}
+
+describe('scenarios', () => {
+  it('GET /api/v1/scenarios lists the bundled scenarios in id order on one page', async () => {
+    const reply = await api.get('/api/v1/scenarios?limit=200');
+    assert.equal(reply.status, 200);
+    const bundled = reply.json.items.filter((item) => item.origin === 'bundled').map((item) => item.id);
+    assert.deepEqual(bundled, BUNDLED);
+    assert.equal(reply.json.next_cursor, null);
+  });
+
+  it('GET /api/v1/scenarios pages follow next_cursor', async () => {
+    const first = await api.get('/api/v1/scenarios?limit=2');
+    assert.equal(first.status, 200);
+    assert.equal(first.json.items.length, 2);
+    assert.equal(first.json.next_cursor, first.json.items[1].id);
+    const second = await api.get(`/api/v1/scenarios?limit=2&cursor=${first.json.next_cursor}`);
+    assert.equal(second.status, 200);
+    assert.ok(second.json.items[0].id > first.json.next_cursor);
+  });
+
+  it('GET /api/v1/scenarios with a limit out of range or not a number is 400', async () => {
+    for (const limit of ['0', '201', 'ten']) {
+      const reply = await api.get(`/api/v1/scenarios?limit=${limit}`);
+      assert.equal(reply.status, 400, limit);
+      assert.equal(reply.json.error.code, 'bad_request');
+    }
+  });
+
+  it('GET /api/v1/scenarios/{id}: the native document; 404 for an unknown id', async () => {
+    const elevator = await api.get('/api/v1/scenarios/elevator');
+    assert.equal(elevator.status, 200);
+    assert.ok(Array.isArray(elevator.json.humans));
+    const unknown = await api.get('/api/v1/scenarios/u0000');
+    assert.equal(unknown.status, 404);
+    assert.equal(unknown.json.error.code, 'not_found');
+  });
+
+  it('POST /api/v1/scenarios/validate: a valid scenario, with its summary', async () => {
+    const reply = await api.post('/api/v1/scenarios/validate', cupOnASideTable);
+    assert.equal(reply.status, 200);
+    assert.deepEqual(reply.json.errors, []);
+    assert.equal(reply.json.valid, true);
+    assert.equal(reply.json.format, 'json');
+    assert.deepEqual(reply.json.summary.robots, [{ id: 'hsr', model: 'hsr' }]);
+  });
+
+  it('POST /api/v1/scenarios/validate: every error with its JSON pointer', async () => {
+    const reply = await api.post('/api/v1/scenarios/validate', brokenScenario());
+    assert.equal(reply.status, 200);
+    assert.equal(reply.json.valid, false);
+    const pointers = reply.json.errors.map((error) => error.pointer);
+    assert.ok(pointers.includes('/humans/0/start'), pointers.join(', '));
+    assert.ok(pointers.includes('/steps/0/actions/0/agent'), pointers.join(', '));
+  });
+
+  it('POST /api/v1/scenarios/validate: IMHuS XML by ?format=, with XML errors by line', async () => {
+    const reply = await api.request('POST', '/api/v1/scenarios/validate?format=imhus', { body: fixture('imhus/duo.xml'), contentType: 'application/xml' });
+    assert.equal(reply.status, 200);
+    assert.equal(reply.json.format, 'imhus_xml');
+    assert.equal(reply.json.valid, true, JSON.stringify(reply.json.errors));
+    const broken = await api.request('POST', '/api/v1/scenarios/validate?format=imhus', { body: '<agents>\n<human id="a"/>\n</oops>', contentType: 'application/xml' });
+    assert.equal(broken.status, 200);
+    assert.equal(broken.json.valid, false);
+    assert.ok(broken.json.errors.some((error) => Number.isInteger(error.line)), JSON.stringify(broken.json.errors));
+  });
+
+  it('POST /api/v1/scenarios/validate with an unknown ?format= is 400', async () => {
+    const reply = await api.post('/api/v1/scenarios/validate?format=yaml', cupOnASideTable);
+    assert.equal(reply.status, 400);
+    assert.equal(reply.json.error.details.parameter, 'format');
+  });
+
+  it('POST /api/v1/scenarios stores a valid scenario: 201, Location, SHA-256 of the source', async () => {
+    const source = JSON.stringify(cupOnASideTable);
+    const reply = await api.request('POST', '/api/v1/scenarios', { body: source, contentType: 'application/json' });
+    assert.equal(reply.status, 201);
+    const { summary } = reply.json;
+    assert.match(summary.id, /^u[0-9a-f]{32}$/);
+    assert.equal(summary.origin, 'uploaded');
+    assert.equal(summary.sha256, crypto.createHash('sha256').update(source).digest('hex'));
+    assert.equal(reply.headers.location, `/api/v1/scenarios/${summary.id}`);
+    const stored = await api.get(reply.headers.location);
+    assert.equal(stored.status, 200);
+    assert.equal(stored.json.name, cupOnASideTable.name);
+  });
+
+  it('POST /api/v1/scenarios takes Pedsim XML by its content', async () => {
+    const reply = await api.request('POST', '/api/v1/scenarios', { body: fixture('pedsim/hall.xml'), contentType: 'application/xml' });
+    assert.equal(reply.status, 201);
+    assert.equal(reply.json.summary.format, 'pedsim_xml');
+  });
+
+  it('POST /api/v1/scenarios refuses an invalid scenario with every error, storing nothing', async () => {
+    const before = await api.get('/api/v1/scenarios?limit=200');
+    const reply = await api.post('/api/v1/scenarios', brokenScenario());
+    assert.equal(reply.status, 400);
+    assert.equal(reply.json.error.details.format, 'json');
+    assert.ok(reply.json.error.details.errors.length >= 2);
+    const after = await api.get('/api/v1/scenarios?limit=200');
+    assert.equal(after.json.items.length, before.json.items.length);
+  });
+
+  it('POST /api/v1/scenarios: a body over the limit is 413 before it is sent', async () => {
+    const reply = await api.request('POST', '/api/v1/scenarios', { headers: { 'content-length': String(5 * 1024 * 1024) } });
+    assert.equal(reply.status, 413);
+    assert.equal(reply.json.error.code, 'payload_too_large');
+  });
+
+  it('POST /api/v1/scenarios refuses malformed and too deeply nested JSON with 400', async () => {
+    const malformed = await api.request('POST', '/api/v1/scenarios', { body: '{"name": "x",\n oops}' });
+    assert.equal(malformed.status, 400);
+    const deep = await api.request('POST', '/api/v1/scenarios', { body: `${'['.repeat(65)}${']'.repeat(65)}` });
+    assert.equal(deep.status, 400);
+    assert.equal(deep.json.error.details.limit, 64);
+  });
+});

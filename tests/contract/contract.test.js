@@ -1,0 +1,35 @@
+'use strict';
+// Contract tests: the real hrisim server against api/openapi.yaml and api/asyncapi.yaml.
+//   cd tests/contract && npm ci && HRISIM_BINARY=../../build/test/server/app/hrisim node --test
+// One server serves every area file; each file under areas/ tests one part of the API. A new area is
+// one more require() below; the last test fails while any operation of either spec has not been seen
+// to succeed, so a route added to a spec without a test fails the suite.
+const assert = require('node:assert/strict');
+const { describe, before, after, it } = require('node:test');
+const { startServer } = require('./lib/server');
+const { api } = require('./lib/client');
+const { specProblems, unexercisedOperations } = require('./lib/contract');
+
+describe('hrisim contract', () => {
+  let server;
+  before(async () => {
+    server = await startServer(['--max-sessions', '6']);
+    api.connect(server.port);
+  });
+  after(async () => {
+    await server.stop();
+  });
+
+  it('both specs say what they mean and compile in strict mode', () => {
+    assert.deepEqual(specProblems(), []);
+  });
+
+  require('./areas/server');
+  require('./areas/scenarios');
+  require('./areas/sessions');
+  require('./areas/session_socket');
+
+  it('exercised every operation of both specs', () => {
+    assert.deepEqual(unexercisedOperations(), [], 'operations no test has seen succeed');
+  });
+});
