@@ -48,6 +48,20 @@ void migrate(Database& db, std::span<const Migration> migrations) {
                           "); use a newer hrisim",
                       {{"schema_version", current}, {"supported_version", latest}});
   }
+  if (current == latest) return;
+  // Foreign keys are off while tables are rebuilt (SQLite's documented procedure for schema changes
+  // ALTER TABLE cannot make); each migration is checked for dangling references before it commits.
+  db.exec("PRAGMA foreign_keys=OFF");
+  struct ForeignKeysBackOn {
+    Database& db;
+    ~ForeignKeysBackOn() {
+      try {
+        db.exec("PRAGMA foreign_keys=ON");
+      } catch (const core::Error&) {
+        // A connection that cannot set a pragma fails at its next statement, with its own message.
+      }
+    }
+  } back_on{db};
   for (const Migration& migration : migrations) {
     if (migration.version <= current) continue;
     Transaction transaction(db);
@@ -56,6 +70,10 @@ void migrate(Database& db, std::span<const Migration> migrations) {
     } catch (const core::Error& e) {
       throw core::Error(core::ErrorCode::storage,
                         "migration " + std::string(migration.name) + " failed: " + e.what(),
+                        {{"migration", migration.name}});
+    }
+    if (db.scalar_integer("SELECT count(*) FROM pragma_foreign_key_check") != 0) {
+      throw core::Error(core::ErrorCode::storage, "migration " + std::string(migration.name) + " leaves rows with dangling references",
                         {{"migration", migration.name}});
     }
     db.exec("PRAGMA user_version = " + std::to_string(migration.version));

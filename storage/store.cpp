@@ -17,7 +17,7 @@ std::int64_t seed_to_column(std::uint64_t seed) { return std::bit_cast<std::int6
 std::uint64_t seed_from_column(std::int64_t value) { return std::bit_cast<std::uint64_t>(value); }
 
 bool is_terminal_run_status(const std::string& status) {
-  return status == "finished" || status == "failed" || status == "cancelled";
+  return status == "finished" || status == "failed" || status == "cancelled" || status == "interrupted";
 }
 
 ScenarioRecord read_scenario(const Statement& row) {
@@ -25,6 +25,38 @@ ScenarioRecord read_scenario(const Statement& row) {
 }
 
 constexpr std::string_view kScenarioColumns = "id, name, format, source, sha256, created_at";
+
+constexpr std::string_view kRunColumns = "id, scenario_id, controller, config, status, created_at, finished_at";
+
+RunRecord read_run(const Statement& row) {
+  return {row.text(0), row.text(1), row.text(2), nlohmann::json::parse(row.text(3)), row.text(4), row.text(5), row.optional_text(6)};
+}
+
+constexpr std::string_view kEpisodeColumns =
+    "id, run_id, scenario_id, seed, controller, status, termination_reason, ticks, sim_time, created_at";
+
+EpisodeRecord read_episode(const Statement& row) {
+  EpisodeRecord episode;
+  episode.id = row.text(0);
+  episode.run_id = row.optional_text(1);
+  episode.scenario_id = row.text(2);
+  episode.seed = seed_from_column(row.integer(3));
+  episode.controller = row.text(4);
+  episode.status = row.text(5);
+  episode.termination_reason = row.text(6);
+  episode.ticks = row.integer(7);
+  episode.sim_time = row.real(8);
+  episode.created_at = row.text(9);
+  return episode;
+}
+
+std::vector<MetricValue> read_metrics(Database& db, const std::string& episode_id) {
+  Statement select = db.prepare("SELECT key, value, null_reason FROM metric_values WHERE episode_id = ?1 ORDER BY key");
+  select.bind(1, episode_id);
+  std::vector<MetricValue> metrics;
+  while (select.step()) metrics.push_back({select.text(0), select.optional_real(1), select.optional_text(2)});
+  return metrics;
+}
 
 }  // namespace
 
@@ -87,11 +119,11 @@ std::optional<ScenarioRecord> Store::scenario(const std::string& id) {
   return read_scenario(select);
 }
 
-std::vector<ScenarioRecord> Store::scenarios(int limit, const std::string& after_id) {
+std::vector<ScenarioRecord> Store::scenarios(int limit, const std::string& after_id, const std::string& id_prefix) {
   std::lock_guard lock(mutex_);
   Statement select = db_->prepare("SELECT " + std::string(kScenarioColumns) +
-                                  " FROM scenarios WHERE id > ?1 ORDER BY id LIMIT ?2");
-  select.bind(1, after_id).bind(2, std::int64_t{limit});
+                                  " FROM scenarios WHERE id > ?1 AND substr(id, 1, length(?3)) = ?3 ORDER BY id LIMIT ?2");
+  select.bind(1, after_id).bind(2, std::int64_t{limit}).bind(3, id_prefix);
   std::vector<ScenarioRecord> result;
   while (select.step()) result.push_back(read_scenario(select));
   return result;
@@ -111,17 +143,30 @@ RunRecord Store::put_run(RunRecord run) {
 
 std::optional<RunRecord> Store::run(const std::string& id) {
   std::lock_guard lock(mutex_);
-  Statement select = db_->prepare(
-      "SELECT id, scenario_id, controller, config, status, created_at, finished_at FROM runs WHERE id = ?1");
+  Statement select = db_->prepare("SELECT " + std::string(kRunColumns) + " FROM runs WHERE id = ?1");
   select.bind(1, id);
   if (!select.step()) return std::nullopt;
-  return RunRecord{select.text(0),
-                   select.text(1),
-                   select.text(2),
-                   nlohmann::json::parse(select.text(3)),
-                   select.text(4),
-                   select.text(5),
-                   select.optional_text(6)};
+  return read_run(select);
+}
+
+std::vector<RunRecord> Store::runs(int limit, const std::string& after_id, const std::string& status,
+                                   const std::string& scenario_id) {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare(
+      "SELECT " + std::string(kRunColumns) + " FROM runs"
+      " WHERE (?1 = '' OR rowid < (SELECT rowid FROM runs WHERE id = ?1)) AND (?2 = '' OR status = ?2)"
+      " AND (?3 = '' OR scenario_id = ?3 OR json_extract(config, '$.scenario') = ?3) ORDER BY rowid DESC LIMIT ?4");
+  select.bind(1, after_id).bind(2, status).bind(3, scenario_id).bind(4, std::int64_t{limit});
+  std::vector<RunRecord> list;
+  while (select.step()) list.push_back(read_run(select));
+  return list;
+}
+
+int Store::interrupt_unfinished_runs() {
+  std::lock_guard lock(mutex_);
+  db_->exec("UPDATE runs SET status = 'interrupted', finished_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now')"
+            " WHERE status IN ('queued', 'running')");
+  return static_cast<int>(db_->scalar_integer("SELECT changes()"));
 }
 
 void Store::set_run_status(const std::string& id, const std::string& status) {
@@ -184,22 +229,11 @@ void Store::write_episode(const EpisodeRecord& episode) {
 
 std::optional<EpisodeRecord> Store::episode(const std::string& id) {
   std::lock_guard lock(mutex_);
-  Statement select = db_->prepare(
-      "SELECT id, run_id, scenario_id, seed, controller, status, termination_reason, ticks, sim_time, created_at"
-      " FROM episodes WHERE id = ?1");
+  Statement select = db_->prepare("SELECT " + std::string(kEpisodeColumns) + " FROM episodes WHERE id = ?1");
   select.bind(1, id);
   if (!select.step()) return std::nullopt;
-  EpisodeRecord episode{select.text(0),    select.optional_text(1), select.text(2),
-                        seed_from_column(select.integer(3)), select.text(4), select.text(5),
-                        select.text(6),    select.integer(7),       select.real(8),
-                        select.text(9),    {},                      {},
-                        {}};
-
-  Statement metrics = db_->prepare("SELECT key, value, null_reason FROM metric_values WHERE episode_id = ?1 ORDER BY key");
-  metrics.bind(1, id);
-  while (metrics.step()) {
-    episode.metrics.push_back({metrics.text(0), metrics.optional_real(1), metrics.optional_text(2)});
-  }
+  EpisodeRecord episode = read_episode(select);
+  episode.metrics = read_metrics(*db_, id);
 
   Statement events =
       db_->prepare("SELECT tick, time, kind, subject, data FROM events WHERE episode_id = ?1 ORDER BY seq");
@@ -226,6 +260,18 @@ std::vector<std::string> Store::episode_ids_of_run(const std::string& run_id) {
   std::vector<std::string> ids;
   while (select.step()) ids.push_back(select.text(0));
   return ids;
+}
+
+std::vector<EpisodeRecord> Store::episodes_of_run(const std::string& run_id) {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare("SELECT " + std::string(kEpisodeColumns) + " FROM episodes WHERE run_id = ?1 ORDER BY rowid");
+  select.bind(1, run_id);
+  std::vector<EpisodeRecord> list;
+  while (select.step()) {
+    list.push_back(read_episode(select));
+    list.back().metrics = read_metrics(*db_, list.back().id);
+  }
+  return list;
 }
 
 std::string Store::sqlite_version() { return sqlite3_libversion(); }

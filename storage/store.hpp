@@ -32,7 +32,7 @@ struct RunRecord {
   std::string scenario_id;
   std::string controller;
   nlohmann::json config = nlohmann::json::object();  ///< seeds, gates, options
-  std::string status;  ///< queued, running, finished, failed, cancelled
+  std::string status;  ///< queued, running, finished, failed, cancelled, interrupted
   std::string created_at;
   std::optional<std::string> finished_at;
 };
@@ -101,13 +101,22 @@ class Store {
   /// Stores a scenario; computes its sha256 and created_at. Returns the stored record.
   ScenarioRecord put_scenario(ScenarioRecord scenario);
   std::optional<ScenarioRecord> scenario(const std::string& id);
-  /// Scenarios ordered by id, at most `limit`, starting after `after_id` (paging cursor).
-  std::vector<ScenarioRecord> scenarios(int limit, const std::string& after_id = "");
+  /// Scenarios ordered by id, at most `limit`, starting after `after_id` (paging cursor), only ids
+  /// starting with `id_prefix` when given.
+  std::vector<ScenarioRecord> scenarios(int limit, const std::string& after_id = "", const std::string& id_prefix = "");
 
   RunRecord put_run(RunRecord run);
   std::optional<RunRecord> run(const std::string& id);
   /// Sets a run's status; a terminal status also stamps finished_at.
   void set_run_status(const std::string& id, const std::string& status);
+  /// Runs newest first, optionally only those with this status and/or scenario (the stored record's
+  /// id or the catalogue id in config.scenario); at most `limit`, after
+  /// the run with id `after_id` (paging cursor).
+  std::vector<RunRecord> runs(int limit, const std::string& after_id = "", const std::string& status = "",
+                              const std::string& scenario_id = "");
+  /// Marks every queued or running run 'interrupted' (at server start: their work died with the last
+  /// process); returns how many.
+  int interrupt_unfinished_runs();
 
   /// Writes the episode with all its metrics, events and trajectory in one transaction.
   void write_episode(const EpisodeRecord& episode);
@@ -115,6 +124,9 @@ class Store {
   std::optional<EpisodeRecord> episode(const std::string& id);
   /// Ids of a run's episodes in the order they were written.
   std::vector<std::string> episode_ids_of_run(const std::string& run_id);
+  /// A run's episodes in the order they were written, with their metrics but without events and
+  /// trajectory.
+  std::vector<EpisodeRecord> episodes_of_run(const std::string& run_id);
 
   /// Version of the SQLite library in use, e.g. "3.40.1".
   static std::string sqlite_version();

@@ -76,6 +76,8 @@ const std::vector<Flag>& flags() {
        }},
       {"workers", "HRISIM_WORKERS", "threads that step sessions, 0 for one per core (default 0)",
        [](ServeOptions& o, const std::string& v) { o.server.workers = static_cast<unsigned>(parse_unsigned("--workers", v, 0, 256)); }},
+      {"run-jobs", "HRISIM_RUN_JOBS", "episodes of runs computed at once, 0 for one per core (default 0)",
+       [](ServeOptions& o, const std::string& v) { o.run_jobs = static_cast<unsigned>(parse_unsigned("--run-jobs", v, 0, 256)); }},
       {"token", "HRISIM_TOKEN", "bearer token every /api/ route but version then requires (default none)",
        [](ServeOptions& o, const std::string& v) {
          if (v.size() < kMinimumTokenLength) {

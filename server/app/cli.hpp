@@ -21,6 +21,7 @@ struct ServeOptions {
   std::filesystem::path scenarios = kDefaultScenarios;
   std::filesystem::path web_root = kDefaultWebRoot;
   http::SessionLimits sessions;
+  unsigned run_jobs = 0;               ///< episodes of runs at once, 0 for one per core
   std::string token;                   ///< bearer token every /api/ route but version requires
   bool allow_unauthenticated = false;  ///< listen beyond loopback without a token
 };

@@ -2,12 +2,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "app/cli.hpp"
 #include "app/scenario_commands.hpp"
 #include "core/error.hpp"
 #include "http/api.hpp"
+#include "runs/executor.hpp"
 #include "storage/store.hpp"
 
 namespace {
@@ -17,9 +19,11 @@ constexpr const char* kUsage =
     "commands:\n"
     "  serve     start the HTTP/WebSocket server and browser UI (hrisim serve --help)\n"
     "  validate  check scenario files: hrisim validate FILE...\n"
-    "  run       run a scenario headless and print a JSON summary:\n"
-    "            hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...]\n"
-    "                       [--scenario NAME] [--map FILE] [--trajectory FILE.csv]\n"
+    "  run       run a scenario headless: one episode prints its summary; a run of several\n"
+    "            seeds prints its report and exits 1 when a gate fails:\n"
+    "            hrisim run FILE [--seed N | --seeds A-B|A,B,C] [--gate EXPR ...] [--junit FILE.xml]\n"
+    "                       [--db FILE] [--jobs N] [--controller JSON] [--max-time S] [--events]\n"
+    "                       [--request TIME:TASK ...] [--scenario NAME] [--map FILE] [--trajectory FILE.csv]\n"
     "            (FILE: native JSON, IMHuS or Pedsim XML)\n"
     "  import    convert IMHuS or Pedsim XML to the native JSON on stdout:\n"
     "            hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]\n"
@@ -48,11 +52,16 @@ int serve(const std::vector<std::string>& args) {
   }
 
   hrisim::storage::Store store(options.database);
+  // Runs that were under way when the last server stopped lost their episodes in flight.
+  if (const int interrupted = store.interrupt_unfinished_runs(); interrupted > 0) {
+    std::fprintf(stderr, "hrisim: %d run%s left unfinished by the last server marked interrupted\n", interrupted, interrupted == 1 ? "" : "s");
+  }
+  hrisim::runs::Executor executor(store, options.run_jobs ? options.run_jobs : std::max(1u, std::thread::hardware_concurrency()));
   if (options.token.empty() && !hrisim::app::is_loopback(options.server.host)) {
     std::fprintf(stderr, "hrisim: warning: listening on %s without a token: anyone who can reach it controls the simulator\n",
                  options.server.host.c_str());
   }
-  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios, options.token, options.sessions});
+  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios, options.token, options.sessions, &executor});
   hrisim::http::Server server(options.server, router);
   std::printf("hrisim %s listening on http://%s:%u (database %s, schema version %d)\n",
               hrisim::http::version_info()["version"].get<std::string>().c_str(), options.server.host.c_str(),

@@ -1,30 +1,34 @@
 #include "app/scenario_commands.hpp"
 
+#include <unistd.h>
+
 #include <charconv>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "core/error.hpp"
 #include "core/random.hpp"
 #include "core/sha256.hpp"
 #include "scenario/import.hpp"
 #include "scenario/load.hpp"
+#include "runs/episode.hpp"
+#include "runs/executor.hpp"
+#include "runs/report.hpp"
+#include "runs/spec.hpp"
 #include "scenario/source.hpp"
 #include "sim/session.hpp"
 #include "storage/store.hpp"
 
 namespace hrisim::app {
 namespace {
-
-/// Samples per second written by `hrisim run --trajectory`.
-constexpr double kTrajectoryRate = 10.0;
-/// Most seeds one `hrisim run --seeds A-B` runs.
-constexpr std::uint64_t kMaxSeedsPerRun = 100000;
 
 [[noreturn]] void usage_error(const std::string& message) {
   throw core::Error(core::ErrorCode::bad_request, message);
@@ -117,13 +121,38 @@ std::optional<scenario::ImportResult> import_file(const std::string& file, const
   return result;
 }
 
-scenario::LoadResult load(const std::string& file, const SourceOptions& source = {}) {
-  if (std::filesystem::path(file).extension() != ".xml") return scenario::load_scenario_file(file, {{bundled_scenarios_dir()}});
+/// A scenario file compiled: its text, native document, and the model (or the errors).
+struct LoadedFile {
+  std::string text;
+  nlohmann::json document;
+  scenario::LoadOptions load;  ///< where its maps are found
+  scenario::LoadResult result;
+};
+
+LoadedFile load(const std::string& file, const SourceOptions& source = {}) {
+  LoadedFile loaded;
+  loaded.load = {{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}};
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    loaded.result.errors = {{"", "cannot read the file"}};
+    return loaded;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  loaded.text = text.str();
+  if (std::filesystem::path(file).extension() != ".xml") {
+    loaded.result = scenario::load_scenario_text(loaded.text, loaded.load);
+    if (loaded.result.model) loaded.document = nlohmann::json::parse(loaded.text);
+    return loaded;
+  }
   const auto imported = import_file(file, source);
-  if (!imported) return {nullptr, {{"", "the XML file could not be imported"}}, {}};
-  // Relative map paths in the imported scenario resolve next to the XML file, then in the bundle.
-  const scenario::LoadOptions options{{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}};
-  return scenario::load_scenario(nlohmann::json::parse(imported->scenario.dump()), options);
+  if (!imported) {
+    loaded.result.errors = {{"", "the XML file could not be imported"}};
+    return loaded;
+  }
+  loaded.document = imported->scenario;
+  loaded.result = scenario::load_scenario(loaded.document, loaded.load);
+  return loaded;
 }
 
 void print_errors(const std::string& file, const std::vector<core::ValidationError>& errors, const char* kind = "") {
@@ -144,7 +173,7 @@ int validate_command(const std::vector<std::string>& args) {
   if (args.empty()) usage_error("usage: hrisim validate FILE...");
   int status = 0;
   for (const std::string& file : args) {
-    const scenario::LoadResult result = load(file);
+    const scenario::LoadResult result = load(file).result;
     print_errors(file, result.warnings, "warning: ");
     if (!result.model) {
       print_errors(file, result.errors);
@@ -174,8 +203,8 @@ std::vector<std::uint64_t> parse_seeds(const std::string& text) {
   if (text.empty()) usage_error("--seeds: expected A-B or A,B,C of whole numbers, got nothing");
   if (const auto dash = text.find('-'); dash != std::string::npos) {
     const std::uint64_t first = number(std::string_view(text).substr(0, dash)), last = number(std::string_view(text).substr(dash + 1));
-    if (last < first || last - first >= kMaxSeedsPerRun) {
-      usage_error("--seeds: A-B needs A <= B and at most " + std::to_string(kMaxSeedsPerRun) + " seeds, got '" + text + "'");
+    if (last < first || last - first >= runs::kMaxSeedsPerRun) {
+      usage_error("--seeds: A-B needs A <= B and at most " + std::to_string(runs::kMaxSeedsPerRun) + " seeds, got '" + text + "'");
     }
     for (std::uint64_t seed = first; seed <= last; ++seed) seeds.push_back(seed);
   } else {
@@ -189,203 +218,179 @@ std::vector<std::uint64_t> parse_seeds(const std::string& text) {
   return seeds;
 }
 
-struct RunOptions {
-  std::optional<double> max_time;
-  bool with_events = false;
-  std::vector<std::pair<double, std::string>> requests;
-  std::ofstream* trajectory_csv = nullptr;  ///< every agent at kTrajectoryRate, when given
+/// Shows how far a run is: a bar rewritten in place on a terminal, one line per episode otherwise.
+class ProgressReport {
+ public:
+  explicit ProgressReport(std::size_t total) : total_(total), terminal_(isatty(fileno(stderr))), start_(std::chrono::steady_clock::now()) {}
+
+  void episode_done(const storage::EpisodeRecord& episode) {
+    std::lock_guard lock(mutex_);
+    ++done_;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double rate = elapsed > 0.0 ? static_cast<double>(done_) / elapsed : 0.0;
+    if (!terminal_) {
+      std::fprintf(stderr, "episode %zu/%zu: seed %llu %s (%s) at %.1f s\n", done_, total_, static_cast<unsigned long long>(episode.seed),
+                   episode.status.c_str(), episode.termination_reason.c_str(), episode.sim_time);
+      return;
+    }
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(kWidth * done_ / total_);
+    const double left = rate > 0.0 ? static_cast<double>(total_ - done_) / rate : 0.0;
+    std::fprintf(stderr, "\r[%s%s] %zu/%zu episodes, %.2f/s, %.0f s left ", std::string(filled, '#').c_str(),
+                 std::string(kWidth - filled, '.').c_str(), done_, total_, rate, left);
+    if (done_ == total_) std::fputc('\n', stderr);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::size_t total_, done_ = 0;
+  bool terminal_;
+  std::chrono::steady_clock::time_point start_;
 };
 
-struct Episode {
-  nlohmann::json summary;
-  std::vector<storage::EventRecord> events;
-  std::vector<storage::TrajectorySample> trajectory;  ///< every agent at kTrajectoryRate
+/// A temporary database for a run whose episodes are not to be kept (no --db).
+struct ScratchDatabase {
+  std::filesystem::path path = std::filesystem::temp_directory_path() / ("hrisim-run-" + core::unguessable_id('d') + ".db");
+  ~ScratchDatabase() {
+    std::error_code ignored;
+    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path.string() + suffix, ignored);
+  }
 };
-
-/// Runs one episode of the model with this seed to its end (or max_time).
-Episode run_episode(const std::shared_ptr<const scenario::Model>& shared, std::uint64_t seed, const RunOptions& options) {
-  const scenario::Model& model = *shared;
-  sim::Session session(shared, seed);
-  for (const auto& [time, task_name] : options.requests) {
-    const int task = model.find_task(task_name);
-    if (task < 0) usage_error("--request: the scenario has no task '" + task_name + "'");
-    int robot = -1;
-    for (std::size_t a = 0; a < model.agents.size() && robot < 0; ++a) {
-      if (model.agents[a].kind == scenario::AgentKind::robot) robot = static_cast<int>(a);
-    }
-    if (robot < 0) usage_error("--request: the scenario has no robot to make the request");
-    session.schedule_request(time, session.agent_id(model.agents[robot].id), task);
-  }
-  Episode episode;
-  const std::int64_t sample_every = std::max<std::int64_t>(1, std::llround(1.0 / (kTrajectoryRate * model.dt)));
-  std::int64_t last_sampled = -1;
-  auto record = [&](const sim::Session& running) {
-    const sim::State& state = running.state();
-    if (state.tick % sample_every != 0 || state.tick == last_sampled) return;  // the end may be observed twice
-    last_sampled = state.tick;
-    for (const sim::AgentId id : running.agent_ids()) {
-      const int index = running.index_of(id);
-      const sim::AgentState& agent = state.agents[index];
-      episode.trajectory.push_back({model.agents[index].id, state.tick, agent.position.x(), agent.position.y(), agent.heading});
-      if (options.trajectory_csv) {
-        *options.trajectory_csv << running.time() << ',' << state.tick << ',' << model.agents[index].id << ',' << agent.position.x() << ','
-                                << agent.position.y() << ',' << agent.heading << ',' << agent.velocity.x() << ',' << agent.velocity.y() << '\n';
-      }
-    }
-  };
-  record(session);
-  session.run(options.max_time, record);
-
-  const sim::State& state = session.state();
-  nlohmann::json steps = nlohmann::json::array();
-  for (std::size_t s = 0; s < model.steps.size(); ++s) {
-    const sim::StepRecord& step = state.steps[s];
-    nlohmann::json entry{{"name", model.steps[s].name}};
-    entry["started"] = step.started_tick < 0 ? nlohmann::json() : nlohmann::json(step.started_tick * model.dt);
-    entry["finished"] = step.finished_tick < 0 ? nlohmann::json() : nlohmann::json(step.finished_tick * model.dt);
-    entry["duration"] = step.finished_tick < 0 ? nlohmann::json() : nlohmann::json((step.finished_tick - step.started_tick) * model.dt);
-    steps.push_back(entry);
-  }
-  nlohmann::json agents = nlohmann::json::array();
-  for (std::size_t a = 0; a < model.agents.size(); ++a) {
-    const sim::AgentState& agent = state.agents[a];
-    agents.push_back({{"id", model.agents[a].id},
-                      {"x", agent.position.x()},
-                      {"y", agent.position.y()},
-                      {"theta", agent.heading},
-                      {"busy", !agent.program.empty()}});
-  }
-  std::map<std::string, int> counts;
-  for (const sim::Event& event : state.events) {
-    ++counts[event.kind];
-    episode.events.push_back({event.tick, event.time, event.kind, event.subject, event.data});
-  }
-  const bool in_step = state.step < static_cast<int>(model.steps.size());
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(session.state_hash()));
-  episode.summary = {
-      {"scenario", model.name},
-      {"seed", seed},
-      {"dt", model.dt},
-      {"ticks", state.tick},
-      {"sim_time", session.time()},
-      {"completed", state.termination == "scenario_end"},
-      {"termination", state.termination},
-      {"step", in_step ? nlohmann::json{{"index", state.step}, {"name", model.steps[state.step].name}} : nlohmann::json()},
-      {"steps", steps},
-      {"events", counts},
-      {"agents", agents},
-      {"state_hash", hash}};
-  if (options.with_events) {
-    nlohmann::json log = nlohmann::json::array();
-    for (const sim::Event& event : state.events) {
-      log.push_back({{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}});
-    }
-    episode.summary["event_log"] = log;
-  }
-  return episode;
-}
 
 }  // namespace
 
 int run_command(const std::vector<std::string>& args) {
   const ParsedArgs parsed = parse_args(
-      args, {"--seed", "--seeds", "--db", "--max-time", "--request", "--scenario", "--map", "--trajectory"}, {"--events"},
-      "usage: hrisim run FILE [--seed N | --seeds A-B|A,B,C] [--db FILE] [--max-time S] [--events] [--request TIME:TASK ...] "
-      "[--scenario NAME] [--map FILE] [--trajectory FILE.csv]");
+      args, {"--seed", "--seeds", "--db", "--max-time", "--request", "--scenario", "--map", "--trajectory", "--gate", "--junit", "--controller", "--jobs"},
+      {"--events"},
+      "usage: hrisim run FILE [--seed N | --seeds A-B|A,B,C] [--gate EXPR ...] [--junit FILE.xml] [--db FILE] [--jobs N] "
+      "[--controller JSON] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME] [--map FILE] [--trajectory FILE.csv]");
   const std::string& file = parsed.file;
-  std::vector<std::uint64_t> seeds{0};
+  std::uint64_t single_seed = 0;
   if (const auto text = parsed.last("--seed")) {
-    const auto [end, ec] = std::from_chars(text->data(), text->data() + text->size(), seeds[0]);
+    const auto [end, ec] = std::from_chars(text->data(), text->data() + text->size(), single_seed);
     if (ec != std::errc() || end != text->data() + text->size()) usage_error("--seed: expected a whole number, got '" + *text + "'");
   }
-  const bool batch = parsed.last("--seeds").has_value();
-  if (batch) {
-    if (parsed.last("--seed")) usage_error("--seed and --seeds: give one of them");
-    seeds = parse_seeds(*parsed.last("--seeds"));
-  }
-  RunOptions options;
-  if (const auto text = parsed.last("--max-time")) options.max_time = parse_seconds("--max-time", *text);
-  options.with_events = parsed.flags.contains("--events");
+  // A batch is a stored run with a report and a verdict; one plain episode prints its own summary.
+  const bool batch = parsed.last("--seeds") || parsed.last("--db") || parsed.values.contains("--gate") || parsed.last("--junit");
+  if (parsed.last("--seeds") && parsed.last("--seed")) usage_error("--seed and --seeds: give one of them");
+  const std::vector<std::uint64_t> seeds = parsed.last("--seeds") ? parse_seeds(*parsed.last("--seeds")) : std::vector<std::uint64_t>{single_seed};
+
+  runs::RunRequest request;
+  request.seeds = seeds;
+  if (const auto text = parsed.last("--max-time")) request.max_time = parse_seconds("--max-time", *text);
   if (parsed.values.contains("--request")) {
     for (const std::string& text : parsed.values.at("--request")) {
       const auto colon = text.find(':');
       if (colon == std::string::npos) usage_error("--request: expected TIME:TASK, got '" + text + "'");
-      options.requests.emplace_back(parse_seconds("--request", text.substr(0, colon)), text.substr(colon + 1));
+      request.requests.emplace_back(parse_seconds("--request", text.substr(0, colon)), text.substr(colon + 1));
     }
   }
-  const SourceOptions source = source_options(parsed);
+  if (parsed.values.contains("--gate")) request.gates = parsed.values.at("--gate");
+  if (const auto text = parsed.last("--controller")) {
+    try {
+      request.controller = nlohmann::json::parse(*text);
+    } catch (const nlohmann::json::parse_error&) {
+      usage_error("--controller: expected a JSON object such as '{\"type\":\"social\",\"goal\":{\"location\":\"exit\"}}', got '" + *text + "'");
+    }
+  }
+  unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
+  if (const auto text = parsed.last("--jobs")) {
+    const auto [end, ec] = std::from_chars(text->data(), text->data() + text->size(), jobs);
+    if (ec != std::errc() || end != text->data() + text->size() || jobs == 0 || jobs > 256) usage_error("--jobs: expected 1 to 256, got '" + *text + "'");
+  }
 
-  const scenario::LoadResult loaded = load(file, source);
-  print_errors(file, loaded.warnings, "warning: ");
-  if (!loaded.model) {
-    print_errors(file, loaded.errors);
-    return 1;
+  const LoadedFile loaded = load(file, source_options(parsed));
+  print_errors(file, loaded.result.warnings, "warning: ");
+  if (!loaded.result.model) {
+    print_errors(file, loaded.result.errors);
+    return 2;
   }
-  std::ofstream trajectory;
-  if (const auto path = parsed.last("--trajectory")) {
-    trajectory.open(*path);
-    if (!trajectory) usage_error("--trajectory: cannot write " + *path);
-    trajectory << "time,tick,agent,x,y,theta,vx,vy\n";
-    trajectory.precision(17);
-    options.trajectory_csv = &trajectory;
-  }
-  // With --db the run and its episodes are stored, each episode in one transaction as it ends.
-  std::optional<storage::Store> store;
-  storage::RunRecord run;
-  std::string scenario_id;
-  if (const auto path = parsed.last("--db")) {
-    if (const auto folder = std::filesystem::path(*path).parent_path(); !folder.empty()) std::filesystem::create_directories(folder);
-    store.emplace(*path);
-    std::ifstream in(file, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    const std::string sha = core::sha256_hex(text.str());
-    scenario_id = "f" + sha.substr(0, 32);  // one record per distinct file content
-    if (!store->scenario(scenario_id)) {
-      const auto format = std::filesystem::path(file).extension() == ".xml"
-                              ? std::string(scenario::to_string(scenario::detect_source_format(text.str())))
-                              : std::string("json");
-      store->put_scenario({scenario_id, loaded.model->name, format, text.str(), "", ""});
+  request.document = loaded.document;
+  request.load = loaded.load;
+  request.scenario_sha256 = core::sha256_hex(loaded.text);
+  const runs::RunSpec spec = [&] {
+    try {
+      return runs::make_run_spec(request);
+    } catch (const core::Error& e) {
+      for (const auto& error : e.details().value("errors", nlohmann::json::array())) {
+        std::fprintf(stderr, "%s: %s\n", error["pointer"].get<std::string>().c_str(), error["message"].get<std::string>().c_str());
+      }
+      throw;
     }
-    run = store->put_run({core::unguessable_id('r'), scenario_id, "builtin", {{"seeds", seeds}, {"max_time", options.max_time ? nlohmann::json(*options.max_time) : nlohmann::json()}},
-                          "running", "", std::nullopt});
-  }
-  nlohmann::json episodes = nlohmann::json::array();
-  int completed = 0;
-  for (const std::uint64_t seed : seeds) {
-    Episode episode = run_episode(loaded.model, seed, options);
-    completed += episode.summary["completed"].get<bool>();
-    if (store) {
-      storage::EpisodeRecord record;
-      record.id = core::unguessable_id('e');
-      record.run_id = run.id;
-      record.scenario_id = scenario_id;
-      record.seed = seed;
-      record.controller = "builtin";
-      record.status = "finished";
-      record.termination_reason = episode.summary["termination"];
-      record.ticks = episode.summary["ticks"];
-      record.sim_time = episode.summary["sim_time"];
-      record.events = std::move(episode.events);
-      record.trajectory = std::move(episode.trajectory);
-      store->write_episode(record);
-      episode.summary["episode_id"] = record.id;
-    }
-    if (batch) std::fprintf(stderr, "seed %llu: %s at %.1f s\n", static_cast<unsigned long long>(seed),
-                            episode.summary["termination"].get<std::string>().c_str(), episode.summary["sim_time"].get<double>());
-    episodes.push_back(std::move(episode.summary));
-  }
-  if (store) store->set_run_status(run.id, "finished");
+  }();
+
   if (!batch) {
-    if (store) episodes[0]["run_id"] = run.id;
-    std::printf("%s\n", episodes[0].dump(2).c_str());
+    std::ofstream trajectory;
+    runs::EpisodeOptions options;
+    options.max_time = spec.max_time;
+    options.requests = spec.requests;
+    if (const auto path = parsed.last("--trajectory")) {
+      trajectory.open(*path);
+      if (!trajectory) usage_error("--trajectory: cannot write " + *path);
+      trajectory << "time,tick,agent,x,y,theta,vx,vy\n";
+      trajectory.precision(17);
+      const std::int64_t stride = runs::trajectory_stride(spec.model->dt);
+      options.observe = [&](const sim::Session& session) {
+        if (session.state().tick % stride != 0) return;
+        for (const sim::AgentId id : session.agent_ids()) {
+          const int index = session.index_of(id);
+          const sim::AgentState& agent = session.state().agents[index];
+          trajectory << session.time() << ',' << session.state().tick << ',' << session.model().agents[index].id << ',' << agent.position.x()
+                     << ',' << agent.position.y() << ',' << agent.heading << ',' << agent.velocity.x() << ',' << agent.velocity.y() << '\n';
+        }
+      };
+    }
+    runs::EpisodeResult episode = runs::run_episode(spec.model, single_seed, options);
+    if (parsed.flags.contains("--events")) {
+      nlohmann::json log = nlohmann::json::array();
+      for (const storage::EventRecord& event : episode.record.events) {
+        log.push_back({{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}});
+      }
+      episode.summary["event_log"] = log;
+    }
+    std::printf("%s\n", episode.summary.dump(2).c_str());
     return 0;
   }
-  nlohmann::json summary{{"scenario", loaded.model->name}, {"episodes", episodes}, {"completed", completed}, {"of", seeds.size()}};
-  if (store) summary["run_id"] = run.id;
-  std::printf("%s\n", summary.dump(2).c_str());
-  return 0;
+  if (parsed.last("--trajectory") || parsed.flags.contains("--events")) {
+    usage_error("--trajectory and --events are for one episode; a run stores every episode's (give --db)");
+  }
+
+  // With --db the run and its episodes are kept, each episode in one transaction as it ends.
+  std::optional<ScratchDatabase> scratch;
+  std::filesystem::path database;
+  if (const auto path = parsed.last("--db")) {
+    database = *path;
+    if (const auto folder = database.parent_path(); !folder.empty()) std::filesystem::create_directories(folder);
+  } else {
+    database = scratch.emplace().path;
+  }
+  storage::Store store(database);
+  runs::RunSpec stored_spec = spec;
+  stored_spec.scenario_id = "f" + request.scenario_sha256.substr(0, 32);  // one record per distinct file content
+  if (!store.scenario(stored_spec.scenario_id)) {
+    const auto format = std::filesystem::path(file).extension() == ".xml"
+                            ? std::string(scenario::to_string(scenario::detect_source_format(loaded.text)))
+                            : std::string("json");
+    store.put_scenario({stored_spec.scenario_id, spec.model->name, format, loaded.text, "", ""});
+  }
+  ProgressReport progress(seeds.size());
+  runs::Executor executor(store, jobs, [&](const std::string&, const storage::EpisodeRecord& episode) { progress.episode_done(episode); });
+  const storage::RunRecord run = executor.submit(std::move(stored_spec));
+  executor.wait(run.id);
+  const nlohmann::json report = runs::run_report(*store.run(run.id), store.episodes_of_run(run.id), {});
+  if (const auto path = parsed.last("--junit")) {
+    std::ofstream junit(*path);
+    if (!junit) usage_error("--junit: cannot write " + *path);
+    junit << runs::junit_xml(report);
+  }
+  nlohmann::json printed = report;
+  if (scratch) printed.erase("id");  // the run was not kept
+  std::printf("%s\n", printed.dump(2).c_str());
+  const bool passed = report["verdict"]["passed"];
+  for (const auto& reason : report["verdict"]["reasons"]) std::fprintf(stderr, "%s\n", reason.get<std::string>().c_str());
+  std::fprintf(stderr, "%s: %zu episodes, verdict %s\n", spec.model->name.c_str(), seeds.size(), passed ? "PASSED" : "FAILED");
+  return passed ? 0 : 1;
 }
 
 int import_command(const std::vector<std::string>& args) {

@@ -8,10 +8,12 @@ namespace hrisim::app {
 /// hrisim validate FILE...: prints every error with its JSON pointer; exit 0 when all are valid, 1 if not.
 int validate_command(const std::vector<std::string>& args);
 
-/// hrisim run FILE [--seed N] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME]
-/// [--map FILE] [--trajectory FILE.csv]: runs a native JSON or an IMHuS/Pedsim XML file to the end and
-/// prints a JSON summary; exit 0 when it ran (whether or not the choreography completed), 1 when the
-/// scenario is invalid, 2 on bad arguments.
+/// hrisim run FILE [--seed N | --seeds A-B|A,B,C] [--gate EXPR ...] [--junit FILE] [--db FILE] [--jobs N]
+/// [--controller JSON] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME] [--map FILE]
+/// [--trajectory FILE.csv]. One plain episode prints its summary (exit 0). With --seeds, --gate, --junit
+/// or --db it is a run: episodes on --jobs threads, stored (in --db, or a scratch file), the run report
+/// printed; exit 0 when the verdict passes, 1 when a gate fails or an episode did not finish. Exit 2 on
+/// bad arguments or an invalid scenario.
 int run_command(const std::vector<std::string>& args);
 
 /// hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]: the native JSON on stdout,

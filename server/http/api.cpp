@@ -3,6 +3,7 @@
 #include <boost/version.hpp>
 
 #include "core/build_info.hpp"
+#include "http/runs_api.hpp"
 #include "http/scenarios_api.hpp"
 #include "http/sessions_api.hpp"
 #include "http/static_files.hpp"
@@ -137,6 +138,7 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
   auto catalogue = std::make_shared<ScenarioCatalogue>(store, context.scenarios_dir);
   add_scenario_routes(*router, catalogue);
   add_session_routes(*router, catalogue, context.sessions);
+  add_run_routes(*router, catalogue, store, context.executor);
 
   auto files = std::make_shared<StaticFiles>(context.web_root);
   router->set_fallback([files](const Request& request) {

@@ -9,6 +9,9 @@
 namespace hrisim::storage {
 class Store;
 }
+namespace hrisim::runs {
+class Executor;
+}
 
 namespace hrisim::http {
 
@@ -18,6 +21,7 @@ struct ApiContext {
   std::filesystem::path scenarios_dir;   ///< bundled scenarios
   std::string token;                     ///< when set, /api/ routes but version need "Bearer <token>"
   SessionLimits sessions;                ///< how many live sessions, how long they may idle
+  runs::Executor* executor = nullptr;    ///< runs the episodes of runs; must outlive the router
 };
 
 /// Build and library versions, as served at /api/v1/version.

@@ -53,7 +53,8 @@ std::vector<std::string> ScenarioCatalogue::page(const std::string& cursor, int 
   for (const auto& [id, unused] : bundled_) {
     if (id > cursor) ids.push_back(id);
   }
-  for (const auto& record : store_->scenarios(limit, cursor)) ids.push_back(record.id);
+  // Only uploads are listed; the snapshots runs keep of what they ran are found by id.
+  for (const auto& record : store_->scenarios(limit, cursor, std::string(1, kUploadedPrefix))) ids.push_back(record.id);
   std::sort(ids.begin(), ids.end());
   if (static_cast<int>(ids.size()) > limit) ids.resize(static_cast<std::size_t>(limit));
   return ids;
@@ -61,7 +62,7 @@ std::vector<std::string> ScenarioCatalogue::page(const std::string& cursor, int 
 
 std::string ScenarioCatalogue::store(const std::string& text, scenario::CompiledSource compiled) {
   storage::ScenarioRecord record;
-  record.id = core::unguessable_id('u');
+  record.id = core::unguessable_id(kUploadedPrefix);
   record.name = compiled.model->name;
   record.format = std::string(scenario::to_string(compiled.format));
   record.source = text;

@@ -17,6 +17,9 @@ class Store;
 
 namespace hrisim::http {
 
+/// First letter of an uploaded scenario's id.
+inline constexpr char kUploadedPrefix = 'u';
+
 class ScenarioCatalogue {
  public:
   ScenarioCatalogue(storage::Store* store, std::filesystem::path scenarios_dir);

@@ -25,6 +25,7 @@ struct Live {
   std::int64_t seed = 0;
   std::mutex mutex;  ///< one request at a time works on the session
   std::unique_ptr<sim::Session> session;
+  std::size_t events_reported = 0;  ///< events before this index were in a step reply already
   Clock::time_point last_used;
 };
 
@@ -278,10 +279,16 @@ json give_commands(Live& live, const json& commands) {
 /// Gymnasium's terminated (the scenario's last step is done) and truncated (its time limit).
 json step_session(Live& live, std::int64_t steps) {
   sim::Session& session = *live.session;
-  const std::int64_t first = session.state().tick;
   for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) session.step();
   json reply = status_of(live);
-  reply["events"] = events_since(session, first);
+  // Each event is in exactly one step reply: those since the last reply, including what commands and
+  // the session's start gave between steps. (Counted, not dated: a step stamps some events with the
+  // tick it starts at.)
+  json events = json::array();
+  const auto& all = session.state().events;
+  for (std::size_t e = live.events_reported; e < all.size(); ++e) events.push_back(event_json(all[e]));
+  live.events_reported = all.size();
+  reply["events"] = events;
   reply["terminated"] = session.state().termination == "scenario_end";
   reply["truncated"] = session.state().termination == "timeout";
   return reply;
@@ -530,6 +537,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     live->seed = integer_field(body, "seed", 0, kMaxSeed, live->seed);
     // A fresh session of the same scenario: everything starts again from tick 0.
     live->session = std::make_unique<sim::Session>(live->session->shared_model(), static_cast<std::uint64_t>(live->seed));
+    live->events_reported = 0;
     return Response::json(200, status_of(*live));
   });
 

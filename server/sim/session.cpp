@@ -229,7 +229,7 @@ void Session::step() {
 }
 
 void Session::run(std::optional<double> max_time, const std::function<void(const Session&)>& observe) {
-  if (max_time) time_limit_ = *max_time;
+  if (max_time) set_time_limit(*max_time);
   while (!state_.finished) {
     step();
     if (observe) observe(*this);
@@ -240,14 +240,15 @@ void Session::request(AgentId robot, int task) { make_request(index_of(robot), t
 
 void Session::make_request(int robot, int task) {
   const Vec2 position = state_.agents[robot].position;
+  const std::int64_t id = state_.next_request_id++;
   emit("request", model_->agents[robot].id,
-       {{"task", model_->tasks[task].name}, {"x", position.x()}, {"y", position.y()}});
+       {{"request", id}, {"task", model_->tasks[task].name}, {"x", position.x()}, {"y", position.y()}});
   if (std::find(model_->async_tasks.begin(), model_->async_tasks.end(), task) == model_->async_tasks.end()) {
     emit("request_dropped", model_->agents[robot].id,
-         {{"task", model_->tasks[task].name}, {"reason", "the scenario has no response for this task"}});
+         {{"request", id}, {"task", model_->tasks[task].name}, {"reason", "the scenario has no response for this task"}});
     return;
   }
-  state_.requests.push_back({state_.next_request_id++, robot, task, position, state_.tick, state_.tick});
+  state_.requests.push_back({id, robot, task, position, state_.tick, state_.tick});
 }
 
 namespace {
@@ -456,10 +457,10 @@ void Session::update_requests() {
         human.program.push_back({open.task, static_cast<int>(i), -1});
       }
       emit("request_accepted", model_->agents[chosen].id,
-           {{"task", task_name}, {"robot", model_->agents[open.robot].id}, {"distance", chosen_distance}});
+           {{"request", open.id}, {"task", task_name}, {"robot", model_->agents[open.robot].id}, {"distance", chosen_distance}});
     } else if (state_.tick - open.asked_tick + retry > timeout) {
       emit("request_dropped", model_->agents[open.robot].id,
-           {{"task", task_name}, {"reason", "no idle human within 3 m"}});
+           {{"request", open.id}, {"task", task_name}, {"reason", "no idle human within 3 m"}});
     } else {
       open.next_try_tick += retry;
       still_open.push_back(open);
@@ -618,7 +619,8 @@ bool Session::start_action(int agent, const Action& action, const PendingAction&
       const std::int64_t id = state_.next_request_id;
       make_request(agent, action.target);
       // A request nobody can answer by design is dropped at once and leaves nothing to wait for.
-      state.awaited_request = state_.next_request_id > id ? id : 0;
+      const bool open = std::any_of(state_.requests.begin(), state_.requests.end(), [&](const OpenRequest& r) { return r.id == id; });
+      state.awaited_request = open ? id : 0;
       return true;
     }
     case Kind::wait_message:

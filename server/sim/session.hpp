@@ -57,6 +57,9 @@ class Session {
   void run(std::optional<double> max_time = std::nullopt,
            const std::function<void(const Session&)>& observe = nullptr);
 
+  /// Ends the episode at this much simulation time instead of the model's limit.
+  void set_time_limit(double seconds) { time_limit_ = seconds; }
+
   /// The id of the agent named `name` in the scenario; throws core::Error(not_found) when there is none.
   AgentId agent_id(const std::string& name) const;
   /// Ids of the agents still in the session, in creation order.

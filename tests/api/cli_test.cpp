@@ -69,7 +69,7 @@ TEST(Cli, BadArgumentsExitWithTwo) {
     const CommandResult result = run_command(kHrisim + " " + args);
     EXPECT_EQ(result.exit_status, 2) << args << "\n" << result.output;
   }
-  EXPECT_EQ(run_command(kHrisim + " run /nonexistent.json").exit_status, 1);
+  EXPECT_EQ(run_command(kHrisim + " run /nonexistent.json").exit_status, 2);
 }
 
 
@@ -138,36 +138,83 @@ namespace {
 TEST(Cli, RunsSeveralSeedsAndStoresTheEpisodes) {
   TempDir dir;
   const std::string db = (dir.path() / "runs" / "hrisim.db").string();
-  const CommandResult result = run_command(kHrisim + " run " + kScenarios + "/queue.json --seeds 3-5 --db " + db, false);
+  const CommandResult result = run_command(kHrisim + " run " + kScenarios + "/queue.json --seeds 3-5 --jobs 2 --db " + db, false);
   ASSERT_EQ(result.exit_status, 0) << result.output;
-  const nlohmann::json summary = nlohmann::json::parse(result.output);
-  ASSERT_EQ(summary["episodes"].size(), 3u);
-  EXPECT_EQ(summary["episodes"][0]["seed"], 3);
-  EXPECT_EQ(summary["episodes"][2]["seed"], 5);
-  EXPECT_EQ(summary["completed"], 3);
-  EXPECT_NE(summary["episodes"][0]["state_hash"], summary["episodes"][1]["state_hash"]);
-  // The same seed alone gives the same episode.
-  const nlohmann::json alone = nlohmann::json::parse(run_command(kHrisim + " run " + kScenarios + "/queue.json --seed 4", false).output);
-  EXPECT_EQ(alone["state_hash"], summary["episodes"][1]["state_hash"]);
+  const nlohmann::json report = nlohmann::json::parse(result.output);
+  ASSERT_EQ(report["episodes"].size(), 3u);
+  EXPECT_EQ(report["episodes"][0]["seed"], 3);
+  EXPECT_EQ(report["episodes"][2]["seed"], 5);
+  EXPECT_EQ(report["progress"]["finished"], 3);
+  EXPECT_EQ(report["aggregates"]["requests_sent"]["count"], 3);
+  EXPECT_TRUE(report["verdict"]["passed"].get<bool>()) << "no gates: a complete run passes";
   storage::Store store(db);
   EXPECT_EQ(store.integrity_check(), "ok");
-  const auto run = store.run(summary["run_id"]);
+  const auto run = store.run(report["id"]);
   ASSERT_TRUE(run);
   EXPECT_EQ(run->status, "finished");
   const auto ids = store.episode_ids_of_run(run->id);
   ASSERT_EQ(ids.size(), 3u);
-  const auto episode = store.episode(ids[1]);
+  const auto episode = store.episode(report["episodes"][1]["episode_id"]);
   ASSERT_TRUE(episode);
   EXPECT_EQ(episode->seed, 4u);
   EXPECT_EQ(episode->termination_reason, "scenario_end");
   EXPECT_FALSE(episode->events.empty());
+  EXPECT_FALSE(episode->metrics.empty());
   // Every agent at 10 Hz: the first sample of each at tick 0.
   EXPECT_EQ(episode->trajectory.front().tick, 0);
   EXPECT_GT(episode->trajectory.size(), 10u);
-  // A second run of the same file reuses its scenario record.
-  ASSERT_EQ(run_command(kHrisim + " run " + kScenarios + "/queue.json --seeds 1,2 --db " + db, false).exit_status, 0);
+  // The same seed alone, in another run, gives the same episode.
+  const CommandResult alone = run_command(kHrisim + " run " + kScenarios + "/queue.json --seed 4 --db " + db, false);
+  ASSERT_EQ(alone.exit_status, 0) << alone.output;
+  const auto again = store.episode(nlohmann::json::parse(alone.output)["episodes"][0]["episode_id"]);
+  ASSERT_TRUE(again);
+  ASSERT_EQ(again->trajectory.size(), episode->trajectory.size());
+  for (std::size_t i = 0; i < episode->trajectory.size(); ++i) {
+    EXPECT_EQ(again->trajectory[i].x, episode->trajectory[i].x);
+    EXPECT_EQ(again->trajectory[i].y, episode->trajectory[i].y);
+  }
+  // Runs of the same file reuse its scenario record.
   EXPECT_EQ(store.counts().scenarios, 1);
-  EXPECT_EQ(store.counts().episodes, 5);
+  EXPECT_EQ(store.counts().episodes, 4);
+}
+
+TEST(Cli, GatesDecideTheExitStatusAndJUnitListsThem) {
+  TempDir dir;
+  const std::string junit = (dir.path() / "report.xml").string();
+  const std::string run = kHrisim + " run " + kScenarios + "/queue.json --seeds 1,2 --junit " + junit;
+  const CommandResult passing = run_command(run + " --gate 'requests_sent.min >= 1' --gate 'episode_length.max > 0'", false);
+  EXPECT_EQ(passing.exit_status, 0) << passing.output;
+  std::ifstream passed_xml(junit);
+  const std::string passed((std::istreambuf_iterator<char>(passed_xml)), std::istreambuf_iterator<char>());
+  EXPECT_NE(passed.find("tests=\"2\" failures=\"0\""), std::string::npos) << passed;
+
+  const CommandResult failing = run_command(run + " --gate 'requests_sent.min >= 1' --gate 'episode_length.max < 10'");
+  EXPECT_EQ(failing.exit_status, 1) << failing.output;
+  EXPECT_NE(failing.output.find("gate 'episode_length.max < 10' failed"), std::string::npos) << failing.output;
+  EXPECT_EQ(failing.output.find("gate 'requests_sent.min >= 1' failed"), std::string::npos) << failing.output;
+  std::ifstream failed_xml(junit);
+  const std::string failed((std::istreambuf_iterator<char>(failed_xml)), std::istreambuf_iterator<char>());
+  EXPECT_NE(failed.find("<testcase classname=\""), std::string::npos);
+  EXPECT_NE(failed.find("name=\"episode_length.max &lt; 10\""), std::string::npos) << failed;
+  EXPECT_NE(failed.find("<failure message=\"episode_length.max is"), std::string::npos) << failed;
+
+  // Not a gate, or a scenario that does not load: exit 2, nothing run.
+  EXPECT_EQ(run_command(run + " --gate 'collisions.median == 0'").exit_status, 2);
+  EXPECT_EQ(run_command(kHrisim + " run /nonexistent.json --seeds 1-2").exit_status, 2);
+}
+
+TEST(Cli, AControllerReplacesTheScenariosOwn) {
+  // The elevator's robot waits by default; with a goal controller it drives, and reaches the goal.
+  const std::string controller = R"('{"type":"goal","goal":{"pose":{"x":1.0,"y":-0.8,"theta":0}}}')";
+  const CommandResult result =
+      run_command(kHrisim + " run " + kScenarios + "/elevator.json --seeds 1 --max-time 30 --controller " + controller, false);
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  const nlohmann::json report = nlohmann::json::parse(result.output);
+  EXPECT_EQ(report["controller"], "goal");
+  EXPECT_GT(report["aggregates"]["path_length"]["mean"].get<double>(), 0.5);
+  const CommandResult bad = run_command(kHrisim + " run " + kScenarios + "/elevator.json --controller '{\"type\":\"goal\"}'");
+  EXPECT_EQ(bad.exit_status, 2);
+  EXPECT_NE(bad.output.find("/controller/goal: a goal controller needs a goal"), std::string::npos) << bad.output;
 }
 
 TEST(Cli, BadSeedListsExitWithTwo) {

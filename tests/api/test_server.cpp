@@ -90,6 +90,14 @@ int TestServer::terminate(std::chrono::seconds limit) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+void TestServer::kill_now() {
+  if (pid_ <= 0) return;
+  kill(pid_, SIGKILL);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+  pid_ = -1;
+}
+
 std::string TestServer::output() {
   char buffer[512];
   pollfd poll_fd{stdout_fd_, POLLIN, 0};

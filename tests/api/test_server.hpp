@@ -36,6 +36,8 @@ class TestServer {
 
   /// Sends SIGTERM and waits up to `limit` for the exit; returns the exit status, or -1 on time-out.
   int terminate(std::chrono::seconds limit);
+  /// Kills the process with SIGKILL (no clean-up of any kind) and waits for it.
+  void kill_now();
   /// Everything the server printed on stdout so far (after terminate(): all of it).
   std::string output();
 

@@ -1,0 +1,261 @@
+#include "http/runs_api.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/sha256.hpp"
+#include "http/request_helpers.hpp"
+#include "http/session_limits.hpp"
+#include "metrics/definitions.hpp"
+#include "runs/executor.hpp"
+#include "runs/report.hpp"
+#include "runs/spec.hpp"
+#include "storage/store.hpp"
+
+namespace hrisim::http {
+namespace {
+
+using nlohmann::json;
+
+/// Most runs one list request returns.
+constexpr int kMaxRunsPerPage = 100;
+
+[[noreturn]] void bad(const std::string& pointer, const std::string& message) {
+  throw core::Error(core::ErrorCode::bad_request, message, {{"pointer", pointer}});
+}
+
+std::vector<std::uint64_t> seeds_of(const json& body) {
+  if (body.contains("seeds") == body.contains("count")) bad("/seeds", "give either seeds (a list) or count (with an optional first_seed)");
+  std::vector<std::uint64_t> seeds;
+  if (body.contains("seeds")) {
+    if (!body["seeds"].is_array()) bad("/seeds", "seeds must be a list of integers");
+    for (std::size_t i = 0; i < body["seeds"].size(); ++i) {
+      const json& seed = body["seeds"][i];
+      if (!seed.is_number_integer() || seed.get<std::int64_t>() < 0 || seed.get<std::int64_t>() > kMaxSeed) {
+        bad("/seeds/" + std::to_string(i), "a seed is an integer from 0 to " + std::to_string(kMaxSeed));
+      }
+      seeds.push_back(seed.get<std::uint64_t>());
+    }
+    return seeds;
+  }
+  const auto count = integer_field(body, "count", 1, static_cast<std::int64_t>(runs::kMaxSeedsPerRun), 1);
+  const auto first = integer_field(body, "first_seed", 0, kMaxSeed - count + 1, 0);
+  for (std::int64_t i = 0; i < count; ++i) seeds.push_back(static_cast<std::uint64_t>(first + i));
+  return seeds;
+}
+
+runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue) {
+  refuse_unknown_keys(body, {"scenario", "seeds", "count", "first_seed", "controller", "max_time", "gates", "requests"});
+  if (!body.contains("scenario") || !body["scenario"].is_string()) bad("/scenario", "scenario: the id of a scenario is required");
+  const std::string id = body["scenario"];
+  const auto* entry = catalogue.find(id);
+  if (!entry || !entry->source.model) {
+    throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"pointer", "/scenario"}, {"id", id}});
+  }
+  runs::RunRequest request;
+  request.scenario_id = id;
+  request.document = entry->source.document;
+  request.load = catalogue.options().load;
+  request.scenario_sha256 = entry->sha256.empty() ? core::sha256_hex(entry->source.document.dump()) : entry->sha256;
+  request.seeds = seeds_of(body);
+  if (body.contains("controller") && !body["controller"].is_null()) request.controller = body["controller"];
+  if (body.contains("max_time")) {
+    if (!body["max_time"].is_number() || !(body["max_time"].get<double>() > 0.0) || !std::isfinite(body["max_time"].get<double>())) {
+      bad("/max_time", "max_time must be a number of seconds > 0");
+    }
+    request.max_time = body["max_time"].get<double>();
+  }
+  if (body.contains("gates")) {
+    if (!body["gates"].is_array()) bad("/gates", "gates must be a list of expressions such as \"collisions.max == 0\"");
+    for (std::size_t i = 0; i < body["gates"].size(); ++i) {
+      if (!body["gates"][i].is_string()) bad("/gates/" + std::to_string(i), "a gate is a string such as \"collisions.max == 0\"");
+      request.gates.push_back(body["gates"][i]);
+    }
+  }
+  if (body.contains("requests")) {
+    if (!body["requests"].is_array()) bad("/requests", "requests must be a list of {time, task}");
+    for (std::size_t i = 0; i < body["requests"].size(); ++i) {
+      const json& item = body["requests"][i];
+      const std::string at = "/requests/" + std::to_string(i);
+      if (!item.is_object() || !item.contains("time") || !item["time"].is_number() || !(item["time"].get<double>() >= 0.0) ||
+          !item.contains("task") || !item["task"].is_string() || item.size() != 2) {
+        bad(at, "a request is {\"time\": seconds >= 0, \"task\": name}");
+      }
+      request.requests.emplace_back(item["time"].get<double>(), item["task"].get<std::string>());
+    }
+  }
+  return request;
+}
+
+/// The stored scenario a run of catalogue entry `id` refers to: an upload is stored already; a bundled
+/// scenario is stored as a snapshot named by its content, so the run keeps exactly what it ran.
+std::string stored_scenario_id(storage::Store& store, const std::string& id, const ScenarioCatalogue::Entry& entry,
+                               const std::string& sha256) {
+  if (entry.origin == "uploaded") return id;
+  const std::string snapshot = "b" + sha256.substr(0, 32);
+  if (!store.scenario(snapshot)) store.put_scenario({snapshot, entry.source.model->name, "json", entry.source.document.dump(2), "", ""});
+  return snapshot;
+}
+
+storage::RunRecord find_run(storage::Store& store, const std::string& id) {
+  auto run = store.run(id);
+  if (!run) throw core::Error(core::ErrorCode::not_found, "no run '" + id + "'", {{"id", id}});
+  return *run;
+}
+
+json report_of(storage::Store& store, runs::Executor& executor, const storage::RunRecord& run) {
+  return runs::run_report(run, store.episodes_of_run(run.id), executor.live(run.id));
+}
+
+json episode_json(const storage::EpisodeRecord& episode) {
+  json metrics = json::object();
+  for (const storage::MetricValue& metric : episode.metrics) metrics[metric.key] = runs::metric_json(metric);
+  return {{"id", episode.id},
+          {"run_id", episode.run_id ? json(*episode.run_id) : json()},
+          {"scenario", episode.scenario_id},
+          {"seed", episode.seed},
+          {"controller", episode.controller},
+          {"status", episode.status},
+          {"termination", episode.termination_reason},
+          {"ticks", episode.ticks},
+          {"sim_time", episode.sim_time},
+          {"created_at", episode.created_at},
+          {"metrics", metrics}};
+}
+
+storage::EpisodeRecord find_episode(storage::Store& store, const std::string& id) {
+  auto episode = store.episode(id);
+  if (!episode) throw core::Error(core::ErrorCode::not_found, "no episode '" + id + "'", {{"id", id}});
+  return std::move(*episode);
+}
+
+}  // namespace
+
+void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, storage::Store* store, runs::Executor* executor) {
+  router.add("GET", "/api/v1/metrics", [](const Request&) {
+    json items = json::array();
+    for (const metrics::Definition& d : metrics::definitions()) {
+      items.push_back({{"key", d.key},
+                       {"unit", d.unit},
+                       {"category", d.category},
+                       {"better", metrics::to_string(d.better)},
+                       {"description", d.description},
+                       {"convention", d.convention}});
+    }
+    return Response::json(200, {{"items", items}});
+  });
+
+  router.add("POST", "/api/v1/runs", [catalogue, store, executor](const Request& request) {
+    const json body = json_object_body(request);
+    runs::RunRequest run_request_ = run_request(body, *catalogue);
+    runs::RunSpec spec = runs::make_run_spec(run_request_);
+    const auto* entry = catalogue->find(run_request_.scenario_id);
+    spec.scenario_id = stored_scenario_id(*store, run_request_.scenario_id, *entry, run_request_.scenario_sha256);
+    spec.config["scenario"] = run_request_.scenario_id;
+    const storage::RunRecord run = executor->submit(std::move(spec));
+    Response response = Response::json(201, report_of(*store, *executor, find_run(*store, run.id)));
+    response.headers.emplace_back("Location", "/api/v1/runs/" + run.id);
+    return response;
+  });
+
+  router.add("GET", "/api/v1/runs", [store, executor](const Request& request) {
+    const auto limit = static_cast<int>(integer_query(request, "limit", 1, kMaxRunsPerPage, 20));
+    const std::string cursor = query_value(request.query, "cursor").value_or("");
+    const std::string status = query_value(request.query, "status").value_or("");
+    const std::string scenario = query_value(request.query, "scenario").value_or("");
+    static const std::set<std::string> kStatuses{"", "queued", "running", "finished", "failed", "cancelled", "interrupted"};
+    if (!kStatuses.contains(status)) {
+      throw core::Error(core::ErrorCode::bad_request,
+                        "status must be one of queued, running, finished, failed, cancelled, interrupted", {{"parameter", "status"}});
+    }
+    if (!cursor.empty() && !store->run(cursor)) {
+      throw core::Error(core::ErrorCode::bad_request, "cursor: no run '" + cursor + "'", {{"parameter", "cursor"}});
+    }
+    json items = json::array();
+    const auto page = store->runs(limit, cursor, status, scenario);
+    for (const storage::RunRecord& run : page) {
+      const json report = report_of(*store, *executor, run);
+      items.push_back({{"id", report["id"]},
+                       {"scenario", report["scenario"]},
+                       {"controller", report["controller"]},
+                       {"status", report["status"]},
+                       {"created_at", report["created_at"]},
+                       {"finished_at", report["finished_at"]},
+                       {"progress", report["progress"]},
+                       {"success_rate", report["rates"]["success_rate"]},
+                       {"verdict", report["verdict"]["passed"]}});
+    }
+    json reply{{"items", items}};
+    reply["next_cursor"] = static_cast<int>(page.size()) == limit ? json(page.back().id) : json();
+    return Response::json(200, reply);
+  });
+
+  router.add("GET", "/api/v1/runs/{id}", [store, executor](const Request& request) {
+    return Response::json(200, report_of(*store, *executor, find_run(*store, request.path_params.at("id"))));
+  });
+
+  router.add("POST", "/api/v1/runs/{id}/cancel", [store, executor](const Request& request) {
+    const storage::RunRecord run = find_run(*store, request.path_params.at("id"));
+    if (!executor->cancel(run.id)) {
+      throw core::Error(core::ErrorCode::conflict, "run '" + run.id + "' is " + run.status + " and cannot be cancelled",
+                        {{"id", run.id}, {"status", run.status}});
+    }
+    return Response::json(202, report_of(*store, *executor, find_run(*store, run.id)));
+  });
+
+  router.add("GET", "/api/v1/runs/{id}/episodes", [store](const Request& request) {
+    const storage::RunRecord run = find_run(*store, request.path_params.at("id"));
+    json items = json::array();
+    for (const storage::EpisodeRecord& episode : store->episodes_of_run(run.id)) items.push_back(episode_json(episode));
+    return Response::json(200, {{"items", items}});
+  });
+
+  router.add("GET", "/api/v1/runs/{id}/junit", [store, executor](const Request& request) {
+    const json report = report_of(*store, *executor, find_run(*store, request.path_params.at("id")));
+    return Response{200, "application/xml", runs::junit_xml(report), {}, {}};
+  });
+
+  router.add("GET", "/api/v1/episodes/{id}", [store](const Request& request) {
+    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"));
+    json reply = episode_json(episode);
+    json events = json::array();
+    for (const storage::EventRecord& event : episode.events) {
+      events.push_back({{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}});
+    }
+    reply["events"] = events;
+    json null_reasons = json::object();
+    for (const storage::MetricValue& metric : episode.metrics) {
+      if (metric.null_reason) null_reasons[metric.key] = *metric.null_reason;
+    }
+    reply["null_reasons"] = null_reasons;
+    return Response::json(200, reply);
+  });
+
+  router.add("GET", "/api/v1/episodes/{id}/trajectory", [store](const Request& request) {
+    const std::string format = query_value(request.query, "format").value_or("json");
+    if (format != "json" && format != "csv") {
+      throw core::Error(core::ErrorCode::bad_request, "format must be json or csv", {{"parameter", "format"}});
+    }
+    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"));
+    const double dt = episode.ticks > 0 ? episode.sim_time / static_cast<double>(episode.ticks) : 0.0;
+    if (format == "csv") {
+      std::ostringstream csv;
+      csv.precision(17);
+      csv << "agent,tick,time,x,y,theta\n";
+      for (const storage::TrajectorySample& s : episode.trajectory) {
+        csv << s.agent_id << ',' << s.tick << ',' << static_cast<double>(s.tick) * dt << ',' << s.x << ',' << s.y << ',' << s.theta << '\n';
+      }
+      Response response{200, "text/csv; charset=utf-8", csv.str(), {}, {}};
+      response.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + episode.id + ".csv\"");
+      return response;
+    }
+    json agents = json::object();
+    for (const storage::TrajectorySample& s : episode.trajectory) {
+      agents[s.agent_id].push_back({{"tick", s.tick}, {"time", static_cast<double>(s.tick) * dt}, {"x", s.x}, {"y", s.y}, {"theta", s.theta}});
+    }
+    return Response::json(200, {{"episode", episode.id}, {"rate", runs::kTrajectoryRate}, {"agents", agents}});
+  });
+}
+
+}  // namespace hrisim::http

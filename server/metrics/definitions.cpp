@@ -1,0 +1,97 @@
+#include "metrics/definitions.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace hrisim::metrics {
+namespace {
+
+constexpr std::string_view kTask = "task_and_path", kProximity = "proximity", kContact = "contact",
+                           kInteraction = "interaction", kRewards = "task_rewards";
+
+// The order is the order of METRICS.md and of every listing.
+constexpr std::array kDefinitions{
+    Definition{"success", "bool", kTask, Better::higher,
+               "1 when the episode reached its goal condition: the robot's navigation goal reached with no robot-human collision; "
+               "for a scenario without a robot goal, its choreography completed with no collision",
+               "recent social-navigation benchmarks"},
+    Definition{"failure_to_progress", "bool", kTask, Better::lower,
+               "1 for an unsuccessful episode whose last 10 s brought the robot less than 0.1 m closer to its goal; null without a goal",
+               "HuNavSim"},
+    Definition{"time_to_goal", "s", kTask, Better::lower,
+               "simulation time at which the robot was first within its goal radius; null if never", "HuNavSim"},
+    Definition{"path_length", "m", kTask, Better::none, "length of the robot's path: sum of the distances between consecutive steps",
+               "HuNavSim"},
+    Definition{"path_efficiency", "ratio", kTask, Better::higher,
+               "straight-line distance from start to goal divided by the path length, for an episode that reached its goal", "SEAN 2.0"},
+    Definition{"cumulative_heading_changes", "rad", kTask, Better::lower,
+               "sum of the absolute heading changes between consecutive steps, each wrapped into (-pi, pi]", "HuNavSim"},
+    Definition{"minimum_distance_to_target", "m", kTask, Better::lower, "smallest distance from the robot to its goal", "HuNavSim"},
+    Definition{"final_distance_to_target", "m", kTask, Better::lower, "distance from the robot to its goal at the last step", "HuNavSim"},
+    Definition{"time_not_moving", "s", kTask, Better::lower,
+               "time with |v| < 0.01 m/s and |omega| < 0.02 rad/s (HuNavSim takes abs of a boolean here: fixed)", "HuNavSim"},
+    Definition{"avg_robot_linear_speed", "m/s", kTask, Better::none, "mean of the robot's absolute forward speed", "HuNavSim"},
+    Definition{"avg_robot_angular_speed", "rad/s", kTask, Better::lower,
+               "mean of the robot's absolute yaw rate, from heading differences between consecutive steps", "HuNavSim"},
+    Definition{"max_robot_linear_speed", "m/s", kTask, Better::none, "largest absolute forward speed of the robot", "HuNavSim"},
+    Definition{"avg_acceleration", "m/s^2", kTask, Better::lower,
+               "mean of |dv/dt| over consecutive steps (HuNavSim divides by dt squared: fixed)", "HuNavSim"},
+    Definition{"max_acceleration", "m/s^2", kTask, Better::lower, "largest |dv/dt| over consecutive steps", "HuNavSim"},
+    Definition{"avg_jerk", "m/s^3", kTask, Better::lower, "mean of |da/dt| over consecutive accelerations", "HuNavSim"},
+    Definition{"max_jerk", "m/s^3", kTask, Better::lower, "largest |da/dt| over consecutive accelerations", "HuNavSim"},
+
+    Definition{"avg_distance_to_closest_person", "m", kProximity, Better::higher,
+               "mean over steps with at least one human of the surface distance to the closest person", "HuNavSim"},
+    Definition{"minimum_distance_to_people", "m", kProximity, Better::higher,
+               "smallest surface distance (centre distance minus both radii, at least 0) to any person", "HuNavSim"},
+    Definition{"intimate_space_intrusions", "%", kProximity, Better::lower,
+               "percentage of steps with the closest person nearer than 0.45 m", "HuNavSim"},
+    Definition{"personal_space_intrusions", "%", kProximity, Better::lower,
+               "percentage of steps with the closest person between 0.45 m and 1.2 m", "HuNavSim"},
+    Definition{"social_space_intrusions", "%", kProximity, Better::lower,
+               "percentage of steps with the closest person between 1.2 m and 3.6 m", "HuNavSim"},
+    Definition{"discomfort_frequency", "%", kProximity, Better::lower,
+               "percentage of steps with the closest person nearer than 0.2 m (CrowdNav's danger)", "CrowdNav"},
+    Definition{"min_time_to_collision", "s", kProximity, Better::higher,
+               "smallest time at which the robot and a person, as discs at constant current velocities, would touch; null if never",
+               "SocNavBench"},
+
+    Definition{"collisions", "count", kContact, Better::lower,
+               "distinct robot-human contacts (physics contact or surface distance < 0.02 m); a contact lasting several steps counts once",
+               "HuNavSim"},
+    Definition{"robot_on_person_collisions", "count", kContact, Better::lower,
+               "collisions where the robot moved towards the person (faster than 0.01 m/s) at the first step of contact", "HuNavSim"},
+    Definition{"person_on_robot_collisions", "count", kContact, Better::lower,
+               "collisions where the person moved towards the robot, or the robot did not", "HuNavSim"},
+    Definition{"contact_time", "s", kContact, Better::lower, "total time in contact with any human", "hrisim"},
+
+    Definition{"requests_sent", "count", kInteraction, Better::none, "robot requests to humans", "IMHuS"},
+    Definition{"requests_accepted", "count", kInteraction, Better::higher, "robot requests a human accepted", "IMHuS"},
+    Definition{"requests_dropped", "count", kInteraction, Better::lower,
+               "robot requests no idle human within 3 m could answer", "IMHuS"},
+    Definition{"request_latency", "s", kInteraction, Better::lower, "mean time from a request to its acceptance", "IMHuS"},
+    Definition{"choreography_completed", "bool", kInteraction, Better::higher,
+               "1 when every regular choreography step finished before the time limit; null without a choreography", "IMHuS"},
+
+    Definition{"episode_length", "steps", kRewards, Better::none, "number of simulation steps of the episode", "Gymnasium"},
+};
+
+}  // namespace
+
+std::span<const Definition> definitions() { return kDefinitions; }
+
+const Definition* find_definition(std::string_view key) {
+  const auto found = std::find_if(kDefinitions.begin(), kDefinitions.end(), [&](const Definition& d) { return d.key == key; });
+  return found == kDefinitions.end() ? nullptr : &*found;
+}
+
+std::string_view to_string(Better better) {
+  switch (better) {
+    case Better::higher: return "higher";
+    case Better::lower: return "lower";
+    case Better::none: return "none";
+  }
+  return "none";
+}
+
+}  // namespace hrisim::metrics

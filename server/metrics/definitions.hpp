@@ -1,0 +1,42 @@
+#pragma once
+// The metrics hrisim computes, as served at GET /api/v1/metrics and listed in docs/metrics.md.
+#include <span>
+#include <string_view>
+
+namespace hrisim::metrics {
+
+enum class Better { higher, lower, none };
+
+struct Definition {
+  std::string_view key;
+  std::string_view unit;        ///< "m", "s", "%", "count", "bool", …
+  std::string_view category;    ///< the section of METRICS.md it stands in
+  Better better;
+  std::string_view description;
+  std::string_view convention;  ///< the evaluator whose definition it follows
+};
+
+std::span<const Definition> definitions();
+/// The definition of a key, or nullptr.
+const Definition* find_definition(std::string_view key);
+std::string_view to_string(Better better);
+
+// Thresholds of METRICS.md (named defaults, documented in docs/metrics.md).
+/// Hall's zones as HuNavSim uses them: intimate below, personal below, social below, m.
+inline constexpr double kIntimateDistance = 0.45;
+inline constexpr double kPersonalDistance = 1.2;
+inline constexpr double kSocialDistance = 3.6;
+/// CrowdNav's "danger" (discomfort) distance, m.
+inline constexpr double kDiscomfortDistance = 0.2;
+/// Surface distance counted as contact even without a physics contact, m.
+inline constexpr double kContactDistance = 0.02;
+/// Below both, the robot is "not moving": m/s and rad/s.
+inline constexpr double kNotMovingSpeed = 0.01;
+inline constexpr double kNotMovingTurnRate = 0.02;
+/// A collision is blamed on whoever moved towards the other faster than this, m/s.
+inline constexpr double kBlameSpeed = 0.01;
+/// Failure to progress: the last this many seconds brought the robot less than kProgressDistance closer.
+inline constexpr double kProgressWindow = 10.0;
+inline constexpr double kProgressDistance = 0.1;
+
+}  // namespace hrisim::metrics

@@ -1,0 +1,29 @@
+#pragma once
+// Episode metrics of METRICS.md computed from a Recording. Pure: the same recording gives the same
+// values, and nothing outside the recording is read.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "metrics/recording.hpp"
+
+namespace hrisim::metrics {
+
+/// A metric's value, or no value and why (never NaN or infinity).
+struct MetricValue {
+  std::string key;
+  std::optional<double> value;
+  std::string null_reason;  ///< set exactly when value is empty
+};
+
+/// Every metric of definitions(), in that order.
+std::vector<MetricValue> compute_episode_metrics(const Recording& recording);
+
+/// Surface distance between two discs: centre distance minus both radii, at least 0.
+double surface_distance(const Body& a, const Body& b);
+
+/// Earliest time >= 0 at which two discs moving at their current velocities touch; 0 when they
+/// already overlap, empty when they never do.
+std::optional<double> time_to_collision(const Body& a, const Body& b);
+
+}  // namespace hrisim::metrics

@@ -1,0 +1,128 @@
+#include "runs/episode.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "core/error.hpp"
+#include "metrics/episode_metrics.hpp"
+#include "sim/episode_recorder.hpp"
+#include "sim/session.hpp"
+
+namespace hrisim::runs {
+namespace {
+
+using nlohmann::json;
+
+int robot_under_test(const scenario::Model& model) {
+  for (std::size_t a = 0; a < model.agents.size(); ++a) {
+    if (model.agents[a].kind == scenario::AgentKind::robot) return static_cast<int>(a);
+  }
+  return -1;
+}
+
+json steps_json(const sim::Session& session) {
+  const scenario::Model& model = session.model();
+  const auto at = [&](std::int64_t tick) { return tick < 0 ? json() : json(static_cast<double>(tick) * model.dt); };
+  json steps = json::array();
+  for (std::size_t s = 0; s < model.steps.size(); ++s) {
+    const sim::StepRecord& step = session.state().steps[s];
+    steps.push_back({{"name", model.steps[s].name},
+                     {"started", at(step.started_tick)},
+                     {"finished", at(step.finished_tick)},
+                     {"duration", step.finished_tick < 0 ? json() : at(step.finished_tick - step.started_tick)}});
+  }
+  return steps;
+}
+
+}  // namespace
+
+std::int64_t trajectory_stride(double dt) { return std::max<std::int64_t>(1, std::llround(1.0 / (kTrajectoryRate * dt))); }
+
+EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, std::uint64_t seed, const EpisodeOptions& options) {
+  const scenario::Model& model = *shared;
+  sim::Session session(shared, seed);
+  if (options.max_time) session.set_time_limit(*options.max_time);
+  for (const auto& [time, task_name] : options.requests) {
+    const int task = model.find_task(task_name);
+    if (task < 0) throw core::Error(core::ErrorCode::bad_request, "the scenario has no task '" + task_name + "' to request");
+    const int robot = robot_under_test(model);
+    if (robot < 0) throw core::Error(core::ErrorCode::bad_request, "the scenario has no robot to make the request");
+    session.schedule_request(time, session.agent_id(model.agents[robot].id), task);
+  }
+
+  EpisodeResult result;
+  storage::EpisodeRecord& record = result.record;
+  sim::EpisodeRecorder recorder(session);
+  const std::int64_t sample_every = trajectory_stride(model.dt);
+  const auto sample_trajectory = [&] {
+    const sim::State& state = session.state();
+    if (state.tick % sample_every != 0) return;
+    for (const sim::AgentId id : session.agent_ids()) {
+      const int index = session.index_of(id);
+      const sim::AgentState& agent = state.agents[index];
+      record.trajectory.push_back({model.agents[index].id, state.tick, agent.position.x(), agent.position.y(), agent.heading});
+    }
+  };
+  sample_trajectory();
+  if (options.observe) options.observe(session);
+  while (!session.state().finished) {
+    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+      result.cancelled = true;
+      return result;
+    }
+    const std::int64_t before = session.state().tick;
+    session.step();
+    if (session.state().tick == before) break;  // the step found the episode over and left the tick as it was
+    recorder.record(session);
+    sample_trajectory();
+    if (options.observe) options.observe(session);
+  }
+
+  const sim::State& state = session.state();
+  for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(recorder.finish(session))) {
+    record.metrics.push_back({metric.key, metric.value,
+                              metric.value ? std::nullopt : std::optional<std::string>(metric.null_reason)});
+  }
+  std::map<std::string, int> counts;
+  for (const sim::Event& event : state.events) {
+    ++counts[event.kind];
+    record.events.push_back({event.tick, event.time, event.kind, event.subject, event.data});
+  }
+  record.seed = seed;
+  record.status = "finished";
+  record.termination_reason = state.termination;
+  record.ticks = state.tick;
+  record.sim_time = session.time();
+
+  json agents = json::array();
+  for (std::size_t a = 0; a < model.agents.size(); ++a) {
+    const sim::AgentState& agent = state.agents[a];
+    agents.push_back({{"id", model.agents[a].id},
+                      {"x", agent.position.x()},
+                      {"y", agent.position.y()},
+                      {"theta", agent.heading},
+                      {"busy", !agent.program.empty()}});
+  }
+  const bool in_step = state.step < static_cast<int>(model.steps.size());
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(session.state_hash()));
+  json metric_values = json::object();
+  for (const storage::MetricValue& metric : record.metrics) metric_values[metric.key] = metric.value ? json(*metric.value) : json();
+  result.summary = {{"scenario", model.name},
+                    {"seed", seed},
+                    {"dt", model.dt},
+                    {"ticks", state.tick},
+                    {"sim_time", session.time()},
+                    {"completed", state.termination == "scenario_end"},
+                    {"termination", state.termination},
+                    {"step", in_step ? json{{"index", state.step}, {"name", model.steps[state.step].name}} : json()},
+                    {"steps", steps_json(session)},
+                    {"events", counts},
+                    {"agents", agents},
+                    {"metrics", metric_values},
+                    {"state_hash", hash}};
+  return result;
+}
+
+}  // namespace hrisim::runs

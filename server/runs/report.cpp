@@ -1,0 +1,190 @@
+#include "runs/report.hpp"
+
+#include <sstream>
+
+#include "metrics/aggregate.hpp"
+#include "metrics/definitions.hpp"
+
+namespace hrisim::runs {
+namespace {
+
+using nlohmann::json;
+
+json optional_json(const std::optional<double>& value) { return value ? json(*value) : json(); }
+
+json aggregate_json(const metrics::Aggregate& a) {
+  return {{"count", a.count},
+          {"nulls", a.nulls},
+          {"mean", optional_json(a.mean)},
+          {"std", optional_json(a.std)},
+          {"min", optional_json(a.min)},
+          {"max", optional_json(a.max)},
+          {"ci95_low", optional_json(a.ci95_low)},
+          {"ci95_high", optional_json(a.ci95_high)}};
+}
+
+const storage::MetricValue* find_metric(const storage::EpisodeRecord& episode, std::string_view key) {
+  for (const storage::MetricValue& metric : episode.metrics) {
+    if (metric.key == key) return &metric;
+  }
+  return nullptr;
+}
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string number_text(const json& value) { return value.is_null() ? "no value" : value.dump(); }
+
+}  // namespace
+
+json metric_json(const storage::MetricValue& metric) { return optional_json(metric.value); }
+
+std::vector<metrics::Gate> gates_of(const storage::RunRecord& run) {
+  std::vector<metrics::Gate> gates;
+  for (const json& text : run.config.value("gates", json::array())) gates.push_back(metrics::parse_gate(text.get<std::string>()));
+  return gates;
+}
+
+json run_report(const storage::RunRecord& run, const std::vector<storage::EpisodeRecord>& episodes,
+                const std::map<std::uint64_t, std::string>& live) {
+  std::map<std::uint64_t, const storage::EpisodeRecord*> by_seed;
+  for (const storage::EpisodeRecord& episode : episodes) by_seed[episode.seed] = &episode;
+
+  // Seeds not stored and not live never ran: the run was cancelled or the server stopped.
+  const std::string not_run = run.status == "cancelled" ? "cancelled" : run.status == "interrupted" ? "interrupted" : "queued";
+  std::map<std::string, int> counts{{"queued", 0}, {"running", 0}, {"finished", 0}, {"error", 0}, {"cancelled", 0}, {"interrupted", 0}};
+  json list = json::array();
+  const json seeds = run.config.value("seeds", json::array());
+  for (const json& seed_json : seeds) {
+    const auto seed = seed_json.get<std::uint64_t>();
+    json item{{"seed", seed}};
+    if (const auto stored = by_seed.find(seed); stored != by_seed.end()) {
+      const storage::EpisodeRecord& episode = *stored->second;
+      item["status"] = episode.status;
+      item["episode_id"] = episode.id;
+      item["termination"] = episode.termination_reason;
+      item["sim_time"] = episode.sim_time;
+      const storage::MetricValue* success = find_metric(episode, "success");
+      item["success"] = success ? metric_json(*success) : json();
+    } else if (const auto running = live.find(seed); running != live.end()) {
+      item["status"] = running->second;
+    } else {
+      item["status"] = not_run;
+    }
+    ++counts[item["status"].get<std::string>()];
+    list.push_back(std::move(item));
+  }
+
+  json aggregates = json::object();
+  for (const metrics::Definition& definition : metrics::definitions()) {
+    std::vector<std::optional<double>> values;
+    for (const storage::EpisodeRecord& episode : episodes) {
+      if (episode.status != "finished") continue;
+      const storage::MetricValue* metric = find_metric(episode, definition.key);
+      values.push_back(metric ? metric->value : std::nullopt);
+    }
+    aggregates[std::string(definition.key)] = aggregate_json(metrics::aggregate(values, definition.unit == "bool"));
+  }
+  // Rates over finished episodes, as their own lines.
+  const auto rate = [&](const char* key, auto counts_as) {
+    int hits = 0, total = 0;
+    for (const storage::EpisodeRecord& episode : episodes) {
+      const storage::MetricValue* metric = episode.status == "finished" ? find_metric(episode, key) : nullptr;
+      if (!metric || !metric->value) continue;
+      ++total;
+      hits += counts_as(*metric->value);
+    }
+    return total == 0 ? json() : json(static_cast<double>(hits) / total);
+  };
+  const json rates{{"success_rate", rate("success", [](double v) { return v == 1.0; })},
+                   {"collision_rate", rate("collisions", [](double v) { return v > 0.0; })}};
+
+  json gate_results = json::array(), reasons = json::array();
+  bool passed = true;
+  for (const metrics::Gate& gate : gates_of(run)) {
+    std::vector<std::optional<double>> values;
+    for (const storage::EpisodeRecord& episode : episodes) {
+      if (episode.status != "finished") continue;
+      const storage::MetricValue* metric = find_metric(episode, gate.metric);
+      values.push_back(metric ? metric->value : std::nullopt);
+    }
+    const metrics::GateResult result =
+        metrics::evaluate_gate(gate, metrics::aggregate(values, metrics::find_definition(gate.metric)->unit == "bool"));
+    gate_results.push_back({{"gate", gate.text},
+                            {"metric", gate.metric},
+                            {"statistic", gate.statistic},
+                            {"op", gate.op},
+                            {"threshold", gate.threshold},
+                            {"actual", optional_json(result.actual)},
+                            {"passed", result.passed}});
+    if (!result.passed) {
+      passed = false;
+      reasons.push_back("gate '" + gate.text + "' failed: " + gate.metric + "." + gate.statistic + " is " +
+                        number_text(optional_json(result.actual)));
+    }
+  }
+  const bool complete = counts["finished"] + counts["error"] == static_cast<int>(seeds.size());
+  if (!complete) reasons.push_back("the run is " + run.status + ": " + std::to_string(counts["finished"]) + " of " +
+                                   std::to_string(seeds.size()) + " episodes finished");
+  if (counts["error"] > 0) reasons.push_back(std::to_string(counts["error"]) + " episode(s) ended in error");
+  passed = passed && complete && counts["error"] == 0;
+
+  return {{"id", run.id},
+          {"scenario", run.config.value("scenario", run.scenario_id)},
+          {"scenario_record", run.scenario_id},
+          {"controller", run.controller},
+          {"status", run.status},
+          {"created_at", run.created_at},
+          {"finished_at", run.finished_at ? json(*run.finished_at) : json()},
+          {"config", run.config},
+          {"progress", {{"total", seeds.size()}, {"finished", counts["finished"]}, {"error", counts["error"]},
+                        {"running", counts["running"]}, {"queued", counts["queued"]}, {"cancelled", counts["cancelled"]},
+                        {"interrupted", counts["interrupted"]}}},
+          {"episodes", list},
+          {"aggregates", aggregates},
+          {"rates", rates},
+          {"verdict", {{"passed", passed}, {"complete", complete}, {"gates", gate_results}, {"reasons", reasons}}}};
+}
+
+std::string junit_xml(const json& report) {
+  std::ostringstream cases;
+  int tests = 0, failures = 0;
+  const std::string suite = "hrisim run " + report["id"].get<std::string>();
+  for (const json& gate : report["verdict"]["gates"]) {
+    ++tests;
+    cases << "    <testcase classname=\"" << xml_escape(suite) << ".gates\" name=\"" << xml_escape(gate["gate"]) << "\">\n";
+    if (!gate["passed"].get<bool>()) {
+      ++failures;
+      cases << "      <failure message=\"" << xml_escape(gate["metric"].get<std::string>() + "." + gate["statistic"].get<std::string>()) << " is "
+            << xml_escape(number_text(gate["actual"])) << "\"/>\n";
+    }
+    cases << "    </testcase>\n";
+  }
+  for (const json& episode : report["episodes"]) {
+    // Unsuccessful episodes are the gates' business (success.mean); here only those that did not finish.
+    const std::string status = episode["status"];
+    if (status == "finished") continue;
+    ++tests;
+    ++failures;
+    cases << "    <testcase classname=\"" << xml_escape(suite) << ".episodes\" name=\"seed " << episode["seed"].dump() << "\">\n"
+          << "      <failure message=\"episode " << xml_escape(status) << "\"/>\n    </testcase>\n";
+  }
+  std::ostringstream xml;
+  xml << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites tests=\"" << tests << "\" failures=\"" << failures << "\">\n"
+      << "  <testsuite name=\"" << xml_escape(suite) << "\" tests=\"" << tests << "\" failures=\"" << failures << "\">\n"
+      << cases.str() << "  </testsuite>\n</testsuites>\n";
+  return xml.str();
+}
+
+}  // namespace hrisim::runs

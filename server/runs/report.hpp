@@ -1,0 +1,30 @@
+#pragma once
+// What a run amounts to, computed from the store alone so that the CLI and the REST API give the same
+// answer: per-episode status, metric aggregates, the gate verdict, and a JUnit XML report.
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "metrics/gates.hpp"
+#include "storage/store.hpp"
+
+namespace hrisim::runs {
+
+/// The gates stored in a run's config ("gates": [text, …]), parsed.
+std::vector<metrics::Gate> gates_of(const storage::RunRecord& run);
+
+/// The run with progress, per-episode status, aggregates of every metric and the verdict.
+/// `live`: seeds still queued or running (Executor::live).
+nlohmann::json run_report(const storage::RunRecord& run, const std::vector<storage::EpisodeRecord>& episodes,
+                          const std::map<std::uint64_t, std::string>& live);
+
+/// A JUnit XML document of a report: one test case per gate, one per episode that did not finish
+/// (error, cancelled, interrupted), so that it fails exactly when the verdict does.
+std::string junit_xml(const nlohmann::json& report);
+
+/// A metric value as JSON: the number, or null.
+nlohmann::json metric_json(const storage::MetricValue& metric);
+
+}  // namespace hrisim::runs

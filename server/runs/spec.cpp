@@ -1,0 +1,93 @@
+#include "runs/spec.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "core/build_info.hpp"
+#include "core/error.hpp"
+#include "metrics/gates.hpp"
+#include "scenario/model.hpp"
+
+namespace hrisim::runs {
+
+RunSpec make_run_spec(const RunRequest& request) {
+  using nlohmann::json;
+  json errors = json::array();
+  const auto problem = [&](std::string pointer, std::string message) {
+    errors.push_back({{"pointer", std::move(pointer)}, {"message", std::move(message)}});
+  };
+
+  if (request.seeds.empty()) problem("/seeds", "a run needs at least one seed");
+  if (request.seeds.size() > kMaxSeedsPerRun) problem("/seeds", "at most " + std::to_string(kMaxSeedsPerRun) + " seeds per run");
+  if (std::set<std::uint64_t>(request.seeds.begin(), request.seeds.end()).size() != request.seeds.size()) {
+    problem("/seeds", "every seed may appear only once");
+  }
+  if (request.max_time && !(*request.max_time > 0.0)) problem("/max_time", "max_time must be a number of seconds > 0");
+  for (std::size_t i = 0; i < request.gates.size(); ++i) {
+    try {
+      metrics::parse_gate(request.gates[i]);
+    } catch (const core::Error& e) {
+      problem("/gates/" + std::to_string(i), e.what());
+    }
+  }
+
+  json document = request.document;
+  std::string controller = "scenario";
+  if (request.controller) {
+    if (!document.contains("robots") || !document["robots"].is_array() || document["robots"].empty()) {
+      problem("/controller", "the scenario has no robot to control");
+    } else if (!request.controller->is_object() || !(*request.controller)["type"].is_string()) {
+      problem("/controller", "a controller is an object with a \"type\" (idle, goal, social or teleop)");
+    } else {
+      document["robots"][0]["controller"] = *request.controller;
+      controller = (*request.controller)["type"];
+    }
+  }
+  scenario::LoadResult loaded = scenario::load_scenario(document, request.load);
+  // Problems in the replaced controller are the request's; the scenario itself was valid before.
+  const std::string controller_pointer = "/robots/0/controller";
+  for (const core::ValidationError& error : loaded.errors) {
+    if (request.controller && error.pointer.starts_with(controller_pointer)) {
+      problem("/controller" + error.pointer.substr(controller_pointer.size()), error.message);
+    } else {
+      problem("/scenario" + error.pointer, error.message);
+    }
+  }
+  for (std::size_t i = 0; loaded.model && i < request.requests.size(); ++i) {
+    if (loaded.model->find_task(request.requests[i].second) < 0) {
+      problem("/requests/" + std::to_string(i), "the scenario has no task '" + request.requests[i].second + "'");
+    }
+  }
+  if (!request.requests.empty() && loaded.model &&
+      std::none_of(loaded.model->agents.begin(), loaded.model->agents.end(),
+                   [](const scenario::AgentDef& agent) { return agent.kind == scenario::AgentKind::robot; })) {
+    problem("/requests", "the scenario has no robot to make requests");
+  }
+  if (!errors.empty()) {
+    const std::string first = errors[0]["message"];
+    throw core::Error(core::ErrorCode::bad_request,
+                      errors.size() == 1 ? first : first + " (and " + std::to_string(errors.size() - 1) + " more)",
+                      {{"errors", errors}, {"pointer", errors[0]["pointer"]}});
+  }
+
+  RunSpec spec;
+  spec.scenario_id = request.scenario_id;
+  spec.model = loaded.model;
+  spec.seeds = request.seeds;
+  spec.controller = controller;
+  spec.max_time = request.max_time;
+  spec.requests = request.requests;
+  json requests = json::array();
+  for (const auto& [time, task] : request.requests) requests.push_back({{"time", time}, {"task", task}});
+  spec.config = {{"seeds", request.seeds},
+                 {"gates", request.gates},
+                 {"controller", request.controller ? *request.controller : json()},
+                 {"max_time", request.max_time ? json(*request.max_time) : json()},
+                 {"requests", requests},
+                 {"scenario_sha256", request.scenario_sha256},
+                 {"hrisim_version", core::version()},
+                 {"git_commit", core::git_commit()}};
+  return spec;
+}
+
+}  // namespace hrisim::runs

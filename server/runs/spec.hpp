@@ -1,0 +1,38 @@
+#pragma once
+// A run as asked for (by `hrisim run` or POST /api/v1/runs), checked and turned into a RunSpec: the
+// controller applied to the scenario's robot under test, gates parsed, seeds checked. One place, so
+// the CLI and the REST API accept and refuse the same things.
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "runs/executor.hpp"
+#include "scenario/load.hpp"
+
+namespace hrisim::runs {
+
+/// Most episodes one run may ask for.
+inline constexpr std::size_t kMaxSeedsPerRun = 100000;
+
+struct RunRequest {
+  std::string scenario_id;
+  std::string scenario_sha256;  ///< of its source, kept with the run for provenance
+  nlohmann::json document;  ///< the scenario's native JSON
+  scenario::LoadOptions load;
+  std::vector<std::uint64_t> seeds;
+  /// Replaces the built-in controller of the scenario's first robot, in the scenario's form
+  /// ({"type": "goal", "goal": {...}}); the scenario's own when empty.
+  std::optional<nlohmann::json> controller;
+  std::optional<double> max_time;
+  std::vector<std::string> gates;
+  std::vector<std::pair<double, std::string>> requests;
+};
+
+/// Checks the request and builds the spec. Throws core::Error(bad_request) with every problem found
+/// in details.errors, each with a pointer into the request ("/gates/1", "/controller/goal", "/seeds").
+RunSpec make_run_spec(const RunRequest& request);
+
+}  // namespace hrisim::runs

@@ -1,0 +1,233 @@
+// Runs over REST against the real server: submit, poll to the end, report with aggregates and gate
+// verdict, episodes with trajectories, cancel, list and filter, bad input; and a server killed with
+// SIGKILL in the middle of a run.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "storage/store.hpp"
+#include "test_server.hpp"
+
+namespace hrisim::testing {
+namespace {
+
+using nlohmann::json;
+
+json json_of(const HttpReply& reply) { return json::parse(reply.body); }
+
+/// Polls a run until it is no longer queued or running.
+json wait_for_run(std::uint16_t port, const std::string& id, std::chrono::seconds limit = std::chrono::seconds(120)) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  for (;;) {
+    json run = json_of(http(port, "GET", "/api/v1/runs/" + id));
+    if (run["status"] != "queued" && run["status"] != "running") return run;
+    if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error("run " + id + " did not end: " + run.dump());
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
+class RunsApi : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { server_ = new TestServer({"--run-jobs", "2"}); }
+  static void TearDownTestSuite() {
+    delete server_;
+    server_ = nullptr;
+  }
+  static std::uint16_t port() { return server_->port(); }
+  static json submit(const json& body) {
+    const HttpReply reply = http(port(), "POST", "/api/v1/runs", body.dump());
+    EXPECT_EQ(reply.status, 201) << reply.body;
+    EXPECT_EQ(reply.headers.at("location"), "/api/v1/runs/" + json_of(reply)["id"].get<std::string>());
+    return json_of(reply);
+  }
+  static TestServer* server_;
+};
+TestServer* RunsApi::server_ = nullptr;
+
+TEST_F(RunsApi, ARunEndsWithAggregatesAVerdictAndItsEpisodes) {
+  const json submitted = submit({{"scenario", "queue"}, {"seeds", {3, 4, 5}}, {"gates", {"requests_sent.min >= 1", "episode_length.max < 1"}}});
+  EXPECT_EQ(submitted["progress"]["total"], 3);
+  const json run = wait_for_run(port(), submitted["id"]);
+  EXPECT_EQ(run["status"], "finished");
+  EXPECT_EQ(run["scenario"], "queue");
+  EXPECT_EQ(run["progress"]["finished"], 3);
+  ASSERT_EQ(run["episodes"].size(), 3u);
+  EXPECT_EQ(run["episodes"][0]["seed"], 3);
+  EXPECT_EQ(run["episodes"][0]["status"], "finished");
+  // The queue's robot asks once per episode: every statistic of requests_sent is 1.
+  const json& sent = run["aggregates"]["requests_sent"];
+  EXPECT_EQ(sent["count"], 3);
+  EXPECT_EQ(sent["mean"], 1.0);
+  EXPECT_EQ(sent["std"], 0.0);
+  // One gate passes, one fails, so the verdict fails and names the failing one only.
+  const json& verdict = run["verdict"];
+  EXPECT_FALSE(verdict["passed"].get<bool>());
+  EXPECT_TRUE(verdict["complete"].get<bool>());
+  ASSERT_EQ(verdict["gates"].size(), 2u);
+  EXPECT_TRUE(verdict["gates"][0]["passed"].get<bool>());
+  EXPECT_FALSE(verdict["gates"][1]["passed"].get<bool>());
+  ASSERT_EQ(verdict["reasons"].size(), 1u);
+  EXPECT_NE(verdict["reasons"][0].get<std::string>().find("episode_length.max < 1"), std::string::npos);
+
+  const json episodes = json_of(http(port(), "GET", "/api/v1/runs/" + run["id"].get<std::string>() + "/episodes"));
+  ASSERT_EQ(episodes["items"].size(), 3u);
+  const std::string episode_id = run["episodes"][1]["episode_id"];
+  const json episode = json_of(http(port(), "GET", "/api/v1/episodes/" + episode_id));
+  EXPECT_EQ(episode["seed"], 4);
+  EXPECT_EQ(episode["metrics"]["requests_sent"], 1.0);
+  EXPECT_TRUE(episode["metrics"]["time_to_goal"].is_null());
+  EXPECT_EQ(episode["null_reasons"]["time_to_goal"], "the robot has no navigation goal");
+  EXPECT_FALSE(episode["events"].empty());
+
+  const json trajectory = json_of(http(port(), "GET", "/api/v1/episodes/" + episode_id + "/trajectory"));
+  EXPECT_EQ(trajectory["rate"], 10.0);
+  const json& robot = trajectory["agents"]["robot"];
+  ASSERT_GT(robot.size(), 10u);
+  EXPECT_EQ(robot[0]["tick"], 0);
+  EXPECT_NEAR(robot[1]["time"].get<double>() - robot[0]["time"].get<double>(), 0.1, 1e-9);
+  const HttpReply csv = http(port(), "GET", "/api/v1/episodes/" + episode_id + "/trajectory?format=csv");
+  EXPECT_EQ(csv.status, 200);
+  EXPECT_EQ(csv.headers.at("content-type"), "text/csv; charset=utf-8");
+  EXPECT_EQ(csv.body.substr(0, csv.body.find('\n')), "agent,tick,time,x,y,theta");
+
+  const HttpReply junit = http(port(), "GET", "/api/v1/runs/" + run["id"].get<std::string>() + "/junit");
+  EXPECT_EQ(junit.headers.at("content-type"), "application/xml");
+  EXPECT_NE(junit.body.find("<failure message=\"episode_length.max is"), std::string::npos) << junit.body;
+}
+
+TEST_F(RunsApi, TheSameSeedGivesTheSameEpisodeInEveryRun) {
+  const json a = wait_for_run(port(), submit({{"scenario", "corridor_passing"}, {"count", 2}, {"first_seed", 7}})["id"]);
+  const json b = wait_for_run(port(), submit({{"scenario", "corridor_passing"}, {"seeds", {8}}})["id"]);
+  const json first = json_of(http(port(), "GET", "/api/v1/episodes/" + a["episodes"][1]["episode_id"].get<std::string>() + "/trajectory"));
+  const json second = json_of(http(port(), "GET", "/api/v1/episodes/" + b["episodes"][0]["episode_id"].get<std::string>() + "/trajectory"));
+  EXPECT_EQ(a["episodes"][1]["seed"], 8);
+  EXPECT_EQ(first["agents"], second["agents"]);
+}
+
+TEST_F(RunsApi, ListFiltersAndPages) {
+  const std::string older = submit({{"scenario", "queue"}, {"count", 1}})["id"];
+  const std::string id = submit({{"scenario", "pair_walking"}, {"count", 1}})["id"];
+  wait_for_run(port(), older);
+  wait_for_run(port(), id);
+  const json page = json_of(http(port(), "GET", "/api/v1/runs?scenario=pair_walking&limit=1"));
+  ASSERT_EQ(page["items"].size(), 1u);
+  EXPECT_EQ(page["items"][0]["id"], id);
+  EXPECT_EQ(page["items"][0]["scenario"], "pair_walking");
+  const json finished = json_of(http(port(), "GET", "/api/v1/runs?status=finished&limit=100"));
+  for (const json& run : finished["items"]) EXPECT_EQ(run["status"], "finished");
+  // Newest first; the cursor continues after the last item.
+  const json first = json_of(http(port(), "GET", "/api/v1/runs?limit=1"));
+  const json next = json_of(http(port(), "GET", "/api/v1/runs?limit=1&cursor=" + first["next_cursor"].get<std::string>()));
+  ASSERT_EQ(next["items"].size(), 1u);
+  EXPECT_NE(next["items"][0]["id"], first["items"][0]["id"]);
+  EXPECT_LT(next["items"][0]["created_at"].get<std::string>(), first["items"][0]["created_at"].get<std::string>() + "~");
+  EXPECT_EQ(http(port(), "GET", "/api/v1/runs?status=done").status, 400);
+  EXPECT_EQ(http(port(), "GET", "/api/v1/runs?cursor=nope").status, 400);
+}
+
+TEST_F(RunsApi, CancelStopsARunAndLeavesItsFinishedEpisodes) {
+  const json run = submit({{"scenario", "elevator"}, {"count", 200}});
+  const std::string id = run["id"];
+  const HttpReply cancelled = http(port(), "POST", "/api/v1/runs/" + id + "/cancel");
+  EXPECT_EQ(cancelled.status, 202) << cancelled.body;
+  const json ended = wait_for_run(port(), id);
+  EXPECT_EQ(ended["status"], "cancelled");
+  EXPECT_LT(ended["progress"]["finished"].get<int>(), 200);
+  EXPECT_EQ(ended["progress"]["cancelled"].get<int>() + ended["progress"]["finished"].get<int>(), 200);
+  EXPECT_FALSE(ended["verdict"]["passed"].get<bool>()) << "an incomplete run never passes";
+  EXPECT_EQ(http(port(), "POST", "/api/v1/runs/" + id + "/cancel").status, 409);
+}
+
+TEST_F(RunsApi, BadSubmissionsAreRefusedAndNothingIsStored) {
+  const auto runs_before = json_of(http(port(), "GET", "/api/v1/runs?limit=100"))["items"].size();
+  struct Case {
+    json body;
+    int status;
+    std::string pointer;
+  };
+  const std::vector<Case> cases{
+      {{{"scenario", "nowhere"}, {"count", 1}}, 404, "/scenario"},
+      {{{"count", 1}}, 400, "/scenario"},
+      {{{"scenario", "queue"}}, 400, "/seeds"},
+      {{{"scenario", "queue"}, {"count", 1}, {"seeds", {1}}}, 400, "/seeds"},
+      {{{"scenario", "queue"}, {"seeds", {1, -2}}}, 400, "/seeds/1"},
+      {{{"scenario", "queue"}, {"seeds", {1, 1}}}, 400, "/seeds"},
+      {{{"scenario", "queue"}, {"count", 0}}, 400, "/count"},
+      {{{"scenario", "queue"}, {"count", 1}, {"gates", {"collisions.max == 0", "speed.max < 2"}}}, 400, "/gates/1"},
+      {{{"scenario", "queue"}, {"count", 1}, {"gates", {"collisions.median == 0"}}}, 400, "/gates/0"},
+      {{{"scenario", "queue"}, {"count", 1}, {"gates", {"collisions.max = 0"}}}, 400, "/gates/0"},
+      {{{"scenario", "queue"}, {"count", 1}, {"gates", {"collisions.max == many"}}}, 400, "/gates/0"},
+      {{{"scenario", "queue"}, {"count", 1}, {"max_time", -1}}, 400, "/max_time"},
+      {{{"scenario", "queue"}, {"count", 1}, {"requests", {{{"time", 1}, {"task", "fly"}}}}}, 400, "/requests/0"},
+      {{{"scenario", "elevator"}, {"count", 1}, {"controller", {{"type", "goal"}}}}, 400, "/controller/goal"},
+      {{{"scenario", "queue"}, {"count", 1}, {"colour", "red"}}, 400, "/colour"},
+  };
+  for (const Case& c : cases) {
+    const HttpReply reply = http(port(), "POST", "/api/v1/runs", c.body.dump());
+    EXPECT_EQ(reply.status, c.status) << c.body.dump() << "\n" << reply.body;
+    EXPECT_EQ(json_of(reply)["error"]["details"]["pointer"], c.pointer) << c.body.dump() << "\n" << reply.body;
+  }
+  EXPECT_EQ(json_of(http(port(), "GET", "/api/v1/runs?limit=100"))["items"].size(), runs_before);
+  EXPECT_EQ(http(port(), "GET", "/api/v1/runs/rnope").status, 404);
+  EXPECT_EQ(http(port(), "GET", "/api/v1/episodes/enope").status, 404);
+  EXPECT_EQ(http(port(), "GET", "/api/v1/episodes/enope/trajectory?format=xml").status, 400);
+}
+
+TEST_F(RunsApi, MetricDefinitionsAreServed) {
+  const json metrics = json_of(http(port(), "GET", "/api/v1/metrics"));
+  ASSERT_GT(metrics["items"].size(), 20u);
+  const auto find = [&](const std::string& key) {
+    for (const json& m : metrics["items"]) {
+      if (m["key"] == key) return m;
+    }
+    return json();
+  };
+  EXPECT_EQ(find("collisions")["better"], "lower");
+  EXPECT_EQ(find("collisions")["category"], "contact");
+  EXPECT_EQ(find("minimum_distance_to_people")["unit"], "m");
+  EXPECT_EQ(find("success")["better"], "higher");
+}
+
+TEST(RunsAfterAKill, ARunKilledMidwayShowsItsLostEpisodesAsInterrupted) {
+  std::string id;
+  std::filesystem::path database;
+  int stored_before_kill = 0;
+  TestServer first({"--run-jobs", "1"});
+  database = first.database();
+  const HttpReply submitted = http(first.port(), "POST", "/api/v1/runs", json{{"scenario", "elevator"}, {"count", 500}}.dump());
+  ASSERT_EQ(submitted.status, 201) << submitted.body;
+  id = json_of(submitted)["id"];
+  // Kill once a few episodes are stored: the next is in flight then.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (json_of(http(first.port(), "GET", "/api/v1/runs/" + id))["progress"]["finished"].get<int>() < 2) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  first.kill_now();
+  {
+    storage::Store store(database);
+    EXPECT_EQ(store.integrity_check(), "ok");
+    stored_before_kill = static_cast<int>(store.episode_ids_of_run(id).size());
+    EXPECT_EQ(store.run(id)->status, "running") << "nothing ran after the kill to change it";
+  }
+  // `first` stays: its folder holds the database.
+  TestServer second({"--db", database.string()});
+  const HttpReply reply = http(second.port(), "GET", "/api/v1/runs/" + id);
+  ASSERT_EQ(reply.status, 200) << reply.body;
+  const json run = json_of(reply);
+  EXPECT_EQ(run["status"], "interrupted");
+  EXPECT_EQ(run["progress"]["finished"], stored_before_kill);
+  EXPECT_EQ(run["progress"]["interrupted"], 500 - stored_before_kill);
+  EXPECT_FALSE(run["verdict"]["passed"].get<bool>());
+  // Every stored episode is whole: its metrics and trajectory are there.
+  for (const json& episode : run["episodes"]) {
+    if (episode["status"] != "finished") continue;
+    const json stored = json_of(http(second.port(), "GET", "/api/v1/episodes/" + episode["episode_id"].get<std::string>()));
+    EXPECT_FALSE(stored["metrics"].empty());
+    EXPECT_FALSE(json_of(http(second.port(), "GET", "/api/v1/episodes/" + episode["episode_id"].get<std::string>() + "/trajectory"))["agents"].empty());
+  }
+}
+
+}  // namespace
+}  // namespace hrisim::testing

@@ -1,0 +1,232 @@
+// Episode metrics on small hand-built recordings whose values are worked out by hand here.
+#include "metrics/episode_metrics.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "metrics/definitions.hpp"
+
+namespace hrisim::metrics {
+namespace {
+
+constexpr double kDt = 0.1;
+
+Body disc(int agent, double x, double y, double vx = 0.0, double vy = 0.0, double heading = 0.0, double radius = 0.3) {
+  return {agent, {x, y}, {vx, vy}, heading, radius, false};
+}
+
+Recording with_robot() {
+  Recording r;
+  r.dt = kDt;
+  r.has_robot = true;
+  r.termination = "timeout";
+  return r;
+}
+
+const MetricValue& metric(const std::vector<MetricValue>& values, const std::string& key) {
+  for (const MetricValue& value : values) {
+    if (value.key == key) return value;
+  }
+  throw std::runtime_error("no metric " + key);
+}
+double value(const std::vector<MetricValue>& values, const std::string& key) {
+  const MetricValue& m = metric(values, key);
+  if (!m.value) throw std::runtime_error(key + " is null: " + m.null_reason);
+  return *m.value;
+}
+
+TEST(EpisodeMetrics, EveryDefinitionGetsAValueOrAReasonInOrder) {
+  Recording r = with_robot();
+  r.samples.push_back({0, disc(0, 0, 0), {}});
+  const auto values = compute_episode_metrics(r);
+  ASSERT_EQ(values.size(), definitions().size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    EXPECT_EQ(values[i].key, definitions()[i].key);
+    EXPECT_NE(values[i].value.has_value(), !values[i].null_reason.empty()) << values[i].key;
+    EXPECT_TRUE(!values[i].value || std::isfinite(*values[i].value)) << values[i].key;
+  }
+}
+
+TEST(EpisodeMetrics, HeadOnApproach) {
+  // Robot from x = 0 and a person from x = 10.05 walk towards each other at 1 m/s for 3 s (31 samples).
+  // Surface distance 10.05 − 0.6 − 2t = 9.45 − 2t: 3.45 m at the end, under 3.6 m only in the last sample.
+  Recording r = with_robot();
+  for (int i = 0; i <= 30; ++i) {
+    const double t = i * kDt;
+    r.samples.push_back({i, disc(0, t, 0, 1.0, 0), {disc(1, 10.05 - t, 0, -1.0, 0, M_PI)}});
+  }
+  const auto values = compute_episode_metrics(r);
+  EXPECT_NEAR(value(values, "minimum_distance_to_people"), 3.45, 1e-12);
+  // Mean of 9.45 − 2t over t = 0 … 3: 9.45 − 3.
+  EXPECT_NEAR(value(values, "avg_distance_to_closest_person"), 6.45, 1e-12);
+  EXPECT_NEAR(value(values, "social_space_intrusions"), 100.0 / 31, 1e-12);
+  EXPECT_EQ(value(values, "personal_space_intrusions"), 0.0);
+  EXPECT_EQ(value(values, "intimate_space_intrusions"), 0.0);
+  // Closing at 2 m/s with 3.45 m to go at the last sample.
+  EXPECT_NEAR(value(values, "min_time_to_collision"), 1.725, 1e-12);
+  EXPECT_NEAR(value(values, "path_length"), 3.0, 1e-12);
+  EXPECT_NEAR(value(values, "avg_robot_linear_speed"), 1.0, 1e-12);
+  EXPECT_EQ(value(values, "max_acceleration"), 0.0);
+  EXPECT_EQ(value(values, "time_not_moving"), 0.0);
+  EXPECT_EQ(value(values, "collisions"), 0.0);
+  EXPECT_EQ(value(values, "episode_length"), 30.0);
+}
+
+TEST(EpisodeMetrics, AContactLastingSeveralStepsCountsOnce) {
+  // A still robot; the person touches it (surface distance 0) at steps 2–6, leaves, comes back at 9–10.
+  Recording r = with_robot();
+  for (int i = 0; i <= 12; ++i) {
+    const bool touching = (i >= 2 && i <= 6) || (i >= 9 && i <= 10);
+    const bool arriving = i == 2 || i == 9;
+    r.samples.push_back({i, disc(0, 0, 0), {disc(1, touching ? 0.6 : 2.0, 0, arriving ? -0.5 : 0.0, 0)}});
+  }
+  const auto values = compute_episode_metrics(r);
+  EXPECT_EQ(value(values, "collisions"), 2.0);
+  EXPECT_NEAR(value(values, "contact_time"), 7 * kDt, 1e-12);
+  EXPECT_EQ(value(values, "person_on_robot_collisions"), 2.0) << "the robot stood still";
+  EXPECT_EQ(value(values, "robot_on_person_collisions"), 0.0);
+  EXPECT_EQ(value(values, "minimum_distance_to_people"), 0.0);
+  EXPECT_NEAR(value(values, "intimate_space_intrusions"), 100.0 * 7 / 13, 1e-12);
+  EXPECT_NEAR(value(values, "discomfort_frequency"), 100.0 * 7 / 13, 1e-12);
+  EXPECT_EQ(value(values, "min_time_to_collision"), 0.0);
+}
+
+TEST(EpisodeMetrics, PhysicsContactCountsEvenAtADistanceAndBlameFollowsMotion) {
+  // The robot drives into a still person; the physics reports contact at 5 cm surface distance.
+  Recording r = with_robot();
+  for (int i = 0; i <= 4; ++i) {
+    Body person = disc(1, 1.0, 0);
+    person.touching_robot = i >= 3;
+    r.samples.push_back({i, disc(0, 0.1 * i, 0, 1.0, 0), {person}});
+  }
+  const auto values = compute_episode_metrics(r);
+  EXPECT_EQ(value(values, "collisions"), 1.0);
+  EXPECT_EQ(value(values, "robot_on_person_collisions"), 1.0);
+  EXPECT_EQ(value(values, "person_on_robot_collisions"), 0.0);
+}
+
+TEST(EpisodeMetrics, ARobotThatNeverMoves) {
+  Recording r = with_robot();
+  for (int i = 0; i < 20; ++i) r.samples.push_back({i, disc(0, 1, 1, 0, 0, 0.5), {disc(1, 5, 1)}});
+  const auto values = compute_episode_metrics(r);
+  EXPECT_NEAR(value(values, "time_not_moving"), 20 * kDt, 1e-12);
+  EXPECT_EQ(value(values, "path_length"), 0.0);
+  EXPECT_EQ(value(values, "avg_robot_linear_speed"), 0.0);
+  EXPECT_EQ(value(values, "avg_robot_angular_speed"), 0.0);
+  EXPECT_EQ(value(values, "cumulative_heading_changes"), 0.0);
+  EXPECT_FALSE(metric(values, "min_time_to_collision").value) << "nobody moves: they never meet";
+}
+
+TEST(EpisodeMetrics, NoHumansAtAll) {
+  Recording r = with_robot();
+  for (int i = 0; i < 5; ++i) r.samples.push_back({i, disc(0, 0.1 * i, 0, 1, 0), {}});
+  const auto values = compute_episode_metrics(r);
+  EXPECT_EQ(metric(values, "minimum_distance_to_people").null_reason, "no human was present");
+  EXPECT_FALSE(metric(values, "avg_distance_to_closest_person").value);
+  EXPECT_EQ(value(values, "social_space_intrusions"), 0.0);
+  EXPECT_EQ(value(values, "collisions"), 0.0);
+  EXPECT_EQ(metric(values, "success").null_reason, "the episode has neither a robot goal nor a choreography");
+}
+
+TEST(EpisodeMetrics, ASingleStep) {
+  Recording r = with_robot();
+  r.samples.push_back({0, disc(0, 0, 0, 0.5, 0), {disc(1, 2, 0)}});
+  const auto values = compute_episode_metrics(r);
+  EXPECT_EQ(value(values, "episode_length"), 0.0);
+  EXPECT_EQ(value(values, "path_length"), 0.0);
+  EXPECT_EQ(value(values, "max_robot_linear_speed"), 0.5);
+  EXPECT_EQ(metric(values, "avg_acceleration").null_reason, "an acceleration needs two steps");
+  EXPECT_EQ(metric(values, "max_jerk").null_reason, "a jerk needs three steps");
+  EXPECT_FALSE(metric(values, "avg_robot_angular_speed").value);
+  EXPECT_NEAR(value(values, "minimum_distance_to_people"), 1.4, 1e-12);
+}
+
+TEST(EpisodeMetrics, ReachingAGoal) {
+  // Straight to a goal 5 m away at 1 m/s with radius 0.5: inside from t = 4.5 s.
+  Recording r = with_robot();
+  r.goal = core::Vec2(5, 0);
+  r.goal_radius = 0.5;
+  for (int i = 0; i <= 50; ++i) r.samples.push_back({i, disc(0, 0.1 * i, 0, 1, 0), {}});
+  const auto values = compute_episode_metrics(r);
+  EXPECT_NEAR(value(values, "time_to_goal"), 4.5, 1e-12);
+  EXPECT_NEAR(value(values, "path_efficiency"), 1.0, 1e-12);
+  EXPECT_NEAR(value(values, "final_distance_to_target"), 0.0, 1e-12);
+  EXPECT_EQ(value(values, "success"), 1.0);
+  EXPECT_EQ(value(values, "failure_to_progress"), 0.0);
+}
+
+TEST(EpisodeMetrics, NotReachingAGoalWhileStuck) {
+  // 20 s stuck 3 m short of the goal: unsuccessful and no progress over the last 10 s.
+  Recording r = with_robot();
+  r.goal = core::Vec2(5, 0);
+  r.goal_radius = 0.5;
+  for (int i = 0; i <= 200; ++i) r.samples.push_back({i, disc(0, 2, 0), {}});
+  const auto values = compute_episode_metrics(r);
+  EXPECT_EQ(value(values, "success"), 0.0);
+  EXPECT_EQ(value(values, "failure_to_progress"), 1.0);
+  EXPECT_FALSE(metric(values, "time_to_goal").value);
+  EXPECT_FALSE(metric(values, "path_efficiency").value);
+  EXPECT_NEAR(value(values, "minimum_distance_to_target"), 3.0, 1e-12);
+}
+
+TEST(EpisodeMetrics, HeadingChangesWrapAroundPi) {
+  // 0 → 0.5 → −0.5 → 3.0 → −3.0: changes 0.5, 1.0, 3.5 wrapped to 2π − 3.5, 6 wrapped to 2π − 6.
+  Recording r = with_robot();
+  const double headings[] = {0.0, 0.5, -0.5, 3.0, -3.0};
+  for (int i = 0; i < 5; ++i) r.samples.push_back({i, disc(0, 0, 0, 0, 0, headings[i]), {}});
+  const auto values = compute_episode_metrics(r);
+  const double expected = 0.5 + 1.0 + (2 * M_PI - 3.5) + (2 * M_PI - 6.0);
+  EXPECT_NEAR(value(values, "cumulative_heading_changes"), expected, 1e-12);
+  EXPECT_NEAR(value(values, "avg_robot_angular_speed"), expected / 4 / kDt, 1e-9);
+}
+
+TEST(EpisodeMetrics, AccelerationAndJerkFromForwardSpeed) {
+  // Forward speeds 0, 0.1, 0.3, 0.3 at dt 0.1: accelerations 1, 2, 0; jerks 10, −20.
+  Recording r = with_robot();
+  const double speeds[] = {0.0, 0.1, 0.3, 0.3};
+  for (int i = 0; i < 4; ++i) r.samples.push_back({i, disc(0, 0, 0, speeds[i], 0), {}});
+  const auto values = compute_episode_metrics(r);
+  EXPECT_NEAR(value(values, "avg_acceleration"), 1.0, 1e-9);
+  EXPECT_NEAR(value(values, "max_acceleration"), 2.0, 1e-9);
+  EXPECT_NEAR(value(values, "avg_jerk"), 15.0, 1e-9);
+  EXPECT_NEAR(value(values, "max_jerk"), 20.0, 1e-9);
+}
+
+TEST(EpisodeMetrics, RequestsAndTheirLatency) {
+  Recording r = with_robot();
+  r.has_choreography = true;
+  r.choreography_completed = true;
+  for (int i = 0; i <= 50; ++i) r.samples.push_back({i, disc(0, 0, 0), {}});
+  r.events = {{10, "request", "robot", 1}, {12, "request", "robot", 2}, {30, "request_dropped", "robot", 2},
+              {40, "request_accepted", "ana", 1}};
+  const auto values = compute_episode_metrics(r);
+  EXPECT_EQ(value(values, "requests_sent"), 2.0);
+  EXPECT_EQ(value(values, "requests_accepted"), 1.0);
+  EXPECT_EQ(value(values, "requests_dropped"), 1.0);
+  EXPECT_NEAR(value(values, "request_latency"), 3.0, 1e-12);
+  EXPECT_EQ(value(values, "choreography_completed"), 1.0);
+  EXPECT_EQ(value(values, "success"), 1.0) << "choreography completed without a collision";
+}
+
+TEST(EpisodeMetrics, WithoutARobotOnlyEpisodeMetricsHaveValues) {
+  Recording r;
+  r.dt = kDt;
+  for (int i = 0; i < 3; ++i) r.samples.push_back({i, {}, {disc(1, i, 0)}});
+  const auto values = compute_episode_metrics(r);
+  EXPECT_EQ(value(values, "episode_length"), 2.0);
+  EXPECT_EQ(metric(values, "collisions").null_reason, "the scenario has no robot");
+  EXPECT_EQ(metric(values, "choreography_completed").null_reason, "the scenario has no choreography");
+}
+
+TEST(TimeToCollision, OverlappingParallelAndPassing) {
+  EXPECT_EQ(time_to_collision(disc(0, 0, 0), disc(1, 0.5, 0)), 0.0);
+  EXPECT_FALSE(time_to_collision(disc(0, 0, 0, 1, 0), disc(1, 2, 0, 1, 0))) << "same velocity: the gap never closes";
+  EXPECT_FALSE(time_to_collision(disc(0, 0, 0, 1, 0), disc(1, 2, 1, 0, 0))) << "passes 1 m to the side with 0.6 m of radii";
+  EXPECT_FALSE(time_to_collision(disc(0, 0, 0, -1, 0), disc(1, 2, 0))) << "moving apart";
+  // Closing at 1 m/s from a surface distance of 1.4 m.
+  EXPECT_NEAR(*time_to_collision(disc(0, 0, 0, 1, 0), disc(1, 2, 0)), 1.4, 1e-12);
+}
+
+}  // namespace
+}  // namespace hrisim::metrics
