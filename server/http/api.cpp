@@ -117,6 +117,9 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
   router->add("GET", "/api/v1/openapi.yaml", [](const Request&) {
     return Response{200, "application/yaml", std::string(embedded_file("openapi.yaml")), {}, {}};
   });
+  router->add("GET", "/api/v1/openapi.json", [](const Request&) {
+    return Response{200, "application/json", std::string(embedded_file("openapi.json")), {}, {}};
+  });
 
   router->add("GET", "/api/v1/robots", [](const Request&) {
     nlohmann::json items = nlohmann::json::array();

@@ -1,6 +1,8 @@
 // The command line as a user runs it: hrisim validate and hrisim run on real files.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -224,6 +226,40 @@ TEST(Cli, BadSeedListsExitWithTwo) {
     EXPECT_NE(result.output.find("--seeds"), std::string::npos) << seeds;
   }
   EXPECT_EQ(run_command(kHrisim + " run " + kScenarios + "/queue.json --seed 1 --seeds 1-2").exit_status, 2);
+}
+
+}  // namespace
+}  // namespace hrisim::testing
+
+namespace hrisim::testing {
+namespace {
+
+/// The shell block after `<!-- ci-job -->` in the README, exactly as a user would copy it.
+std::string readme_ci_job() {
+  std::ifstream in(std::string(HRISIM_SOURCE_DIR) + "/README.md");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto marker = text.find("<!-- ci-job -->");
+  const auto begin = text.find("```bash\n", marker);
+  const auto end = text.find("```\n", begin + 8);
+  if (marker == std::string::npos || begin == std::string::npos || end == std::string::npos) return "";
+  return text.substr(begin + 8, end - begin - 8);
+}
+
+TEST(ReadmeCiJob, PassesWithPassingGatesAndFailsOnAFailingOne) {
+  const std::string job = readme_ci_job();
+  ASSERT_FALSE(job.empty()) << "README.md has no <!-- ci-job --> block";
+  TempDir dir;
+  const std::filesystem::path script = dir.path() / "ci-job.sh";
+  std::ofstream(script) << job;
+  // From a folder of its own (it writes hrisim-junit.xml there), on a free port, with a scratch database.
+  const std::string run = "cd " + dir.path().string() + " && HRISIM=" + HRISIM_BINARY + " HRISIM_SCENARIOS=" + HRISIM_SOURCE_DIR +
+                          "/scenarios HRISIM_WEB_ROOT=" + HRISIM_SOURCE_DIR + "/web DB=" + (dir.path() / "ci.db").string() + " PORT=18" + std::to_string(100 + getpid() % 800) + " ";
+  const CommandResult passing = run_command(run + "bash " + script.string());
+  EXPECT_EQ(passing.exit_status, 0) << passing.output;
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "hrisim-junit.xml"));
+  const CommandResult failing = run_command(run + "GATES='[\"episode_length.max < 10\"]' bash " + script.string());
+  EXPECT_NE(failing.exit_status, 0) << failing.output;
+  EXPECT_NE(failing.output.find("episode_length.max < 10"), std::string::npos) << failing.output;
 }
 
 }  // namespace
