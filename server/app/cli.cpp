@@ -78,6 +78,22 @@ const std::vector<Flag>& flags() {
        [](ServeOptions& o, const std::string& v) { o.server.workers = static_cast<unsigned>(parse_unsigned("--workers", v, 0, 256)); }},
       {"run-jobs", "HRISIM_RUN_JOBS", "episodes of runs computed at once, 0 for one per core (default 0)",
        [](ServeOptions& o, const std::string& v) { o.run_jobs = static_cast<unsigned>(parse_unsigned("--run-jobs", v, 0, 256)); }},
+      {"allowed-origins", "HRISIM_ALLOWED_ORIGINS",
+       "comma-separated browser origins (e.g. https://lab.example:8443) that may open WebSockets besides the server's own (default none)",
+       [](ServeOptions& o, const std::string& v) {
+         o.allowed_origins.clear();
+         std::string_view rest(v);
+         while (!rest.empty()) {
+           const auto comma = rest.find(',');
+           const std::string_view origin = rest.substr(0, comma);
+           if (!origin.starts_with("http://") && !origin.starts_with("https://")) {
+             throw core::Error(core::ErrorCode::bad_request, "--allowed-origins: an origin is scheme://host[:port], got '" + std::string(origin) + "'",
+                               {{"option", "--allowed-origins"}});
+           }
+           o.allowed_origins.emplace_back(origin);
+           rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+         }
+       }},
       {"token", "HRISIM_TOKEN", "bearer token every /api/ route but version then requires (default none)",
        [](ServeOptions& o, const std::string& v) {
          if (v.size() < kMinimumTokenLength) {

@@ -23,6 +23,7 @@ struct ServeOptions {
   http::SessionLimits sessions;
   unsigned run_jobs = 0;               ///< episodes of runs at once, 0 for one per core
   std::string token;                   ///< bearer token every /api/ route but version requires
+  std::vector<std::string> allowed_origins;  ///< browser origins that may open WebSockets besides the server's own
   bool allow_unauthenticated = false;  ///< listen beyond loopback without a token
 };
 

@@ -61,7 +61,7 @@ int serve(const std::vector<std::string>& args) {
     std::fprintf(stderr, "hrisim: warning: listening on %s without a token: anyone who can reach it controls the simulator\n",
                  options.server.host.c_str());
   }
-  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios, options.token, options.sessions, &executor});
+  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios, options.token, options.sessions, &executor, options.allowed_origins});
   hrisim::http::Server server(options.server, router);
   std::printf("hrisim %s listening on http://%s:%u (database %s, schema version %d)\n",
               hrisim::http::version_info()["version"].get<std::string>().c_str(), options.server.host.c_str(),

@@ -6,6 +6,7 @@ std::string_view to_string(ErrorCode code) {
   switch (code) {
     case ErrorCode::bad_request: return "bad_request";
     case ErrorCode::unauthorized: return "unauthorized";
+    case ErrorCode::forbidden: return "forbidden";
     case ErrorCode::not_found: return "not_found";
     case ErrorCode::method_not_allowed: return "method_not_allowed";
     case ErrorCode::conflict: return "conflict";
@@ -22,6 +23,7 @@ int http_status(ErrorCode code) {
   switch (code) {
     case ErrorCode::bad_request: return 400;
     case ErrorCode::unauthorized: return 401;
+    case ErrorCode::forbidden: return 403;
     case ErrorCode::not_found: return 404;
     case ErrorCode::method_not_allowed: return 405;
     case ErrorCode::conflict: return 409;

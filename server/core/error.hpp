@@ -12,6 +12,7 @@ namespace hrisim::core {
 enum class ErrorCode {
   bad_request,        ///< malformed or invalid input (400)
   unauthorized,       ///< no or a wrong bearer token (401)
+  forbidden,          ///< authenticated or not, this is not allowed, e.g. a foreign Origin (403)
   not_found,          ///< unknown id or path (404)
   method_not_allowed, ///< path exists, method does not (405)
   conflict,           ///< state does not allow the operation (409)

@@ -3,6 +3,7 @@
 #include <boost/version.hpp>
 
 #include "core/build_info.hpp"
+#include "http/request_helpers.hpp"
 #include "http/runs_api.hpp"
 #include "http/scenarios_api.hpp"
 #include "http/sessions_api.hpp"
@@ -90,10 +91,18 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
     }
   });
 
+  auto tickets = std::make_shared<TicketBook>();
   if (!context.token.empty()) {
-    router->set_guard([token = context.token](const Request& request) -> std::optional<Response> {
+    router->set_guard([token = context.token, tickets](const Request& request) -> std::optional<Response> {
       const bool open = !request.path.starts_with("/api/") || request.path == "/api/v1/version";
       if (open) return std::nullopt;
+      // A browser opens a session's WebSocket with a ticket from an authenticated POST instead.
+      constexpr std::string_view kSessions = "/api/v1/sessions/", kSocket = "/ws";
+      if (const auto ticket = query_value(request.query, "ticket");
+          ticket && request.path.starts_with(kSessions) && request.path.ends_with(kSocket) && request.path.size() > kSessions.size() + kSocket.size()) {
+        const std::string session = request.path.substr(kSessions.size(), request.path.size() - kSessions.size() - kSocket.size());
+        if (tickets->redeem(*ticket, session)) return std::nullopt;
+      }
       const auto header = request.headers.find("authorization");
       const std::string given = header == request.headers.end() ? "" : header->second;
       const std::string expected = "Bearer " + token;
@@ -140,7 +149,7 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
 
   auto catalogue = std::make_shared<ScenarioCatalogue>(store, context.scenarios_dir);
   add_scenario_routes(*router, catalogue);
-  add_session_routes(*router, catalogue, context.sessions);
+  add_session_routes(*router, catalogue, context.sessions, {tickets, context.allowed_origins});
   add_run_routes(*router, catalogue, store, context.executor);
 
   auto files = std::make_shared<StaticFiles>(context.web_root);

@@ -2,6 +2,8 @@
 // The REST API of hrisim: builds the router with every endpoint, bound to the services it needs.
 #include <filesystem>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "http/router.hpp"
 #include "http/session_limits.hpp"
@@ -22,6 +24,7 @@ struct ApiContext {
   std::string token;                     ///< when set, /api/ routes but version need "Bearer <token>"
   SessionLimits sessions;                ///< how many live sessions, how long they may idle
   runs::Executor* executor = nullptr;    ///< runs the episodes of runs; must outlive the router
+  std::vector<std::string> allowed_origins;  ///< browser origins that may open WebSockets besides the server's own
 };
 
 /// Build and library versions, as served at /api/v1/version.

@@ -42,13 +42,26 @@ struct Response {
 
 using Handler = std::function<Response(const Request&)>;
 
+/// Content type of an answer sent as a binary WebSocket message.
+inline constexpr const char* kBinaryContentType = "application/octet-stream";
+
 /// One WebSocket peer: each text message in gets one answer out, in order (a message is not read
-/// before the previous one is answered). The answer's body is the text sent back; it may be deferred
-/// to the worker pool like an HTTP answer.
+/// before the previous one is answered). The answer's body is what is sent back — as a binary message
+/// when its content type is kBinaryContentType — and it may be deferred to the worker pool like an
+/// HTTP answer. A peer may also subscribe to frames pushed at a rate; those are dropped, oldest first,
+/// when the client reads too slowly, answers never are.
 class WebSocketPeer {
  public:
   virtual ~WebSocketPeer() = default;
   virtual Response on_message(const std::string& text) = 0;
+  /// Pushed frames per second wanted now (0: none); read after every answer and every frame.
+  virtual double push_rate() const { return 0.0; }
+  /// The frame to push now, or nothing to skip this one. Runs on the connection's I/O strand: it must
+  /// not wait (e.g. skip when the session is busy). `dropped`: frames dropped so far on this socket.
+  virtual std::optional<std::string> push_frame(std::uint64_t dropped) {
+    (void)dropped;
+    return std::nullopt;
+  }
 };
 
 /// Makes the peer for an upgrade request (throws core::Error to refuse it: 404, 401, …).

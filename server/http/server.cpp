@@ -1,11 +1,14 @@
 #include "http/server.hpp"
 
+#include <algorithm>
 #include <atomic>
+
 #include <boost/asio/dispatch.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/thread_pool.hpp>
@@ -43,6 +46,8 @@ class WebSocketSession;
 
 /// Largest WebSocket message accepted; bigger ones close the connection (code 1009).
 constexpr std::size_t kMaxWebSocketMessage = 1 << 20;
+/// Pushed frames waiting behind the write in flight at most; an older one is dropped for a newer.
+constexpr std::size_t kMaxQueuedFrames = 4;
 
 /// State shared by the listener and every connection.
 struct Shared {
@@ -57,7 +62,9 @@ struct Shared {
 
 /// A WebSocket connection: one message read, answered (on the worker pool when deferred), its
 /// answer queued, then the next read — so answers come in the order of the messages. Writes go out one
-/// at a time from a queue. Beast's suggested server timeouts ping idle peers and drop dead ones.
+/// at a time from a queue; pushed frames join it at the peer's rate, and a slow reader loses the
+/// oldest queued frames, never answers. Beast's suggested server timeouts ping idle peers and drop
+/// dead ones.
 class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
  public:
   WebSocketSession(tcp::socket&& socket, std::shared_ptr<WebSocketPeer> peer, std::shared_ptr<Shared> shared)
@@ -84,6 +91,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   /// On shutdown: a normal close.
   void close() {
     net::dispatch(ws_.get_executor(), [self = shared_from_this()] {
+      self->push_timer_.cancel();
       self->ws_.async_close(beast::websocket::close_code::going_away, [self](beast::error_code) {});
     });
   }
@@ -106,7 +114,8 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
       response = Response::error(e);
     }
     if (!response.deferred) {
-      send(std::move(response.body));
+      send({std::move(response.body), response.content_type == kBinaryContentType, false});
+      schedule_push();
       return read();
     }
     net::post(*shared_->workers, [self = shared_from_this(), work = std::move(response.deferred),
@@ -120,23 +129,54 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
         std::fprintf(stderr, "hrisim: internal error on a WebSocket: %s\n", e.what());
         result = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
       }
-      net::post(self->ws_.get_executor(), [self, body = std::move(result.body)]() mutable {
-        self->send(std::move(body));
+      net::post(self->ws_.get_executor(), [self, result = std::move(result)]() mutable {
+        self->send({std::move(result.body), result.content_type == kBinaryContentType, false});
+        self->schedule_push();
         self->read();
       });
     });
   }
 
-  void send(std::string text) {
-    outbox_.push_back(std::move(text));
+  struct Outgoing {
+    std::string data;
+    bool binary = false;
+    bool droppable = false;  ///< a pushed frame, not an answer
+  };
+
+  void send(Outgoing message) {
+    if (message.droppable) {
+      // The first message may be in flight; of the rest, the oldest frame makes room.
+      const auto queued = std::count_if(outbox_.begin() + (outbox_.empty() ? 0 : 1), outbox_.end(),
+                                        [](const Outgoing& m) { return m.droppable; });
+      if (static_cast<std::size_t>(queued) >= kMaxQueuedFrames) {
+        outbox_.erase(std::find_if(outbox_.begin() + 1, outbox_.end(), [](const Outgoing& m) { return m.droppable; }));
+        ++dropped_;
+      }
+    }
+    outbox_.push_back(std::move(message));
     if (outbox_.size() == 1) write_next();
   }
 
   void write_next() {
-    ws_.async_write(net::buffer(outbox_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    ws_.binary(outbox_.front().binary);
+    ws_.async_write(net::buffer(outbox_.front().data), [self = shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) return;
       self->outbox_.pop_front();
       if (!self->outbox_.empty()) self->write_next();
+    });
+  }
+
+  /// Starts pushing frames when the peer wants them and no timer runs yet.
+  void schedule_push() {
+    const double rate = peer_->push_rate();
+    if (rate <= 0.0 || pushing_) return;
+    pushing_ = true;
+    push_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate)));
+    push_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
+      self->pushing_ = false;
+      if (ec || !self->ws_.is_open()) return;
+      if (auto frame = self->peer_->push_frame(self->dropped_)) self->send({std::move(*frame), false, true});
+      self->schedule_push();
     });
   }
 
@@ -144,7 +184,10 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   std::shared_ptr<WebSocketPeer> peer_;
   std::shared_ptr<Shared> shared_;
   beast::flat_buffer buffer_;
-  std::deque<std::string> outbox_;  ///< answers waiting to be written, the first one being written
+  std::deque<Outgoing> outbox_;  ///< waiting to be written, the first one being written
+  net::steady_timer push_timer_{ws_.get_executor()};
+  bool pushing_ = false;       ///< the push timer runs
+  std::uint64_t dropped_ = 0;  ///< pushed frames dropped for a slow reader
 };
 
 std::string utc_timestamp() {

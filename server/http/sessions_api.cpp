@@ -1,6 +1,8 @@
 #include "http/sessions_api.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstring>
 #include <cmath>
 #include <functional>
 #include <iomanip>
@@ -350,10 +352,53 @@ class Registry {
   std::map<std::string, std::shared_ptr<Live>> sessions_;
 };
 
+/// Most state frames per second a WebSocket subscription may ask for.
+constexpr double kMaxPushRate = 60.0;
+
+/// A laser scan as a binary WebSocket message: a 56-byte little-endian header, then the ranges as
+/// float32 (REP 117: +inf beyond range_max, -inf closer than range_min). Layout in api/asyncapi.yaml.
+std::string laser_frame(const sim::LaserReading& reading, double dt) {
+  static_assert(std::endian::native == std::endian::little, "binary frames are written in the host's byte order");
+  std::string frame(56 + 4 * reading.ranges.size(), '\0');
+  char* out = frame.data();
+  const auto put = [&](std::size_t offset, auto value) { std::memcpy(out + offset, &value, sizeof value); };
+  std::memcpy(out, "HRLS", 4);
+  put(4, std::uint16_t{1});   // format version
+  put(6, std::uint16_t{56});  // header size
+  put(8, std::int64_t{reading.tick});
+  put(16, static_cast<double>(reading.tick) * dt);
+  put(24, static_cast<float>(reading.pose.x));
+  put(28, static_cast<float>(reading.pose.y));
+  put(32, static_cast<float>(reading.pose.theta));
+  put(36, static_cast<float>(reading.angle_min));
+  put(40, static_cast<float>(reading.angle_increment));
+  put(44, static_cast<float>(reading.range_min));
+  put(48, static_cast<float>(reading.range_max));
+  put(52, static_cast<std::uint32_t>(reading.ranges.size()));
+  for (std::size_t i = 0; i < reading.ranges.size(); ++i) put(56 + 4 * i, static_cast<float>(reading.ranges[i]));
+  return frame;
+}
+
+/// A robot's laser reading by sensor name (the first laser when empty), as a binary frame.
+std::string laser_of(const sim::Session& session, const std::string& robot, const std::string& sensor) {
+  const int agent = session.model().find_agent(robot);
+  const sim::RobotRuntime* runtime = agent < 0 ? nullptr : session.robot_runtime(session.agent_id(robot));
+  if (!runtime) throw core::Error(core::ErrorCode::not_found, "no robot with a model named '" + robot + "'", {{"pointer", "/robot"}});
+  for (const auto& laser : runtime->lasers) {
+    if (sensor.empty() || laser.reading.sensor == sensor) return laser_frame(laser.reading, session.model().dt);
+  }
+  throw core::Error(core::ErrorCode::not_found, "robot '" + robot + "' has no laser" + (sensor.empty() ? "" : " named '" + sensor + "'"),
+                    {{"pointer", sensor.empty() ? "/robot" : "/sensor"}});
+}
+
 /// A session's WebSocket: lockstep messages, one answer each, in order.
 ///   {"type": "step", "n": 1}        → {"type": "step", …status, events, terminated, truncated}
 ///   {"type": "commands", "commands": [...]} → {"type": "commands", "applied", "tick"}
 ///   {"type": "state", "events_since": 0}    → {"type": "state", …}
+///   {"type": "sensors", "robot": "robot"}   → {"type": "sensors", …}
+///   {"type": "laser", "robot": "robot", "sensor": "base_laser"} → a binary laser frame
+///   {"type": "subscribe", "rate": 10}       → {"type": "subscribed", "rate"}, then state frames pushed
+///     at that rate (0 stops them): {"type": "state_frame", …state, new events, dropped_frames}
 /// A wrong message gets {"type": "error", "error": {code, message, details}} and the socket stays open.
 class SessionSocket : public WebSocketPeer {
  public:
@@ -395,16 +440,64 @@ class SessionSocket : public WebSocketPeer {
         std::lock_guard lock(live->mutex);
         return reply("sensors", sensors_of(*live->session, body["robot"]));
       }
+      if (type == "laser") {
+        refuse_unknown_keys(body, {"robot", "sensor"});
+        if (!body.contains("robot") || !body["robot"].is_string()) {
+          throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
+        }
+        if (body.contains("sensor") && !body["sensor"].is_string()) {
+          throw core::Error(core::ErrorCode::bad_request, "sensor: a laser's name", {{"pointer", "/sensor"}});
+        }
+        std::lock_guard lock(live->mutex);
+        return Response{200, kBinaryContentType, laser_of(*live->session, body["robot"], body.value("sensor", "")), {}, {}};
+      }
+      if (type == "subscribe") {
+        refuse_unknown_keys(body, {"rate"});
+        if (!body.contains("rate") || !body["rate"].is_number() || !(body["rate"].get<double>() >= 0.0) ||
+            body["rate"].get<double>() > kMaxPushRate) {
+          throw core::Error(core::ErrorCode::bad_request, "rate: frames per second from 0 (stop) to " + std::to_string(static_cast<int>(kMaxPushRate)),
+                            {{"pointer", "/rate"}});
+        }
+        rate_ = body["rate"].get<double>();
+        return reply("subscribed", {{"rate", rate_}});
+      }
       if (type == "state") {
         refuse_unknown_keys(body, {"events_since"});
         const auto since = integer_field(body, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
         std::lock_guard lock(live->mutex);
         return reply("state", state_of(*live, since));
       }
-      throw core::Error(core::ErrorCode::bad_request, "type must be step, commands, state or sensors", {{"pointer", "/type"}});
+      throw core::Error(core::ErrorCode::bad_request, "type must be step, commands, state, sensors, laser or subscribe", {{"pointer", "/type"}});
     } catch (const core::Error& e) {
       return failure(e);
     }
+  }
+
+  double push_rate() const override { return rate_; }
+
+  std::optional<std::string> push_frame(std::uint64_t dropped) override {
+    std::shared_ptr<Live> live;
+    try {
+      live = registry_->find(id_);
+    } catch (const core::Error&) {
+      rate_ = 0.0;  // the session is gone
+      return std::nullopt;
+    }
+    std::unique_lock lock(live->mutex, std::try_to_lock);
+    if (!lock) return std::nullopt;  // stepping: the next frame will show it
+    const auto& events = live->session->state().events;
+    if (events_pushed_ > events.size()) events_pushed_ = 0;  // the session was reset
+    const std::int64_t tick = live->session->state().tick;
+    if (tick == pushed_tick_ && events_pushed_ == events.size()) return std::nullopt;  // nothing new
+    json frame = state_of(*live, std::numeric_limits<std::int64_t>::max());
+    json fresh = json::array();
+    for (std::size_t e = events_pushed_; e < events.size(); ++e) fresh.push_back(event_json(events[e]));
+    frame["events"] = fresh;
+    frame["dropped_frames"] = dropped;
+    frame["type"] = "state_frame";
+    events_pushed_ = events.size();
+    pushed_tick_ = tick;
+    return frame.dump();
   }
 
  private:
@@ -420,6 +513,10 @@ class SessionSocket : public WebSocketPeer {
 
   std::shared_ptr<Registry> registry_;
   std::string id_;
+  // Touched on the connection's strand only.
+  double rate_ = 0.0;              ///< state frames per second subscribed to
+  std::size_t events_pushed_ = 0;  ///< events before this index were in a frame
+  std::int64_t pushed_tick_ = -1;
 };
 
 /// A 503 for too many sessions carries Retry-After.
@@ -429,9 +526,21 @@ Response refused(const core::Error& error) {
   return response;
 }
 
+/// A browser's Origin may open a WebSocket when it is the server's own (same host and port) or listed.
+/// Clients that are not browsers send no Origin.
+bool origin_allowed(const Request& request, const std::vector<std::string>& allowed) {
+  const auto origin = request.headers.find("origin");
+  if (origin == request.headers.end()) return true;
+  const auto host = request.headers.find("host");
+  const std::string& value = origin->second;
+  const auto scheme_end = value.find("://");
+  if (host != request.headers.end() && scheme_end != std::string::npos && value.substr(scheme_end + 3) == host->second) return true;
+  return std::find(allowed.begin(), allowed.end(), value) != allowed.end();
+}
+
 }  // namespace
 
-void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits) {
+void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, WebSocketAccess access) {
   auto registry = std::make_shared<Registry>(limits);
 
   router.add("POST", "/api/v1/sessions", [catalogue, registry](const Request& request) {
@@ -466,10 +575,23 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     return Response::json(200, {{"items", items}});
   });
 
-  router.add_websocket("/api/v1/sessions/{id}/ws", [registry](const Request& request) -> std::shared_ptr<WebSocketPeer> {
+  router.add_websocket("/api/v1/sessions/{id}/ws", [registry, allowed = access.allowed_origins](const Request& request) -> std::shared_ptr<WebSocketPeer> {
     const std::string& id = request.path_params.at("id");
+    if (!origin_allowed(request, allowed)) {
+      throw core::Error(core::ErrorCode::forbidden, "WebSocket from origin " + request.headers.at("origin") + " refused (see --allowed-origins)",
+                        {{"origin", request.headers.at("origin")}});
+    }
     registry->find(id);  // 404 for an unknown session, before the upgrade
     return std::make_shared<SessionSocket>(registry, id);
+  });
+
+  router.add("POST", "/api/v1/sessions/{id}/ws-ticket", [registry, tickets = access.tickets](const Request& request) {
+    const std::string& id = request.path_params.at("id");
+    registry->find(id);
+    const std::string ticket = tickets->issue(id);
+    return Response::json(201, {{"ticket", ticket},
+                                {"expires_in", kTicketLifetime.count()},
+                                {"url", "/api/v1/sessions/" + id + "/ws?ticket=" + ticket}});
   });
 
   router.add("GET", "/api/v1/sessions/{id}", [registry](const Request& request) {

@@ -3,13 +3,22 @@
 // (on the worker pool), delete it. Sessions have unguessable ids (128 random bits), expire when idle,
 // and are limited in number (503 with Retry-After beyond).
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "http/router.hpp"
 #include "http/session_limits.hpp"
 #include "http/scenario_catalogue.hpp"
+#include "http/ws_tickets.hpp"
 
 namespace hrisim::http {
 
-void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits);
+/// Who may open a session's WebSocket besides a client with the bearer token.
+struct WebSocketAccess {
+  std::shared_ptr<TicketBook> tickets;       ///< tickets issued by POST …/ws-ticket
+  std::vector<std::string> allowed_origins;  ///< browser origins besides the server's own
+};
+
+void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, WebSocketAccess access);
 
 }  // namespace hrisim::http

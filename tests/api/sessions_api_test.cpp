@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -259,10 +261,16 @@ class WebSocketClient {
   }
 
   json exchange(const json& message) {
-    ws_.write(net::buffer(message.dump()));
+    send(message);
+    return json::parse(next());
+  }
+  void send(const json& message) { ws_.write(net::buffer(message.dump())); }
+  /// The next message from the server, as bytes; `binary` says whether it came as a binary message.
+  std::string next(bool* binary = nullptr) {
     beast::flat_buffer buffer;
     ws_.read(buffer);
-    return json::parse(beast::buffers_to_string(buffer.data()));
+    if (binary) *binary = ws_.got_binary();
+    return beast::buffers_to_string(buffer.data());
   }
 
   int status = 0;
@@ -323,6 +331,65 @@ TEST(SessionWebSocket, UpgradesAreRefusedForUnknownSessionsAndWithoutTheToken) {
   WebSocketClient authorised(port, "/api/v1/sessions/" + id + "/ws", "Bearer a-token-of-16-chars");
   EXPECT_EQ(authorised.status, 0);
   EXPECT_EQ(authorised.exchange({{"type", "step"}})["tick"], 1);
+}
+
+TEST(SessionWebSocket, ABrowserOpensItWithAOneTimeTicketFromItsOwnOrigin) {
+  TestServer server({"--token", "a-token-of-16-chars", "--allowed-origins", "https://lab.example:8443"});
+  const std::uint16_t port = server.port();
+  const std::string auth = "Authorization: Bearer a-token-of-16-chars\r\n";
+  const auto create = [&] { return json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "queue"})", auth))["id"].get<std::string>(); };
+  const std::string id = create(), other = create();
+  EXPECT_EQ(http(port, "POST", "/api/v1/sessions/" + id + "/ws-ticket").status, 401) << "tickets come from authenticated requests only";
+  const auto ticket = [&](const std::string& session) {
+    const HttpReply reply = http(port, "POST", "/api/v1/sessions/" + session + "/ws-ticket", "", auth);
+    EXPECT_EQ(reply.status, 201) << reply.body;
+    EXPECT_EQ(json_of(reply)["expires_in"], 30);
+    return json_of(reply)["ticket"].get<std::string>();
+  };
+  const std::string first = ticket(id);
+  WebSocketClient with_ticket(port, "/api/v1/sessions/" + id + "/ws?ticket=" + first);
+  EXPECT_EQ(with_ticket.status, 0);
+  EXPECT_EQ(with_ticket.exchange({{"type", "step"}})["tick"], 1);
+  EXPECT_EQ(upgrade(port, "/api/v1/sessions/" + id + "/ws?ticket=" + first).status, 401) << "a ticket opens one socket";
+  EXPECT_EQ(upgrade(port, "/api/v1/sessions/" + other + "/ws?ticket=" + ticket(id)).status, 401) << "a ticket is for one session";
+  EXPECT_EQ(http(port, "POST", "/api/v1/sessions/s00/ws-ticket", "", auth).status, 404);
+  // A page from another site may not drive the session; the server's own pages and listed origins may.
+  EXPECT_EQ(upgrade(port, "/api/v1/sessions/" + id + "/ws", auth + "Origin: http://evil.example\r\n").status, 403);
+  EXPECT_EQ(upgrade(port, "/api/v1/sessions/" + id + "/ws", auth + "Origin: http://127.0.0.1\r\n").status, 101);
+  EXPECT_EQ(upgrade(port, "/api/v1/sessions/" + id + "/ws", auth + "Origin: https://lab.example:8443\r\n").status, 101);
+}
+
+TEST(SessionWebSocket, StateFramesArePushedAtTheSubscribedRate) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const std::string id = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 2})"))["id"];
+  WebSocketClient viewer(port, "/api/v1/sessions/" + id + "/ws");
+  EXPECT_EQ(viewer.exchange({{"type", "subscribe"}, {"rate", 61}})["error"]["details"]["pointer"], "/rate");
+  const json subscribed = viewer.exchange({{"type", "subscribe"}, {"rate", 20}});
+  EXPECT_EQ(subscribed["type"], "subscribed");
+  EXPECT_EQ(subscribed["rate"], 20.0);
+  // Another client steps the session; the viewer sees frames until one shows the last tick, each
+  // event in exactly one frame.
+  for (int i = 0; i < 3; ++i) http(port, "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 30})");
+  std::map<std::string, int> seen;
+  json frame;
+  do {
+    frame = json::parse(viewer.next());
+    ASSERT_EQ(frame["type"], "state_frame") << frame.dump();
+    EXPECT_EQ(frame["agents"].size(), 7u);
+    for (const json& event : frame["events"]) ++seen[event.dump()];
+  } while (frame["tick"] != 90);
+  EXPECT_EQ(frame["dropped_frames"], 0);
+  EXPECT_FALSE(seen.empty());
+  for (const auto& [event, count] : seen) EXPECT_EQ(count, 1) << event;
+  // Rate 0 stops the frames; answers still come, in order.
+  viewer.send({{"type", "subscribe"}, {"rate", 0}});
+  json reply;
+  do {
+    reply = json::parse(viewer.next());
+  } while (reply["type"] == "state_frame");
+  EXPECT_EQ(reply["type"], "subscribed");
+  EXPECT_EQ(viewer.exchange({{"type", "step"}})["tick"], 91);
 }
 
 }  // namespace
@@ -419,6 +486,34 @@ TEST(SessionSensors, TheRobotsLatestReadingsOverRestAndWebSocket) {
   EXPECT_EQ(over_socket["type"], "sensors");
   EXPECT_EQ(over_socket["lasers"][0]["ranges"], scan["ranges"]);
   EXPECT_EQ(client.exchange({{"type", "sensors"}})["error"]["details"]["pointer"], "/robot");
+
+  // The same scan as a binary message: a 56-byte little-endian header, then float32 ranges.
+  client.send({{"type", "laser"}, {"robot", "robot"}});
+  bool binary = false;
+  const std::string frame = client.next(&binary);
+  ASSERT_TRUE(binary);
+  ASSERT_EQ(frame.size(), 56u + 4u * 1081u);
+  const auto read = [&]<typename T>(std::size_t offset, T) {
+    T value;
+    std::memcpy(&value, frame.data() + offset, sizeof value);
+    return value;
+  };
+  EXPECT_EQ(frame.substr(0, 4), "HRLS");
+  EXPECT_EQ(read(4, std::uint16_t{}), 1);
+  EXPECT_EQ(read(6, std::uint16_t{}), 56);
+  EXPECT_EQ(read(8, std::int64_t{}), scan["tick"].get<std::int64_t>());
+  EXPECT_FLOAT_EQ(read(36, float{}), static_cast<float>(scan["angle_min"].get<double>()));
+  EXPECT_FLOAT_EQ(read(48, float{}), static_cast<float>(scan["range_max"].get<double>()));
+  EXPECT_EQ(read(52, std::uint32_t{}), 1081u);
+  for (std::size_t i = 0; i < 1081; ++i) {
+    const float range = read(56 + 4 * i, float{});
+    if (scan["ranges"][i].is_number()) {
+      EXPECT_FLOAT_EQ(range, static_cast<float>(scan["ranges"][i].get<double>())) << i;
+    } else {
+      EXPECT_EQ(range, scan["ranges"][i] == "inf" ? INFINITY : -INFINITY) << i;
+    }
+  }
+  EXPECT_EQ(client.exchange({{"type", "laser"}, {"robot", "robot"}, {"sensor", "nose"}})["error"]["details"]["pointer"], "/sensor");
 }
 
 }  // namespace

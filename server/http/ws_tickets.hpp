@@ -1,0 +1,30 @@
+#pragma once
+// Short-lived, single-use tickets for opening a session's WebSocket from a browser, which cannot put
+// an Authorization header on the upgrade: an authenticated POST gets one, the upgrade URL carries it.
+#include <chrono>
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace hrisim::http {
+
+/// How long a WebSocket ticket may wait to be used.
+inline constexpr std::chrono::seconds kTicketLifetime{30};
+
+class TicketBook {
+ public:
+  /// A new ticket for the WebSocket of session `session_id`.
+  std::string issue(const std::string& session_id);
+  /// True, once, for an unexpired ticket issued for this session.
+  bool redeem(const std::string& ticket, const std::string& session_id);
+
+ private:
+  struct Ticket {
+    std::string session_id;
+    std::chrono::steady_clock::time_point expires;
+  };
+  std::mutex mutex_;
+  std::map<std::string, Ticket> tickets_;
+};
+
+}  // namespace hrisim::http
