@@ -28,6 +28,7 @@ describe('hrisim contract', () => {
   require('./areas/scenarios');
   require('./areas/sessions');
   require('./areas/session_socket');
+  require('./areas/runs');
 
   it('exercised every operation of both specs', () => {
     assert.deepEqual(unexercisedOperations(), [], 'operations no test has seen succeed');

@@ -52,6 +52,21 @@ describe('session WebSocket', () => {
     assert.equal(unknown.error.code, 'not_found');
   });
 
+  it('step replies hold each event once, those of the start and of commands included', async () => {
+    const own = await api.post('/api/v1/sessions', { scenario: 'elevator', seed: 2 });
+    const ownSocket = await api.openSocket(own.json.id);
+    const first = await ownSocket.send({ type: 'step' });
+    await ownSocket.send({ type: 'commands', commands: [{ human: 'ada', command: 'wait 1' }] });
+    const second = await ownSocket.send({ type: 'step', n: 10 });
+    const third = await ownSocket.send({ type: 'step', n: 10 });
+    const all = (await ownSocket.send({ type: 'state', events_since: 0 })).events;
+    ownSocket.close();
+    await api.delete(`/api/v1/sessions/${own.json.id}`);
+    assert.ok(first.events.some((event) => event.tick === 0), "the start's events come with the first step");
+    assert.ok(second.events.some((event) => event.kind === 'command'), "the command's event comes with the next step");
+    assert.deepEqual([...first.events, ...second.events, ...third.events], all);
+  });
+
   it('wrong messages get errors and the socket stays open', async () => {
     const wrong = [['not json', undefined], [{ type: 'jump' }, '/type'], [{ type: 'step', n: 0 }, '/n'],
       [{ type: 'state', events_since: -1 }, '/events_since'], [{ type: 'step', legs: 2 }, '/legs']];

@@ -135,6 +135,24 @@ describe('sessions', () => {
     assert.ok(state.json.events.some((event) => event.kind === 'command' && event.data.text === 'wait 1'), 'event "command"');
   });
 
+  // "The status after the steps, with the events they produced": each event in exactly one step reply,
+  // those of the session's start and of commands in the next one.
+  it('POST /step: consecutive replies share no event and together hold every event', async () => {
+    const own = await createSession('elevator', 2);
+    const ownAt = (suffix) => `/api/v1/sessions/${own.id}${suffix}`;
+    const first = await api.post(ownAt('/step'), { n: 1 });
+    await api.post(ownAt('/commands'), { commands: [{ human: 'ada', command: 'wait 1' }] });
+    const second = await api.post(ownAt('/step'), { n: 10 });
+    const third = await api.post(ownAt('/step'), { n: 10 });
+    const all = (await api.get(ownAt('/state?events_since=0'))).json.events;
+    await api.delete(ownAt(''));
+    assert.ok(first.json.events.some((event) => event.tick === 0), "the start's events come with the first step");
+    assert.ok(second.json.events.some((event) => event.kind === 'command'), "the command's event comes with the next step");
+    const seen = new Set(first.json.events.map((event) => JSON.stringify(event)));
+    assert.deepEqual(second.json.events.filter((event) => seen.has(JSON.stringify(event))), []);
+    assert.deepEqual([...first.json.events, ...second.json.events, ...third.json.events], all);
+  });
+
   it('POST /api/v1/sessions/{id}/commands: 400 names the wrong command, none is given', async () => {
     const reply = await api.post(at('/commands'), { commands: [{ human: 'ada', command: 'walk 1 1' }, { robot: 'robot', gripper: 'squeeze' }] });
     assert.equal(reply.status, 400);
@@ -219,17 +237,6 @@ describe('a session with a cup in the HSR\'s open hand', () => {
     const { contacts } = (await api.get(`/api/v1/sessions/${cup.id}/robots/hsr/sensors`)).json;
     assert.deepEqual(contacts, [{ with: 'cup', part: 'cup' }]);
     await api.delete(`/api/v1/sessions/${cup.id}`);
-  });
-
-  // "The status after the steps, with the events they produced": an event belongs to one step reply.
-  it('POST /step: consecutive replies share no event', { todo: 'server: events stamped with the tick a step starts at come again (sessions_api.cpp step_session)' }, async () => {
-    const cup = await createSession(scenario);
-    const first = await api.post(`/api/v1/sessions/${cup.id}/step`, { n: 1 });
-    const second = await api.post(`/api/v1/sessions/${cup.id}/step`, { n: 10 });
-    await api.delete(`/api/v1/sessions/${cup.id}`);
-    assert.ok(first.json.events.length > 0);
-    const seen = new Set(first.json.events.map((event) => JSON.stringify(event)));
-    assert.deepEqual(second.json.events.filter((event) => seen.has(JSON.stringify(event))), []);
   });
 
   it('PUT /poses/{name} places the cup at rest; 409 once the gripper holds it', async () => {

@@ -10,11 +10,15 @@ const { repoRoot } = require('./contract');
 const START_LIMIT_MS = 20000;
 const STOP_LIMIT_MS = 20000;
 
-/** Starts a server with `extraArgs` after the defaults; resolves once it prints the port it listens on. */
-async function startServer(extraArgs = []) {
+/**
+ * Starts a server with `extraArgs` after the defaults; resolves once it prints the port it listens on.
+ * Its database is in a new temporary folder, removed when it stops, or in `dir` (kept) when given, so
+ * that a second server can open what a first one left.
+ */
+async function startServer(extraArgs = [], { dir: keptDir } = {}) {
   const binary = process.env.HRISIM_BINARY;
   if (!binary) throw new Error('set HRISIM_BINARY to the hrisim binary, e.g. build/test/server/app/hrisim');
-  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'hrisim-contract-'));
+  const dir = keptDir ?? fs.mkdtempSync(path.join(os.tmpdir(), 'hrisim-contract-'));
   // The caller's HRISIM_* variables (a token, another port) must not change the server under test.
   const env = Object.fromEntries(Object.entries(process.env).filter(([name]) => !name.startsWith('HRISIM_')));
   env.HRISIM_SCENARIOS = path.join(repoRoot, 'scenarios');
@@ -52,8 +56,15 @@ async function startServer(extraArgs = []) {
       clearTimeout(timer);
       process.off('exit', killOnExit);
       if (status === 'timeout') child.kill('SIGKILL');
-      fs.rmSync(dir, { recursive: true, force: true });
+      if (!keptDir) fs.rmSync(dir, { recursive: true, force: true });
       if (status !== 0) throw new Error(`hrisim serve did not stop cleanly (${status}):\n${output}`);
+    },
+    /** SIGKILL, as a crash: the server gets no chance to tidy up. Resolves once it is gone. */
+    async kill() {
+      child.kill('SIGKILL');
+      await exited;
+      process.off('exit', killOnExit);
+      if (!keptDir) fs.rmSync(dir, { recursive: true, force: true });
     },
   };
 }
