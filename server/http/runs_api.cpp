@@ -27,6 +27,7 @@ constexpr int kMaxRunsPerPage = 100;
 
 std::vector<std::uint64_t> seeds_of(const json& body) {
   if (body.contains("seeds") == body.contains("count")) bad("/seeds", "give either seeds (a list) or count (with an optional first_seed)");
+  if (body.contains("seeds") && body.contains("first_seed")) bad("/first_seed", "first_seed goes with count, not with a list of seeds");
   std::vector<std::uint64_t> seeds;
   if (body.contains("seeds")) {
     if (!body["seeds"].is_array()) bad("/seeds", "seeds must be a list of integers");
@@ -184,7 +185,7 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
                        {"finished_at", report["finished_at"]},
                        {"progress", report["progress"]},
                        {"success_rate", report["rates"]["success_rate"]},
-                       {"verdict", report["verdict"]["passed"]}});
+                       {"verdict", {{"passed", report["verdict"]["passed"]}, {"complete", report["verdict"]["complete"]}}}});
     }
     json reply{{"items", items}};
     reply["next_cursor"] = static_cast<int>(page.size()) == limit ? json(page.back().id) : json();

@@ -1,20 +1,25 @@
 #include "http/sessions_api.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <iomanip>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <thread>
 
 #include "core/error.hpp"
+#include "core/json_schema.hpp"
 #include "core/random.hpp"
 #include "http/request_helpers.hpp"
+#include "runs/spec.hpp"
 #include "sim/session.hpp"
+#include "tasks/environment.hpp"
 
 namespace hrisim::http {
 namespace {
@@ -25,11 +30,39 @@ using Clock = std::chrono::steady_clock;
 struct Live {
   std::string id, scenario;
   std::int64_t seed = 0;
+  std::string mode = "lockstep";  ///< lockstep: clients step it; realtime: the server does, by the wall clock
+  double realtime_factor = 1.0;   ///< realtime: simulated seconds per wall-clock second
+  std::optional<json> controller;  ///< replaced the robot under test's, when given
   std::mutex mutex;  ///< one request at a time works on the session
   std::unique_ptr<sim::Session> session;
+  std::optional<tasks::Environment> environment;  ///< the Gymnasium view; none without a robot that can act
   std::size_t events_reported = 0;  ///< events before this index were in a step reply already
   Clock::time_point last_used;
+  std::atomic<int> clients{0};  ///< WebSockets open on it
+  // Realtime: the wall-clock time and tick it was last (re)started from.
+  Clock::time_point realtime_origin;
+  std::int64_t realtime_origin_tick = 0;
+
+  /// A fresh session of the same model (the lock held, or before anyone else has it).
+  void start(std::shared_ptr<const scenario::Model> model) {
+    session = std::make_unique<sim::Session>(std::move(model), static_cast<std::uint64_t>(seed));
+    events_reported = 0;
+    try {
+      environment.emplace(*session);
+    } catch (const core::Error&) {
+      environment.reset();  // no robot to observe, or none that can act: the session has no spaces
+    }
+    realtime_origin = Clock::now();
+    realtime_origin_tick = 0;
+  }
 };
+
+/// Realtime sessions are stepped this often (wall clock), s.
+constexpr double kRealtimeTick = 1.0 / 60.0;
+/// A realtime session that falls behind catches up at most this much simulated time per tick, s.
+constexpr double kRealtimeMaxCatchUp = 0.5;
+/// Largest realtime factor accepted.
+constexpr double kMaxRealtimeFactor = 100.0;
 
 json event_json(const sim::Event& event) {
   return {{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}};
@@ -53,6 +86,10 @@ json status_of(const Live& live) {
   return {{"id", live.id},
           {"scenario", live.scenario},
           {"seed", live.seed},
+          {"mode", live.mode},
+          {"realtime_factor", live.mode == "realtime" ? json(live.realtime_factor) : json()},
+          {"controller", live.controller ? *live.controller : json()},
+          {"connected_clients", live.clients.load()},
           {"tick", state.tick},
           {"time", session.time()},
           {"dt", session.model().dt},
@@ -188,11 +225,40 @@ json pose_json(const Eigen::Isometry3d& pose) {
           {"roll", roll}, {"pitch", pitch}, {"yaw", yaw}};
 }
 
-/// A range as JSON: a number, or REP 117's out-of-range values spelled "inf" (no return) and "-inf"
-/// (closer than the minimum), which JSON numbers cannot hold.
-json range_json(double range) {
-  if (std::isfinite(range)) return range;
-  return range > 0 ? "inf" : "-inf";
+/// A number as JSON, infinities spelled "inf" and "-inf", which JSON numbers cannot hold (REP 117's
+/// out-of-range laser values, unbounded Box spaces).
+json number_or_infinity(double value) {
+  if (std::isfinite(value)) return value;
+  return value > 0 ? "inf" : "-inf";
+}
+
+/// A Gymnasium space in gym-http-api's form: {"name": "Box", shape, low, high, dtype} or {"name": "Discrete", n}.
+json space_json(const tasks::Space& space) {
+  if (space.name == "Discrete") return {{"name", "Discrete"}, {"n", space.n}};
+  json low = json::array(), high = json::array();
+  for (const double value : space.low) low.push_back(number_or_infinity(value));
+  for (const double value : space.high) high.push_back(number_or_infinity(value));
+  return {{"name", space.name}, {"shape", space.shape}, {"low", low}, {"high", high}, {"dtype", space.dtype}};
+}
+
+/// The optional "action" of a step: a list of numbers.
+std::optional<std::vector<double>> action_of(const json& body) {
+  if (!body.contains("action")) return std::nullopt;
+  const json& action = body["action"];
+  if (!action.is_array()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", "/action"}});
+  std::vector<double> values;
+  for (std::size_t i = 0; i < action.size(); ++i) {
+    if (!action[i].is_number()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", "/action/" + std::to_string(i)}});
+    values.push_back(action[i].get<double>());
+  }
+  return values;
+}
+
+/// 409 for stepping a session the server steps itself.
+void check_lockstep(const Live& live) {
+  if (live.mode != "lockstep") {
+    throw core::Error(core::ErrorCode::conflict, "session " + live.id + " runs in realtime mode: the server steps it", {{"mode", live.mode}});
+  }
 }
 
 /// A robot's latest sensor readings and its joints (the session's lock held).
@@ -205,7 +271,7 @@ json sensors_of(const sim::Session& session, const std::string& name) {
   for (const auto& sensor : runtime->lasers) {
     const sim::LaserReading& reading = sensor.reading;
     json ranges = json::array();
-    for (const double range : reading.ranges) ranges.push_back(range_json(range));
+    for (const double range : reading.ranges) ranges.push_back(number_or_infinity(range));
     lasers.push_back({{"sensor", reading.sensor}, {"type", sensor.mount->type}, {"tick", reading.tick},
                       {"pose", {{"x", reading.pose.x}, {"y", reading.pose.y}, {"theta", reading.pose.theta}}}, {"height", reading.height},
                       {"angle_min", reading.angle_min}, {"angle_increment", reading.angle_increment}, {"range_min", reading.range_min},
@@ -279,10 +345,22 @@ json give_commands(Live& live, const json& commands) {
 
 /// Advances up to `steps` steps (the session's lock held): the status, the events of those steps, and
 /// Gymnasium's terminated (the scenario's last step is done) and truncated (its time limit).
-json step_session(Live& live, std::int64_t steps) {
+json step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action = std::nullopt) {
   sim::Session& session = *live.session;
-  for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) session.step();
+  if (action) {
+    if (!live.environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act", {{"pointer", "/action"}});
+    live.environment->act(session, *action);
+  }
+  double reward = 0.0;
+  for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) {
+    session.step();
+    if (live.environment) reward += live.environment->reward(session);
+  }
   json reply = status_of(live);
+  // Gymnasium's step: observation, reward (summed over the steps), terminated, truncated, info.
+  reply["observation"] = live.environment ? json(live.environment->observe(session)) : json();
+  reply["reward"] = reward;
+  reply["info"] = {{"tick", session.state().tick}, {"time", session.time()}};
   // Each event is in exactly one step reply: those since the last reply, including what commands and
   // the session's start gave between steps. (Counted, not dated: a step stamps some events with the
   // tick it starts at.)
@@ -298,9 +376,14 @@ json step_session(Live& live, std::int64_t steps) {
 
 class Registry {
  public:
-  explicit Registry(SessionLimits limits) : limits_(limits) {}
+  explicit Registry(SessionLimits limits) : limits_(limits), ticker_([this](std::stop_token stop) { step_realtime(stop); }) {}
+  ~Registry() {
+    ticker_.request_stop();
+    ticker_.join();
+  }
 
-  std::shared_ptr<Live> create(const std::string& scenario, std::shared_ptr<const scenario::Model> model, std::int64_t seed) {
+  std::shared_ptr<Live> create(const std::string& scenario, std::shared_ptr<const scenario::Model> model, std::int64_t seed,
+                               const std::string& mode, double realtime_factor, std::optional<json> controller) {
     std::lock_guard lock(mutex_);
     expire_idle();
     if (static_cast<int>(sessions_.size()) >= limits_.max_sessions) {
@@ -312,7 +395,10 @@ class Registry {
     live->id = core::unguessable_id('s');
     live->scenario = scenario;
     live->seed = seed;
-    live->session = std::make_unique<sim::Session>(std::move(model), static_cast<std::uint64_t>(seed));
+    live->mode = mode;
+    live->realtime_factor = realtime_factor;
+    live->controller = std::move(controller);
+    live->start(std::move(model));
     live->last_used = Clock::now();
     sessions_.emplace(live->id, live);
     return live;
@@ -347,9 +433,46 @@ class Registry {
     std::erase_if(sessions_, [&](const auto& entry) { return now - entry.second->last_used > limits_.idle_timeout; });
   }
 
+  /// Steps every realtime session to where the wall clock says it should be, kRealtimeTick apart. A
+  /// session busy with a request is skipped this time; one that fell far behind skips ahead in wall
+  /// time (it never steps more than kRealtimeMaxCatchUp at once).
+  void step_realtime(std::stop_token stop) {
+    auto next = Clock::now();
+    while (!stop.stop_requested()) {
+      next += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kRealtimeTick));
+      std::this_thread::sleep_until(next);
+      std::vector<std::shared_ptr<Live>> realtime;
+      {
+        std::lock_guard lock(mutex_);
+        for (const auto& [id, live] : sessions_) {
+          if (live->mode == "realtime") realtime.push_back(live);
+        }
+      }
+      const auto now = Clock::now();
+      for (const auto& live : realtime) {
+        std::unique_lock lock(live->mutex, std::try_to_lock);
+        if (!lock) continue;
+        sim::Session& session = *live->session;
+        const double dt = session.model().dt;
+        const double elapsed = std::chrono::duration<double>(now - live->realtime_origin).count() * live->realtime_factor;
+        const auto due = live->realtime_origin_tick + static_cast<std::int64_t>(elapsed / dt);
+        const auto most = static_cast<std::int64_t>(kRealtimeMaxCatchUp / dt);
+        std::int64_t steps = due - session.state().tick;
+        if (steps > most) {
+          // Too far behind: start the clock again from here rather than rushing.
+          steps = most;
+          live->realtime_origin = now;
+          live->realtime_origin_tick = session.state().tick + most;
+        }
+        for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) session.step();
+      }
+    }
+  }
+
   SessionLimits limits_;
   std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Live>> sessions_;
+  std::jthread ticker_;  ///< last: it uses everything above
 };
 
 /// Most state frames per second a WebSocket subscription may ask for.
@@ -402,7 +525,11 @@ std::string laser_of(const sim::Session& session, const std::string& robot, cons
 /// A wrong message gets {"type": "error", "error": {code, message, details}} and the socket stays open.
 class SessionSocket : public WebSocketPeer {
  public:
-  explicit SessionSocket(std::shared_ptr<Registry> registry, std::string id) : registry_(std::move(registry)), id_(std::move(id)) {}
+  SessionSocket(std::shared_ptr<Registry> registry, std::shared_ptr<Live> live)
+      : registry_(std::move(registry)), id_(live->id), live_(std::move(live)) {
+    ++live_->clients;
+  }
+  ~SessionSocket() override { --live_->clients; }
 
   Response on_message(const std::string& text) override {
     try {
@@ -413,12 +540,14 @@ class SessionSocket : public WebSocketPeer {
       body.erase("type");
       const auto live = registry_->find(id_);  // also keeps it from expiring while in use
       if (type == "step") {
-        refuse_unknown_keys(body, {"n"});
+        refuse_unknown_keys(body, {"n", "action"});
         const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
-        return Response::later([live, steps] {
+        const auto action = action_of(body);
+        check_lockstep(*live);
+        return Response::later([live, steps, action] {
           try {
             std::lock_guard lock(live->mutex);
-            return reply("step", step_session(*live, steps));
+            return reply("step", step_session(*live, steps, action));
           } catch (const core::Error& e) {
             return failure(e);
           }
@@ -513,11 +642,39 @@ class SessionSocket : public WebSocketPeer {
 
   std::shared_ptr<Registry> registry_;
   std::string id_;
+  std::shared_ptr<Live> live_;  ///< for the count of connected clients; messages look it up by id
   // Touched on the connection's strand only.
   double rate_ = 0.0;              ///< state frames per second subscribed to
   std::size_t events_pushed_ = 0;  ///< events before this index were in a frame
   std::int64_t pushed_tick_ = -1;
 };
+
+/// Places an agent or object by name from a pose {x, y, z, roll, pitch, yaw} at `at` (its JSON pointer
+/// prefix): seed 000's uniform pose interface. People and robots stay upright on the floor.
+void place(sim::Session& session, const std::string& name, const json& body, const std::string& at) {
+  if (!body.is_object()) throw core::Error(core::ErrorCode::bad_request, "a pose is an object {x, y, z, roll, pitch, yaw}", {{"pointer", at}});
+  for (const auto& [key, unused] : body.items()) {
+    if (key != "x" && key != "y" && key != "z" && key != "roll" && key != "pitch" && key != "yaw") {
+      throw core::Error(core::ErrorCode::bad_request, "unknown field '" + key + "'", {{"pointer", at + "/" + key}});
+    }
+  }
+  const double x = number_of(body, "x", at), y = number_of(body, "y", at);
+  const auto optional = [&](const char* key) { return body.contains(key) ? number_of(body, key, at) : 0.0; };
+  const double z = optional("z"), roll = optional("roll"), pitch = optional("pitch"), yaw = optional("yaw");
+  if (session.model().find_agent(name) >= 0) {
+    for (const char* key : {"z", "roll", "pitch"}) {
+      if (optional(key) != 0.0) {
+        throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": agents stand upright on the floor", {{"pointer", at + "/" + key}});
+      }
+    }
+    session.place_agent(session.agent_id(name), {x, y, yaw});
+    return;
+  }
+  const auto& objects = session.model().objects;
+  const auto found = std::find_if(objects.begin(), objects.end(), [&](const scenario::MovableObject& o) { return o.name == name; });
+  if (found == objects.end()) throw core::Error(core::ErrorCode::not_found, "no agent or object '" + name + "'", {{"name", name}, {"pointer", at}});
+  session.place_object(static_cast<int>(found - objects.begin()), robots::to_isometry({x, y, z, roll, pitch, yaw}));
+}
 
 /// A 503 for too many sessions carries Retry-After.
 Response refused(const core::Error& error) {
@@ -545,18 +702,41 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
 
   router.add("POST", "/api/v1/sessions", [catalogue, registry](const Request& request) {
     const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"scenario", "seed"});
+    refuse_unknown_keys(body, {"scenario", "seed", "mode", "realtime_factor", "controller"});
     if (!body.contains("scenario") || !body["scenario"].is_string()) {
       throw core::Error(core::ErrorCode::bad_request, "scenario: the id of a scenario is required", {{"pointer", "/scenario"}});
     }
     const std::string scenario = body["scenario"];
     const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, 0);
+    const std::string mode = body.contains("mode") && body["mode"].is_string() ? body["mode"].get<std::string>() : body.contains("mode") ? "" : "lockstep";
+    if (mode != "lockstep" && mode != "realtime") {
+      throw core::Error(core::ErrorCode::bad_request, "mode: lockstep or realtime", {{"pointer", "/mode"}});
+    }
+    double factor = 1.0;
+    if (body.contains("realtime_factor")) {
+      const json& value = body["realtime_factor"];
+      if (mode != "realtime" || !value.is_number() || !(value.get<double>() > 0.0) || value.get<double>() > kMaxRealtimeFactor) {
+        throw core::Error(core::ErrorCode::bad_request,
+                          "realtime_factor: for a realtime session, simulated seconds per second, above 0 and at most " +
+                              std::to_string(static_cast<int>(kMaxRealtimeFactor)),
+                          {{"pointer", "/realtime_factor"}});
+      }
+      factor = value.get<double>();
+    }
     const auto* entry = catalogue->find(scenario);
     if (!entry || !entry->source.model) {
       throw core::Error(core::ErrorCode::not_found, "no scenario '" + scenario + "'", {{"pointer", "/scenario"}, {"id", scenario}});
     }
+    std::shared_ptr<const scenario::Model> model = entry->source.model;
+    std::optional<json> controller;
+    if (body.contains("controller") && !body["controller"].is_null()) {
+      json errors = json::array();
+      model = runs::with_controller(entry->source.document, body["controller"], catalogue->options().load, errors).model;
+      runs::throw_if_problems(errors);
+      controller = body["controller"];
+    }
     try {
-      const auto live = registry->create(scenario, entry->source.model, seed);
+      const auto live = registry->create(scenario, model, seed, mode, factor, controller);
       std::lock_guard lock(live->mutex);
       Response response = Response::json(201, status_of(*live));
       response.headers.emplace_back("Location", "/api/v1/sessions/" + live->id);
@@ -581,8 +761,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       throw core::Error(core::ErrorCode::forbidden, "WebSocket from origin " + request.headers.at("origin") + " refused (see --allowed-origins)",
                         {{"origin", request.headers.at("origin")}});
     }
-    registry->find(id);  // 404 for an unknown session, before the upgrade
-    return std::make_shared<SessionSocket>(registry, id);
+    return std::make_shared<SessionSocket>(registry, registry->find(id));  // 404 for an unknown session, before the upgrade
   });
 
   router.add("POST", "/api/v1/sessions/{id}/ws-ticket", [registry, tickets = access.tickets](const Request& request) {
@@ -626,41 +805,42 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
 
   router.add("PUT", "/api/v1/sessions/{id}/poses/{name}", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"));
-    const std::string& name = request.path_params.at("name");
     const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"x", "y", "z", "roll", "pitch", "yaw"});
     std::lock_guard lock(live->mutex);
-    sim::Session& session = *live->session;
-    const double x = number_of(body, "x", ""), y = number_of(body, "y", "");
-    const auto optional = [&](const char* key) { return body.contains(key) ? number_of(body, key, "") : 0.0; };
-    const double z = optional("z"), roll = optional("roll"), pitch = optional("pitch"), yaw = optional("yaw");
-    if (session.model().find_agent(name) >= 0) {
-      // People and robots stand on the floor, upright.
-      for (const char* key : {"z", "roll", "pitch"}) {
-        if (optional(key) != 0.0) {
-          throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": agents stand upright on the floor", {{"pointer", "/" + std::string(key)}});
-        }
-      }
-      session.place_agent(session.agent_id(name), {x, y, yaw});
-    } else {
-      const auto& objects = session.model().objects;
-      const auto found = std::find_if(objects.begin(), objects.end(), [&](const scenario::MovableObject& o) { return o.name == name; });
-      if (found == objects.end()) throw core::Error(core::ErrorCode::not_found, "no agent or object '" + name + "'", {{"name", name}});
-      session.place_object(static_cast<int>(found - objects.begin()), robots::to_isometry({x, y, z, roll, pitch, yaw}));
-    }
-    return Response::json(200, poses_of(session));
+    place(*live->session, request.path_params.at("name"), body, "");
+    return Response::json(200, poses_of(*live->session));
   });
 
   router.add("POST", "/api/v1/sessions/{id}/reset", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"));
     const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"seed"});
+    refuse_unknown_keys(body, {"seed", "options"});
+    const json options = body.value("options", json::object());
+    if (!options.is_object()) throw core::Error(core::ErrorCode::bad_request, "options: an object", {{"pointer", "/options"}});
+    for (const auto& [key, unused] : options.items()) {
+      if (key != "poses") throw core::Error(core::ErrorCode::bad_request, "options: unknown field '" + key + "'", {{"pointer", "/options/" + key}});
+    }
+    const json poses = options.value("poses", json::object());
+    if (!poses.is_object()) throw core::Error(core::ErrorCode::bad_request, "options.poses: {name: pose}", {{"pointer", "/options/poses"}});
     std::lock_guard lock(live->mutex);
-    live->seed = integer_field(body, "seed", 0, kMaxSeed, live->seed);
-    // A fresh session of the same scenario: everything starts again from tick 0.
-    live->session = std::make_unique<sim::Session>(live->session->shared_model(), static_cast<std::uint64_t>(live->seed));
+    const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, live->seed);
+    // A fresh session of the same scenario: everything starts again from tick 0, then the poses given
+    // are set (all or none: a bad one leaves the old session as it was).
+    auto fresh = std::make_unique<Live>();
+    fresh->seed = seed;
+    fresh->start(live->session->shared_model());
+    for (const auto& [name, pose] : poses.items()) place(*fresh->session, name, pose, "/options/poses/" + core::pointer_token(name));
+    live->seed = seed;
+    live->session = std::move(fresh->session);
+    live->environment = std::move(fresh->environment);
     live->events_reported = 0;
-    return Response::json(200, status_of(*live));
+    live->realtime_origin = fresh->realtime_origin;
+    live->realtime_origin_tick = 0;
+    // Gymnasium's reset: the first observation and info, with the session's status.
+    json reply = status_of(*live);
+    reply["observation"] = live->environment ? json(live->environment->observe(*live->session)) : json();
+    reply["info"] = {{"tick", live->session->state().tick}, {"time", live->session->time()}};
+    return Response::json(200, reply);
   });
 
   router.add("POST", "/api/v1/sessions/{id}/commands", [registry](const Request& request) {
@@ -677,13 +857,29 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   router.add("POST", "/api/v1/sessions/{id}/step", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"));
     const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"n"});
+    refuse_unknown_keys(body, {"n", "action"});
     const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
+    const auto action = action_of(body);
+    check_lockstep(*live);
     // Stepping may take long: on the worker pool, never on an I/O thread.
-    return Response::later([live, steps] {
+    return Response::later([live, steps, action] {
       std::lock_guard lock(live->mutex);
-      return Response::json(200, step_session(*live, steps));
+      return Response::json(200, step_session(*live, steps, action));
     });
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}/action_space", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    std::lock_guard lock(live->mutex);
+    if (!live->environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act");
+    return Response::json(200, space_json(live->environment->action_space()));
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}/observation_space", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    std::lock_guard lock(live->mutex);
+    if (!live->environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot to observe");
+    return Response::json(200, space_json(live->environment->observation_space()));
   });
 }
 

@@ -77,10 +77,15 @@ std::map<std::uint64_t, std::string> Executor::live(const std::string& run_id) c
   std::map<std::uint64_t, std::string> seeds;
   const auto found = active_.find(run_id);
   if (found == active_.end()) return seeds;
+  const ActiveRun& run = *found->second;
+  // Once cancelled, the seeds that will never run say so at once (stored ones are the store's).
+  if (run.cancelled) {
+    for (const std::uint64_t seed : run.spec.seeds) seeds[seed] = "cancelled";
+  }
   for (const Job& job : queue_) {
     if (job.run == found->second) seeds[job.seed] = "queued";
   }
-  for (const std::uint64_t seed : found->second->running) seeds[seed] = "running";
+  for (const std::uint64_t seed : run.running) seeds[seed] = "running";
   return seeds;
 }
 

@@ -49,8 +49,9 @@ class Executor {
   /// Stops a queued or running run: queued episodes are dropped, running ones stop at their next step
   /// unstored. False when the run is not active here.
   bool cancel(const std::string& run_id);
-  /// Seeds of an active run that are queued or running (seed → "queued" / "running"); empty when the
-  /// run is not active here.
+  /// Seeds of an active run that are not done: "queued", "running", or "cancelled" once the run is
+  /// being cancelled (stored episodes may be listed too: the store's word wins); empty when the run
+  /// is not active here.
   std::map<std::uint64_t, std::string> live(const std::string& run_id) const;
   /// Blocks until the run is no longer active.
   void wait(const std::string& run_id);

@@ -10,6 +10,40 @@
 
 namespace hrisim::runs {
 
+scenario::LoadResult with_controller(nlohmann::json document, const nlohmann::json& controller, const scenario::LoadOptions& load,
+                                     nlohmann::json& errors) {
+  const auto problem = [&](std::string pointer, std::string message) {
+    errors.push_back({{"pointer", std::move(pointer)}, {"message", std::move(message)}});
+  };
+  if (!document.contains("robots") || !document["robots"].is_array() || document["robots"].empty()) {
+    problem("/controller", "the scenario has no robot to control");
+    return {};
+  }
+  if (!controller.is_object() || !controller.contains("type") || !controller["type"].is_string()) {
+    problem("/controller", "a controller is an object with a \"type\" (idle, goal, social or teleop)");
+    return {};
+  }
+  document["robots"][0]["controller"] = controller;
+  scenario::LoadResult loaded = scenario::load_scenario(document, load);
+  // Problems in the replaced controller are the caller's; the scenario itself was valid before.
+  const std::string controller_pointer = "/robots/0/controller";
+  for (const core::ValidationError& error : loaded.errors) {
+    if (error.pointer.starts_with(controller_pointer)) {
+      problem("/controller" + error.pointer.substr(controller_pointer.size()), error.message);
+    } else {
+      problem("/scenario" + error.pointer, error.message);
+    }
+  }
+  return loaded;
+}
+
+void throw_if_problems(const nlohmann::json& errors) {
+  if (errors.empty()) return;
+  const std::string first = errors[0]["message"];
+  throw core::Error(core::ErrorCode::bad_request, errors.size() == 1 ? first : first + " (and " + std::to_string(errors.size() - 1) + " more)",
+                    {{"errors", errors}, {"pointer", errors[0]["pointer"]}});
+}
+
 RunSpec make_run_spec(const RunRequest& request) {
   using nlohmann::json;
   json errors = json::array();
@@ -31,27 +65,16 @@ RunSpec make_run_spec(const RunRequest& request) {
     }
   }
 
-  json document = request.document;
   std::string controller = "scenario";
+  scenario::LoadResult loaded;
   if (request.controller) {
-    if (!document.contains("robots") || !document["robots"].is_array() || document["robots"].empty()) {
-      problem("/controller", "the scenario has no robot to control");
-    } else if (!request.controller->is_object() || !(*request.controller)["type"].is_string()) {
-      problem("/controller", "a controller is an object with a \"type\" (idle, goal, social or teleop)");
-    } else {
-      document["robots"][0]["controller"] = *request.controller;
+    loaded = with_controller(request.document, *request.controller, request.load, errors);
+    if (request.controller->is_object() && request.controller->contains("type") && (*request.controller)["type"].is_string()) {
       controller = (*request.controller)["type"];
     }
-  }
-  scenario::LoadResult loaded = scenario::load_scenario(document, request.load);
-  // Problems in the replaced controller are the request's; the scenario itself was valid before.
-  const std::string controller_pointer = "/robots/0/controller";
-  for (const core::ValidationError& error : loaded.errors) {
-    if (request.controller && error.pointer.starts_with(controller_pointer)) {
-      problem("/controller" + error.pointer.substr(controller_pointer.size()), error.message);
-    } else {
-      problem("/scenario" + error.pointer, error.message);
-    }
+  } else {
+    loaded = scenario::load_scenario(request.document, request.load);
+    for (const core::ValidationError& error : loaded.errors) problem("/scenario" + error.pointer, error.message);
   }
   for (std::size_t i = 0; loaded.model && i < request.requests.size(); ++i) {
     if (loaded.model->find_task(request.requests[i].second) < 0) {
@@ -63,12 +86,7 @@ RunSpec make_run_spec(const RunRequest& request) {
                    [](const scenario::AgentDef& agent) { return agent.kind == scenario::AgentKind::robot; })) {
     problem("/requests", "the scenario has no robot to make requests");
   }
-  if (!errors.empty()) {
-    const std::string first = errors[0]["message"];
-    throw core::Error(core::ErrorCode::bad_request,
-                      errors.size() == 1 ? first : first + " (and " + std::to_string(errors.size() - 1) + " more)",
-                      {{"errors", errors}, {"pointer", errors[0]["pointer"]}});
-  }
+  throw_if_problems(errors);
 
   RunSpec spec;
   spec.scenario_id = request.scenario_id;

@@ -31,6 +31,16 @@ struct RunRequest {
   std::vector<std::pair<double, std::string>> requests;
 };
 
+/// The scenario with `controller` replacing the built-in controller of its first robot (the robot
+/// under test), in the scenario's form ({"type": "goal", "goal": {...}}). Problems in the controller
+/// come back with pointers under "/controller"; `errors` gets them (and any in the scenario).
+scenario::LoadResult with_controller(nlohmann::json document, const nlohmann::json& controller, const scenario::LoadOptions& load,
+                                     nlohmann::json& errors);
+
+/// Throws core::Error(bad_request) for a non-empty list of {pointer, message}: the first message (and
+/// how many more), every one in details.errors, the first pointer in details.pointer.
+void throw_if_problems(const nlohmann::json& errors);
+
 /// Checks the request and builds the spec. Throws core::Error(bad_request) with every problem found
 /// in details.errors, each with a pointer into the request ("/gates/1", "/controller/goal", "/seeds").
 RunSpec make_run_spec(const RunRequest& request);

@@ -131,6 +131,7 @@ TEST_F(RunsApi, CancelStopsARunAndLeavesItsFinishedEpisodes) {
   const std::string id = run["id"];
   const HttpReply cancelled = http(port(), "POST", "/api/v1/runs/" + id + "/cancel");
   EXPECT_EQ(cancelled.status, 202) << cancelled.body;
+  EXPECT_EQ(json_of(cancelled)["progress"]["queued"], 0) << "seeds that will never run are cancelled at once";
   const json ended = wait_for_run(port(), id);
   EXPECT_EQ(ended["status"], "cancelled");
   EXPECT_LT(ended["progress"]["finished"].get<int>(), 200);
@@ -154,6 +155,7 @@ TEST_F(RunsApi, BadSubmissionsAreRefusedAndNothingIsStored) {
       {{{"scenario", "queue"}, {"seeds", {1, -2}}}, 400, "/seeds/1"},
       {{{"scenario", "queue"}, {"seeds", {1, 1}}}, 400, "/seeds"},
       {{{"scenario", "queue"}, {"count", 0}}, 400, "/count"},
+      {{{"scenario", "queue"}, {"seeds", {1}}, {"first_seed", 3}}, 400, "/first_seed"},
       {{{"scenario", "queue"}, {"count", 1}, {"gates", {"collisions.max == 0", "speed.max < 2"}}}, 400, "/gates/1"},
       {{{"scenario", "queue"}, {"count", 1}, {"gates", {"collisions.median == 0"}}}, 400, "/gates/0"},
       {{{"scenario", "queue"}, {"count", 1}, {"gates", {"collisions.max = 0"}}}, 400, "/gates/0"},

@@ -518,3 +518,101 @@ TEST(SessionSensors, TheRobotsLatestReadingsOverRestAndWebSocket) {
 
 }  // namespace
 }  // namespace hrisim::testing
+
+namespace hrisim::testing {
+namespace {
+
+TEST(SessionGym, SpacesObservationsActionsAndReset) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const std::string id = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 4})"))["id"];
+  const std::string base = "/api/v1/sessions/" + id;
+  const json action_space = json_of(http(port, "GET", base + "/action_space"));
+  EXPECT_EQ(action_space["name"], "Box");
+  EXPECT_EQ(action_space["shape"], json::array({2}));
+  EXPECT_EQ(action_space["dtype"], "float64");
+  // The HSR's drive limits (0.8 km/h), forward and back.
+  const json hsr = json_of(http(port, "GET", "/api/v1/robots/hsr"))["summary"]["drive"];
+  EXPECT_EQ(action_space["high"][0], hsr["max_linear_speed"]);
+  EXPECT_EQ(action_space["high"][1], hsr["max_angular_speed"]);
+  EXPECT_EQ(action_space["low"][0], -action_space["high"][0].get<double>());
+  const json observation_space = json_of(http(port, "GET", base + "/observation_space"));
+  ASSERT_EQ(observation_space["shape"], json::array({48}));
+  EXPECT_EQ(observation_space["high"][11], "inf") << "a person's velocity is unbounded, spelled out";
+  EXPECT_EQ(observation_space["low"][11], "-inf");
+
+  // Forward at full speed for 2 s: the robot moves along its heading; the observation says so.
+  const json start = json_of(http(port, "POST", base + "/step", R"({"n": 1, "action": [0, 0]})"));
+  ASSERT_EQ(start["observation"].size(), 48u);
+  const json moved = json_of(http(port, "POST", base + "/step", R"({"n": 120, "action": [1.0, 0]})"));
+  const json& before = start["observation"];
+  const json& after = moved["observation"];
+  const double travelled = std::hypot(after[0].get<double>() - before[0].get<double>(), after[1].get<double>() - before[1].get<double>());
+  EXPECT_GT(travelled, 0.25) << "clipped to 0.22 m/s, minus the motors' start";
+  EXPECT_LT(travelled, 0.45);
+  EXPECT_NEAR(after[4].get<double>(), hsr["max_linear_speed"].get<double>(), 0.02) << "forward speed";
+  EXPECT_EQ(moved["reward"], 0.0) << "no benchmark task: no reward";
+  EXPECT_EQ(moved["info"]["tick"], 121);
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    const json &low = observation_space["low"][i], &high = observation_space["high"][i];
+    EXPECT_TRUE(!low.is_number() || after[i].get<double>() >= low.get<double>()) << i;
+    EXPECT_TRUE(!high.is_number() || after[i].get<double>() <= high.get<double>()) << i;
+  }
+  EXPECT_EQ(json_of(http(port, "POST", base + "/step", R"({"action": [1]})"))["error"]["details"]["pointer"], "/action");
+  EXPECT_EQ(json_of(http(port, "POST", base + "/step", R"({"action": [1, "x"]})"))["error"]["details"]["pointer"], "/action/1");
+
+  // reset → {observation, info}; the same seed starts from the same observation; options place agents.
+  const json reset = json_of(http(port, "POST", base + "/reset", R"({"seed": 4})"));
+  EXPECT_EQ(reset["tick"], 0);
+  EXPECT_EQ(reset["info"]["tick"], 0);
+  ASSERT_EQ(reset["observation"].size(), 48u);
+  EXPECT_EQ(reset["observation"], json_of(http(port, "POST", base + "/reset", R"({"seed": 4})"))["observation"]);
+  const json placed = json_of(http(port, "POST", base + "/reset", R"({"options": {"poses": {"robot": {"x": 2.0, "y": -1.0, "yaw": 0}}}})"));
+  EXPECT_EQ(placed["observation"][0], 2.0);
+  EXPECT_EQ(placed["observation"][1], -1.0);
+  const HttpReply bad_pose = http(port, "POST", base + "/reset", R"({"options": {"poses": {"robot": {"x": 2.0}}}})");
+  EXPECT_EQ(bad_pose.status, 400);
+  EXPECT_EQ(json_of(bad_pose)["error"]["details"]["pointer"], "/options/poses/robot/y");
+  EXPECT_EQ(json_of(http(port, "GET", base))["tick"], 0) << "the refused reset left the session as it was";
+  EXPECT_EQ(json_of(http(port, "POST", base + "/reset", R"({"options": {"speed": 2}})"))["error"]["details"]["pointer"], "/options/speed");
+
+  // A scenario whose robot has no model: its action is a velocity in the map frame.
+  const std::string queue = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "queue"})"))["id"];
+  EXPECT_EQ(json_of(http(port, "GET", "/api/v1/sessions/" + queue + "/action_space"))["high"][1], 2.0);
+}
+
+TEST(SessionModes, ARealtimeSessionStepsItselfAndAControllerReplacesTheRobots) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const HttpReply created = http(port, "POST", "/api/v1/sessions", R"({"scenario": "queue", "mode": "realtime", "realtime_factor": 4})");
+  ASSERT_EQ(created.status, 201) << created.body;
+  EXPECT_EQ(json_of(created)["mode"], "realtime");
+  const std::string id = json_of(created)["id"];
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const json status = json_of(http(port, "GET", "/api/v1/sessions/" + id));
+  // 0.5 s of wall clock at 4× is 2 s of simulation; a loaded machine gets less done, never more.
+  EXPECT_GT(status["time"].get<double>(), 0.3);
+  EXPECT_LE(status["time"].get<double>(), 2.2);
+  EXPECT_EQ(http(port, "POST", "/api/v1/sessions/" + id + "/step", "{}").status, 409) << "the server steps it";
+
+  for (const char* body : {R"({"scenario": "queue", "mode": "fast"})", R"({"scenario": "queue", "realtime_factor": 2})",
+                           R"({"scenario": "queue", "mode": "realtime", "realtime_factor": 0})"}) {
+    EXPECT_EQ(http(port, "POST", "/api/v1/sessions", body).status, 400) << body;
+  }
+  const HttpReply no_goal = http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "controller": {"type": "goal"}})");
+  EXPECT_EQ(no_goal.status, 400);
+  EXPECT_EQ(json_of(no_goal)["error"]["details"]["pointer"], "/controller/goal");
+  const HttpReply driven =
+      http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "controller": {"type": "goal", "goal": {"pose": {"x": 1.0, "y": -0.8, "theta": 0}}}})");
+  ASSERT_EQ(driven.status, 201) << driven.body;
+  EXPECT_EQ(json_of(driven)["controller"]["type"], "goal");
+  const json stepped = json_of(http(port, "POST", "/api/v1/sessions/" + json_of(driven)["id"].get<std::string>() + "/step", R"({"n": 300})"));
+  EXPECT_LT(stepped["observation"][0].get<double>(), 2.5) << "the goal controller drove the robot towards x = 1";
+
+  // Connected clients are counted.
+  WebSocketClient client(port, "/api/v1/sessions/" + id + "/ws");
+  EXPECT_EQ(json_of(http(port, "GET", "/api/v1/sessions/" + id))["connected_clients"], 1);
+}
+
+}  // namespace
+}  // namespace hrisim::testing
