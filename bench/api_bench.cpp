@@ -1,5 +1,5 @@
 // Session round trips on loopback against a running `hrisim serve` (bench/api_bench.sh starts one):
-// REST `POST /step {"n":1}` on one keep-alive connection, and WebSocket lockstep `{"type":"step"}`
+// REST `POST /step {"n":1,"action":[v,ω]}` on one keep-alive connection, and WebSocket lockstep `{"type":"step",…}`
 // messages, both on a session of the bundled elevator scenario (six people, an HSR with laser, people
 // detector and physics). Prints steps per second and the median and 99th-percentile round trip.
 //   usage: api_bench PORT [seconds per case=5]
@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   auto start = Clock::now();
   while (std::chrono::duration<double>(Clock::now() - start).count() < seconds) {
     const auto before = Clock::now();
-    const json reply = json::parse(request(rest, http::verb::post, "/api/v1/sessions/" + id + "/step", R"({"n": 1})"));
+    const json reply = json::parse(request(rest, http::verb::post, "/api/v1/sessions/" + id + "/step", R"({"n": 1, "action": [0.1, 0.05]})"));
     trips.push_back(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
     if (reply["status"] == "finished") request(rest, http::verb::post, "/api/v1/sessions/" + id + "/reset", "{}");
   }
@@ -81,7 +81,9 @@ int main(int argc, char** argv) {
   socket.handshake("127.0.0.1", "/api/v1/sessions/" + id + "/ws");
   socket.text(true);
   trips.clear();
-  const std::string step = R"({"type": "step", "n": 1})";
+  // As learning code steps: one action per step; the reply carries the 48-value observation.
+  const std::string step = R"({"type": "step", "n": 1, "action": [0.1, 0.05]})";
+  std::size_t reply_bytes = 0;
   beast::flat_buffer buffer;
   start = Clock::now();
   while (std::chrono::duration<double>(Clock::now() - start).count() < seconds) {
@@ -89,6 +91,7 @@ int main(int argc, char** argv) {
     socket.write(net::buffer(step));
     socket.read(buffer);
     trips.push_back(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
+    reply_bytes = buffer.size();
     const bool finished = beast::buffers_to_string(buffer.data()).find("\"finished\"") != std::string::npos;
     buffer.consume(buffer.size());
     if (finished) request(rest, http::verb::post, "/api/v1/sessions/" + id + "/reset", "{}");
@@ -128,7 +131,7 @@ int main(int argc, char** argv) {
     return total / std::chrono::duration<double>(Clock::now() - begin).count();
   };
   const double one = stepped_in(1), two = stepped_in(2);
-  std::printf("api_bench: elevator session, one step per round trip, %.0f s per case\n", seconds);
+  std::printf("api_bench: elevator session, one step and one action per round trip (reply %zu bytes), %.0f s per case\n", reply_bytes, seconds);
   std::printf("REST POST /step (keep-alive)   %8.0f steps/s   median %6.1f us   p99 %7.1f us\n", over_rest.steps_per_second,
               over_rest.median_us, over_rest.p99_us);
   std::printf("WebSocket lockstep step        %8.0f steps/s   median %6.1f us   p99 %7.1f us\n", over_socket.steps_per_second,
