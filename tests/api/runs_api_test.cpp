@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <random>
 #include <thread>
 
 #include "storage/store.hpp"
@@ -189,6 +190,50 @@ TEST_F(RunsApi, MetricDefinitionsAreServed) {
   EXPECT_EQ(find("collisions")["category"], "contact");
   EXPECT_EQ(find("minimum_distance_to_people")["unit"], "m");
   EXPECT_EQ(find("success")["better"], "higher");
+}
+
+/// A thousand generated malformed run requests: nothing is stored, nothing breaks, the file is sound.
+TEST(RunsFuzz, MalformedRunRequestsStoreNothing) {
+  std::filesystem::path database;
+  TestServer server;
+  database = server.database();
+  const std::uint16_t port = server.port();
+  std::mt19937_64 random(11);
+  const auto pick = [&](std::size_t n) { return static_cast<std::size_t>(random() % n); };
+  const json junk[] = {nullptr, true, -1, 1e308, "x", json::array(), json::object(), 0.5, std::string(300, 'z'), json::array({1, "a"}),
+                       "collisions.max ==", json::array({"success.mean >= 2", 3}), json{{"type", "goal"}}, json::array({-5, 1})};
+  const auto any = [&] { return junk[pick(std::size(junk))]; };
+  std::vector<std::string> accepted;
+  const char* keys[] = {"scenario", "seeds", "count", "first_seed", "controller", "max_time", "gates", "requests", "colour"};
+  for (int i = 0; i < 1000; ++i) {
+    std::string method = "POST", target = "/api/v1/runs", body;
+    if (i % 5 == 4) {
+      method = pick(2) ? "GET" : "POST";
+      target = method == "GET" ? "/api/v1/runs?status=" + any().dump() + "&limit=" + any().dump() + "&cursor=" + std::to_string(i)
+                               : "/api/v1/runs/r" + std::to_string(i) + "/cancel";
+    } else if (i % 5 == 3) {
+      for (std::size_t k = 0, n = pick(80); k < n; ++k) body += static_cast<char>(random() & 0xFF);
+    } else {
+      // A valid-looking run with at least one field wrong, so nothing may start.
+      json request{{"scenario", "queue"}, {"count", 1}};
+      request[keys[pick(std::size(keys))]] = any();
+      if (request["scenario"] == "queue" && request["count"] == 1 && request.size() == 2) request["gates"] = json::array({"nonsense"});
+      body = request.dump();
+    }
+    const HttpReply reply = http(port, method, target, body);
+    ASSERT_LT(reply.status, 500) << i << " " << method << " " << target << " " << body << " → " << reply.body;
+    EXPECT_NO_THROW(json_of(reply)) << i;
+    // Some generated requests are valid after all (a null controller, no gates): those run.
+    if (reply.status == 201) accepted.push_back(json_of(reply)["id"]);
+  }
+  EXPECT_EQ(http(port, "GET", "/healthz").status, 200);
+  ASSERT_LT(accepted.size(), 100u) << "the generator makes mostly malformed requests";
+  EXPECT_EQ(json_of(http(port, "GET", "/api/v1/runs?limit=100"))["items"].size(), accepted.size()) << "only accepted runs are stored";
+  for (const std::string& id : accepted) wait_for_run(port, id);
+  ASSERT_EQ(server.terminate(std::chrono::seconds(20)), 0);
+  storage::Store store(database);
+  EXPECT_EQ(store.integrity_check(), "ok");
+  EXPECT_EQ(store.counts().runs, static_cast<std::int64_t>(accepted.size()));
 }
 
 TEST(RunsAfterAKill, ARunKilledMidwayShowsItsLostEpisodesAsInterrupted) {

@@ -418,8 +418,8 @@ TEST(SessionsFuzz, MalformedRequestsBreakNothing) {
         body = json{{"scenario", i % 3 ? any() : json("elevator")}, {"seed", any()}}.dump();
         break;
       case 1:
-        target = "/api/v1/sessions/" + id + "/step";
-        body = json{{"n", any()}}.dump();
+        target = "/api/v1/sessions/" + id + (pick(2) ? "/step" : "/reset");
+        body = json{{"n", any()}, {"action", any()}, {"options", any()}}.dump();
         break;
       case 2:
         target = "/api/v1/sessions/" + id + "/commands";
