@@ -6,7 +6,7 @@
 namespace hrisim::metrics {
 namespace {
 
-constexpr std::string_view kTask = "task_and_path", kProximity = "proximity", kContact = "contact",
+constexpr std::string_view kTask = "task_and_path", kProximity = "proximity", kContact = "contact", kForces = "social_forces",
                            kInteraction = "interaction", kRewards = "task_rewards";
 
 // The order is the order of METRICS.md and of every listing.
@@ -15,6 +15,10 @@ constexpr std::array kDefinitions{
                "1 when the episode reached its goal condition: the robot's navigation goal reached with no robot-human collision; "
                "for a scenario without a robot goal, its choreography completed with no collision",
                "recent social-navigation benchmarks"},
+    Definition{"spl", "ratio", kTask, Better::higher,
+               "success weighted by path length: success x shortest / max(path length, shortest), the shortest path on the map's "
+               "grid inflated by the robot's radius, people ignored; null without a goal",
+               "Anderson et al. 2018"},
     Definition{"failure_to_progress", "bool", kTask, Better::lower,
                "1 for an unsuccessful episode whose last 10 s brought the robot less than 0.1 m closer to its goal; null without a goal",
                "HuNavSim"},
@@ -34,6 +38,10 @@ constexpr std::array kDefinitions{
     Definition{"avg_robot_angular_speed", "rad/s", kTask, Better::lower,
                "mean of the robot's absolute yaw rate, from heading differences between consecutive steps", "HuNavSim"},
     Definition{"max_robot_linear_speed", "m/s", kTask, Better::none, "largest absolute forward speed of the robot", "HuNavSim"},
+    Definition{"min_obstacle_clearance", "m", kTask, Better::higher,
+               "smallest surface distance from the robot to the nearest static obstacle (grid resolution)", "HuNavSim"},
+    Definition{"avg_obstacle_clearance", "m", kTask, Better::higher, "mean surface distance from the robot to the nearest static obstacle",
+               "HuNavSim"},
     Definition{"avg_acceleration", "m/s^2", kTask, Better::lower,
                "mean of |dv/dt| over consecutive steps (HuNavSim divides by dt squared: fixed)", "HuNavSim"},
     Definition{"max_acceleration", "m/s^2", kTask, Better::lower, "largest |dv/dt| over consecutive steps", "HuNavSim"},
@@ -50,11 +58,28 @@ constexpr std::array kDefinitions{
                "percentage of steps with the closest person between 0.45 m and 1.2 m", "HuNavSim"},
     Definition{"social_space_intrusions", "%", kProximity, Better::lower,
                "percentage of steps with the closest person between 1.2 m and 3.6 m", "HuNavSim"},
+    Definition{"group_intimate_space_intrusions", "%", kProximity, Better::lower,
+               "percentage of steps with the closest group's centre (members' mean position plus 1.5 m ahead of each) nearer than "
+               "0.45 m to the robot's surface",
+               "HuNavSim"},
+    Definition{"group_personal_space_intrusions", "%", kProximity, Better::lower,
+               "percentage of steps with the closest group's centre between 0.45 m and 1.2 m", "HuNavSim"},
+    Definition{"group_social_space_intrusions", "%", kProximity, Better::lower,
+               "percentage of steps with the closest group's centre between 1.2 m and 3.6 m", "HuNavSim"},
     Definition{"discomfort_frequency", "%", kProximity, Better::lower,
                "percentage of steps with the closest person nearer than 0.2 m (CrowdNav's danger)", "CrowdNav"},
     Definition{"min_time_to_collision", "s", kProximity, Better::higher,
                "smallest time at which the robot and a person, as discs at constant current velocities, would touch; null if never",
                "SocNavBench"},
+
+    Definition{"danger_fear_cost", "1/s", kProximity, Better::lower,
+               "sum over steps and people, times dt, of |V|/|P| while the robot closes in (P = person - robot, V = robot - person "
+               "velocity, P.V > 0)",
+               "Singamaneni et al. 2023 (HuNavSim)"},
+    Definition{"danger_panic_cost", "1/s", kProximity, Better::lower,
+               "sum over steps and people, times dt, of |V| / ((d_perp - R) |sin theta|) while closing in on a course that misses "
+               "(d_perp = |P| sin theta > R = both radii)",
+               "Singamaneni et al. 2023 (HuNavSim)"},
 
     Definition{"collisions", "count", kContact, Better::lower,
                "distinct robot-human contacts (physics contact or surface distance < 0.02 m); a contact lasting several steps counts once",
@@ -63,7 +88,24 @@ constexpr std::array kDefinitions{
                "collisions where the robot moved towards the person (faster than 0.01 m/s) at the first step of contact", "HuNavSim"},
     Definition{"person_on_robot_collisions", "count", kContact, Better::lower,
                "collisions where the person moved towards the robot, or the robot did not", "HuNavSim"},
+    Definition{"obstacle_collisions", "count", kContact, Better::lower,
+               "distinct contacts of the robot with static things (walls, obstacles, objects; physics contact, or a disc robot "
+               "within 0.02 m of a wall)",
+               "HuNavSim"},
     Definition{"contact_time", "s", kContact, Better::lower, "total time in contact with any human", "hrisim"},
+
+    Definition{"social_force_on_robot", "N s/kg", kForces, Better::lower,
+               "sum over steps and people of |F(person -> robot)| dt, lightsfm's social force (HuNavSim swaps x and y in one "
+               "atan2: fixed here)",
+               "HuNavSim"},
+    Definition{"social_force_on_agents", "N s/kg", kForces, Better::lower, "sum over steps and people of |F(robot -> person)| dt",
+               "HuNavSim"},
+    Definition{"obstacle_force_on_robot", "N s/kg", kForces, Better::lower,
+               "sum over steps of 10 exp(-d/0.2) dt, d the robot's surface distance to the nearest obstacle", "HuNavSim"},
+    Definition{"social_work", "N s/kg", kForces, Better::lower,
+               "sum over steps of (|sum of the forces of people on the robot| + |obstacle force| + sum of |forces of the robot on "
+               "people|) dt",
+               "HuNavSim"},
 
     Definition{"requests_sent", "count", kInteraction, Better::none, "robot requests to humans", "IMHuS"},
     Definition{"requests_accepted", "count", kInteraction, Better::higher, "robot requests a human accepted", "IMHuS"},

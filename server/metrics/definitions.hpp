@@ -35,6 +35,18 @@ inline constexpr double kNotMovingSpeed = 0.01;
 inline constexpr double kNotMovingTurnRate = 0.02;
 /// A collision is blamed on whoever moved towards the other faster than this, m/s.
 inline constexpr double kBlameSpeed = 0.01;
+/// A group's centre lies this far ahead of its members (HuNavSim's o-space), m.
+inline constexpr double kGroupCentreAhead = 1.5;
+
+// Social forces as HuNavSim's evaluator computes them (lightsfm's formulation, METRICS.md).
+inline constexpr double kSocialForceStrength = 2.1;   ///< A
+inline constexpr double kSocialForceLambda = 2.0;     ///< λ: weight of the velocity difference
+inline constexpr double kSocialForceGamma = 0.35;     ///< γ
+inline constexpr double kSocialForceN = 2.0;          ///< n
+inline constexpr double kSocialForceNPrime = 3.0;     ///< n′
+inline constexpr double kObstacleForceStrength = 10.0;  ///< N per unit mass at contact
+inline constexpr double kObstacleForceRange = 0.2;      ///< m
+
 /// Failure to progress: the last this many seconds brought the robot less than kProgressDistance closer.
 inline constexpr double kProgressWindow = 10.0;
 inline constexpr double kProgressDistance = 0.1;

@@ -73,6 +73,13 @@ void path_metrics(const Recording& r, Values& values) {
     if (std::abs(v) < kNotMovingSpeed && omega < kNotMovingTurnRate) not_moving += dt;
   }
   set(values, "path_length", length);
+  double clearance_sum = 0.0, clearance_min = std::numeric_limits<double>::infinity();
+  for (const Sample& sample : samples) {
+    clearance_sum += sample.obstacle_distance;
+    clearance_min = std::min(clearance_min, sample.obstacle_distance);
+  }
+  set(values, "min_obstacle_clearance", clearance_min);
+  set(values, "avg_obstacle_clearance", clearance_sum / static_cast<double>(n));
   set(values, "cumulative_heading_changes", heading_changes);
   set(values, "time_not_moving", not_moving);
   set(values, "avg_robot_linear_speed", speed_sum / static_cast<double>(n));
@@ -105,7 +112,7 @@ void path_metrics(const Recording& r, Values& values) {
 
 void goal_metrics(const Recording& r, bool collided, Values& values) {
   static const char* const kKeys[] = {"time_to_goal", "path_efficiency", "minimum_distance_to_target", "final_distance_to_target",
-                                      "failure_to_progress"};
+                                      "failure_to_progress", "spl"};
   if (!r.goal) {
     for (const char* key : kKeys) set_null(values, key, "the robot has no navigation goal");
     return;
@@ -133,12 +140,87 @@ void goal_metrics(const Recording& r, bool collided, Values& values) {
   }
   const bool success = reached_at && !collided;
   set(values, "success", success ? 1.0 : 0.0);
+  if (!r.shortest_path_length) {
+    set_null(values, "spl", "no collision-free path from the start to the goal on the map");
+  } else {
+    const double shortest = *r.shortest_path_length;
+    set(values, "spl", success ? (shortest <= 0.0 ? 1.0 : shortest / std::max(length, shortest)) : 0.0);
+  }
   // Progress over the last window: distance to the goal then minus now.
   const auto window_ticks = static_cast<std::int64_t>(std::llround(kProgressWindow / r.dt));
   const std::int64_t from_tick = r.samples.back().tick - window_ticks;
   const auto then = std::find_if(r.samples.begin(), r.samples.end(), [&](const Sample& s) { return s.tick >= from_tick; });
   const double progress = (then->robot.position - goal).norm() - final_distance;
   set(values, "failure_to_progress", !success && progress < kProgressDistance ? 1.0 : 0.0);
+}
+
+/// Hall's bands for the closest group's centre (the centre: members' mean position plus
+/// kGroupCentreAhead ahead of each).
+void group_metrics(const Recording& r, Values& values) {
+  const auto n = static_cast<double>(r.samples.size());
+  int intimate = 0, personal = 0, social = 0;
+  for (const Sample& sample : r.samples) {
+    std::optional<double> closest;
+    for (const std::vector<int>& group : sample.groups) {
+      Vec2 centre = Vec2::Zero();
+      for (const int member : group) {
+        const Body& body = sample.humans[member];
+        centre += body.position + kGroupCentreAhead * core::heading_vector(body.heading);
+      }
+      centre /= static_cast<double>(group.size());
+      const double d = std::max((centre - sample.robot.position).norm() - sample.robot.radius, 0.0);
+      if (!closest || d < *closest) closest = d;
+    }
+    if (!closest) continue;
+    intimate += *closest < kIntimateDistance;
+    personal += *closest >= kIntimateDistance && *closest < kPersonalDistance;
+    social += *closest >= kPersonalDistance && *closest < kSocialDistance;
+  }
+  set(values, "group_intimate_space_intrusions", 100.0 * intimate / n);
+  set(values, "group_personal_space_intrusions", 100.0 * personal / n);
+  set(values, "group_social_space_intrusions", 100.0 * social / n);
+}
+
+/// Singamaneni et al.'s danger costs: fear while the robot closes in on a person, panic while it
+/// closes in on a course that passes them.
+void danger_metrics(const Recording& r, Values& values) {
+  double fear = 0.0, panic = 0.0;
+  for (const Sample& sample : r.samples) {
+    for (const Body& human : sample.humans) {
+      const Vec2 p = human.position - sample.robot.position, v = sample.robot.velocity - human.velocity;
+      const double distance = p.norm(), speed = v.norm();
+      if (distance == 0.0 || speed == 0.0 || p.dot(v) <= 0.0) continue;
+      fear += speed / distance * r.dt;
+      const double sine = std::abs(core::cross(p, v)) / (distance * speed);
+      const double miss = distance * sine, reach = sample.robot.radius + human.radius;
+      if (miss > reach) panic += speed / ((miss - reach) * sine) * r.dt;
+    }
+  }
+  set(values, "danger_fear_cost", fear);
+  set(values, "danger_panic_cost", panic);
+}
+
+/// Social forces between the robot and the people, and the obstacles' push on the robot.
+void force_metrics(const Recording& r, Values& values) {
+  double on_robot = 0.0, on_agents = 0.0, obstacle = 0.0, work = 0.0;
+  for (const Sample& sample : r.samples) {
+    Vec2 total = Vec2::Zero();
+    double by_robot = 0.0;
+    for (const Body& human : sample.humans) {
+      const Vec2 on = social_force(sample.robot, human);
+      total += on;
+      on_robot += on.norm() * r.dt;
+      by_robot += social_force(human, sample.robot).norm();
+    }
+    const double push = kObstacleForceStrength * std::exp(-sample.obstacle_distance / kObstacleForceRange);
+    on_agents += by_robot * r.dt;
+    obstacle += push * r.dt;
+    work += (total.norm() + push + by_robot) * r.dt;
+  }
+  set(values, "social_force_on_robot", on_robot);
+  set(values, "social_force_on_agents", on_agents);
+  set(values, "obstacle_force_on_robot", obstacle);
+  set(values, "social_work", work);
 }
 
 void proximity_metrics(const Recording& r, Values& values) {
@@ -168,6 +250,8 @@ void proximity_metrics(const Recording& r, Values& values) {
   set(values, "personal_space_intrusions", 100.0 * personal / n);
   set(values, "social_space_intrusions", 100.0 * social / n);
   set(values, "discomfort_frequency", 100.0 * discomfort / n);
+  group_metrics(r, values);
+  danger_metrics(r, values);
   if (with_humans == 0) return;
   std::optional<double> soonest;
   for (const Sample& sample : r.samples) {
@@ -200,6 +284,14 @@ bool contact_metrics(const Recording& r, Values& values) {
     if (!touching_now.empty()) contact_time += r.dt;
     touching_before = std::move(touching_now);
   }
+  int obstacle_collisions = 0;
+  std::set<std::string> obstacles_before;
+  for (const Sample& sample : r.samples) {
+    const std::set<std::string> now(sample.touched_obstacles.begin(), sample.touched_obstacles.end());
+    for (const std::string& name : now) obstacle_collisions += !obstacles_before.contains(name);
+    obstacles_before = now;
+  }
+  set(values, "obstacle_collisions", obstacle_collisions);
   set(values, "collisions", collisions);
   set(values, "robot_on_person_collisions", robot_fault);
   set(values, "person_on_robot_collisions", person_fault);
@@ -240,6 +332,23 @@ double surface_distance(const Body& a, const Body& b) {
   return std::max((a.position - b.position).norm() - a.radius - b.radius, 0.0);
 }
 
+Vec2 social_force(const Body& on, const Body& from) {
+  const Vec2 offset = from.position - on.position;
+  const double d = offset.norm();
+  if (d == 0.0) return Vec2::Zero();
+  const Vec2 e = offset / d;
+  const Vec2 interaction = kSocialForceLambda * (on.velocity - from.velocity) + e;
+  const double strength = interaction.norm();
+  if (strength == 0.0) return Vec2::Zero();
+  const Vec2 direction = interaction / strength;
+  const double b = kSocialForceGamma * strength;
+  const double theta = std::atan2(core::cross(direction, e), direction.dot(e));
+  const double sign = theta > 0.0 ? 1.0 : theta < 0.0 ? -1.0 : 0.0;
+  const double along = std::exp(-d / b - std::pow(kSocialForceNPrime * b * theta, 2));
+  const double sideways = std::exp(-d / b - std::pow(kSocialForceN * b * theta, 2));
+  return kSocialForceStrength * (-along * direction - sign * sideways * core::left_normal(direction));
+}
+
 std::optional<double> time_to_collision(const Body& a, const Body& b) {
   const Vec2 p = b.position - a.position;
   const Vec2 v = b.velocity - a.velocity;
@@ -264,6 +373,7 @@ std::vector<MetricValue> compute_episode_metrics(const Recording& recording) {
     path_metrics(recording, values);
     const bool collided = contact_metrics(recording, values);
     proximity_metrics(recording, values);
+    force_metrics(recording, values);
     goal_metrics(recording, collided, values);
     if (!recording.goal) {
       if (recording.has_choreography) {

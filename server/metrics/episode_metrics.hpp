@@ -22,6 +22,10 @@ std::vector<MetricValue> compute_episode_metrics(const Recording& recording);
 /// Surface distance between two discs: centre distance minus both radii, at least 0.
 double surface_distance(const Body& a, const Body& b);
 
+/// lightsfm's social force of agent `from` on agent `on` (per unit mass), as METRICS.md writes it;
+/// zero for coincident agents.
+Vec2 social_force(const Body& on, const Body& from);
+
 /// Earliest time >= 0 at which two discs moving at their current velocities touch; 0 when they
 /// already overlap, empty when they never do.
 std::optional<double> time_to_collision(const Body& a, const Body& b);

@@ -26,6 +26,12 @@ struct Sample {
   std::int64_t tick = 0;
   Body robot;
   std::vector<Body> humans;  ///< the humans present at this step
+  /// Surface distance from the robot to the nearest static obstacle (wall, furniture), m.
+  double obstacle_distance = 0.0;
+  /// Static things (walls "map", named obstacles and objects) the robot's body touches.
+  std::vector<std::string> touched_obstacles;
+  /// Agents of each group of two or more people at this step (indices into humans).
+  std::vector<std::vector<int>> groups;
 };
 
 struct RecordedEvent {
@@ -40,6 +46,9 @@ struct Recording {
   bool has_robot = false;  ///< false: the robot metrics are null
   std::optional<Vec2> goal;  ///< the robot's navigation goal, when it has one
   double goal_radius = 0.0;
+  /// Length of the shortest collision-free path from the start to the goal on the map's grid inflated
+  /// by the robot's radius, people ignored; empty without a goal or a path.
+  std::optional<double> shortest_path_length;
   bool has_choreography = false;
   bool choreography_completed = false;
   std::string termination;  ///< goal, collision, timeout, scenario_end, cancelled, error

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "metrics/definitions.hpp"
+
 namespace hrisim::sim {
 
 EpisodeRecorder::EpisodeRecorder(const Session& session) {
@@ -16,6 +18,16 @@ EpisodeRecorder::EpisodeRecorder(const Session& session) {
     if (controller.goal && controller.kind != scenario::RobotController::Kind::idle) {
       recording_.goal = controller.goal->position();
       recording_.goal_radius = controller.goal_radius;
+      const Vec2 start = session.state().agents[robot_].position;
+      if (const auto path = model.planner.plan(start, *recording_.goal, model.agents[robot_].radius)) {
+        double length = 0.0;
+        Vec2 from = start;
+        for (const Vec2& waypoint : *path) {
+          length += (waypoint - from).norm();
+          from = waypoint;
+        }
+        recording_.shortest_path_length = length;
+      }
     }
   }
   recording_.has_choreography = !model.steps.empty();
@@ -31,14 +43,33 @@ void EpisodeRecorder::record(const Session& session) {
   std::vector<Contact> touching;
   if (robot_ >= 0) {
     const AgentState& robot = state.agents[robot_];
-    sample.robot = {robot_, robot.position, robot.velocity, robot.heading, model.agents[robot_].radius, false};
-    if (const RobotRuntime* runtime = session.robot_runtime(session.agent_id(model.agents[robot_].id))) touching = runtime->contacts;
+    const double radius = model.agents[robot_].radius;
+    sample.robot = {robot_, robot.position, robot.velocity, robot.heading, radius, false};
+    // The distance field runs between cell centres: half a cell is the obstacle's own.
+    sample.obstacle_distance = std::max(model.field.distance(model.grid, robot.position) - model.grid.resolution() / 2 - radius, 0.0);
+    if (const RobotRuntime* runtime = session.robot_runtime(session.agent_id(model.agents[robot_].id))) {
+      touching = runtime->contacts;
+      for (const Contact& contact : touching) {
+        if (contact.agent >= 0) continue;
+        sample.touched_obstacles.push_back(contact.object >= 0 ? model.objects[contact.object].name : contact.part.empty() ? "map" : contact.part);
+      }
+    } else if (sample.obstacle_distance < metrics::kContactDistance) {
+      sample.touched_obstacles.push_back("map");  // a disc robot has no physics body: touching is being this close
+    }
   }
   for (std::size_t a = 0; a < model.agents.size(); ++a) {
     if (model.agents[a].kind != scenario::AgentKind::human || !state.agents[a].active) continue;
     const AgentState& human = state.agents[a];
     const bool touches = std::any_of(touching.begin(), touching.end(), [&](const Contact& c) { return c.agent == static_cast<int>(a); });
     sample.humans.push_back({static_cast<int>(a), human.position, human.velocity, human.heading, model.agents[a].radius, touches});
+  }
+  for (const std::vector<int>& members : state.groups) {
+    std::vector<int> present;
+    for (const int agent : members) {
+      const auto found = std::find_if(sample.humans.begin(), sample.humans.end(), [&](const metrics::Body& b) { return b.agent == agent; });
+      if (found != sample.humans.end()) present.push_back(static_cast<int>(found - sample.humans.begin()));
+    }
+    if (present.size() >= 2) sample.groups.push_back(std::move(present));
   }
   recording_.samples.push_back(std::move(sample));
 }

@@ -16,6 +16,16 @@ Body disc(int agent, double x, double y, double vx = 0.0, double vy = 0.0, doubl
   return {agent, {x, y}, {vx, vy}, heading, radius, false};
 }
 
+/// A step with the robot and the people; obstacles far away unless said otherwise.
+Sample sample(std::int64_t tick, Body robot, std::vector<Body> humans, double obstacle_distance = 10.0) {
+  Sample s;
+  s.tick = tick;
+  s.robot = robot;
+  s.humans = std::move(humans);
+  s.obstacle_distance = obstacle_distance;
+  return s;
+}
+
 Recording with_robot() {
   Recording r;
   r.dt = kDt;
@@ -38,7 +48,7 @@ double value(const std::vector<MetricValue>& values, const std::string& key) {
 
 TEST(EpisodeMetrics, EveryDefinitionGetsAValueOrAReasonInOrder) {
   Recording r = with_robot();
-  r.samples.push_back({0, disc(0, 0, 0), {}});
+  r.samples.push_back(sample(0, disc(0, 0, 0), {}));
   const auto values = compute_episode_metrics(r);
   ASSERT_EQ(values.size(), definitions().size());
   for (std::size_t i = 0; i < values.size(); ++i) {
@@ -54,7 +64,7 @@ TEST(EpisodeMetrics, HeadOnApproach) {
   Recording r = with_robot();
   for (int i = 0; i <= 30; ++i) {
     const double t = i * kDt;
-    r.samples.push_back({i, disc(0, t, 0, 1.0, 0), {disc(1, 10.05 - t, 0, -1.0, 0, M_PI)}});
+    r.samples.push_back(sample(i, disc(0, t, 0, 1.0, 0), {disc(1, 10.05 - t, 0, -1.0, 0, M_PI)}));
   }
   const auto values = compute_episode_metrics(r);
   EXPECT_NEAR(value(values, "minimum_distance_to_people"), 3.45, 1e-12);
@@ -79,7 +89,7 @@ TEST(EpisodeMetrics, AContactLastingSeveralStepsCountsOnce) {
   for (int i = 0; i <= 12; ++i) {
     const bool touching = (i >= 2 && i <= 6) || (i >= 9 && i <= 10);
     const bool arriving = i == 2 || i == 9;
-    r.samples.push_back({i, disc(0, 0, 0), {disc(1, touching ? 0.6 : 2.0, 0, arriving ? -0.5 : 0.0, 0)}});
+    r.samples.push_back(sample(i, disc(0, 0, 0), {disc(1, touching ? 0.6 : 2.0, 0, arriving ? -0.5 : 0.0, 0)}));
   }
   const auto values = compute_episode_metrics(r);
   EXPECT_EQ(value(values, "collisions"), 2.0);
@@ -98,7 +108,7 @@ TEST(EpisodeMetrics, PhysicsContactCountsEvenAtADistanceAndBlameFollowsMotion) {
   for (int i = 0; i <= 4; ++i) {
     Body person = disc(1, 1.0, 0);
     person.touching_robot = i >= 3;
-    r.samples.push_back({i, disc(0, 0.1 * i, 0, 1.0, 0), {person}});
+    r.samples.push_back(sample(i, disc(0, 0.1 * i, 0, 1.0, 0), {person}));
   }
   const auto values = compute_episode_metrics(r);
   EXPECT_EQ(value(values, "collisions"), 1.0);
@@ -108,7 +118,7 @@ TEST(EpisodeMetrics, PhysicsContactCountsEvenAtADistanceAndBlameFollowsMotion) {
 
 TEST(EpisodeMetrics, ARobotThatNeverMoves) {
   Recording r = with_robot();
-  for (int i = 0; i < 20; ++i) r.samples.push_back({i, disc(0, 1, 1, 0, 0, 0.5), {disc(1, 5, 1)}});
+  for (int i = 0; i < 20; ++i) r.samples.push_back(sample(i, disc(0, 1, 1, 0, 0, 0.5), {disc(1, 5, 1)}));
   const auto values = compute_episode_metrics(r);
   EXPECT_NEAR(value(values, "time_not_moving"), 20 * kDt, 1e-12);
   EXPECT_EQ(value(values, "path_length"), 0.0);
@@ -120,7 +130,7 @@ TEST(EpisodeMetrics, ARobotThatNeverMoves) {
 
 TEST(EpisodeMetrics, NoHumansAtAll) {
   Recording r = with_robot();
-  for (int i = 0; i < 5; ++i) r.samples.push_back({i, disc(0, 0.1 * i, 0, 1, 0), {}});
+  for (int i = 0; i < 5; ++i) r.samples.push_back(sample(i, disc(0, 0.1 * i, 0, 1, 0), {}));
   const auto values = compute_episode_metrics(r);
   EXPECT_EQ(metric(values, "minimum_distance_to_people").null_reason, "no human was present");
   EXPECT_FALSE(metric(values, "avg_distance_to_closest_person").value);
@@ -131,7 +141,7 @@ TEST(EpisodeMetrics, NoHumansAtAll) {
 
 TEST(EpisodeMetrics, ASingleStep) {
   Recording r = with_robot();
-  r.samples.push_back({0, disc(0, 0, 0, 0.5, 0), {disc(1, 2, 0)}});
+  r.samples.push_back(sample(0, disc(0, 0, 0, 0.5, 0), {disc(1, 2, 0)}));
   const auto values = compute_episode_metrics(r);
   EXPECT_EQ(value(values, "episode_length"), 0.0);
   EXPECT_EQ(value(values, "path_length"), 0.0);
@@ -147,7 +157,7 @@ TEST(EpisodeMetrics, ReachingAGoal) {
   Recording r = with_robot();
   r.goal = core::Vec2(5, 0);
   r.goal_radius = 0.5;
-  for (int i = 0; i <= 50; ++i) r.samples.push_back({i, disc(0, 0.1 * i, 0, 1, 0), {}});
+  for (int i = 0; i <= 50; ++i) r.samples.push_back(sample(i, disc(0, 0.1 * i, 0, 1, 0), {}));
   const auto values = compute_episode_metrics(r);
   EXPECT_NEAR(value(values, "time_to_goal"), 4.5, 1e-12);
   EXPECT_NEAR(value(values, "path_efficiency"), 1.0, 1e-12);
@@ -161,7 +171,7 @@ TEST(EpisodeMetrics, NotReachingAGoalWhileStuck) {
   Recording r = with_robot();
   r.goal = core::Vec2(5, 0);
   r.goal_radius = 0.5;
-  for (int i = 0; i <= 200; ++i) r.samples.push_back({i, disc(0, 2, 0), {}});
+  for (int i = 0; i <= 200; ++i) r.samples.push_back(sample(i, disc(0, 2, 0), {}));
   const auto values = compute_episode_metrics(r);
   EXPECT_EQ(value(values, "success"), 0.0);
   EXPECT_EQ(value(values, "failure_to_progress"), 1.0);
@@ -174,7 +184,7 @@ TEST(EpisodeMetrics, HeadingChangesWrapAroundPi) {
   // 0 → 0.5 → −0.5 → 3.0 → −3.0: changes 0.5, 1.0, 3.5 wrapped to 2π − 3.5, 6 wrapped to 2π − 6.
   Recording r = with_robot();
   const double headings[] = {0.0, 0.5, -0.5, 3.0, -3.0};
-  for (int i = 0; i < 5; ++i) r.samples.push_back({i, disc(0, 0, 0, 0, 0, headings[i]), {}});
+  for (int i = 0; i < 5; ++i) r.samples.push_back(sample(i, disc(0, 0, 0, 0, 0, headings[i]), {}));
   const auto values = compute_episode_metrics(r);
   const double expected = 0.5 + 1.0 + (2 * M_PI - 3.5) + (2 * M_PI - 6.0);
   EXPECT_NEAR(value(values, "cumulative_heading_changes"), expected, 1e-12);
@@ -185,7 +195,7 @@ TEST(EpisodeMetrics, AccelerationAndJerkFromForwardSpeed) {
   // Forward speeds 0, 0.1, 0.3, 0.3 at dt 0.1: accelerations 1, 2, 0; jerks 10, −20.
   Recording r = with_robot();
   const double speeds[] = {0.0, 0.1, 0.3, 0.3};
-  for (int i = 0; i < 4; ++i) r.samples.push_back({i, disc(0, 0, 0, speeds[i], 0), {}});
+  for (int i = 0; i < 4; ++i) r.samples.push_back(sample(i, disc(0, 0, 0, speeds[i], 0), {}));
   const auto values = compute_episode_metrics(r);
   EXPECT_NEAR(value(values, "avg_acceleration"), 1.0, 1e-9);
   EXPECT_NEAR(value(values, "max_acceleration"), 2.0, 1e-9);
@@ -197,7 +207,7 @@ TEST(EpisodeMetrics, RequestsAndTheirLatency) {
   Recording r = with_robot();
   r.has_choreography = true;
   r.choreography_completed = true;
-  for (int i = 0; i <= 50; ++i) r.samples.push_back({i, disc(0, 0, 0), {}});
+  for (int i = 0; i <= 50; ++i) r.samples.push_back(sample(i, disc(0, 0, 0), {}));
   r.events = {{10, "request", "robot", 1}, {12, "request", "robot", 2}, {30, "request_dropped", "robot", 2},
               {40, "request_accepted", "ana", 1}};
   const auto values = compute_episode_metrics(r);
@@ -212,11 +222,96 @@ TEST(EpisodeMetrics, RequestsAndTheirLatency) {
 TEST(EpisodeMetrics, WithoutARobotOnlyEpisodeMetricsHaveValues) {
   Recording r;
   r.dt = kDt;
-  for (int i = 0; i < 3; ++i) r.samples.push_back({i, {}, {disc(1, i, 0)}});
+  for (int i = 0; i < 3; ++i) r.samples.push_back(sample(i, {}, {disc(1, i, 0)}));
   const auto values = compute_episode_metrics(r);
   EXPECT_EQ(value(values, "episode_length"), 2.0);
   EXPECT_EQ(metric(values, "collisions").null_reason, "the scenario has no robot");
   EXPECT_EQ(metric(values, "choreography_completed").null_reason, "the scenario has no choreography");
+}
+
+TEST(EpisodeMetrics, SplAndObstacleClearance) {
+  // Straight to a goal 5 m away (path 5 m). With a 6 m shortest path on the map (the grid's corners):
+  // SPL 6 / max(5, 6) = 1; with a 4 m one: 4 / 5 = 0.8.
+  for (const auto& [shortest, expected] : {std::pair{6.0, 1.0}, std::pair{4.0, 0.8}}) {
+    Recording r = with_robot();
+    r.goal = core::Vec2(5, 0);
+    r.goal_radius = 0.1;
+    r.shortest_path_length = shortest;
+    for (int i = 0; i <= 50; ++i) r.samples.push_back(sample(i, disc(0, 0.1 * i, 0, 1, 0), {}, 1.0 + 0.01 * i));
+    const auto values = compute_episode_metrics(r);
+    EXPECT_NEAR(value(values, "spl"), expected, 1e-12) << shortest;
+    EXPECT_NEAR(value(values, "min_obstacle_clearance"), 1.0, 1e-12);
+    EXPECT_NEAR(value(values, "avg_obstacle_clearance"), 1.25, 1e-12);
+    // 10·exp(−d/0.2) summed over the steps times dt.
+    double push = 0.0;
+    for (int i = 0; i <= 50; ++i) push += 10.0 * std::exp(-(1.0 + 0.01 * i) / 0.2) * kDt;
+    EXPECT_NEAR(value(values, "obstacle_force_on_robot"), push, 1e-12);
+  }
+  Recording failed = with_robot();
+  failed.goal = core::Vec2(5, 0);
+  failed.shortest_path_length = 5.0;
+  failed.samples.push_back(sample(0, disc(0, 0, 0), {}));
+  EXPECT_EQ(value(compute_episode_metrics(failed), "spl"), 0.0) << "no success, no credit";
+  failed.shortest_path_length.reset();
+  EXPECT_EQ(metric(compute_episode_metrics(failed), "spl").null_reason, "no collision-free path from the start to the goal on the map");
+}
+
+TEST(EpisodeMetrics, ObstacleContactsCountOncePerContact) {
+  Recording r = with_robot();
+  const std::vector<std::vector<std::string>> touched{{}, {"map"}, {"map"}, {"map", "cup"}, {}, {"cup"}};
+  for (std::size_t i = 0; i < touched.size(); ++i) {
+    Sample s = sample(static_cast<int>(i), disc(0, 0, 0), {});
+    s.touched_obstacles = touched[i];
+    r.samples.push_back(s);
+  }
+  EXPECT_EQ(value(compute_episode_metrics(r), "obstacle_collisions"), 3.0) << "the wall once, the cup twice";
+}
+
+TEST(EpisodeMetrics, GroupSpaceFromTheGroupsCentre) {
+  // Two people at (3, 0) and (3, 1) facing the robot (heading π): centre (3, 0.5) + 1.5 m ahead =
+  // (1.5, 0.5), 1.5811 m from the robot's centre, 1.2811 m from its surface: the social band.
+  Recording r = with_robot();
+  Sample s = sample(0, disc(0, 0, 0), {disc(1, 3, 0, 0, 0, M_PI), disc(2, 3, 1, 0, 0, M_PI)});
+  s.groups = {{0, 1}};
+  r.samples.push_back(s);
+  r.samples.push_back(sample(1, disc(0, 0, 0), {disc(1, 3, 0, 0, 0, M_PI), disc(2, 3, 1, 0, 0, M_PI)}));  // the group broke up
+  const auto values = compute_episode_metrics(r);
+  EXPECT_EQ(value(values, "group_social_space_intrusions"), 50.0);
+  EXPECT_EQ(value(values, "group_personal_space_intrusions"), 0.0);
+  EXPECT_EQ(value(values, "group_intimate_space_intrusions"), 0.0);
+}
+
+TEST(EpisodeMetrics, DangerCostsOfFearAndPanic) {
+  // The robot drives at 1 m/s straight at a still person 2 m ahead: fear |V|/|P| = 0.5, no panic
+  // (on a collision course). A person at (2, 1): P·V = 2 > 0, sin θ = 1/√5, d⊥ = 1 > R = 0.6:
+  // fear 1/√5, panic 1 / ((1 − 0.6)·(1/√5)) = √5 / 0.4.
+  Recording r = with_robot();
+  r.samples.push_back(sample(0, disc(0, 0, 0, 1, 0), {disc(1, 2, 0)}));
+  r.samples.push_back(sample(1, disc(0, 0, 0, 1, 0), {disc(1, 2, 1)}));
+  r.samples.push_back(sample(2, disc(0, 0, 0, 1, 0), {disc(1, -2, 0)}));  // behind: moving away, no cost
+  const auto values = compute_episode_metrics(r);
+  EXPECT_NEAR(value(values, "danger_fear_cost"), (0.5 + 1 / std::sqrt(5.0)) * kDt, 1e-12);
+  EXPECT_NEAR(value(values, "danger_panic_cost"), std::sqrt(5.0) / 0.4 * kDt, 1e-9);
+}
+
+TEST(SocialForce, BetweenStillAgentsItPushesApartWithHuNavSimsStrength) {
+  // Still agents 1 m apart: D = e, B = γ, θ = 0, so F = −A·exp(−d/γ)·e and no sideways part.
+  const Vec2 force = social_force(disc(0, 0, 0), disc(1, 1, 0));
+  EXPECT_NEAR(force.x(), -2.1 * std::exp(-1.0 / 0.35), 1e-12);
+  EXPECT_NEAR(force.y(), 0.0, 1e-15);
+  EXPECT_EQ(social_force(disc(0, 0, 0), disc(1, 0, 0)), Vec2::Zero()) << "coincident: no direction";
+  // Walking past on the left: the push has a sideways part away from the other's side.
+  const Vec2 passing = social_force(disc(0, 0, 0, 1, 0), disc(1, 1, 0.5));
+  EXPECT_LT(passing.y(), 0.0);
+
+  Recording r = with_robot();
+  for (int i = 0; i < 10; ++i) r.samples.push_back(sample(i, disc(0, 0, 0), {disc(1, 1, 0)}));
+  const auto values = compute_episode_metrics(r);
+  const double per_step = 2.1 * std::exp(-1.0 / 0.35);
+  EXPECT_NEAR(value(values, "social_force_on_robot"), 10 * per_step * kDt, 1e-12);
+  EXPECT_NEAR(value(values, "social_force_on_agents"), 10 * per_step * kDt, 1e-12);
+  const double obstacle = 10.0 * std::exp(-10.0 / 0.2);
+  EXPECT_NEAR(value(values, "social_work"), 10 * (2 * per_step + obstacle) * kDt, 1e-12);
 }
 
 TEST(TimeToCollision, OverlappingParallelAndPassing) {
