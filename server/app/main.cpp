@@ -9,6 +9,7 @@
 #include "app/scenario_commands.hpp"
 #include "core/error.hpp"
 #include "http/api.hpp"
+#include "metrics/definitions.hpp"
 #include "runs/executor.hpp"
 #include "storage/store.hpp"
 
@@ -27,6 +28,7 @@ constexpr const char* kUsage =
     "            (FILE: native JSON, IMHuS or Pedsim XML)\n"
     "  import    convert IMHuS or Pedsim XML to the native JSON on stdout:\n"
     "            hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]\n"
+    "  metrics   print the metrics reference (docs/metrics.md) as Markdown\n"
     "  version   print build and library versions as JSON\n"
     "  help      print this text\n";
 
@@ -82,6 +84,10 @@ int main(int argc, char** argv) {
     if (command == "validate") return hrisim::app::validate_command(args);
     if (command == "run") return hrisim::app::run_command(args);
     if (command == "import") return hrisim::app::import_command(args);
+    if (command == "metrics") {
+      std::fputs(hrisim::metrics::reference_markdown().c_str(), stdout);
+      return 0;
+    }
     if (command == "version" || command == "--version") {
       std::printf("%s\n", hrisim::http::version_info().dump(2).c_str());
       return 0;

@@ -1,6 +1,7 @@
 #pragma once
 // The metrics hrisim computes, as served at GET /api/v1/metrics and listed in docs/metrics.md.
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace hrisim::metrics {
@@ -20,6 +21,10 @@ std::span<const Definition> definitions();
 /// The definition of a key, or nullptr.
 const Definition* find_definition(std::string_view key);
 std::string_view to_string(Better better);
+
+/// The metrics reference page (docs/metrics.md) in Markdown, from these definitions and the named
+/// defaults below: `hrisim metrics` prints it, and a test keeps the file equal to it.
+std::string reference_markdown();
 
 // Thresholds of METRICS.md (named defaults, documented in docs/metrics.md).
 /// Hall's zones as HuNavSim uses them: intimate below, personal below, social below, m.

@@ -3,9 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+#include <set>
 #include <vector>
 
 #include "core/error.hpp"
+#include "metrics/definitions.hpp"
 
 namespace hrisim::metrics {
 namespace {
@@ -88,6 +92,18 @@ TEST(Gates, EvaluateEveryOperatorAndFailWithoutAValue) {
   const GateResult missing = evaluate_gate(parse_gate("collisions.mean == 0"), a);
   EXPECT_FALSE(missing.passed);
   EXPECT_FALSE(missing.actual);
+}
+
+TEST(Definitions, KeysAreUniqueAndTheReferencePageIsCurrent) {
+  std::set<std::string_view> keys;
+  for (const Definition& d : definitions()) {
+    EXPECT_TRUE(keys.insert(d.key).second) << d.key;
+    EXPECT_FALSE(d.unit.empty()) << d.key;
+    EXPECT_FALSE(d.description.empty()) << d.key;
+  }
+  std::ifstream in(std::string(HRISIM_SOURCE_DIR) + "/docs/metrics.md");
+  const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(page, reference_markdown()) << "docs/metrics.md is stale: build/…/hrisim metrics > docs/metrics.md";
 }
 
 }  // namespace
