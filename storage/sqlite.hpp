@@ -25,6 +25,8 @@ class Statement {
   Statement& bind(int index, std::int64_t value);
   Statement& bind(int index, double value);
   Statement& bind_null(int index);
+  /// Binds bytes as a BLOB.
+  Statement& bind_blob(int index, std::string_view bytes);
   Statement& bind(int index, const std::optional<std::string>& value);
   Statement& bind(int index, const std::optional<double>& value);
 
@@ -36,6 +38,7 @@ class Statement {
 
   bool is_null(int column) const;
   std::string text(int column) const;
+  std::string blob(int column) const;
   std::optional<std::string> optional_text(int column) const;
   std::int64_t integer(int column) const;
   double real(int column) const;

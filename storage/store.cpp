@@ -4,6 +4,8 @@
 
 #include <bit>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 #include "core/error.hpp"
 #include "core/sha256.hpp"
@@ -224,7 +226,42 @@ void Store::write_episode(const EpisodeRecord& episode) {
     insert_sample.bind(5, sample.y).bind(6, sample.theta);
     insert_sample.run();
   }
+  Statement insert_series = db_->prepare(
+      "INSERT INTO metric_series (episode_id, name, first_tick, stride, vals) VALUES (?1, ?2, ?3, ?4, ?5)");
+  for (const SeriesRecord& series : episode.series) {
+    static_assert(std::endian::native == std::endian::little, "series are stored as little-endian float64");
+    std::string bytes(series.values.size() * sizeof(double), '\0');
+    for (std::size_t i = 0; i < series.values.size(); ++i) {
+      if (series.values[i] && !std::isfinite(*series.values[i])) {
+        throw core::Error(core::ErrorCode::bad_request, "series " + series.name + " of episode " + episode.id + " holds a value that is not finite",
+                          {{"episode_id", episode.id}, {"series", series.name}});
+      }
+      const double value = series.values[i].value_or(std::numeric_limits<double>::quiet_NaN());
+      std::memcpy(bytes.data() + i * sizeof(double), &value, sizeof value);
+    }
+    insert_series.bind(1, episode.id).bind(2, series.name).bind(3, series.first_tick).bind(4, series.stride).bind_blob(5, bytes);
+    insert_series.run();
+  }
   transaction.commit();
+}
+
+std::vector<SeriesRecord> Store::series(const std::string& episode_id, const std::string& name) {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare(
+      "SELECT name, first_tick, stride, vals FROM metric_series WHERE episode_id = ?1 AND (?2 = '' OR name = ?2) ORDER BY name");
+  select.bind(1, episode_id).bind(2, name);
+  std::vector<SeriesRecord> list;
+  while (select.step()) {
+    SeriesRecord series{select.text(0), select.integer(1), select.integer(2), {}};
+    const std::string bytes = select.blob(3);
+    for (std::size_t offset = 0; offset + sizeof(double) <= bytes.size(); offset += sizeof(double)) {
+      double value = 0.0;
+      std::memcpy(&value, bytes.data() + offset, sizeof value);
+      series.values.push_back(std::isnan(value) ? std::nullopt : std::optional(value));
+    }
+    list.push_back(std::move(series));
+  }
+  return list;
 }
 
 std::optional<EpisodeRecord> Store::episode(const std::string& id) {

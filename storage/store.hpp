@@ -60,6 +60,14 @@ struct TrajectorySample {
   double theta = 0.0;
 };
 
+/// A per-step series of an episode, sampled every `stride` ticks from `first_tick`.
+struct SeriesRecord {
+  std::string name;
+  std::int64_t first_tick = 0;
+  std::int64_t stride = 1;
+  std::vector<std::optional<double>> values;  ///< empty where a step has no value
+};
+
 struct EpisodeRecord {
   std::string id;
   std::optional<std::string> run_id;  ///< empty for an episode of a live session
@@ -74,6 +82,7 @@ struct EpisodeRecord {
   std::vector<MetricValue> metrics;
   std::vector<EventRecord> events;  ///< in order of occurrence
   std::vector<TrajectorySample> trajectory;
+  std::vector<SeriesRecord> series;
 };
 
 /// Counts of what is stored, for health and tests.
@@ -120,8 +129,10 @@ class Store {
 
   /// Writes the episode with all its metrics, events and trajectory in one transaction.
   void write_episode(const EpisodeRecord& episode);
-  /// The episode with everything stored for it.
+  /// The episode with everything stored for it but its series.
   std::optional<EpisodeRecord> episode(const std::string& id);
+  /// An episode's series; only the one named `name` when given.
+  std::vector<SeriesRecord> series(const std::string& episode_id, const std::string& name = "");
   /// Ids of a run's episodes in the order they were written.
   std::vector<std::string> episode_ids_of_run(const std::string& run_id);
   /// A run's episodes in the order they were written, with their metrics but without events and

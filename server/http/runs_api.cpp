@@ -1,5 +1,6 @@
 #include "http/runs_api.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -144,7 +145,11 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
                        {"description", d.description},
                        {"convention", d.convention}});
     }
-    return Response::json(200, {{"items", items}});
+    json series = json::array();
+    for (const metrics::SeriesDefinition& d : metrics::series_definitions()) {
+      series.push_back({{"name", d.name}, {"unit", d.unit}, {"description", d.description}});
+    }
+    return Response::json(200, {{"items", items}, {"series", series}});
   });
 
   router.add("POST", "/api/v1/runs", [catalogue, store, executor](const Request& request) {
@@ -231,6 +236,50 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
     }
     reply["null_reasons"] = null_reasons;
     return Response::json(200, reply);
+  });
+
+  router.add("GET", "/api/v1/episodes/{id}/series", [store](const Request& request) {
+    const std::string format = query_value(request.query, "format").value_or("json");
+    const std::string name = query_value(request.query, "name").value_or("");
+    if (format != "json" && format != "csv") throw core::Error(core::ErrorCode::bad_request, "format must be json or csv", {{"parameter", "format"}});
+    const auto& known = metrics::series_definitions();
+    const auto definition = std::find_if(known.begin(), known.end(), [&](const metrics::SeriesDefinition& d) { return d.name == name; });
+    if (!name.empty() && definition == known.end()) {
+      throw core::Error(core::ErrorCode::bad_request, "name: no series '" + name + "' (GET /api/v1/metrics lists them)", {{"parameter", "name"}});
+    }
+    if (format == "csv" && name.empty()) throw core::Error(core::ErrorCode::bad_request, "format=csv needs a series name", {{"parameter", "name"}});
+    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"));
+    const double dt = episode.ticks > 0 ? episode.sim_time / static_cast<double>(episode.ticks) : 0.0;
+    const std::vector<storage::SeriesRecord> stored = store->series(episode.id, name);
+    if (format == "csv") {
+      std::ostringstream csv;
+      csv.precision(17);
+      csv << "tick,time," << name << '\n';
+      for (const storage::SeriesRecord& series : stored) {
+        for (std::size_t i = 0; i < series.values.size(); ++i) {
+          const std::int64_t tick = series.first_tick + static_cast<std::int64_t>(i) * series.stride;
+          csv << tick << ',' << static_cast<double>(tick) * dt << ',';
+          if (series.values[i]) csv << *series.values[i];
+          csv << '\n';
+        }
+      }
+      return Response{200, "text/csv; charset=utf-8", csv.str(), {}, {}};
+    }
+    json items = json::array();
+    for (const storage::SeriesRecord& series : stored) {
+      json ticks = json::array(), values = json::array();
+      for (std::size_t i = 0; i < series.values.size(); ++i) {
+        ticks.push_back(series.first_tick + static_cast<std::int64_t>(i) * series.stride);
+        values.push_back(series.values[i] ? json(*series.values[i]) : json());
+      }
+      const auto unit = std::find_if(known.begin(), known.end(), [&](const metrics::SeriesDefinition& d) { return d.name == series.name; });
+      items.push_back({{"name", series.name},
+                       {"unit", unit == known.end() ? "" : std::string(unit->unit)},
+                       {"dt", dt * static_cast<double>(series.stride)},
+                       {"ticks", ticks},
+                       {"values", values}});
+    }
+    return Response::json(200, {{"episode", episode.id}, {"items", items}});
   });
 
   router.add("GET", "/api/v1/episodes/{id}/trajectory", [store](const Request& request) {

@@ -120,9 +120,21 @@ constexpr std::array kDefinitions{
     Definition{"episode_length", "steps", kRewards, Better::none, "number of simulation steps of the episode", "Gymnasium"},
 };
 
+constexpr std::array kSeries{
+    SeriesDefinition{"distance_to_closest_person", "m", "surface distance from the robot to the closest person; none without people"},
+    SeriesDefinition{"proxemic_zone", "zone",
+                     "Hall's zone of the closest person: 0 intimate (< 0.45 m), 1 personal (< 1.2 m), 2 social (< 3.6 m), 3 public"},
+    SeriesDefinition{"time_to_collision", "s",
+                     "soonest time at which the robot and a person, at their current velocities, would touch; none if never"},
+    SeriesDefinition{"robot_speed", "m/s", "the robot's speed"},
+    SeriesDefinition{"social_force_on_robot", "N/kg", "magnitude of the people's summed social force on the robot"},
+};
+
 }  // namespace
 
 std::span<const Definition> definitions() { return kDefinitions; }
+
+std::span<const SeriesDefinition> series_definitions() { return kSeries; }
 
 const Definition* find_definition(std::string_view key) {
   const auto found = std::find_if(kDefinitions.begin(), kDefinitions.end(), [&](const Definition& d) { return d.key == key; });
@@ -157,6 +169,11 @@ std::string reference_markdown() {
     for (const char c : d.description) description += c == '|' ? std::string("\\|") : std::string(1, c);  // a table cell
     page += "| `" + std::string(d.key) + "` | " + std::string(d.unit) + " | " + std::string(to_string(d.better)) + " | " + description +
             " | " + std::string(d.convention) + " |\n";
+  }
+  page += "\n## Per-step series\n\nKept for plots at the trajectory's rate (10 Hz), served by `GET /api/v1/episodes/{id}/series`.\n\n"
+          "| name | unit | meaning |\n|---|---|---|\n";
+  for (const SeriesDefinition& series : kSeries) {
+    page += "| `" + std::string(series.name) + "` | " + std::string(series.unit) + " | " + std::string(series.description) + " |\n";
   }
   page += "\n## Named defaults\n\n| name | value | meaning |\n|---|---|---|\n";
   const std::pair<const char*, std::pair<double, const char*>> defaults[] = {

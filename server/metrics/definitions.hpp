@@ -18,6 +18,15 @@ struct Definition {
 };
 
 std::span<const Definition> definitions();
+
+/// A per-step series kept for plots.
+struct SeriesDefinition {
+  std::string_view name;
+  std::string_view unit;
+  std::string_view description;
+};
+/// distance_to_closest_person, proxemic_zone, time_to_collision, robot_speed, social_force_on_robot.
+std::span<const SeriesDefinition> series_definitions();
 /// The definition of a key, or nullptr.
 const Definition* find_definition(std::string_view key);
 std::string_view to_string(Better better);

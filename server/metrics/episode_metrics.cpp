@@ -362,6 +362,34 @@ std::optional<double> time_to_collision(const Body& a, const Body& b) {
   return (-qb - std::sqrt(discriminant)) / (2.0 * qa);
 }
 
+std::vector<Series> compute_series(const Recording& recording) {
+  std::vector<Series> list;
+  for (const SeriesDefinition& definition : series_definitions()) list.push_back({std::string(definition.name), std::string(definition.unit), {}});
+  const std::vector<std::optional<double>> closest = closest_distances(recording);
+  for (std::size_t t = 0; t < recording.samples.size(); ++t) {
+    const Sample& sample = recording.samples[t];
+    if (!recording.has_robot) {
+      for (Series& series : list) series.values.emplace_back();
+      continue;
+    }
+    std::optional<double> zone;
+    if (closest[t]) zone = *closest[t] < kIntimateDistance ? 0 : *closest[t] < kPersonalDistance ? 1 : *closest[t] < kSocialDistance ? 2 : 3;
+    std::optional<double> soonest;
+    Vec2 force = Vec2::Zero();
+    for (const Body& human : sample.humans) {
+      const auto ttc = time_to_collision(sample.robot, human);
+      if (ttc && (!soonest || *ttc < *soonest)) soonest = ttc;
+      force += social_force(sample.robot, human);
+    }
+    list[0].values.push_back(closest[t]);
+    list[1].values.push_back(zone);
+    list[2].values.push_back(soonest);
+    list[3].values.push_back(sample.robot.velocity.norm());
+    list[4].values.push_back(force.norm());
+  }
+  return list;
+}
+
 std::vector<MetricValue> compute_episode_metrics(const Recording& recording) {
   if (recording.samples.empty() || !(recording.dt > 0.0)) {
     throw core::Error(core::ErrorCode::internal, "an episode recording needs at least one sample and dt > 0");

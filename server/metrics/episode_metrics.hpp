@@ -19,6 +19,17 @@ struct MetricValue {
 /// Every metric of definitions(), in that order.
 std::vector<MetricValue> compute_episode_metrics(const Recording& recording);
 
+/// A per-step series for plots: one value (or none) per sample of the recording.
+struct Series {
+  std::string name;
+  std::string unit;
+  std::vector<std::optional<double>> values;
+};
+
+/// The series of series_definitions(), in that order, one value per sample; empty values where a step
+/// has none (no person, no collision course, no robot).
+std::vector<Series> compute_series(const Recording& recording);
+
 /// Surface distance between two discs: centre distance minus both radii, at least 0.
 double surface_distance(const Body& a, const Body& b);
 

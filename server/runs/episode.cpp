@@ -80,9 +80,16 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
   }
 
   const sim::State& state = session.state();
-  for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(recorder.finish(session))) {
+  const metrics::Recording recording = recorder.finish(session);
+  for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(recording)) {
     record.metrics.push_back({metric.key, metric.value,
                               metric.value ? std::nullopt : std::optional<std::string>(metric.null_reason)});
+  }
+  // Series are kept at the trajectory's rate: enough for plots, a sixth of the steps at 60 Hz.
+  for (metrics::Series& series : metrics::compute_series(recording)) {
+    storage::SeriesRecord kept{series.name, recording.samples.front().tick, sample_every, {}};
+    for (std::size_t i = 0; i < series.values.size(); i += static_cast<std::size_t>(sample_every)) kept.values.push_back(series.values[i]);
+    record.series.push_back(std::move(kept));
   }
   std::map<std::string, int> counts;
   for (const sim::Event& event : state.events) {

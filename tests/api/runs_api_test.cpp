@@ -92,6 +92,25 @@ TEST_F(RunsApi, ARunEndsWithAggregatesAVerdictAndItsEpisodes) {
   EXPECT_EQ(csv.headers.at("content-type"), "text/csv; charset=utf-8");
   EXPECT_EQ(csv.body.substr(0, csv.body.find('\n')), "agent,tick,time,x,y,theta");
 
+  // Per-step series for plots, at 10 Hz like the trajectory.
+  const json series = json_of(http(port(), "GET", "/api/v1/episodes/" + episode_id + "/series?name=distance_to_closest_person"));
+  ASSERT_EQ(series["items"].size(), 1u);
+  const json& distance = series["items"][0];
+  EXPECT_EQ(distance["unit"], "m");
+  EXPECT_NEAR(distance["dt"].get<double>(), 0.1, 1e-9);
+  EXPECT_EQ(distance["ticks"].size(), distance["values"].size());
+  EXPECT_EQ(distance["ticks"][1], 6);
+  double smallest = 1e9;
+  for (const json& value : distance["values"]) {
+    if (value.is_number()) smallest = std::min(smallest, value.get<double>());
+  }
+  EXPECT_GE(smallest, episode["metrics"]["minimum_distance_to_people"].get<double>()) << "sampled at 10 Hz, the minimum at 60 Hz";
+  EXPECT_EQ(json_of(http(port(), "GET", "/api/v1/episodes/" + episode_id + "/series"))["items"].size(), 5u);
+  const HttpReply series_csv = http(port(), "GET", "/api/v1/episodes/" + episode_id + "/series?name=robot_speed&format=csv");
+  EXPECT_EQ(series_csv.body.substr(0, series_csv.body.find('\n')), "tick,time,robot_speed");
+  EXPECT_EQ(http(port(), "GET", "/api/v1/episodes/" + episode_id + "/series?name=mood").status, 400);
+  EXPECT_EQ(http(port(), "GET", "/api/v1/episodes/" + episode_id + "/series?format=csv").status, 400);
+
   const HttpReply junit = http(port(), "GET", "/api/v1/runs/" + run["id"].get<std::string>() + "/junit");
   EXPECT_EQ(junit.headers.at("content-type"), "application/xml");
   EXPECT_NE(junit.body.find("<failure message=\"episode_length.max is"), std::string::npos) << junit.body;

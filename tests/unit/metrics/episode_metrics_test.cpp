@@ -314,6 +314,30 @@ TEST(SocialForce, BetweenStillAgentsItPushesApartWithHuNavSimsStrength) {
   EXPECT_NEAR(value(values, "social_work"), 10 * (2 * per_step + obstacle) * kDt, 1e-12);
 }
 
+TEST(Series, OneValuePerStepAndNoneWhereAStepHasNone) {
+  // The head-on approach of above, then the person is gone.
+  Recording r = with_robot();
+  r.samples.push_back(sample(0, disc(0, 0, 0, 1.0, 0), {disc(1, 2.0, 0, -1.0, 0, M_PI)}));
+  r.samples.push_back(sample(1, disc(0, 0.1, 0, 1.0, 0), {disc(1, 1.5, 0, -1.0, 0, M_PI)}));
+  r.samples.push_back(sample(2, disc(0, 0.2, 0), {}));
+  const auto series = compute_series(r);
+  ASSERT_EQ(series.size(), series_definitions().size());
+  const auto& distance = series[0];
+  EXPECT_EQ(distance.name, "distance_to_closest_person");
+  ASSERT_EQ(distance.values.size(), 3u);
+  EXPECT_NEAR(*distance.values[0], 1.4, 1e-12);
+  EXPECT_NEAR(*distance.values[1], 0.8, 1e-12);
+  EXPECT_FALSE(distance.values[2]);
+  EXPECT_EQ(series[1].values[0], 2.0) << "1.4 m: social zone";
+  EXPECT_EQ(series[1].values[1], 1.0) << "0.8 m: personal zone";
+  EXPECT_NEAR(*series[2].values[0], 0.7, 1e-12) << "1.4 m closing at 2 m/s";
+  EXPECT_FALSE(series[2].values[2]);
+  EXPECT_EQ(series[3].values[0], 1.0);
+  EXPECT_EQ(series[3].values[2], 0.0);
+  EXPECT_GT(*series[4].values[1], *series[4].values[0]) << "closer people push harder";
+  EXPECT_EQ(series[4].values[2], 0.0);
+}
+
 TEST(TimeToCollision, OverlappingParallelAndPassing) {
   EXPECT_EQ(time_to_collision(disc(0, 0, 0), disc(1, 0.5, 0)), 0.0);
   EXPECT_FALSE(time_to_collision(disc(0, 0, 0, 1, 0), disc(1, 2, 0, 1, 0))) << "same velocity: the gap never closes";

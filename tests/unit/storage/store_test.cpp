@@ -27,6 +27,29 @@ TEST(Store, NewFileIsMigratedAndSound) {
   EXPECT_EQ(raw.scalar_integer("PRAGMA synchronous"), 1);  // NORMAL
 }
 
+TEST(Store, SeriesRoundTripBitForBitWithGaps) {
+  TempDir dir;
+  Store store(dir / "db");
+  store.put_scenario(make_scenario("s"));
+  EpisodeRecord episode = make_episode("s", 2);
+  episode.series = {{"robot_speed", 0, 6, {0.0, 0.1, 1.0 / 3.0, std::nullopt, -2.5}}, {"time_to_collision", 6, 6, {std::nullopt}}};
+  store.write_episode(episode);
+  const auto all = store.series(episode.id);
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all[0].name, "robot_speed");
+  EXPECT_EQ(all[0].stride, 6);
+  EXPECT_EQ(all[0].values, episode.series[0].values);
+  EXPECT_EQ(all[1].first_tick, 6);
+  EXPECT_FALSE(all[1].values[0]);
+  EXPECT_EQ(store.series(episode.id, "time_to_collision").size(), 1u);
+  EXPECT_TRUE(store.series(episode.id, "nothing").empty());
+
+  EpisodeRecord infinite = make_episode("s", 3);
+  infinite.series = {{"robot_speed", 0, 1, {std::numeric_limits<double>::infinity()}}};
+  EXPECT_THROW(store.write_episode(infinite), core::Error);
+  EXPECT_FALSE(store.episode(infinite.id)) << "nothing of a refused episode is stored";
+}
+
 TEST(Store, ScenarioRoundTripWithHash) {
   TempDir dir;
   Store store(dir / "db");
