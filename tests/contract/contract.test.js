@@ -10,14 +10,27 @@ const { startServer } = require('./lib/server');
 const { api } = require('./lib/client');
 const { specProblems, unexercisedOperations } = require('./lib/contract');
 
-describe('hrisim contract', () => {
+// The suite takes seconds; a hang fails it well within ctest's TIMEOUT, naming the test that hung (as
+// cancelled), instead of being killed without a word.
+const SUITE_LIMIT_MS = 240000;
+// Once the tests are done, nothing may keep the process alive (a socket, a timer, a server's pipes).
+const LINGER_LIMIT_MS = 10000;
+
+describe('hrisim contract', { timeout: SUITE_LIMIT_MS }, () => {
   let server;
   before(async () => {
     server = await startServer(['--max-sessions', '6']);
     api.connect(server.port);
   });
   after(async () => {
-    await server.stop();
+    try {
+      await server.stop();
+    } finally {
+      setTimeout(() => {
+        process.stderr.write(`still running ${LINGER_LIMIT_MS} ms after the tests: ${process.getActiveResourcesInfo().join(', ')}\n`);
+        process.exit(1);
+      }, LINGER_LIMIT_MS).unref();
+    }
   });
 
   it('both specs say what they mean and compile in strict mode', () => {

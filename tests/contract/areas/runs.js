@@ -9,6 +9,7 @@ const os = require('node:os');
 const path = require('node:path');
 const { describe, it, before } = require('node:test');
 const { api, Client } = require('../lib/client');
+const { specAllows } = require('../lib/contract');
 const { cupOnASideTable } = require('../lib/fixtures');
 const { startServer } = require('../lib/server');
 
@@ -159,20 +160,23 @@ describe('runs', () => {
       [{ scenario: 'queue', seeds: [0.5] }, '/seeds/0'],
       [{ scenario: 'queue', count: 0 }, '/count'],
       [{ scenario: 'queue', count: 100001 }, '/count'],
-      [{ scenario: 'queue', count: 2, first_seed: 9007199254740991 }, '/first_seed'],
+      [{ scenario: 'queue', count: 2, first_seed: 9007199254740991 }, '/first_seed', 'the sum is too big'],
+      [{ scenario: 'queue', seeds: [1], first_seed: 3 }, '/first_seed'],
       [{ scenario: 'queue', count: 1, max_time: 0 }, '/max_time'],
       [{ scenario: 'queue', count: 1, colour: 'red' }, '/colour'],
       [{ scenario: 'queue', count: 1, gates: 'success.mean > 0' }, '/gates'],
       [{ scenario: 'queue', count: 1, controller: 'social' }, '/controller'],
       [{ scenario: 'queue', count: 1, controller: { type: 'warp' } }, '/controller/type'],
       [{ scenario: 'queue', count: 1, requests: [{ time: -1, task: 'help_robot' }] }, '/requests/0'],
-      [{ scenario: 'queue', count: 1, requests: [{ time: 1, task: 'dance' }] }, '/requests/0'],
+      [{ scenario: 'queue', count: 1, requests: [{ time: 1, task: 'dance' }] }, '/requests/0', 'no such task'],
     ];
-    for (const [body, pointer] of cases) {
+    // The spec refuses each request too, but for what only the server can know (the third item).
+    for (const [body, pointer, allowedBySpec] of cases) {
       const reply = await api.post('/api/v1/runs', body);
       assert.equal(reply.status, 400, JSON.stringify(body));
       assert.equal(reply.json.error.code, 'bad_request');
       assert.equal(reply.json.error.details.pointer, pointer, JSON.stringify(body));
+      assert.equal(specAllows('POST', '/api/v1/runs', body), Boolean(allowedBySpec), `the spec allows ${JSON.stringify(body)}`);
     }
     assert.equal((await api.request('POST', '/api/v1/runs', { body: '{"scenario": ' })).status, 400);
     assert.equal((await api.request('POST', '/api/v1/runs', { body: '["queue"]' })).status, 400);
@@ -212,7 +216,8 @@ describe('runs', () => {
     const listed = (await api.get('/api/v1/runs?limit=100')).json.items.find((item) => item.id === report.id);
     assert.deepEqual(listed, {
       id: report.id, scenario: 'queue', controller: 'scenario', status: 'finished', created_at: report.created_at,
-      finished_at: report.finished_at, progress: report.progress, success_rate: report.rates.success_rate, verdict: false,
+      finished_at: report.finished_at, progress: report.progress, success_rate: report.rates.success_rate,
+      verdict: { passed: false, complete: true },
     });
   });
 
@@ -334,6 +339,9 @@ describe('runs', () => {
     const cancelled = await api.post(`/api/v1/runs/${run.json.id}/cancel`);
     assert.equal(cancelled.status, 202);
     assert.equal(cancelled.json.id, run.json.id);
+    assert.equal(cancelled.json.progress.queued, 0, 'seeds that will never run are cancelled at once');
+    assert.ok(cancelled.json.progress.cancelled > 0, JSON.stringify(cancelled.json.progress));
+    assert.ok(cancelled.json.episodes.every((episode) => episode.status !== 'queued'));
     const done = await waitForRun(run.json.id);
     assert.equal(done.status, 'cancelled');
     assert.ok(done.finished_at);

@@ -31,6 +31,16 @@ describe('server', () => {
     assert.deepEqual(YAML.parse(reply.body), onDisk, 'the binary embeds another api/openapi.yaml: rebuild it');
   });
 
+  it('GET /api/v1/openapi.json serves the same description as JSON', async () => {
+    const reply = await api.get('/api/v1/openapi.json');
+    assert.equal(reply.status, 200);
+    assert.match(reply.json.openapi, /^3\.1\./);
+    const served = YAML.parse((await api.get('/api/v1/openapi.yaml')).body);
+    assert.deepEqual(reply.json, served, 'the JSON is the YAML the server serves');
+    const onDisk = YAML.parse(fs.readFileSync(path.join(repoRoot, 'api/openapi.yaml'), 'utf8'));
+    assert.deepEqual(reply.json, onDisk, 'the binary embeds another api/openapi.yaml: rebuild it');
+  });
+
   it('GET /api/v1/robots lists the built-in robots', async () => {
     const reply = await api.get('/api/v1/robots');
     assert.equal(reply.status, 200);

@@ -1,9 +1,18 @@
 'use strict';
 // A session's WebSocket (api/asyncapi.yaml): each message answered once, in order; wrong messages get
-// an error and the socket stays open; an unknown session is refused before the upgrade.
+// an error and the socket stays open; binary laser frames; state frames pushed to subscribers;
+// realtime sessions; an unknown session, a missing token or ticket and a foreign Origin are refused
+// before the upgrade.
 const assert = require('node:assert/strict');
 const { describe, it, before, after } = require('node:test');
-const { api } = require('../lib/client');
+const { api, Client } = require('../lib/client');
+const { LAYOUT, layoutInSpec, decodeLaserFrame } = require('../lib/laser_frame');
+const { startServer } = require('../lib/server');
+
+const sleep = (ms) => new Promise((resolve) => { setTimeout(resolve, ms); });
+
+/** A JSON range as the number it stands for. */
+const rangeValue = (range) => (range === 'inf' ? Infinity : range === '-inf' ? -Infinity : range);
 
 describe('session WebSocket', () => {
   let session;
@@ -24,7 +33,25 @@ describe('session WebSocket', () => {
     assert.equal(reply.type, 'step');
     assert.equal(reply.tick, 5);
     assert.equal(reply.terminated, false);
+    assert.equal(reply.observation.length, 48);
+    assert.equal(reply.reward, 0);
+    assert.deepEqual(reply.info, { tick: 5, time: reply.time });
     assert.equal((await socket.send({ type: 'step' })).tick, 6);
+  });
+
+  it('step with an action gives it to the robot; a wrong action is an error naming it', async () => {
+    const own = (await api.post('/api/v1/sessions', { scenario: 'elevator', seed: 4 })).json;
+    const ownSocket = await api.openSocket(own.id);
+    const start = await ownSocket.send({ type: 'step', action: [0, 0] });
+    const moved = await ownSocket.send({ type: 'step', n: 60, action: [1.0, 0] });
+    const wrong = await ownSocket.send({ type: 'step', action: [1, 'x'] });
+    const short = await ownSocket.send({ type: 'step', action: [1] });
+    ownSocket.close();
+    await api.delete(`/api/v1/sessions/${own.id}`);
+    assert.ok(Math.hypot(moved.observation[0] - start.observation[0], moved.observation[1] - start.observation[1]) > 0.05, 'it drove');
+    assert.equal(wrong.type, 'error');
+    assert.equal(wrong.error.details.pointer, '/action/1');
+    assert.equal(short.error.details.pointer, '/action');
   });
 
   it('commands gives a list; a wrong one is an error naming it', async () => {
@@ -67,8 +94,152 @@ describe('session WebSocket', () => {
     assert.deepEqual([...first.events, ...second.events, ...third.events], all);
   });
 
+  it('laser answers a binary frame: the spec\'s layout, the same scan as the sensors message', async () => {
+    assert.deepEqual(layoutInSpec(), LAYOUT, 'the decoder reads the layout api/asyncapi.yaml gives');
+    await socket.send({ type: 'step' });
+    const sensors = await socket.send({ type: 'sensors', robot: 'robot' });
+    const frames = [decodeLaserFrame(await socket.send({ type: 'laser', robot: 'robot' }))];
+    for (const laser of sensors.lasers) frames.push(decodeLaserFrame(await socket.send({ type: 'laser', robot: 'robot', sensor: laser.sensor })));
+    const [first, ...named] = frames;
+    assert.deepEqual(first, named[0], 'without a sensor: the first laser');
+    const { dt } = (await api.get(`/api/v1/sessions/${session.id}`)).json;
+    sensors.lasers.forEach((laser, i) => {
+      const frame = named[i];
+      assert.equal(frame.tick, laser.tick);
+      assert.ok(laser.tick >= 0);
+      assert.equal(frame.time, laser.tick * dt);
+      for (const [field, value] of [['x', laser.pose.x], ['y', laser.pose.y], ['theta', laser.pose.theta], ['angle_min', laser.angle_min],
+        ['angle_increment', laser.angle_increment], ['range_min', laser.range_min], ['range_max', laser.range_max]]) {
+        assert.equal(frame[field], Math.fround(value), `${laser.sensor}: ${field} as float32`);
+      }
+      assert.equal(frame.count, laser.ranges.length);
+      assert.deepEqual(frame.ranges, laser.ranges.map((range) => Math.fround(rangeValue(range))), `${laser.sensor}: ranges as float32, infinities too`);
+      assert.ok(frame.ranges.every((range) => range === Infinity || range === -Infinity || (range >= frame.range_min && range <= frame.range_max)),
+        'REP 117: a range is within [range_min, range_max] or infinite');
+    });
+  });
+
+  it('laser: an unknown robot, one without a model, an unknown sensor or a wrong field is an error', async () => {
+    const cases = [[{ robot: 'nobody' }, 'not_found', '/robot'], [{ robot: 'ada' }, 'not_found', '/robot'],
+      [{ robot: 'robot', sensor: 'nose' }, 'not_found', '/sensor'], [{ robot: 'robot', sensor: 5 }, 'bad_request', '/sensor'],
+      [{}, 'bad_request', '/robot'], [{ robot: 'robot', colour: 'red' }, 'bad_request', '/colour']];
+    for (const [fields, code, pointer] of cases) {
+      const reply = await socket.send({ type: 'laser', ...fields });
+      assert.equal(reply.type, 'error', JSON.stringify(fields));
+      assert.equal(reply.error.code, code, JSON.stringify(fields));
+      assert.equal(reply.error.details.pointer, pointer, JSON.stringify(fields));
+    }
+  });
+
+  it('subscribe: a state frame when the session changed, with the events since the last one', async () => {
+    const own = (await api.post('/api/v1/sessions', { scenario: 'elevator', seed: 3 })).json;
+    const ownSocket = await api.openSocket(own.id);
+    try {
+      assert.deepEqual(await ownSocket.send({ type: 'subscribe', rate: 50 }), { type: 'subscribed', rate: 50 });
+      const first = await ownSocket.nextFrame();
+      assert.equal(first.type, 'state_frame');
+      assert.equal(first.tick, 0);
+      assert.equal(first.dropped_frames, 0);
+      assert.equal(first.connected_clients, 1);
+      assert.equal(await ownSocket.nextFrame(100), undefined, 'nothing changed: no frame');
+      const stepped = await ownSocket.send({ type: 'step', n: 5 });
+      const second = await ownSocket.nextFrame();
+      assert.equal(second.tick, 5);
+      assert.equal(second.state_hash, stepped.state_hash);
+      await ownSocket.send({ type: 'commands', commands: [{ human: 'ada', command: 'wait 1' }] });
+      const third = await ownSocket.nextFrame();
+      assert.equal(third.tick, 5, 'a command changed the session, not its tick');
+      assert.ok(third.events.some((event) => event.kind === 'command'), 'the command\'s event');
+      const all = (await ownSocket.send({ type: 'state', events_since: 0 })).events;
+      assert.deepEqual([...first.events, ...second.events, ...third.events], all, 'each event in one frame');
+      assert.deepEqual(third.agents, (await ownSocket.send({ type: 'state' })).agents);
+      assert.deepEqual(await ownSocket.send({ type: 'subscribe', rate: 0 }), { type: 'subscribed', rate: 0 });
+      await sleep(60);  // the frame timer set at rate 50 runs out once more (see the todo test below)
+      await ownSocket.send({ type: 'step' });
+      assert.equal(await ownSocket.nextFrame(100), undefined, 'rate 0: no more frames');
+    } finally {
+      ownSocket.close();
+      await api.delete(`/api/v1/sessions/${own.id}`);
+    }
+  });
+
+  it('subscribe: a rate out of 0–60 or a wrong field is an error', async () => {
+    for (const [message, pointer] of [[{ rate: -1 }, '/rate'], [{ rate: 61 }, '/rate'], [{ rate: 'fast' }, '/rate'], [{}, '/rate'],
+      [{ rate: 1, colour: 'red' }, '/colour']]) {
+      const reply = await socket.send({ type: 'subscribe', ...message });
+      assert.equal(reply.type, 'error', JSON.stringify(message));
+      assert.equal(reply.error.code, 'bad_request');
+      assert.equal(reply.error.details.pointer, pointer, JSON.stringify(message));
+    }
+    assert.equal((await socket.send({ type: 'subscribe', rate: 60 })).rate, 60);
+    assert.equal((await socket.send({ type: 'subscribe', rate: 0 })).rate, 0);
+  });
+
+  it('a realtime session moves by itself: frames at most at the rate, step is a conflict', async () => {
+    const realtime = (await api.post('/api/v1/sessions', { scenario: 'elevator', mode: 'realtime', realtime_factor: 2 })).json;
+    const realtimeSocket = await api.openSocket(realtime.id);
+    try {
+      const refused = await realtimeSocket.send({ type: 'step' });
+      assert.equal(refused.type, 'error');
+      assert.equal(refused.error.code, 'conflict');
+      await realtimeSocket.send({ type: 'subscribe', rate: 20 });
+      const started = Date.now();
+      const frames = [];
+      while (frames.length < 4) frames.push(await realtimeSocket.nextFrame());
+      const seconds = (Date.now() - started) / 1000;
+      const ticks = frames.map((frame) => frame.tick);
+      assert.ok(ticks.every((tick, i) => i === 0 || tick > ticks[i - 1]), `ticks advance on their own: ${ticks}`);
+      assert.ok(frames.length <= 20 * seconds + 2, `${frames.length} frames in ${seconds} s at 20 a second`);
+      assert.ok(frames.every((frame) => frame.mode === 'realtime' && frame.dropped_frames === 0));
+    } finally {
+      realtimeSocket.close();
+      await api.delete(`/api/v1/sessions/${realtime.id}`);
+    }
+  });
+
+  it('subscribe: a reset is a change too, and the new run\'s events come in frames', {
+    todo: 'server: frames are pushed when the tick or the number of events changed, so a reset stepped back to the same tick with as many events pushes nothing (and one with more events skips the first ones)',
+  }, async () => {
+    const own = (await api.post('/api/v1/sessions', { scenario: 'elevator', seed: 1 })).json;
+    const ownSocket = await api.openSocket(own.id);
+    try {
+      await ownSocket.send({ type: 'subscribe', rate: 2 });
+      await ownSocket.nextFrame();
+      await ownSocket.send({ type: 'step', n: 300 });
+      await ownSocket.nextFrame();
+      // Within the half second before the next frame: another seed, back to the same tick.
+      await api.post(`/api/v1/sessions/${own.id}/reset`, { seed: 2 });
+      const stepped = await ownSocket.send({ type: 'step', n: 300 });
+      const all = (await ownSocket.send({ type: 'state', events_since: 0 })).events;
+      const frames = [];
+      for (let frame = await ownSocket.nextFrame(1500); frame; frame = await ownSocket.nextFrame(700)) frames.push(frame);
+      assert.equal(frames.at(-1)?.state_hash, stepped.state_hash, 'a frame shows the new state');
+      assert.deepEqual(frames.flatMap((frame) => frame.events), all, 'the new run\'s events');
+    } finally {
+      ownSocket.close();
+      await api.delete(`/api/v1/sessions/${own.id}`);
+    }
+  });
+
+  it('subscribe with rate 0 stops the frames at once', {
+    todo: 'server: a push timer already set when rate 0 arrives still sends one frame (up to 1/rate s after the subscribed reply)',
+  }, async () => {
+    const realtime = (await api.post('/api/v1/sessions', { scenario: 'elevator', mode: 'realtime' })).json;
+    const realtimeSocket = await api.openSocket(realtime.id);
+    try {
+      await realtimeSocket.send({ type: 'subscribe', rate: 4 });
+      await realtimeSocket.nextFrame();
+      await realtimeSocket.send({ type: 'subscribe', rate: 0 });
+      realtimeSocket.dropFrames();
+      assert.equal(await realtimeSocket.nextFrame(400), undefined, 'a frame after the subscribed reply for rate 0');
+    } finally {
+      realtimeSocket.close();
+      await api.delete(`/api/v1/sessions/${realtime.id}`);
+    }
+  });
+
   it('wrong messages get errors and the socket stays open', async () => {
-    const wrong = [['not json', undefined], [{ type: 'jump' }, '/type'], [{ type: 'step', n: 0 }, '/n'],
+    const wrong = [['not json', undefined], [{ type: 'jump' }, '/type'], [{ type: 'step', n: 0 }, '/n'], [{ type: 'step', action: 'fast' }, '/action'],
       [{ type: 'state', events_since: -1 }, '/events_since'], [{ type: 'step', legs: 2 }, '/legs']];
     for (const [message, pointer] of wrong) {
       const reply = await socket.send(message);
@@ -115,5 +286,84 @@ describe('session WebSocket', () => {
 
   it('an unknown session is refused with 404 before the upgrade', async () => {
     await assert.rejects(api.openSocket(`s${'0'.repeat(32)}`), (error) => error.refused?.status === 404);
+  });
+
+  it('without a token on the server: any Origin but its own is refused with 403; a ticket is not needed', async () => {
+    await assert.rejects(api.openSocket(session.id, { origin: 'https://evil.example' }),
+      (error) => error.refused?.status === 403 && error.refused.json.error.code === 'forbidden');
+    const own = await api.openSocket(session.id, { origin: `http://127.0.0.1:${api.port}` });
+    own.close();
+    const { ticket } = (await api.post(`/api/v1/sessions/${session.id}/ws-ticket`)).json;
+    for (const attempt of [1, 2]) {
+      const withTicket = await api.openSocket(session.id, { ticket });
+      assert.equal((await withTicket.send({ type: 'state' })).type, 'state', `attempt ${attempt}`);
+      withTicket.close();
+    }
+  });
+});
+
+describe('session WebSocket: tickets and origins', () => {
+  const token = 'contract-test-token-0123456789';
+  const allowed = 'https://lab.example:8443';
+  let server;
+  let withToken;
+  let withoutToken;
+  let session;
+  before(async () => {
+    server = await startServer(['--token', token, '--allowed-origins', `${allowed},http://other.example`]);
+    withToken = new Client(server.port, { token });
+    withoutToken = new Client(server.port);
+    session = (await withToken.post('/api/v1/sessions', { scenario: 'elevator' })).json;
+  });
+  after(async () => {
+    await server.stop();
+  });
+
+  const ticketFor = async (id) => {
+    const reply = await withToken.post(`/api/v1/sessions/${id}/ws-ticket`);
+    assert.equal(reply.status, 201, reply.body);
+    return reply.json;
+  };
+  const refusal = (status, code) => (error) => {
+    assert.equal(error.refused?.status, status, error.message);
+    assert.equal(error.refused.json.error.code, code);
+    return true;
+  };
+
+  it('a ticket opens the session\'s WebSocket once without the token', async () => {
+    const { ticket, url } = await ticketFor(session.id);
+    assert.ok(url.endsWith(`?ticket=${ticket}`));
+    const socket = await withoutToken.openSocket(session.id, { ticket });
+    assert.equal((await socket.send({ type: 'step' })).type, 'step');
+    socket.close();
+    await assert.rejects(withoutToken.openSocket(session.id, { ticket }), refusal(401, 'unauthorized'), 'used once already');
+  });
+
+  it('a ticket for another session, or none that was issued, is 401', async () => {
+    const other = (await withToken.post('/api/v1/sessions', { scenario: 'queue' })).json;
+    const { ticket } = await ticketFor(other.id);
+    await assert.rejects(withoutToken.openSocket(session.id, { ticket }), refusal(401, 'unauthorized'));
+    await assert.rejects(withoutToken.openSocket(other.id, { ticket }), refusal(401, 'unauthorized'), 'tried once, it is gone');
+    await assert.rejects(withoutToken.openSocket(session.id, { ticket: `t${'0'.repeat(32)}` }), refusal(401, 'unauthorized'));
+    await withToken.delete(`/api/v1/sessions/${other.id}`);
+  });
+
+  it('POST /ws-ticket needs the token; 404 for an unknown session', async () => {
+    const refused = await withoutToken.post(`/api/v1/sessions/${session.id}/ws-ticket`);
+    assert.equal(refused.status, 401);
+    const unknown = await withToken.post(`/api/v1/sessions/s${'0'.repeat(32)}/ws-ticket`);
+    assert.equal(unknown.status, 404);
+  });
+
+  it('a browser Origin that is not the server\'s own nor allowed is refused with 403', async () => {
+    await assert.rejects(withToken.openSocket(session.id, { origin: 'https://evil.example' }), refusal(403, 'forbidden'));
+    await assert.rejects(withToken.openSocket(session.id, { origin: 'https://lab.example' }), refusal(403, 'forbidden'), 'the port is part of it');
+    const { ticket } = await ticketFor(session.id);
+    await assert.rejects(withoutToken.openSocket(session.id, { ticket, origin: 'https://evil.example' }), refusal(403, 'forbidden'));
+    for (const origin of [allowed, 'http://other.example', `http://127.0.0.1:${server.port}`]) {
+      const socket = await withToken.openSocket(session.id, { origin });
+      assert.equal((await socket.send({ type: 'state' })).type, 'state', origin);
+      socket.close();
+    }
   });
 });

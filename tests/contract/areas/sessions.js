@@ -1,17 +1,43 @@
 'use strict';
-// Live sessions over REST: create, list, get, step, state, commands, sensors, poses, reset, delete,
-// the session limit, and the errors of each.
+// Live sessions over REST: create (lockstep or realtime, with a controller), list, get, step (with an
+// action), state, commands, sensors, poses, reset (with poses), the Gymnasium spaces, WebSocket
+// tickets, delete, the session limit, and the errors of each.
 const assert = require('node:assert/strict');
 const { describe, it, before, after } = require('node:test');
 const { api } = require('../lib/client');
+const { specAllows } = require('../lib/contract');
 const { cupOnASideTable } = require('../lib/fixtures');
 
 const UNKNOWN_SESSION = `s${'0'.repeat(32)}`;
+const POLL_MS = 20;
+const WAIT_LIMIT_MS = 10000;
 
-async function createSession(scenario, seed) {
-  const reply = await api.post('/api/v1/sessions', seed === undefined ? { scenario } : { scenario, seed });
+const sleep = (ms) => new Promise((resolve) => { setTimeout(resolve, ms); });
+
+async function createSession(scenario, seed, options = {}) {
+  const reply = await api.post('/api/v1/sessions', seed === undefined ? { scenario, ...options } : { scenario, seed, ...options });
   assert.equal(reply.status, 201, reply.body);
   return reply.json;
+}
+
+/** Polls a session's status until `until` holds; resolves to that status. */
+async function waitForSession(id, until, what) {
+  const deadline = Date.now() + WAIT_LIMIT_MS;
+  for (;;) {
+    const status = (await api.get(`/api/v1/sessions/${id}`)).json;
+    if (until(status)) return status;
+    if (Date.now() > deadline) assert.fail(`session ${id}: ${what} did not happen within ${WAIT_LIMIT_MS} ms: ${JSON.stringify(status)}`);
+    await sleep(POLL_MS);
+  }
+}
+
+/** Fails unless every number of `observation` lies within the Box `space` ("inf" bounds hold anything). */
+function assertWithin(observation, space) {
+  assert.equal(observation.length, space.shape[0]);
+  observation.forEach((value, i) => {
+    const [low, high] = [space.low[i], space.high[i]].map((bound) => (bound === 'inf' ? Infinity : bound === '-inf' ? -Infinity : bound));
+    assert.ok(value >= low && value <= high, `observation[${i}] = ${value} outside [${low}, ${high}]`);
+  });
 }
 
 describe('sessions', () => {
@@ -34,6 +60,10 @@ describe('sessions', () => {
     assert.equal(reply.json.seed, 3);
     assert.equal(reply.json.status, 'running');
     assert.equal(reply.json.step.index, 0);
+    assert.equal(reply.json.mode, 'lockstep');
+    assert.equal(reply.json.realtime_factor, null);
+    assert.equal(reply.json.controller, null);
+    assert.equal(reply.json.connected_clients, 0);
     assert.equal((await api.delete(reply.headers.location)).status, 204);
     const largest = await api.post('/api/v1/sessions', { scenario: 'pair_walking', seed: Number.MAX_SAFE_INTEGER });
     assert.equal(largest.status, 201);
@@ -46,11 +76,26 @@ describe('sessions', () => {
     assert.equal(unknown.status, 404);
     assert.equal(unknown.json.error.details.pointer, '/scenario');
     const cases = [[{ scenario: 'elevator', seed: -1 }, '/seed'], [{ scenario: 'elevator', seed: 1.5 }, '/seed'],
-      [{ scenario: 'elevator', colour: 'red' }, '/colour'], [{}, '/scenario']];
-    for (const [body, pointer] of cases) {
+      [{ scenario: 'elevator', colour: 'red' }, '/colour'], [{}, '/scenario'],
+      [{ scenario: 'elevator', mode: 'fast' }, '/mode'], [{ scenario: 'elevator', mode: 1 }, '/mode'],
+      [{ scenario: 'elevator', realtime_factor: 2 }, '/realtime_factor'],
+      [{ scenario: 'elevator', mode: 'lockstep', realtime_factor: 2 }, '/realtime_factor'],
+      [{ scenario: 'elevator', mode: 'realtime', realtime_factor: 0 }, '/realtime_factor'],
+      [{ scenario: 'elevator', mode: 'realtime', realtime_factor: 100.5 }, '/realtime_factor'],
+      [{ scenario: 'elevator', mode: 'realtime', realtime_factor: 'fast' }, '/realtime_factor'],
+      [{ scenario: 'elevator', controller: 'social' }, '/controller'],
+      [{ scenario: 'elevator', controller: { type: 'warp' } }, '/controller/type'],
+      [{ scenario: 'elevator', controller: { type: 'goal' } }, '/controller/goal'],
+      [{ scenario: 'elevator', controller: { type: 'idle', speed: 2 } }, '/controller/speed'],
+      [{ scenario: 'elevator', controller: { type: 'idle', goal: { location: 'button_floor1' } } }, '/controller/goal'],
+      // What the scenario cannot take, which the spec cannot know:
+      [{ scenario: 'queue', controller: { type: 'idle' } }, '/controller', 'its robot has no model'],
+      [{ scenario: 'perpendicular_crossing', controller: { type: 'idle' } }, '/controller', 'it has no robot']];
+    for (const [body, pointer, allowedBySpec] of cases) {
       const reply = await api.post('/api/v1/sessions', body);
       assert.equal(reply.status, 400, JSON.stringify(body));
       assert.equal(reply.json.error.details.pointer, pointer, JSON.stringify(body));
+      assert.equal(specAllows('POST', '/api/v1/sessions', body), Boolean(allowedBySpec), `the spec allows ${JSON.stringify(body)}`);
     }
     assert.equal((await api.request('POST', '/api/v1/sessions', { body: '{"scenario": ' })).status, 400);
     assert.equal((await api.request('POST', '/api/v1/sessions', { body: '["elevator"]' })).status, 400);
@@ -191,13 +236,212 @@ describe('sessions', () => {
     assert.equal((await api.put(at('/poses/nobody'), { x: 1, y: 1 })).status, 404);
   });
 
-  it('POST /api/v1/sessions/{id}/reset starts again at tick 0 with a new seed', async () => {
+  it('POST /api/v1/sessions/{id}/reset starts again at tick 0 with a new seed: the first observation and info', async () => {
     const reply = await api.post(at('/reset'), { seed: 9 });
     assert.equal(reply.status, 200);
     assert.equal(reply.json.tick, 0);
     assert.equal(reply.json.seed, 9);
+    assert.deepEqual(reply.json.info, { tick: 0, time: 0 });
+    assert.equal(reply.json.observation.length, 48);
+    const again = await api.post(at('/reset'));
+    assert.equal(again.json.seed, 9, 'the seed stays without one');
+    assert.deepEqual(again.json.observation, reply.json.observation, 'the same seed starts from the same observation');
     assert.equal((await api.post(at('/reset'), { seed: 'nine' })).status, 400);
     assert.equal((await api.post(`/api/v1/sessions/${UNKNOWN_SESSION}/reset`, {})).status, 404);
+  });
+
+  it('POST /api/v1/sessions/{id}/reset with options.poses places agents after the start', async () => {
+    const reply = await api.post(at('/reset'), { options: { poses: { robot: { x: 2.0, y: -1.0, yaw: 0 } } } });
+    assert.equal(reply.status, 200, reply.body);
+    assert.deepEqual(reply.json.observation.slice(0, 4), [2.0, -1.0, 1, 0], 'x, y, cos θ, sin θ');
+    const robot = (await api.get(at('/poses'))).json.agents.find((agent) => agent.id === 'robot');
+    assert.deepEqual([robot.x, robot.y, robot.yaw], [2.0, -1.0, 0]);
+  });
+
+  it('POST /api/v1/sessions/{id}/reset: 400 for wrong options, 404 for an unknown name; the session stays as it was', async () => {
+    await api.post(at('/step'), { n: 3 });
+    const before = (await api.get(at())).json;
+    assert.equal(before.tick, 3);
+    const cases = [[{ options: { speed: 2 } }, 400, '/options/speed'], [{ options: 5 }, 400, '/options'],
+      [{ options: { poses: [] } }, 400, '/options/poses'], [{ options: { poses: { robot: { x: 2.0 } } } }, 400, '/options/poses/robot/y'],
+      [{ options: { poses: { ada: { x: 1, y: 1, z: 0.5 } } } }, 400, '/options/poses/ada/z'],
+      [{ options: { poses: { robot: { x: 2.0, y: -1.0, heading: 1 } } } }, 400, '/options/poses/robot/heading'],
+      [{ options: { poses: { nobody: { x: 1, y: 1 } } } }, 404, '/options/poses/nobody'], [{ seed: 1, colour: 'red' }, 400, '/colour']];
+    for (const [body, status, pointer] of cases) {
+      const reply = await api.post(at('/reset'), body);
+      assert.equal(reply.status, status, JSON.stringify(body));
+      assert.equal(reply.json.error.details.pointer, pointer, JSON.stringify(body));
+      // Agents stand upright and names are the scenario's, which the spec cannot know.
+      const allowed = ['/options/poses/ada/z', '/options/poses/nobody'].includes(pointer);
+      assert.equal(specAllows('POST', at('/reset'), body), allowed, `the spec allows ${JSON.stringify(body)}`);
+    }
+    const after = (await api.get(at())).json;
+    assert.equal(after.tick, 3);
+    assert.equal(after.state_hash, before.state_hash);
+  });
+
+  it('GET /api/v1/sessions/{id}/action_space: a Box of forward speed and yaw rate within the HSR\'s drive', async () => {
+    const reply = await api.get(at('/action_space'));
+    assert.equal(reply.status, 200);
+    const drive = (await api.get('/api/v1/robots/hsr')).json.summary.drive;
+    assert.deepEqual(reply.json, {
+      name: 'Box', shape: [2], dtype: 'float64',
+      low: [-drive.max_linear_speed, -drive.max_angular_speed], high: [drive.max_linear_speed, drive.max_angular_speed],
+    });
+  });
+
+  it('GET /api/v1/sessions/{id}/observation_space: a Box of 48 values, unbounded ones spelled out', async () => {
+    const reply = await api.get(at('/observation_space'));
+    assert.equal(reply.status, 200);
+    const space = reply.json;
+    assert.equal(space.name, 'Box');
+    assert.deepEqual(space.shape, [48]);
+    assert.equal(space.dtype, 'float64');
+    assert.deepEqual([space.low.slice(2, 4), space.high.slice(2, 4)], [[-1, -1], [1, 1]], 'cos θ, sin θ');
+    for (let person = 0; person < 8; person++) {
+      const at8 = 8 + 5 * person;
+      assert.deepEqual(space.low.slice(at8, at8 + 5), [0, -10, -10, '-inf', '-inf'], `person ${person}`);
+      assert.deepEqual(space.high.slice(at8, at8 + 5), [1, 10, 10, 'inf', 'inf'], `person ${person}`);
+    }
+  });
+
+  it('GET .../action_space of a robot without a model: its velocity in the map frame; observation_space 409 and 404', async () => {
+    const queue = await createSession('queue');
+    const queueAt = (suffix) => `/api/v1/sessions/${queue.id}${suffix}`;
+    const action = (await api.get(queueAt('/action_space'))).json;
+    const observation = (await api.get(queueAt('/observation_space'))).json;
+    const crossing = await createSession('perpendicular_crossing');
+    const refused = [await api.get(`/api/v1/sessions/${crossing.id}/action_space`), await api.get(`/api/v1/sessions/${crossing.id}/observation_space`)];
+    await api.delete(queueAt(''));
+    await api.delete(`/api/v1/sessions/${crossing.id}`);
+    assert.deepEqual(action, { name: 'Box', shape: [2], dtype: 'float64', low: [-2, -2], high: [2, 2] });
+    assert.deepEqual([observation.low[5], observation.high[5]], ['-inf', 'inf'], 'a disc robot\'s yaw rate is unbounded');
+    for (const reply of refused) {
+      assert.equal(reply.status, 409, 'no robot to observe');
+      assert.equal(reply.json.error.code, 'conflict');
+    }
+    assert.equal((await api.get(`/api/v1/sessions/${UNKNOWN_SESSION}/action_space`)).status, 404);
+    assert.equal((await api.get(`/api/v1/sessions/${UNKNOWN_SESSION}/observation_space`)).status, 404);
+  });
+
+  it('POST /api/v1/sessions/{id}/step with an action: the robot drives; observation, reward and info', async () => {
+    const own = await createSession('elevator', 4);
+    const ownAt = (suffix) => `/api/v1/sessions/${own.id}${suffix}`;
+    const space = (await api.get(ownAt('/observation_space'))).json;
+    const drive = (await api.get('/api/v1/robots/hsr')).json.summary.drive;
+    const start = (await api.post(ownAt('/step'), { n: 1, action: [0, 0] })).json;
+    const moved = (await api.post(ownAt('/step'), { n: 120, action: [1.0, 0] })).json;
+    await api.delete(ownAt(''));
+    assert.deepEqual(start.info, { tick: start.tick, time: start.time });
+    assert.deepEqual(moved.info, { tick: 121, time: moved.time });
+    assert.equal(moved.reward, 0, 'no benchmark task: no reward');
+    assertWithin(start.observation, space);
+    assertWithin(moved.observation, space);
+    const [before, after] = [start.observation, moved.observation];
+    const travelled = Math.hypot(after[0] - before[0], after[1] - before[1]);
+    assert.ok(travelled > 0.25 && travelled < 0.45, `2 s at the HSR's top speed: ${travelled} m`);
+    assert.ok(Math.abs(after[4] - drive.max_linear_speed) < 0.02, `forward speed clipped to the drive's: ${after[4]}`);
+  });
+
+  it('POST /api/v1/sessions/{id}/step: 400 for a wrong action, 409 for an action nobody can take', async () => {
+    for (const [action, pointer] of [[[1], '/action'], [[1, 2, 3], '/action'], [[1, 'x'], '/action/1'], ['fast', '/action'], [{ v: 1 }, '/action']]) {
+      const reply = await api.post(at('/step'), { action });
+      assert.equal(reply.status, 400, JSON.stringify(action));
+      assert.equal(reply.json.error.details.pointer, pointer, JSON.stringify(action));
+      // The length is the action space's, which the spec cannot know.
+      assert.equal(specAllows('POST', at('/step'), { action }), pointer === '/action' && Array.isArray(action), `the spec allows ${JSON.stringify(action)}`);
+    }
+    const crossing = await createSession('perpendicular_crossing');
+    const crossingAt = (suffix) => `/api/v1/sessions/${crossing.id}${suffix}`;
+    const refused = await api.post(crossingAt('/step'), { action: [0, 0] });
+    const plain = await api.post(crossingAt('/step'), { n: 2 });
+    await api.delete(crossingAt(''));
+    assert.equal(refused.status, 409);
+    assert.equal(refused.json.error.code, 'conflict');
+    assert.equal(refused.json.error.details.pointer, '/action');
+    assert.equal(plain.status, 200);
+    assert.equal(plain.json.observation, null, 'no robot to observe');
+    assert.equal(plain.json.reward, 0);
+    assert.deepEqual(plain.json.info, { tick: 2, time: plain.json.time });
+  });
+
+  it('POST /api/v1/sessions with a controller: the status keeps it; its goal is in the observation', async () => {
+    // The HSR starts at (2.6, -0.8) facing -x; a goal at (1, -0.8) is 1.6 m ahead. (The elevator's
+    // choreography moves its robot whatever its controller: the cup scenario below shows one driving.)
+    const controller = { type: 'goal', goal: { pose: { x: 1.0, y: -0.8, theta: 0 } } };
+    const driven = await createSession('elevator', 0, { controller });
+    const plain = await createSession('elevator', 0, { controller: null });
+    const observation = (await api.post(`/api/v1/sessions/${driven.id}/step`, { n: 1 })).json.observation;
+    const status = (await api.get(`/api/v1/sessions/${driven.id}`)).json;
+    const without = (await api.post(`/api/v1/sessions/${plain.id}/step`, { n: 1 })).json.observation;
+    await api.delete(`/api/v1/sessions/${driven.id}`);
+    await api.delete(`/api/v1/sessions/${plain.id}`);
+    assert.deepEqual(driven.controller, controller);
+    assert.deepEqual(status.controller, controller);
+    assert.equal(plain.controller, null);
+    assert.ok(Math.abs(observation[6] - 1.6) < 0.01 && Math.abs(observation[7]) < 0.01, `the goal 1.6 m ahead: ${observation.slice(6, 8)}`);
+    assert.deepEqual(without.slice(6, 8), [0, 0], 'no goal');
+  });
+
+  it('POST /api/v1/sessions in realtime mode: the server steps it by the wall clock; stepping it is 409', async () => {
+    const created = Date.now();
+    const realtime = await createSession('queue', 1, { mode: 'realtime', realtime_factor: 10 });
+    const realtimeAt = (suffix = '') => `/api/v1/sessions/${realtime.id}${suffix}`;
+    try {
+      assert.equal(realtime.mode, 'realtime');
+      assert.equal(realtime.realtime_factor, 10);
+      const moving = await waitForSession(realtime.id, (status) => status.tick > 0, 'a tick');
+      const wall = (Date.now() - created) / 1000;
+      assert.ok(moving.time <= wall * 10 + 1e-9, `never ahead of the wall clock: ${moving.time} s simulated in ${wall} s at 10×`);
+      const refused = await api.post(realtimeAt('/step'), { n: 1 });
+      assert.equal(refused.status, 409);
+      assert.equal(refused.json.error.code, 'conflict');
+      assert.equal(refused.json.error.details.mode, 'realtime');
+      assert.equal((await api.post(realtimeAt('/step'), { action: [0, 0] })).status, 409);
+      const reset = await api.post(realtimeAt('/reset'), { seed: 2 });
+      assert.equal(reset.status, 200);
+      assert.equal(reset.json.tick, 0);
+      await waitForSession(realtime.id, (status) => status.seed === 2 && status.tick > 0, 'a tick after the reset');
+    } finally {
+      await api.delete(realtimeAt());
+    }
+    const fastest = await createSession('queue', 0, { mode: 'realtime', realtime_factor: 100 });
+    assert.equal(fastest.realtime_factor, 100);
+    await api.delete(`/api/v1/sessions/${fastest.id}`);
+  });
+
+  it('POST /api/v1/sessions in realtime mode keeps up with a realtime_factor above 30', {
+    todo: 'server: the ticker steps at most kRealtimeMaxCatchUp (0.5 s) per 1/60 s, so any factor above 30 runs at 30×',
+  }, async () => {
+    const created = Date.now();
+    const fast = await createSession('elevator', 0, { mode: 'realtime', realtime_factor: 90 });
+    await sleep(500);
+    const { time } = (await api.get(`/api/v1/sessions/${fast.id}`)).json;
+    const wall = (Date.now() - created) / 1000;
+    await api.delete(`/api/v1/sessions/${fast.id}`);
+    assert.ok(time > 60 * wall, `${time} s simulated in ${wall} s at 90×`);
+  });
+
+  it('GET /api/v1/sessions/{id}: connected_clients counts the open WebSockets', async () => {
+    const socket = await api.openSocket(session.id);
+    assert.equal((await api.get(at())).json.connected_clients, 1);
+    const other = await api.openSocket(session.id);
+    assert.equal((await api.get(at())).json.connected_clients, 2);
+    await socket.closeAndWait();
+    await other.closeAndWait();
+    await waitForSession(session.id, (status) => status.connected_clients === 0, 'no clients after both closed');
+  });
+
+  it('POST /api/v1/sessions/{id}/ws-ticket: 201 with a ticket and the URL to open; 404 for an unknown session', async () => {
+    const reply = await api.post(at('/ws-ticket'));
+    assert.equal(reply.status, 201);
+    assert.match(reply.json.ticket, /^t[0-9a-f]{32}$/);
+    assert.equal(reply.json.expires_in, 30);
+    assert.equal(reply.json.url, `/api/v1/sessions/${session.id}/ws?ticket=${reply.json.ticket}`);
+    assert.notEqual((await api.post(at('/ws-ticket'))).json.ticket, reply.json.ticket);
+    const unknown = await api.post(`/api/v1/sessions/${UNKNOWN_SESSION}/ws-ticket`);
+    assert.equal(unknown.status, 404);
+    assert.equal(unknown.json.error.code, 'not_found');
   });
 
   it('POST /api/v1/sessions beyond --max-sessions is 503 with Retry-After', async () => {
@@ -237,6 +481,17 @@ describe('a session with a cup in the HSR\'s open hand', () => {
     const { contacts } = (await api.get(`/api/v1/sessions/${cup.id}/robots/hsr/sensors`)).json;
     assert.deepEqual(contacts, [{ with: 'cup', part: 'cup' }]);
     await api.delete(`/api/v1/sessions/${cup.id}`);
+  });
+
+  it('POST /api/v1/sessions with a goal controller: it drives the HSR that otherwise stands still', async () => {
+    const driven = await createSession(scenario, 0, { controller: { type: 'goal', goal: { pose: { x: 4, y: 2, theta: 0 } } } });
+    const still = await createSession(scenario, 0);
+    const moved = (await api.post(`/api/v1/sessions/${driven.id}/step`, { n: 300 })).json.observation;
+    const stayed = (await api.post(`/api/v1/sessions/${still.id}/step`, { n: 300 })).json.observation;
+    await api.delete(`/api/v1/sessions/${driven.id}`);
+    await api.delete(`/api/v1/sessions/${still.id}`);
+    assert.ok(moved[0] > 2.5, `from x = 2 towards x = 4: ${moved[0]}`);
+    assert.ok(Math.abs(stayed[0] - 2) < 0.01 && Math.abs(stayed[1] - 2) < 0.01, `the scenario's HSR stays at (2, 2): ${stayed.slice(0, 2)}`);
   });
 
   it('PUT /poses/{name} places the cup at rest; 409 once the gripper holds it', async () => {

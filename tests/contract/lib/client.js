@@ -3,7 +3,7 @@
 // (lib/contract.js) before a test sees it, so a test only asserts what it is about.
 const http = require('node:http');
 const WebSocket = require('ws');
-const { checkHttpExchange, checkPlainError, checkSocketReply } = require('./contract');
+const { checkHttpExchange, checkPlainError, checkSocketReply, checkSocketPush, isPushed } = require('./contract');
 
 const REPLY_LIMIT_MS = 30000;
 
@@ -53,11 +53,15 @@ class Client {
   put(target, json, options) { return this.request('PUT', target, { json, ...options }); }
   delete(target, options) { return this.request('DELETE', target, options); }
 
-  /** Opens a session's WebSocket; a refused upgrade rejects with its { status, headers, body, json } as `refused`. */
-  openSocket(sessionId, { token = this.token } = {}) {
-    const headers = token === undefined ? {} : { authorization: `Bearer ${token}` };
-    const target = `/api/v1/sessions/${sessionId}/ws`;
-    const socket = new WebSocket(`ws://127.0.0.1:${this.port}${target}`, { headers, handshakeTimeout: REPLY_LIMIT_MS });
+  /**
+   * Opens a session's WebSocket, with the client's token unless `token` says otherwise (null: none),
+   * a `ticket` in the query, an `origin` header as a browser sends; a refused upgrade rejects with its
+   * { status, headers, body, json } as `refused`.
+   */
+  openSocket(sessionId, { token = this.token, ticket, origin } = {}) {
+    const headers = token == null ? {} : { authorization: `Bearer ${token}` };
+    const target = `/api/v1/sessions/${sessionId}/ws${ticket === undefined ? '' : `?ticket=${ticket}`}`;
+    const socket = new WebSocket(`ws://127.0.0.1:${this.port}${target}`, { headers, origin, handshakeTimeout: REPLY_LIMIT_MS });
     return new Promise((resolve, reject) => {
       socket.on('open', () => resolve(new SessionSocket(socket)));
       socket.on('error', reject);
@@ -80,33 +84,60 @@ class Client {
   }
 }
 
-/** A session's WebSocket in lockstep: each message sent gets the next reply, checked against the spec. */
+/**
+ * A session's WebSocket: each message sent gets the next answer, checked against the spec (a JSON
+ * object, or a Buffer for a binary answer); state frames the server pushes are checked and kept apart
+ * for nextFrame().
+ */
 class SessionSocket {
   constructor(socket) {
     this.socket = socket;
     this.waiting = [];  // { sent, resolve, reject }, oldest first
-    this.strayReplies = [];  // replies to nothing sent: lockstep allows none
+    this.strayReplies = [];  // answers to nothing sent: there must be none
+    this.frames = [];  // pushed frames not yet taken, oldest first
+    this.frameWaiters = [];  // resolve functions of nextFrame() calls
+    this.problems = [];  // pushed frames that broke the spec
     socket.on('message', (data, binary) => {
+      let message;
+      if (!binary) {
+        try {
+          message = JSON.parse(data.toString('utf8'));
+        } catch {
+          message = undefined;  // not JSON: checkSocketReply says so below
+        }
+        if (isPushed(message)) return this.pushed(message);
+      }
       const next = this.waiting.shift();
       if (!next) {
-        this.strayReplies.push(data.toString('utf8'));
+        this.strayReplies.push(binary ? `${data.length} binary bytes` : data.toString('utf8'));
         return;
       }
       try {
-        if (binary) throw new Error('a binary reply; the spec has only JSON text messages');
-        const reply = JSON.parse(data.toString('utf8'));
-        checkSocketReply(next.sent, reply);
-        next.resolve(reply);
+        if (!binary && message === undefined) throw new Error(`an answer that is not JSON: ${data.toString('utf8').slice(0, 200)}`);
+        checkSocketReply(next.sent, binary ? data : message, { binary });
+        next.resolve(binary ? data : message);
       } catch (error) {
         next.reject(error);
       }
     });
     socket.on('close', (code) => {
+      this.closed = code;
       for (const { reject } of this.waiting.splice(0)) reject(new Error(`the socket closed (${code}) before a reply`));
+      for (const wake of this.frameWaiters.splice(0)) wake();
     });
   }
 
-  /** Sends a message (an object as JSON, a string as it is) and resolves to its reply. */
+  pushed(frame) {
+    try {
+      checkSocketPush(frame);
+    } catch (error) {
+      this.problems.push(error);
+    }
+    this.frames.push(frame);
+    for (const wake of this.frameWaiters.splice(0)) wake();
+  }
+
+  /** Sends a message (an object as JSON, a string as it is) and resolves to its answer. */
   send(message) {
     const text = typeof message === 'string' ? message : JSON.stringify(message);
     let sent;
@@ -117,7 +148,7 @@ class SessionSocket {
     }
     if (this.strayReplies.length) return Promise.reject(new Error(`replies to nothing sent: ${this.strayReplies}`));
     return new Promise((resolve, reject) => {
-      const timer = setTimeout(() => reject(new Error(`no reply to ${text} within ${REPLY_LIMIT_MS} ms`)), REPLY_LIMIT_MS);
+      const timer = setTimeout(() => reject(new Error(`no reply to ${text.slice(0, 200)} within ${REPLY_LIMIT_MS} ms`)), REPLY_LIMIT_MS);
       this.waiting.push({
         sent,
         resolve: (reply) => { clearTimeout(timer); resolve(reply); },
@@ -127,10 +158,41 @@ class SessionSocket {
     });
   }
 
+  /**
+   * The oldest pushed frame not yet taken, waiting up to `withinMs` for one; undefined when none
+   * came. Fails when a frame broke the spec.
+   */
+  async nextFrame(withinMs = REPLY_LIMIT_MS) {
+    const deadline = Date.now() + withinMs;
+    while (!this.frames.length && this.closed === undefined && Date.now() < deadline) {
+      await new Promise((resolve) => {
+        const timer = setTimeout(resolve, deadline - Date.now());
+        this.frameWaiters.push(() => { clearTimeout(timer); resolve(); });
+      });
+    }
+    if (this.problems.length) throw this.problems[0];
+    return this.frames.shift();
+  }
+
+  /** Forgets the frames pushed so far. */
+  dropFrames() {
+    this.frames.length = 0;
+  }
+
   get isOpen() { return this.socket.readyState === WebSocket.OPEN; }
 
   close() {
     this.socket.close();
+  }
+
+  /** Closes it and resolves once it is closed (a forced end after 2 s). */
+  async closeAndWait() {
+    if (this.closed !== undefined) return;
+    await new Promise((resolve) => {
+      const timer = setTimeout(() => { this.socket.terminate(); resolve(); }, 2000);
+      this.socket.once('close', () => { clearTimeout(timer); resolve(); });
+      this.socket.close();
+    });
   }
 }
 

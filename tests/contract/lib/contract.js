@@ -12,17 +12,22 @@ const repoRoot = path.resolve(__dirname, '../../..');
 const openapi = YAML.parse(fs.readFileSync(path.join(repoRoot, 'api/openapi.yaml'), 'utf8'));
 const asyncapi = YAML.parse(fs.readFileSync(path.join(repoRoot, 'api/asyncapi.yaml'), 'utf8'));
 
-// Both documents are added whole, so a schema is named by its JSON pointer (openapi.json#/components/...)
-// and its own "#/components/..." references resolve inside its document. Ajv understands OpenAPI 3.0's
-// `nullable` itself; `example` and the documents' top-level keys (paths, channels, ...) are no schema
-// keywords, so they are declared as annotations and strict mode still catches misspelt keywords.
+// Both documents are added whole under their file names, so a schema is named by its JSON pointer
+// (openapi.yaml#/components/...), its own "#/components/..." references resolve inside its document
+// and asyncapi.yaml's "openapi.yaml#/..." ones in the other, as they do for tools reading the files.
+// OpenAPI 3.1 schemas are JSON Schema 2020-12: OpenAPI 3.0's `nullable` and `example` are refused
+// (Ajv would accept `nullable` by itself), and strict mode catches misspelt keywords. The documents'
+// top-level keys (paths, channels, ...) are no schema keywords; they are declared as annotations.
+// `format: binary` marks the binary WebSocket message, whose bytes no JSON schema checks.
 const ajv = new Ajv2020({ strict: true, allErrors: true });
 addFormats(ajv);
-for (const keyword of new Set(['example', ...Object.keys(openapi), ...Object.keys(asyncapi)])) {
+ajv.addFormat('binary', true);
+ajv.removeKeyword('nullable');
+for (const keyword of new Set([...Object.keys(openapi), ...Object.keys(asyncapi)])) {
   if (!ajv.getKeyword(keyword)) ajv.addKeyword(keyword);
 }
-ajv.addSchema(openapi, 'openapi.json');
-ajv.addSchema(asyncapi, 'asyncapi.json');
+ajv.addSchema(openapi, 'openapi.yaml');
+ajv.addSchema(asyncapi, 'asyncapi.yaml');
 
 const escapePointer = (key) => key.replace(/~/g, '~0').replace(/\//g, '~1');
 const unescapePointer = (key) => key.replace(/~1/g, '/').replace(/~0/g, '~');
@@ -93,7 +98,7 @@ function checkHttpExchange(request, reply) {
   if (!operation) {
     assert.ok(reply.status >= 400 && reply.status < 500, `${what}: not in the spec, yet not a client error`);
     assert.equal(mediaTypeOf(reply.headers), 'application/json', `${what}: content type`);
-    checkSchema('openapi.json', '#/components/schemas/Error', JSON.parse(reply.body), what);
+    checkSchema('openapi.yaml', '#/components/schemas/Error', JSON.parse(reply.body), what);
     return undefined;
   }
   const responses = operation.operation.responses;
@@ -108,55 +113,92 @@ function checkHttpExchange(request, reply) {
     const mediaType = mediaTypeOf(reply.headers);
     assert.ok(mediaType in response.content, `${what}: content type '${mediaType}', the spec says ${Object.keys(response.content)}`);
     if (mediaType === 'application/json' && response.content[mediaType].schema) {
-      checkSchema('openapi.json', `${pointer}/content/application~1json/schema`, JSON.parse(reply.body), what);
+      checkSchema('openapi.yaml', `${pointer}/content/application~1json/schema`, JSON.parse(reply.body), what);
     }
   }
   if (reply.status < 300 && request.json !== undefined && operation.operation.requestBody) {
     const { pointer: body } = follow(openapi, `${operation.pointer}/requestBody`);
-    checkSchema('openapi.json', `${body}/content/application~1json/schema`, request.json, `${what}: the request the server accepted`);
+    checkSchema('openapi.yaml', `${body}/content/application~1json/schema`, request.json, `${what}: the request the server accepted`);
   }
   if (reply.status < 300) covered.add(operation.key);
   return operation;
 }
 
+/**
+ * Whether the spec allows `json` as the body of `method` on `target`: a request the server refuses
+ * for its form (not for what it names) should be one the spec refuses too.
+ */
+function specAllows(method, target, json) {
+  const operation = findOperation(method, target.split('?')[0]);
+  assert.ok(operation?.operation.requestBody, `${method} ${target}: no operation with a request body`);
+  const { pointer } = follow(openapi, `${operation.pointer}/requestBody`);
+  return ajv.getSchema(`openapi.yaml${pointer}/content/application~1json/schema`)(json);
+}
+
 /** A JSON error that is not an OpenAPI operation's (a refused WebSocket upgrade). */
 function checkPlainError(what, reply) {
   assert.equal(mediaTypeOf(reply.headers), 'application/json', `${what}: content type`);
-  checkSchema('openapi.json', '#/components/schemas/Error', JSON.parse(reply.body), what);
+  checkSchema('openapi.yaml', '#/components/schemas/Error', JSON.parse(reply.body), what);
 }
 
 // --- WebSocket (AsyncAPI) ---
 
-/** A message's payload schema and the `type` it carries. */
+/**
+ * A message of asyncapi.yaml: a JSON one by the `type` its payload carries, or a binary one (content
+ * type application/octet-stream), with where its payload schema is.
+ */
 function messageAt(ref) {
   const { node, pointer } = follow(asyncapi, ref);
-  return { type: node.payload.properties.type.const, payloadPointer: `${pointer}/payload` };
+  const binary = (node.contentType ?? asyncapi.defaultContentType) === 'application/octet-stream';
+  assert.ok(binary || node.payload?.properties?.type?.const, `${pointer}: a JSON message's payload names its type as properties.type.const`);
+  return { name: pointer.split('/').pop(), binary, type: binary ? undefined : node.payload.properties.type.const, payloadPointer: `${pointer}/payload` };
 }
 
-const socketOperations = Object.entries(asyncapi.operations).map(([name, operation]) => ({
+const operationsWith = (action) => Object.entries(asyncapi.operations).filter(([, operation]) => operation.action === action);
+
+// What the client sends (the server receives), each with the answers it may get.
+const socketOperations = operationsWith('receive').map(([name, operation]) => ({
   key: `WS ${name}`,
   request: messageAt(operation.messages[0].$ref),
   replies: operation.reply.messages.map((message) => messageAt(message.$ref)),
 }));
 
+// What the server sends unasked (state frames).
+const socketPushes = operationsWith('send').flatMap(([name, operation]) =>
+  operation.messages.map((message) => ({ key: `WS ${name}`, message: messageAt(message.$ref) })));
+
 // What a message of no known type gets: "a wrong message gets an error answer".
 const errorReply = messageAt('#/components/messages/error');
 
 /**
- * Checks the reply to a sent message: it must be one of the replies the message's operation lists,
- * picked by its `type`, and match that payload schema. A message the server answered without an
- * error must itself match the spec.
+ * Checks the answer to a sent message: it must be one of the answers the message's operation lists,
+ * a JSON one picked by its `type` and matching that payload schema, or the binary one when the
+ * operation has one (its bytes are the test's to decode). A message the server answered without an
+ * error must itself match the spec. Returns the asyncapi message the answer is.
  */
-function checkSocketReply(sent, reply) {
+function checkSocketReply(sent, reply, { binary = false } = {}) {
   const operation = socketOperations.find((candidate) => candidate.request.type === sent?.type);
   const allowed = operation ? operation.replies : [errorReply];
-  const expected = allowed.find((message) => message.type === reply.type);
-  assert.ok(expected, `a '${sent?.type}' message got a '${reply.type}' reply; the spec allows ${allowed.map((m) => m.type).join(', ')}`);
-  checkSchema('asyncapi.json', expected.payloadPointer, reply, `the reply to ${JSON.stringify(sent)}`);
-  if (operation && reply.type !== 'error') {
-    checkSchema('asyncapi.json', operation.request.payloadPointer, sent, 'a message the server accepted');
+  const names = allowed.map((m) => (m.binary ? `${m.name} (binary)` : m.type)).join(', ');
+  const expected = binary ? allowed.find((message) => message.binary) : allowed.find((message) => !message.binary && message.type === reply.type);
+  assert.ok(expected, `a '${sent?.type}' message got ${binary ? 'a binary' : `a '${reply.type}'`} answer; the spec allows ${names}`);
+  if (!binary) checkSchema('asyncapi.yaml', expected.payloadPointer, reply, `the reply to ${JSON.stringify(sent)}`);
+  if (operation && (binary || reply.type !== 'error')) {
+    checkSchema('asyncapi.yaml', operation.request.payloadPointer, sent, 'a message the server accepted');
     covered.add(operation.key);
   }
+  return expected;
+}
+
+/** True for a JSON message the server sends unasked (a state frame): one of the pushes the spec lists. */
+const isPushed = (message) => socketPushes.some((push) => push.message.type === message?.type);
+
+/** Checks a pushed message against its payload schema. */
+function checkSocketPush(message) {
+  const push = socketPushes.find((candidate) => candidate.message.type === message.type);
+  assert.ok(push, `the server pushed a '${message.type}' message; the spec pushes ${socketPushes.map((p) => p.message.type)}`);
+  checkSchema('asyncapi.yaml', push.message.payloadPointer, message, `a pushed '${message.type}' message`);
+  covered.add(push.key);
 }
 
 /**
@@ -170,7 +212,8 @@ function specProblems() {
     for (const [key, value] of Object.entries(node)) {
       const at = `${pointer}/${escapePointer(key)}`;
       if (value === null && !Array.isArray(node) && !['default', 'example', 'const'].includes(key)) problems.push(`${documentId}${at}: a key without a value`);
-      const isSchema = ['schema', 'payload'].includes(key) || pointer === '#/components/schemas';
+      const isSchema = ['schema', 'payload'].includes(key) || pointer === '#/components/schemas' ||
+        (pointer.endsWith('/bindings/ws') && ['query', 'headers'].includes(key));
       if (isSchema && value && typeof value === 'object') {
         try {
           ajv.getSchema(documentId + at);
@@ -181,17 +224,17 @@ function specProblems() {
       if (value && typeof value === 'object') walk(documentId, value, at);
     }
   };
-  walk('openapi.json', openapi, '#');
-  walk('asyncapi.json', asyncapi, '#');
+  walk('openapi.yaml', openapi, '#');
+  walk('asyncapi.yaml', asyncapi, '#');
   return problems;
 }
 
 /** Operations of either spec that no test has seen succeed. */
 function unexercisedOperations() {
-  return [...httpOperations, ...socketOperations].map((operation) => operation.key).filter((key) => !covered.has(key));
+  return [...new Set([...httpOperations, ...socketOperations, ...socketPushes].map((operation) => operation.key))].filter((key) => !covered.has(key));
 }
 
 module.exports = {
-  repoRoot, openapi, asyncapi, httpOperations, checkHttpExchange, checkPlainError, checkSocketReply,
-  specProblems, unexercisedOperations,
+  repoRoot, openapi, asyncapi, httpOperations, checkHttpExchange, checkPlainError, checkSocketReply, isPushed,
+  checkSocketPush, specAllows, specProblems, unexercisedOperations,
 };

@@ -29,11 +29,12 @@ async function startServer(extraArgs = [], { dir: keptDir } = {}) {
   process.on('exit', killOnExit);
   let output = '';
   const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve(code ?? `signal ${signal}`)));
-  const port = await new Promise((resolve, reject) => {
+  const started = new Promise((resolve, reject) => {
     const timer = setTimeout(() => reject(new Error(`hrisim serve did not start within ${START_LIMIT_MS} ms:\n${output}`)), START_LIMIT_MS);
     const collect = (chunk) => {
       output += chunk;
-      const listening = /listening on http:\/\/[^:]+:(\d+)/.exec(output);
+      // The whole port: a chunk may end in the middle of it.
+      const listening = /listening on http:\/\/[^:\s]+:(\d+)\D/.exec(output);
       if (listening) {
         clearTimeout(timer);
         resolve(Number(listening[1]));
@@ -44,6 +45,19 @@ async function startServer(extraArgs = [], { dir: keptDir } = {}) {
     child.on('error', (error) => reject(error));
     exited.then((status) => reject(new Error(`hrisim serve exited at start (${status}):\n${output}`)));
   });
+  let port;
+  try {
+    port = await started;
+  } catch (error) {
+    // A server that did not start in time must not stay: its pipes would keep the tests from ending.
+    child.kill('SIGKILL');
+    let timer;
+    await Promise.race([exited, new Promise((resolve) => { timer = setTimeout(resolve, STOP_LIMIT_MS); })]);  // no exit when spawn failed
+    clearTimeout(timer);
+    process.off('exit', killOnExit);
+    if (!keptDir) fs.rmSync(dir, { recursive: true, force: true });
+    throw error;
+  }
 
   return {
     port,
