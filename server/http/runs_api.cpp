@@ -197,6 +197,13 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
     return Response::json(200, reply);
   });
 
+  router.add("GET", "/api/v1/runs/compare", [store](const Request& request) {
+    const auto a = query_value(request.query, "a"), b = query_value(request.query, "b");
+    if (!a || !b) throw core::Error(core::ErrorCode::bad_request, "give the two runs as ?a=ID&b=ID", {{"parameter", a ? "b" : "a"}});
+    const storage::RunRecord run_a = find_run(*store, *a), run_b = find_run(*store, *b);
+    return Response::json(200, runs::compare_runs(run_a, store->episodes_of_run(run_a.id), run_b, store->episodes_of_run(run_b.id)));
+  });
+
   router.add("GET", "/api/v1/runs/{id}", [store, executor](const Request& request) {
     return Response::json(200, report_of(*store, *executor, find_run(*store, request.path_params.at("id"))));
   });

@@ -175,6 +175,8 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     push_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
       self->pushing_ = false;
       if (ec || !self->ws_.is_open()) return;
+      // The peer may have unsubscribed since the timer was set.
+      if (self->peer_->push_rate() <= 0.0) return;
       if (auto frame = self->peer_->push_frame(self->dropped_)) self->send({std::move(*frame), false, true});
       self->schedule_push();
     });

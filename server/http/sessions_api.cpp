@@ -37,6 +37,7 @@ struct Live {
   std::unique_ptr<sim::Session> session;
   std::optional<tasks::Environment> environment;  ///< the Gymnasium view; none without a robot that can act
   std::size_t events_reported = 0;  ///< events before this index were in a step reply already
+  std::uint64_t generation = 0;     ///< counts resets, so that viewers notice a fresh start
   Clock::time_point last_used;
   std::atomic<int> clients{0};  ///< WebSockets open on it
   // Realtime: the wall-clock time and tick it was last (re)started from.
@@ -59,7 +60,8 @@ struct Live {
 
 /// Realtime sessions are stepped this often (wall clock), s.
 constexpr double kRealtimeTick = 1.0 / 60.0;
-/// A realtime session that falls behind catches up at most this much simulated time per tick, s.
+/// A realtime session that falls behind catches up at most this much simulated time per tick (or two
+/// ticks' worth at its factor, when more), s.
 constexpr double kRealtimeMaxCatchUp = 0.5;
 /// Largest realtime factor accepted.
 constexpr double kMaxRealtimeFactor = 100.0;
@@ -456,7 +458,8 @@ class Registry {
         const double dt = session.model().dt;
         const double elapsed = std::chrono::duration<double>(now - live->realtime_origin).count() * live->realtime_factor;
         const auto due = live->realtime_origin_tick + static_cast<std::int64_t>(elapsed / dt);
-        const auto most = static_cast<std::int64_t>(kRealtimeMaxCatchUp / dt);
+        // At most what two ticks of wall clock are worth at this factor, and kRealtimeMaxCatchUp at least.
+        const auto most = static_cast<std::int64_t>(std::max(kRealtimeMaxCatchUp, 2.0 * kRealtimeTick * live->realtime_factor) / dt);
         std::int64_t steps = due - session.state().tick;
         if (steps > most) {
           // Too far behind: start the clock again from here rather than rushing.
@@ -615,9 +618,13 @@ class SessionSocket : public WebSocketPeer {
     std::unique_lock lock(live->mutex, std::try_to_lock);
     if (!lock) return std::nullopt;  // stepping: the next frame will show it
     const auto& events = live->session->state().events;
-    if (events_pushed_ > events.size()) events_pushed_ = 0;  // the session was reset
+    const bool reset = live->generation != pushed_generation_;
+    if (reset) {
+      events_pushed_ = 0;
+      pushed_generation_ = live->generation;
+    }
     const std::int64_t tick = live->session->state().tick;
-    if (tick == pushed_tick_ && events_pushed_ == events.size()) return std::nullopt;  // nothing new
+    if (!reset && tick == pushed_tick_ && events_pushed_ == events.size()) return std::nullopt;  // nothing new
     json frame = state_of(*live, std::numeric_limits<std::int64_t>::max());
     json fresh = json::array();
     for (std::size_t e = events_pushed_; e < events.size(); ++e) fresh.push_back(event_json(events[e]));
@@ -647,6 +654,7 @@ class SessionSocket : public WebSocketPeer {
   double rate_ = 0.0;              ///< state frames per second subscribed to
   std::size_t events_pushed_ = 0;  ///< events before this index were in a frame
   std::int64_t pushed_tick_ = -1;
+  std::uint64_t pushed_generation_ = 0;  ///< the session's resets when the last frame was pushed
 };
 
 /// Places an agent or object by name from a pose {x, y, z, roll, pitch, yaw} at `at` (its JSON pointer
@@ -831,6 +839,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     fresh->start(live->session->shared_model());
     for (const auto& [name, pose] : poses.items()) place(*fresh->session, name, pose, "/options/poses/" + core::pointer_token(name));
     live->seed = seed;
+    ++live->generation;
     live->session = std::move(fresh->session);
     live->environment = std::move(fresh->environment);
     live->events_reported = 0;

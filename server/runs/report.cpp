@@ -1,8 +1,11 @@
 #include "runs/report.hpp"
 
+#include <algorithm>
+#include <numeric>
 #include <sstream>
 
 #include "metrics/aggregate.hpp"
+#include "metrics/compare.hpp"
 #include "metrics/definitions.hpp"
 
 namespace hrisim::runs {
@@ -155,6 +158,53 @@ json run_report(const storage::RunRecord& run, const std::vector<storage::Episod
           {"aggregates", aggregates},
           {"rates", rates},
           {"verdict", {{"passed", passed}, {"complete", complete}, {"gates", gate_results}, {"reasons", reasons}}}};
+}
+
+json compare_runs(const storage::RunRecord& a, const std::vector<storage::EpisodeRecord>& a_episodes, const storage::RunRecord& b,
+                  const std::vector<storage::EpisodeRecord>& b_episodes) {
+  const auto values_of = [](const std::vector<storage::EpisodeRecord>& episodes, std::string_view key) {
+    std::vector<double> values;
+    for (const storage::EpisodeRecord& episode : episodes) {
+      const storage::MetricValue* metric = episode.status == "finished" ? find_metric(episode, key) : nullptr;
+      if (metric && metric->value) values.push_back(*metric->value);
+    }
+    return values;
+  };
+  const auto mean = [](const std::vector<double>& values) {
+    return values.empty() ? json() : json(std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size()));
+  };
+  json items = json::array();
+  for (const metrics::Definition& definition : metrics::definitions()) {
+    const std::vector<double> va = values_of(a_episodes, definition.key), vb = values_of(b_episodes, definition.key);
+    const bool binary = definition.unit == "bool";
+    std::optional<double> p;
+    if (binary && !va.empty() && !vb.empty()) {
+      const auto hits = [](const std::vector<double>& v) { return static_cast<int>(std::count(v.begin(), v.end(), 1.0)); };
+      p = metrics::fisher_exact_p_value(hits(va), static_cast<int>(va.size()), hits(vb), static_cast<int>(vb.size()));
+    } else if (!binary) {
+      p = metrics::welch_p_value(va, vb);
+    }
+    json item{{"key", definition.key},
+              {"unit", definition.unit},
+              {"better", metrics::to_string(definition.better)},
+              {"a", {{"count", va.size()}, {"mean", mean(va)}}},
+              {"b", {{"count", vb.size()}, {"mean", mean(vb)}}},
+              {"difference", va.empty() || vb.empty() ? json() : json(mean(vb).get<double>() - mean(va).get<double>())},
+              {"test", binary ? "fisher_exact" : "welch_t"},
+              {"p_value", optional_json(p)}};
+    const bool significant = p && *p < metrics::kSignificanceLevel;
+    item["significant"] = significant;
+    std::string change = "no significant change";
+    if (significant && definition.better != metrics::Better::none) {
+      const bool higher = item["difference"].get<double>() > 0.0;
+      change = higher == (definition.better == metrics::Better::higher) ? "better" : "worse";
+    } else if (significant) {
+      change = "different";
+    }
+    item["change"] = change;
+    items.push_back(std::move(item));
+  }
+  return {{"a", a.id}, {"b", b.id}, {"significance_level", metrics::kSignificanceLevel}, {"metrics", items}};
 }
 
 std::string junit_xml(const json& report) {

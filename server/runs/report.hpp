@@ -20,6 +20,12 @@ std::vector<metrics::Gate> gates_of(const storage::RunRecord& run);
 nlohmann::json run_report(const storage::RunRecord& run, const std::vector<storage::EpisodeRecord>& episodes,
                           const std::map<std::uint64_t, std::string>& live);
 
+/// Run b against run a, metric by metric over their finished episodes: both means, b − a, a p-value
+/// (Welch's t-test, or Fisher's exact test for 0/1 metrics), whether the difference is significant
+/// at kSignificanceLevel, and whether b is then better or worse by the metric's direction.
+nlohmann::json compare_runs(const storage::RunRecord& a, const std::vector<storage::EpisodeRecord>& a_episodes,
+                            const storage::RunRecord& b, const std::vector<storage::EpisodeRecord>& b_episodes);
+
 /// A JUnit XML document of a report: one test case per gate, one per episode that did not finish
 /// (error, cancelled, interrupted), so that it fails exactly when the verdict does.
 std::string junit_xml(const nlohmann::json& report);

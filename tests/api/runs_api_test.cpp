@@ -196,6 +196,36 @@ TEST_F(RunsApi, BadSubmissionsAreRefusedAndNothingIsStored) {
   EXPECT_EQ(http(port(), "GET", "/api/v1/episodes/enope/trajectory?format=xml").status, 400);
 }
 
+TEST_F(RunsApi, ComparingTwoRunsOfTheElevatorWithDifferentControllers) {
+  const json a = wait_for_run(port(), submit({{"scenario", "elevator"}, {"count", 3}, {"max_time", 20}})["id"]);
+  const json b = wait_for_run(port(), submit({{"scenario", "elevator"}, {"count", 3}, {"max_time", 20},
+                                                {"controller", {{"type", "social"}, {"goal", {{"pose", {{"x", 1.0}, {"y", -0.8}, {"theta", 0}}}}}}}})["id"]);
+  const std::string target = "/api/v1/runs/compare?a=" + a["id"].get<std::string>() + "&b=" + b["id"].get<std::string>();
+  const json compared = json_of(http(port(), "GET", target));
+  EXPECT_EQ(compared["a"], a["id"]);
+  EXPECT_EQ(compared["significance_level"], 0.05);
+  const json metrics = json_of(http(port(), "GET", "/api/v1/metrics"))["items"];
+  ASSERT_EQ(compared["metrics"].size(), metrics.size());
+  for (const json& item : compared["metrics"]) {
+    if (item["p_value"].is_number()) {
+      EXPECT_GE(item["p_value"].get<double>(), 0.0) << item.dump();
+      EXPECT_LE(item["p_value"].get<double>(), 1.0) << item.dump();
+    }
+    EXPECT_EQ(item["test"], item["unit"] == "bool" ? "fisher_exact" : "welch_t") << item.dump();
+    const bool significant = item["significant"];
+    EXPECT_EQ(significant, item["p_value"].is_number() && item["p_value"].get<double>() < 0.05) << item.dump();
+    EXPECT_TRUE(significant || item["change"] == "no significant change") << item.dump();
+  }
+  // A run against itself: no difference anywhere.
+  const json self = json_of(http(port(), "GET", "/api/v1/runs/compare?a=" + a["id"].get<std::string>() + "&b=" + a["id"].get<std::string>()));
+  for (const json& item : self["metrics"]) {
+    EXPECT_FALSE(item["significant"].get<bool>()) << item.dump();
+    EXPECT_TRUE(item["difference"].is_null() || item["difference"] == 0.0) << item.dump();
+  }
+  EXPECT_EQ(http(port(), "GET", "/api/v1/runs/compare?a=" + a["id"].get<std::string>()).status, 400);
+  EXPECT_EQ(http(port(), "GET", "/api/v1/runs/compare?a=rnope&b=" + a["id"].get<std::string>()).status, 404);
+}
+
 TEST_F(RunsApi, MetricDefinitionsAreServed) {
   const json metrics = json_of(http(port(), "GET", "/api/v1/metrics"));
   ASSERT_GT(metrics["items"].size(), 20u);

