@@ -1,6 +1,7 @@
 'use strict';
-// Runs: batches of headless episodes (start, list, report, cancel, episodes, JUnit), the stored
-// episodes with their trajectories, the metric list, and a run a dying server leaves interrupted.
+// Runs: batches of headless episodes (start, list, report, cancel, episodes, JUnit, comparison of
+// two runs), the stored episodes with their trajectories and per-step series, the metric list, and a
+// run a dying server leaves interrupted.
 // Runs of the bundled queue scenario take a few milliseconds per episode; the elevator's 200 seeds
 // keep the executor busy long enough to cancel them.
 const assert = require('node:assert/strict');
@@ -9,7 +10,7 @@ const os = require('node:os');
 const path = require('node:path');
 const { describe, it, before } = require('node:test');
 const { api, Client } = require('../lib/client');
-const { specAllows } = require('../lib/contract');
+const { openapi, specAllows } = require('../lib/contract');
 const { cupOnASideTable } = require('../lib/fixtures');
 const { startServer } = require('../lib/server');
 
@@ -19,6 +20,65 @@ const UNKNOWN_RUN = `r${'0'.repeat(32)}`;
 const UNKNOWN_EPISODE = `e${'0'.repeat(32)}`;
 
 const sleep = (ms) => new Promise((resolve) => { setTimeout(resolve, ms); });
+
+// Reference statistics for the comparison, computed apart from the server's (numerical integration
+// of Student's t density rather than the incomplete beta function).
+
+/** ln Γ(x) for x > 0 (Lanczos, g = 7). */
+function logGamma(x) {
+  const c = [0.99999999999980993, 676.5203681218851, -1259.1392167224028, 771.32342877765313, -176.61503916999185,
+    12.507343278686905, -0.13857109526572012, 9.9843695780195716e-6, 1.5056327351493116e-7];
+  if (x < 0.5) return Math.log(Math.PI / Math.sin(Math.PI * x)) - logGamma(1 - x);
+  x -= 1;
+  let sum = c[0];
+  for (let i = 1; i < 9; i++) sum += c[i] / (x + i);
+  const t = x + 7.5;
+  return 0.5 * Math.log(2 * Math.PI) + (x + 0.5) * Math.log(t) - t + Math.log(sum);
+}
+
+/** ∫ f over [from, to] by Simpson's rule with `n` (even) intervals. */
+function simpson(f, from, to, n = 4000) {
+  const h = (to - from) / n;
+  let sum = f(from) + f(to);
+  for (let i = 1; i < n; i++) sum += (i % 2 ? 4 : 2) * f(from + i * h);
+  return (sum * h) / 3;
+}
+
+/** P(|T| >= |t|) for Student's t with `df` >= 1 degrees of freedom. */
+function twoSidedT(t, df) {
+  const scale = Math.exp(logGamma((df + 1) / 2) - logGamma(df / 2)) / Math.sqrt(df * Math.PI);
+  const density = (x) => scale * (1 + (x * x) / df) ** (-(df + 1) / 2);
+  const a = Math.abs(t);
+  if (a < 1) return 1 - 2 * simpson(density, 0, a);
+  // The tail with x = a / s, s in (0, 1]: the integrand tends to a finite limit at s = 0 for df >= 1.
+  return 2 * simpson((s) => (s === 0 ? 0 : (density(a / s) * a) / (s * s)), 0, 1);
+}
+
+const meanOf = (values) => values.reduce((sum, v) => sum + v, 0) / values.length;
+
+/** Welch's two-sided p-value, or null with fewer than two values in a sample. */
+function welch(a, b) {
+  if (a.length < 2 || b.length < 2) return null;
+  const variance = (values, mean) => values.reduce((sum, v) => sum + (v - mean) ** 2, 0) / (values.length - 1);
+  const ma = meanOf(a), mb = meanOf(b);
+  const va = variance(a, ma) / a.length, vb = variance(b, mb) / b.length;
+  if (va + vb === 0) return ma === mb ? 1 : 0;
+  const df = (va + vb) ** 2 / (va ** 2 / (a.length - 1) + vb ** 2 / (b.length - 1));
+  return twoSidedT((ma - mb) / Math.sqrt(va + vb), df);
+}
+
+/** Fisher's exact two-sided p-value for 0/1 samples, or null when either is empty. */
+function fisher(a, b) {
+  if (!a.length || !b.length) return null;
+  const hitsA = a.filter((v) => v === 1).length, hits = hitsA + b.filter((v) => v === 1).length;
+  const logChoose = (n, k) => logGamma(n + 1) - logGamma(k + 1) - logGamma(n - k + 1);
+  const logP = (k) => logChoose(a.length, k) + logChoose(b.length, hits - k) - logChoose(a.length + b.length, hits);
+  let p = 0;
+  for (let k = Math.max(0, hits - b.length); k <= Math.min(a.length, hits); k++) {
+    if (logP(k) <= logP(hitsA) + 1e-7) p += Math.exp(logP(k));
+  }
+  return Math.min(1, p);
+}
 
 /** Polls a run's report until its status is final (or `until` says so); resolves to the report. */
 async function waitForRun(id, { client = api, until = (report) => FINAL.includes(report.status) } = {}) {
@@ -63,6 +123,17 @@ describe('runs', () => {
     const success = reply.json.items[0];
     assert.equal(success.unit, 'bool');
     assert.equal(success.better, 'higher');
+  });
+
+  it('GET /api/v1/metrics: the per-step series, each with its unit, as GET /api/v1/episodes/{id}/series takes them', async () => {
+    const { series } = (await api.get('/api/v1/metrics')).json;
+    assert.deepEqual(series.map((item) => [item.name, item.unit]), [
+      ['distance_to_closest_person', 'm'], ['proxemic_zone', 'zone'], ['time_to_collision', 's'], ['robot_speed', 'm/s'],
+      ['social_force_on_robot', 'N/kg'],
+    ]);
+    assert.ok(series.every((item) => item.description.length > 0));
+    const parameter = openapi.paths['/api/v1/episodes/{id}/series'].get.parameters.find((p) => p.name === 'name');
+    assert.deepEqual(parameter.schema.enum, series.map((item) => item.name), "the spec's series names");
   });
 
   it('POST /api/v1/runs: 201 with Location; the report lists the seeds in order', async () => {
@@ -331,6 +402,173 @@ describe('runs', () => {
     assert.equal(wrong.status, 400);
     assert.equal(wrong.json.error.details.parameter, 'format');
     assert.equal((await api.get(`/api/v1/episodes/${UNKNOWN_EPISODE}/trajectory`)).status, 404);
+  });
+
+  /** Each metric's non-null values over a run's finished episodes, by key, in stored order. */
+  async function valuesOfRun(id) {
+    const episodes = (await api.get(`/api/v1/runs/${id}/episodes`)).json.items.filter((episode) => episode.status === 'finished');
+    return Object.fromEntries(metricKeys.map((key) => [key, episodes.map((e) => e.metrics[key]).filter((v) => v !== null)]));
+  }
+
+  /** Checks a comparison of runs `a` and `b` item by item against the stored episodes and reference tests. */
+  async function checkComparison(comparison, a, b) {
+    const definitions = (await api.get('/api/v1/metrics')).json.items;
+    const [valuesA, valuesB] = [await valuesOfRun(a), await valuesOfRun(b)];
+    assert.equal(comparison.a, a);
+    assert.equal(comparison.b, b);
+    assert.equal(comparison.significance_level, 0.05);
+    assert.deepEqual(comparison.metrics.map((item) => item.key), metricKeys, 'every metric, in the order of GET /api/v1/metrics');
+    for (const [i, item] of comparison.metrics.entries()) {
+      const what = `${item.key}: ${JSON.stringify(item)}`;
+      const definition = definitions[i];
+      assert.equal(item.unit, definition.unit, what);
+      assert.equal(item.better, definition.better, what);
+      const [va, vb] = [valuesA[item.key], valuesB[item.key]];
+      for (const [side, values] of [[item.a, va], [item.b, vb]]) {
+        assert.equal(side.count, values.length, what);
+        if (values.length) assert.ok(Math.abs(side.mean - meanOf(values)) <= 1e-9 * Math.max(1, Math.abs(side.mean)), what);
+        else assert.equal(side.mean, null, what);
+      }
+      if (va.length && vb.length) assert.ok(Math.abs(item.difference - (item.b.mean - item.a.mean)) <= 1e-9 * Math.max(1, Math.abs(item.difference)), what);
+      else assert.equal(item.difference, null, what);
+      const binary = definition.unit === 'bool';
+      assert.equal(item.test, binary ? 'fisher_exact' : 'welch_t', what);
+      const expected = binary ? fisher(va, vb) : welch(va, vb);
+      if (expected === null) assert.equal(item.p_value, null, what);
+      else assert.ok(Math.abs(item.p_value - expected) < 1e-6, `${what}: p-value ${expected} expected`);
+      assert.equal(item.significant, item.p_value !== null && item.p_value < comparison.significance_level, what);
+      let change = 'no significant change';
+      if (item.significant && item.better === 'none') change = 'different';
+      else if (item.significant) change = (item.difference > 0) === (item.better === 'higher') ? 'better' : 'worse';
+      assert.equal(item.change, change, what);
+    }
+  }
+
+  it('GET /api/v1/runs/compare: Welch per continuous metric, Fisher per 0/1 metric, better or worse by direction', async () => {
+    // The same seeds cut off at 5 s: shorter episodes, and no queue gets to its end.
+    const short = await waitForRun((await startRun({ scenario: 'queue', seeds: [0, 1, 2], max_time: 5 })).json.id);
+    assert.equal(short.status, 'finished');
+    const reply = await api.get(`/api/v1/runs/compare?a=${report.id}&b=${short.id}`);
+    assert.equal(reply.status, 200);
+    await checkComparison(reply.json, report.id, short.id);
+    const byKey = Object.fromEntries(reply.json.metrics.map((item) => [item.key, item]));
+    assert.equal(byKey.episode_length.b.mean, 300, '5 s at 60 Hz');
+    assert.ok(byKey.episode_length.difference < 0);
+    assert.equal(byKey.episode_length.significant, true);
+    assert.equal(byKey.episode_length.change, 'different', 'a metric with no better direction');
+    assert.ok(reply.json.metrics.some((item) => ['better', 'worse'].includes(item.change)), 'some metric changed for better or worse');
+    // Swapped, the difference changes sign and better becomes worse; the p-values stay.
+    const swapped = (await api.get(`/api/v1/runs/compare?a=${short.id}&b=${report.id}`)).json;
+    const opposite = { better: 'worse', worse: 'better', different: 'different', 'no significant change': 'no significant change' };
+    for (const [i, item] of swapped.metrics.entries()) {
+      const original = reply.json.metrics[i];
+      assert.equal(item.p_value === null, original.p_value === null, item.key);
+      if (item.p_value !== null) assert.ok(Math.abs(item.p_value - original.p_value) < 1e-12, item.key);
+      if (item.difference !== null) assert.ok(item.difference === -original.difference, item.key);  // 0 and -0 alike
+      assert.equal(item.change, opposite[original.change], item.key);
+    }
+  });
+
+  it('GET /api/v1/runs/compare: a run against itself changes nothing; one episode is too few for Welch', async () => {
+    const itself = (await api.get(`/api/v1/runs/compare?a=${report.id}&b=${report.id}`)).json;
+    await checkComparison(itself, report.id, report.id);
+    for (const item of itself.metrics) {
+      assert.ok(item.difference === null || item.difference === 0, item.key);
+      assert.ok(item.p_value === null || item.p_value === 1, `${item.key}: ${item.p_value}`);
+      assert.equal(item.change, 'no significant change', item.key);
+    }
+    const single = await waitForRun((await startRun({ scenario: 'queue', seeds: [7] })).json.id);
+    const reply = await api.get(`/api/v1/runs/compare?a=${single.id}&b=${report.id}`);
+    await checkComparison(reply.json, single.id, report.id);
+    for (const item of reply.json.metrics.filter((candidate) => candidate.test === 'welch_t')) {
+      assert.equal(item.p_value, null, item.key);
+      assert.equal(item.significant, false, item.key);
+    }
+    const success = reply.json.metrics.find((item) => item.key === 'success');
+    assert.equal(success.test, 'fisher_exact');
+    assert.equal(typeof success.p_value, 'number', 'Fisher needs one value a side');
+  });
+
+  it('GET /api/v1/runs/compare: 400 naming the missing run, 404 for an unknown one', async () => {
+    for (const [query, parameter] of [[`a=${report.id}`, 'b'], [`b=${report.id}`, 'a'], ['', 'a']]) {
+      const reply = await api.get(`/api/v1/runs/compare${query && `?${query}`}`);
+      assert.equal(reply.status, 400, query);
+      assert.equal(reply.json.error.code, 'bad_request');
+      assert.equal(reply.json.error.details.parameter, parameter, query);
+    }
+    for (const query of [`a=${UNKNOWN_RUN}&b=${report.id}`, `a=${report.id}&b=${UNKNOWN_RUN}`]) {
+      const reply = await api.get(`/api/v1/runs/compare?${query}`);
+      assert.equal(reply.status, 404, query);
+      assert.equal(reply.json.error.code, 'not_found');
+      assert.equal(reply.json.error.details.id, UNKNOWN_RUN);
+    }
+  });
+
+  it('GET /api/v1/episodes/{id}/series: every series at 10 Hz, agreeing with the metrics', async () => {
+    const id = report.episodes[0].episode_id;
+    const episode = (await api.get(`/api/v1/episodes/${id}`)).json;
+    const { series } = (await api.get('/api/v1/metrics')).json;
+    const reply = await api.get(`/api/v1/episodes/${id}/series`);
+    assert.equal(reply.status, 200);
+    assert.equal(reply.json.episode, id);
+    const { items } = reply.json;
+    assert.deepEqual(items.map((item) => [item.name, item.unit]), series.map((s) => [s.name, s.unit]).sort(), 'every series, by name');
+    const tickDt = episode.sim_time / episode.ticks;
+    for (const item of items) {
+      assert.equal(item.ticks.length, item.values.length, item.name);
+      assert.equal(item.ticks[0], 0, item.name);
+      assert.ok(item.ticks.slice(1).every((tick, i) => tick - item.ticks[i] === 6), `${item.name}: every 6 ticks at 60 Hz`);
+      assert.ok(item.ticks.at(-1) <= episode.ticks && item.ticks.at(-1) > episode.ticks - 6, `${item.name}: to the last tick`);
+      assert.ok(Math.abs(item.dt - 6 * tickDt) < 1e-12 && Math.abs(item.dt - 0.1) < 1e-9, `${item.name}: dt ${item.dt}`);
+    }
+    const named = Object.fromEntries(items.map((item) => [item.name, item.values]));
+    // Hall's zones of the closest person's distance; no zone without a person.
+    const zone = (d) => (d === null ? null : d < 0.45 ? 0 : d < 1.2 ? 1 : d < 3.6 ? 2 : 3);
+    assert.deepEqual(named.proxemic_zone, named.distance_to_closest_person.map(zone));
+    const present = (values) => values.filter((v) => v !== null);
+    assert.ok(present(named.distance_to_closest_person).length > 0, 'the queue has people');
+    assert.ok(Math.min(...present(named.distance_to_closest_person)) >= episode.metrics.minimum_distance_to_people - 1e-9, 'samples of the minimum');
+    assert.ok(present(named.time_to_collision).every((t) => t >= 0));
+    if (episode.metrics.min_time_to_collision !== null && present(named.time_to_collision).length) {
+      assert.ok(Math.min(...present(named.time_to_collision)) >= episode.metrics.min_time_to_collision - 1e-9);
+    }
+    assert.ok([...named.robot_speed, ...named.social_force_on_robot].every((v) => v !== null && v >= 0));
+
+    const one = await api.get(`/api/v1/episodes/${id}/series?name=time_to_collision&format=json`);
+    assert.deepEqual(one.json, { episode: id, items: items.filter((item) => item.name === 'time_to_collision') });
+  });
+
+  it('GET /api/v1/episodes/{id}/series: one series as CSV, an empty cell for null', async () => {
+    const id = report.episodes[0].episode_id;
+    const episode = (await api.get(`/api/v1/episodes/${id}`)).json;
+    const [json] = (await api.get(`/api/v1/episodes/${id}/series?name=time_to_collision`)).json.items;
+    const csv = await api.get(`/api/v1/episodes/${id}/series?name=time_to_collision&format=csv`);
+    assert.equal(csv.status, 200);
+    assert.equal(csv.headers['content-type'], 'text/csv; charset=utf-8');
+    const lines = csv.body.split('\n');
+    assert.equal(lines.pop(), '', 'ends with a newline');
+    assert.equal(lines[0], 'tick,time,time_to_collision');
+    const rows = lines.slice(1).map((line) => line.split(','));
+    assert.deepEqual(rows.map(([tick]) => Number(tick)), json.ticks);
+    assert.deepEqual(rows.map(([, , value]) => (value === '' ? null : Number(value))), json.values);
+    assert.ok(rows.some(([, , value]) => value === '') && rows.some(([, , value]) => value !== ''), 'the queue has both');
+    const tickDt = episode.sim_time / episode.ticks;
+    assert.ok(rows.every(([tick, time]) => Math.abs(Number(time) - Number(tick) * tickDt) < 1e-9));
+  });
+
+  it('GET /api/v1/episodes/{id}/series: 400 for an unknown name or format or CSV of everything, 404 for an unknown episode', async () => {
+    const id = report.episodes[0].episode_id;
+    for (const [query, parameter] of [['name=heart_rate', 'name'], ['format=csv', 'name'], ['format=xml', 'format'], ['name=robot_speed&format=xlsx', 'format']]) {
+      const reply = await api.get(`/api/v1/episodes/${id}/series?${query}`);
+      assert.equal(reply.status, 400, query);
+      assert.equal(reply.json.error.code, 'bad_request', query);
+      assert.equal(reply.json.error.details.parameter, parameter, query);
+    }
+    for (const query of ['', '?name=robot_speed&format=csv']) {
+      const reply = await api.get(`/api/v1/episodes/${UNKNOWN_EPISODE}/series${query}`);
+      assert.equal(reply.status, 404, query);
+      assert.equal(reply.json.error.code, 'not_found', query);
+    }
   });
 
   it('POST /api/v1/runs/{id}/cancel: 202; queued seeds never run, finished episodes stay', async () => {
