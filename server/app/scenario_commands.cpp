@@ -262,9 +262,10 @@ struct ScratchDatabase {
 int run_command(const std::vector<std::string>& args) {
   const ParsedArgs parsed = parse_args(
       args, {"--seed", "--seeds", "--db", "--max-time", "--request", "--scenario", "--map", "--trajectory", "--gate", "--junit", "--controller", "--jobs"},
-      {"--events"},
+      {"--events", "--baseline-without-robot"},
       "usage: hrisim run FILE [--seed N | --seeds A-B|A,B,C] [--gate EXPR ...] [--junit FILE.xml] [--db FILE] [--jobs N] "
-      "[--controller JSON] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME] [--map FILE] [--trajectory FILE.csv]");
+      "[--controller JSON] [--baseline-without-robot] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME] [--map FILE] "
+      "[--trajectory FILE.csv]");
   const std::string& file = parsed.file;
   std::uint64_t single_seed = 0;
   if (const auto text = parsed.last("--seed")) {
@@ -287,6 +288,7 @@ int run_command(const std::vector<std::string>& args) {
     }
   }
   if (parsed.values.contains("--gate")) request.gates = parsed.values.at("--gate");
+  request.baseline_without_robot = parsed.flags.contains("--baseline-without-robot");
   if (const auto text = parsed.last("--controller")) {
     try {
       request.controller = nlohmann::json::parse(*text);
@@ -309,6 +311,7 @@ int run_command(const std::vector<std::string>& args) {
   request.document = loaded.document;
   request.load = loaded.load;
   request.scenario_sha256 = core::sha256_hex(loaded.text);
+  request.scenario_id = "f" + request.scenario_sha256.substr(0, 32);  // one stored record per distinct file content
   const runs::RunSpec spec = [&] {
     try {
       return runs::make_run_spec(request);
@@ -325,6 +328,7 @@ int run_command(const std::vector<std::string>& args) {
     runs::EpisodeOptions options;
     options.max_time = spec.max_time;
     options.requests = spec.requests;
+    options.baseline_without_robot = spec.baseline_without_robot;
     if (const auto path = parsed.last("--trajectory")) {
       trajectory.open(*path);
       if (!trajectory) usage_error("--trajectory: cannot write " + *path);
@@ -367,7 +371,6 @@ int run_command(const std::vector<std::string>& args) {
   }
   storage::Store store(database);
   runs::RunSpec stored_spec = spec;
-  stored_spec.scenario_id = "f" + request.scenario_sha256.substr(0, 32);  // one record per distinct file content
   if (!store.scenario(stored_spec.scenario_id)) {
     const auto format = std::filesystem::path(file).extension() == ".xml"
                             ? std::string(scenario::to_string(scenario::detect_source_format(loaded.text)))

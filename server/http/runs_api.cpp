@@ -48,7 +48,7 @@ std::vector<std::uint64_t> seeds_of(const json& body) {
 }
 
 runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue) {
-  refuse_unknown_keys(body, {"scenario", "seeds", "count", "first_seed", "controller", "max_time", "gates", "requests"});
+  refuse_unknown_keys(body, {"scenario", "seeds", "count", "first_seed", "controller", "max_time", "gates", "requests", "baseline_without_robot"});
   if (!body.contains("scenario") || !body["scenario"].is_string()) bad("/scenario", "scenario: the id of a scenario is required");
   const std::string id = body["scenario"];
   const auto* entry = catalogue.find(id);
@@ -62,6 +62,10 @@ runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue) {
   request.scenario_sha256 = entry->sha256.empty() ? core::sha256_hex(entry->source.document.dump()) : entry->sha256;
   request.seeds = seeds_of(body);
   if (body.contains("controller") && !body["controller"].is_null()) request.controller = body["controller"];
+  if (body.contains("baseline_without_robot")) {
+    if (!body["baseline_without_robot"].is_boolean()) bad("/baseline_without_robot", "baseline_without_robot must be true or false");
+    request.baseline_without_robot = body["baseline_without_robot"];
+  }
   if (body.contains("max_time")) {
     if (!body["max_time"].is_number() || !(body["max_time"].get<double>() > 0.0) || !std::isfinite(body["max_time"].get<double>())) {
       bad("/max_time", "max_time must be a number of seconds > 0");
@@ -158,7 +162,6 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
     runs::RunSpec spec = runs::make_run_spec(run_request_);
     const auto* entry = catalogue->find(run_request_.scenario_id);
     spec.scenario_id = stored_scenario_id(*store, run_request_.scenario_id, *entry, run_request_.scenario_sha256);
-    spec.config["scenario"] = run_request_.scenario_id;
     const storage::RunRecord run = executor->submit(std::move(spec));
     Response response = Response::json(201, report_of(*store, *executor, find_run(*store, run.id)));
     response.headers.emplace_back("Location", "/api/v1/runs/" + run.id);
@@ -199,7 +202,9 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
 
   router.add("GET", "/api/v1/runs/compare", [store](const Request& request) {
     const auto a = query_value(request.query, "a"), b = query_value(request.query, "b");
-    if (!a || !b) throw core::Error(core::ErrorCode::bad_request, "give the two runs as ?a=ID&b=ID", {{"parameter", a ? "b" : "a"}});
+    if (!a || a->empty() || !b || b->empty()) {
+      throw core::Error(core::ErrorCode::bad_request, "give the two runs as ?a=ID&b=ID", {{"parameter", a && !a->empty() ? "b" : "a"}});
+    }
     const storage::RunRecord run_a = find_run(*store, *a), run_b = find_run(*store, *b);
     return Response::json(200, runs::compare_runs(run_a, store->episodes_of_run(run_a.id), run_b, store->episodes_of_run(run_b.id)));
   });
@@ -270,7 +275,9 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
           csv << '\n';
         }
       }
-      return Response{200, "text/csv; charset=utf-8", csv.str(), {}, {}};
+      Response response{200, "text/csv; charset=utf-8", csv.str(), {}, {}};
+      response.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + episode.id + "-" + name + ".csv\"");
+      return response;
     }
     json items = json::array();
     for (const storage::SeriesRecord& series : stored) {

@@ -66,7 +66,10 @@ std::optional<double> welch_p_value(std::span<const double> a, std::span<const d
   if (a.size() < 2 || b.size() < 2) return std::nullopt;
   const double mean_a = mean_of(a), mean_b = mean_of(b);
   const double va = variance_of(a, mean_a) / static_cast<double>(a.size()), vb = variance_of(b, mean_b) / static_cast<double>(b.size());
-  if (va + vb == 0.0) return mean_a == mean_b ? 1.0 : 0.0;
+  // Spread and difference within rounding of the values' size count as none: constant metrics
+  // averaged over different numbers of episodes differ in the last bits.
+  const double scale = std::max({std::abs(mean_a), std::abs(mean_b), 1.0}) * kRoundingTolerance;
+  if (std::sqrt(va + vb) <= scale) return std::abs(mean_a - mean_b) <= scale ? 1.0 : 0.0;
   const double t = (mean_a - mean_b) / std::sqrt(va + vb);
   // Welch–Satterthwaite degrees of freedom.
   const double degrees = (va + vb) * (va + vb) / (va * va / static_cast<double>(a.size() - 1) + vb * vb / static_cast<double>(b.size() - 1));

@@ -8,12 +8,15 @@ namespace hrisim::metrics {
 
 /// Differences with a p-value below this are called significant.
 inline constexpr double kSignificanceLevel = 0.05;
+/// Relative size of spreads and differences taken for rounding, not data.
+inline constexpr double kRoundingTolerance = 1e-9;
 
 /// P(T <= t) for Student's t distribution with `degrees` (> 0, may be fractional) degrees of freedom.
 double student_t_cdf(double t, double degrees);
 
 /// Two-sided p-value of Welch's t-test that two samples have the same mean; empty with fewer than two
-/// values in a sample. Samples without any spread give 1 for equal means, 0 otherwise.
+/// values in a sample. Samples without spread (within kRoundingTolerance of their size) give 1 for
+/// means equal within that tolerance, 0 otherwise.
 std::optional<double> welch_p_value(std::span<const double> a, std::span<const double> b);
 
 /// Two-sided p-value of Fisher's exact test that two groups (hits of total each) have the same rate:

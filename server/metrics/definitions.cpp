@@ -80,7 +80,8 @@ constexpr std::array kDefinitions{
                "Singamaneni et al. 2023 (HuNavSim)"},
     Definition{"danger_panic_cost", "1/s", kProximity, Better::lower,
                "sum over steps and people, times dt, of |V| / ((d_perp - R) |sin theta|) while closing in on a course that misses "
-               "(d_perp = |P| sin theta > R = both radii)",
+               "(d_perp = |P| sin theta > R = both radii); d_perp - R at least 1 cm, so that a grazing course does not divide by "
+               "almost zero",
                "Singamaneni et al. 2023 (HuNavSim)"},
 
     Definition{"collisions", "count", kContact, Better::lower,
@@ -114,6 +115,10 @@ constexpr std::array kDefinitions{
     Definition{"requests_dropped", "count", kInteraction, Better::lower,
                "robot requests no idle human within 3 m could answer", "IMHuS"},
     Definition{"request_latency", "s", kInteraction, Better::lower, "mean time from a request to its acceptance", "IMHuS"},
+    Definition{"human_path_deviation", "m", kInteraction, Better::lower,
+               "mean over the people of the extra path each walked compared with the same seed run without the robot (runs "
+               "with baseline_without_robot only)",
+               "hrisim"},
     Definition{"choreography_completed", "bool", kInteraction, Better::higher,
                "1 when every regular choreography step finished before the time limit; null without a choreography", "IMHuS"},
 
@@ -187,6 +192,7 @@ std::string reference_markdown() {
       {"kBlameSpeed", {kBlameSpeed, "m/s: a collision is blamed on whoever moved towards the other faster"}},
       {"kProgressWindow", {kProgressWindow, "s: failure to progress looks back this far"}},
       {"kProgressDistance", {kProgressDistance, "m: ... and asks for at least this much progress"}},
+      {"kPanicMissFloor", {kPanicMissFloor, "m: the panic cost's miss distance is at least this"}},
       {"kGroupCentreAhead", {kGroupCentreAhead, "m: a group's centre lies this far ahead of its members"}},
       {"kSocialForceStrength", {kSocialForceStrength, "A of the social force"}},
       {"kSocialForceLambda", {kSocialForceLambda, "lambda: weight of the velocity difference"}},

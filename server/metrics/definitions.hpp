@@ -49,6 +49,9 @@ inline constexpr double kNotMovingSpeed = 0.01;
 inline constexpr double kNotMovingTurnRate = 0.02;
 /// A collision is blamed on whoever moved towards the other faster than this, m/s.
 inline constexpr double kBlameSpeed = 0.01;
+/// The panic cost divides by how far a course misses a person (d⊥ − R); below this it counts as this,
+/// so that a course grazing someone gives a large cost, not a division by almost zero, m.
+inline constexpr double kPanicMissFloor = 0.01;
 /// A group's centre lies this far ahead of its members (HuNavSim's o-space), m.
 inline constexpr double kGroupCentreAhead = 1.5;
 

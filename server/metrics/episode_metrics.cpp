@@ -193,7 +193,7 @@ void danger_metrics(const Recording& r, Values& values) {
       fear += speed / distance * r.dt;
       const double sine = std::abs(core::cross(p, v)) / (distance * speed);
       const double miss = distance * sine, reach = sample.robot.radius + human.radius;
-      if (miss > reach) panic += speed / ((miss - reach) * sine) * r.dt;
+      if (miss > reach) panic += speed / (std::max(miss - reach, kPanicMissFloor) * sine) * r.dt;
     }
   }
   set(values, "danger_fear_cost", fear);
@@ -299,6 +299,20 @@ bool contact_metrics(const Recording& r, Values& values) {
   return collisions > 0;
 }
 
+/// Each person's path length over the recording, by agent.
+std::map<int, double> human_path_lengths(const Recording& r) {
+  std::map<int, double> lengths;
+  std::map<int, Vec2> last;
+  for (const Sample& sample : r.samples) {
+    for (const Body& human : sample.humans) {
+      if (const auto before = last.find(human.agent); before != last.end()) lengths[human.agent] += (human.position - before->second).norm();
+      lengths.try_emplace(human.agent, 0.0);
+      last[human.agent] = human.position;
+    }
+  }
+  return lengths;
+}
+
 void interaction_metrics(const Recording& r, Values& values) {
   int sent = 0, accepted = 0, dropped = 0;
   std::map<std::int64_t, std::int64_t> asked_at;  // request id → tick
@@ -319,6 +333,7 @@ void interaction_metrics(const Recording& r, Values& values) {
   set(values, "requests_dropped", dropped);
   set_optional(values, "request_latency", accepted > 0 ? std::optional(latency_sum / accepted) : std::nullopt,
                "no request was accepted");
+  set_null(values, "human_path_deviation", "measured only in runs with baseline_without_robot");
   if (r.has_choreography) {
     set(values, "choreography_completed", r.choreography_completed ? 1.0 : 0.0);
   } else {
@@ -360,6 +375,19 @@ std::optional<double> time_to_collision(const Body& a, const Body& b) {
   const double discriminant = qb * qb - 4.0 * qa * c;
   if (discriminant < 0.0) return std::nullopt;  // passing by
   return (-qb - std::sqrt(discriminant)) / (2.0 * qa);
+}
+
+std::optional<double> human_path_deviation(const Recording& with_robot, const Recording& without_robot) {
+  const std::map<int, double> with = human_path_lengths(with_robot), without = human_path_lengths(without_robot);
+  double sum = 0.0;
+  int people = 0;
+  for (const auto& [agent, length] : with) {
+    const auto other = without.find(agent);
+    if (other == without.end()) continue;
+    sum += length - other->second;
+    ++people;
+  }
+  return people == 0 ? std::nullopt : std::optional(sum / people);
 }
 
 std::vector<Series> compute_series(const Recording& recording) {

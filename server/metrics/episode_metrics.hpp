@@ -19,6 +19,11 @@ struct MetricValue {
 /// Every metric of definitions(), in that order.
 std::vector<MetricValue> compute_episode_metrics(const Recording& recording);
 
+/// Mean over the people present in both recordings of the extra path each walked in `with_robot`
+/// compared with `without_robot` (the same seed run with the robot taken out): the robot's
+/// disturbance of the people. Empty when no person is in both.
+std::optional<double> human_path_deviation(const Recording& with_robot, const Recording& without_robot);
+
 /// A per-step series for plots: one value (or none) per sample of the recording.
 struct Series {
   std::string name;

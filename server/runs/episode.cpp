@@ -35,6 +35,18 @@ json steps_json(const sim::Session& session) {
   return steps;
 }
 
+/// Steps the session to its end, calling `after_step` after each step; false when cancelled first.
+bool run_to_end(sim::Session& session, const std::atomic<bool>* cancel, const std::function<void()>& after_step) {
+  while (!session.state().finished) {
+    if (cancel && cancel->load(std::memory_order_relaxed)) return false;
+    const std::int64_t before = session.state().tick;
+    session.step();
+    if (session.state().tick == before) break;  // the step found the episode over and left the tick as it was
+    after_step();
+  }
+  return true;
+}
+
 }  // namespace
 
 std::int64_t trajectory_stride(double dt) { return std::max<std::int64_t>(1, std::llround(1.0 / (kTrajectoryRate * dt))); }
@@ -66,17 +78,14 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
   };
   sample_trajectory();
   if (options.observe) options.observe(session);
-  while (!session.state().finished) {
-    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
-      result.cancelled = true;
-      return result;
-    }
-    const std::int64_t before = session.state().tick;
-    session.step();
-    if (session.state().tick == before) break;  // the step found the episode over and left the tick as it was
+  const bool ended = run_to_end(session, options.cancel, [&] {
     recorder.record(session);
     sample_trajectory();
     if (options.observe) options.observe(session);
+  });
+  if (!ended) {
+    result.cancelled = true;
+    return result;
   }
 
   const sim::State& state = session.state();
@@ -84,6 +93,26 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
   for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(recording)) {
     record.metrics.push_back({metric.key, metric.value,
                               metric.value ? std::nullopt : std::optional<std::string>(metric.null_reason)});
+  }
+  if (options.baseline_without_robot) {
+    // The same seed once more with the robots taken out at the start: how much further did the
+    // people walk because of the robot?
+    sim::Session baseline(shared, seed);
+    if (options.max_time) baseline.set_time_limit(*options.max_time);
+    for (const sim::AgentId id : baseline.agent_ids()) {
+      if (model.agents[baseline.index_of(id)].kind == scenario::AgentKind::robot) baseline.remove_agent(id);
+    }
+    sim::EpisodeRecorder without(baseline);
+    if (!run_to_end(baseline, options.cancel, [&] { without.record(baseline); })) {
+      result.cancelled = true;
+      return result;
+    }
+    const auto deviation = metrics::human_path_deviation(recording, without.finish(baseline));
+    for (storage::MetricValue& metric : record.metrics) {
+      if (metric.key != "human_path_deviation") continue;
+      metric.value = deviation;
+      metric.null_reason = deviation ? std::nullopt : std::optional<std::string>("no person was in both runs");
+    }
   }
   // Series are kept at the trajectory's rate: enough for plots, a sixth of the steps at 60 Hz.
   for (metrics::Series& series : metrics::compute_series(recording)) {

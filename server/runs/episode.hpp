@@ -33,6 +33,8 @@ struct EpisodeOptions {
   std::vector<std::pair<double, std::string>> requests;  ///< the robot asks for task (second) at time (first)
   std::function<void(const sim::Session&)> observe;      ///< called at the start and after every step, read-only
   const std::atomic<bool>* cancel = nullptr;             ///< stops the episode at its next step when set
+  /// Also runs the seed without the robots to measure human_path_deviation (twice the work).
+  bool baseline_without_robot = false;
 };
 
 struct EpisodeResult {

@@ -121,6 +121,7 @@ void Executor::run_job(const Job& job) {
     EpisodeOptions options;
     options.max_time = run.spec.max_time;
     options.requests = run.spec.requests;
+    options.baseline_without_robot = run.spec.baseline_without_robot;
     options.cancel = &run.cancelled;
     EpisodeResult result = run_episode(run.spec.model, job.seed, options);
     store = !result.cancelled;

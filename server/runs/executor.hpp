@@ -31,6 +31,7 @@ struct RunSpec {
   nlohmann::json config;   ///< stored with the run: seeds, gates, controller, max time, provenance
   std::optional<double> max_time;
   std::vector<std::pair<double, std::string>> requests;  ///< scripted robot requests (time, task)
+  bool baseline_without_robot = false;                    ///< see EpisodeOptions
 };
 
 class Executor {

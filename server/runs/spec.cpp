@@ -95,14 +95,17 @@ RunSpec make_run_spec(const RunRequest& request) {
   spec.controller = controller;
   spec.max_time = request.max_time;
   spec.requests = request.requests;
+  spec.baseline_without_robot = request.baseline_without_robot;
   json requests = json::array();
   for (const auto& [time, task] : request.requests) requests.push_back({{"time", time}, {"task", task}});
-  spec.config = {{"seeds", request.seeds},
+  spec.config = {{"scenario", request.scenario_id},
+                 {"seeds", request.seeds},
                  {"gates", request.gates},
                  {"controller", request.controller ? *request.controller : json()},
                  {"max_time", request.max_time ? json(*request.max_time) : json()},
                  {"requests", requests},
                  {"scenario_sha256", request.scenario_sha256},
+                 {"baseline_without_robot", request.baseline_without_robot},
                  {"hrisim_version", core::version()},
                  {"git_commit", core::git_commit()}};
   return spec;

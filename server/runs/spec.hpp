@@ -29,6 +29,7 @@ struct RunRequest {
   std::optional<double> max_time;
   std::vector<std::string> gates;
   std::vector<std::pair<double, std::string>> requests;
+  bool baseline_without_robot = false;  ///< measure human_path_deviation against the seed without robots
 };
 
 /// The scenario with `controller` replacing the built-in controller of its first robot (the robot

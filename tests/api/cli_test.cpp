@@ -205,6 +205,17 @@ TEST(Cli, GatesDecideTheExitStatusAndJUnitListsThem) {
   EXPECT_EQ(run_command(kHrisim + " run /nonexistent.json --seeds 1-2").exit_status, 2);
 }
 
+TEST(Cli, ABaselineWithoutTheRobotMeasuresHowFarItMadeThePeopleWalk) {
+  const std::string run = kHrisim + " run " + kScenarios + "/corridor_passing.json --seed 3";
+  const nlohmann::json plain = nlohmann::json::parse(run_command(run, false).output);
+  EXPECT_TRUE(plain["metrics"]["human_path_deviation"].is_null());
+  const CommandResult with_baseline = run_command(run + " --baseline-without-robot", false);
+  ASSERT_EQ(with_baseline.exit_status, 0) << with_baseline.output;
+  const nlohmann::json summary = nlohmann::json::parse(with_baseline.output);
+  ASSERT_TRUE(summary["metrics"]["human_path_deviation"].is_number()) << summary["metrics"].dump();
+  EXPECT_EQ(summary["state_hash"], plain["state_hash"]) << "the baseline is a second session: the episode is the same";
+}
+
 TEST(Cli, AControllerReplacesTheScenariosOwn) {
   // The elevator's robot waits by default; with a goal controller it drives, and reaches the goal.
   const std::string controller = R"('{"type":"goal","goal":{"pose":{"x":1.0,"y":-0.8,"theta":0}}}')";

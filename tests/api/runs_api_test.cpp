@@ -116,6 +116,12 @@ TEST_F(RunsApi, ARunEndsWithAggregatesAVerdictAndItsEpisodes) {
   EXPECT_NE(junit.body.find("<failure message=\"episode_length.max is"), std::string::npos) << junit.body;
 }
 
+TEST_F(RunsApi, ABaselineWithoutTheRobotGivesTheHumanPathDeviation) {
+  const json run = wait_for_run(port(), submit({{"scenario", "corridor_passing"}, {"count", 2}, {"baseline_without_robot", true}})["id"]);
+  EXPECT_EQ(run["config"]["baseline_without_robot"], true);
+  EXPECT_EQ(run["aggregates"]["human_path_deviation"]["count"], 2);
+}
+
 TEST_F(RunsApi, TheSameSeedGivesTheSameEpisodeInEveryRun) {
   const json a = wait_for_run(port(), submit({{"scenario", "corridor_passing"}, {"count", 2}, {"first_seed", 7}})["id"]);
   const json b = wait_for_run(port(), submit({{"scenario", "corridor_passing"}, {"seeds", {8}}})["id"]);
@@ -184,6 +190,7 @@ TEST_F(RunsApi, BadSubmissionsAreRefusedAndNothingIsStored) {
       {{{"scenario", "queue"}, {"count", 1}, {"requests", {{{"time", 1}, {"task", "fly"}}}}}, 400, "/requests/0"},
       {{{"scenario", "elevator"}, {"count", 1}, {"controller", {{"type", "goal"}}}}, 400, "/controller/goal"},
       {{{"scenario", "queue"}, {"count", 1}, {"colour", "red"}}, 400, "/colour"},
+      {{{"scenario", "queue"}, {"count", 1}, {"baseline_without_robot", "yes"}}, 400, "/baseline_without_robot"},
   };
   for (const Case& c : cases) {
     const HttpReply reply = http(port(), "POST", "/api/v1/runs", c.body.dump());

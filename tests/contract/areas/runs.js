@@ -62,7 +62,9 @@ function welch(a, b) {
   const variance = (values, mean) => values.reduce((sum, v) => sum + (v - mean) ** 2, 0) / (values.length - 1);
   const ma = meanOf(a), mb = meanOf(b);
   const va = variance(a, ma) / a.length, vb = variance(b, mb) / b.length;
-  if (va + vb === 0) return ma === mb ? 1 : 0;
+  // Spread and difference within rounding of the values' size (1e-9 relative) count as none.
+  const scale = Math.max(Math.abs(ma), Math.abs(mb), 1) * 1e-9;
+  if (Math.sqrt(va + vb) <= scale) return Math.abs(ma - mb) <= scale ? 1 : 0;
   const df = (va + vb) ** 2 / (va ** 2 / (a.length - 1) + vb ** 2 / (b.length - 1));
   return twoSidedT((ma - mb) / Math.sqrt(va + vb), df);
 }

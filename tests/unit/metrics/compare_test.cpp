@@ -26,6 +26,10 @@ TEST(Welch, EqualAndDifferentMeans) {
   EXPECT_FALSE(welch_p_value(std::vector<double>{1}, b)) << "one value has no spread";
   EXPECT_EQ(*welch_p_value(std::vector<double>{2, 2}, std::vector<double>{2, 2, 2}), 1.0);
   EXPECT_EQ(*welch_p_value(std::vector<double>{2, 2}, std::vector<double>{3, 3}), 0.0);
+  // A constant metric whose means differ only by rounding is no difference.
+  const std::vector<double> constant(3, 2.825);
+  const std::vector<double> rounded{2.825, 2.825 + 4e-16, 2.825 - 4e-16, 2.825};
+  EXPECT_EQ(*welch_p_value(constant, rounded), 1.0);
 }
 
 TEST(Fisher, TheLadyTastingTea) {

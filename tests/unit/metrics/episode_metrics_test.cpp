@@ -292,6 +292,12 @@ TEST(EpisodeMetrics, DangerCostsOfFearAndPanic) {
   const auto values = compute_episode_metrics(r);
   EXPECT_NEAR(value(values, "danger_fear_cost"), (0.5 + 1 / std::sqrt(5.0)) * kDt, 1e-12);
   EXPECT_NEAR(value(values, "danger_panic_cost"), std::sqrt(5.0) / 0.4 * kDt, 1e-9);
+
+  // A course grazing a person (d⊥ − R = 1e-12 m) costs as if it missed by 1 cm, not 1e12.
+  Recording grazing = with_robot();
+  grazing.samples.push_back(sample(0, disc(0, 0, 0, 1, 0), {disc(1, 2, 0.6 + 1e-12)}));
+  const double sine = (0.6 + 1e-12) / std::hypot(2.0, 0.6 + 1e-12);
+  EXPECT_NEAR(value(compute_episode_metrics(grazing), "danger_panic_cost"), 1.0 / (0.01 * sine) * kDt, 1e-6);
 }
 
 TEST(SocialForce, BetweenStillAgentsItPushesApartWithHuNavSimsStrength) {
@@ -345,6 +351,27 @@ TEST(TimeToCollision, OverlappingParallelAndPassing) {
   EXPECT_FALSE(time_to_collision(disc(0, 0, 0, -1, 0), disc(1, 2, 0))) << "moving apart";
   // Closing at 1 m/s from a surface distance of 1.4 m.
   EXPECT_NEAR(*time_to_collision(disc(0, 0, 0, 1, 0), disc(1, 2, 0)), 1.4, 1e-12);
+}
+
+}  // namespace
+}  // namespace hrisim::metrics
+
+namespace hrisim::metrics {
+namespace {
+
+TEST(HumanPathDeviation, ExtraPathPerPersonAgainstTheRunWithoutTheRobot) {
+  // With the robot, person 1 walks 5 m (a detour) and person 2 stands; without it, 4 m and 0 m.
+  // Person 3 exists only in the robot run and is left out: (1 + 0) / 2 = 0.5 m.
+  Recording with = with_robot(), without = with_robot();
+  for (int i = 0; i <= 10; ++i) {
+    with.samples.push_back(sample(i, disc(0, 0, 0), {disc(1, 0.5 * i, 5), disc(2, 3, 3), disc(3, 0.1 * i, -5)}));
+    without.samples.push_back(sample(i, disc(0, 0, 0), {disc(1, 0.4 * i, 5), disc(2, 3, 3)}));
+  }
+  EXPECT_NEAR(*human_path_deviation(with, without), 0.5, 1e-12);
+  Recording empty = with_robot();
+  empty.samples.push_back(sample(0, disc(0, 0, 0), {}));
+  EXPECT_FALSE(human_path_deviation(with, empty)) << "nobody in both runs";
+  EXPECT_EQ(metric(compute_episode_metrics(with), "human_path_deviation").null_reason, "measured only in runs with baseline_without_robot");
 }
 
 }  // namespace
