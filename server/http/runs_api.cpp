@@ -242,6 +242,12 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
       events.push_back({{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}});
     }
     reply["events"] = events;
+    // METRICS.md's step_durations: how long each choreography step took, from its step_finished event.
+    json step_durations = json::array();
+    for (const storage::EventRecord& event : episode.events) {
+      if (event.kind == "step_finished") step_durations.push_back({{"step", event.subject}, {"duration", event.data.value("duration", 0.0)}});
+    }
+    reply["step_durations"] = step_durations;
     json null_reasons = json::object();
     for (const storage::MetricValue& metric : episode.metrics) {
       if (metric.null_reason) null_reasons[metric.key] = *metric.null_reason;

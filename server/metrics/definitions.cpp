@@ -175,6 +175,8 @@ std::string reference_markdown() {
     page += "| `" + std::string(d.key) + "` | " + std::string(d.unit) + " | " + std::string(to_string(d.better)) + " | " + description +
             " | " + std::string(d.convention) + " |\n";
   }
+  page += "\nThe duration of each choreography step (METRICS.md's `step_durations`) is in every episode's detail, "
+          "`GET /api/v1/episodes/{id}`, as `step_durations`.\n";
   page += "\n## Per-step series\n\nKept for plots at the trajectory's rate (10 Hz), served by `GET /api/v1/episodes/{id}/series`.\n\n"
           "| name | unit | meaning |\n|---|---|---|\n";
   for (const SeriesDefinition& series : kSeries) {

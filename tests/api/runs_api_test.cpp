@@ -80,6 +80,10 @@ TEST_F(RunsApi, ARunEndsWithAggregatesAVerdictAndItsEpisodes) {
   EXPECT_TRUE(episode["metrics"]["time_to_goal"].is_null());
   EXPECT_EQ(episode["null_reasons"]["time_to_goal"], "the robot has no navigation goal");
   EXPECT_FALSE(episode["events"].empty());
+  // The queue's three choreography steps, each with its duration.
+  ASSERT_EQ(episode["step_durations"].size(), 3u);
+  EXPECT_EQ(episode["step_durations"][0]["step"], "line_up");
+  EXPECT_GT(episode["step_durations"][0]["duration"].get<double>(), 0.0);
 
   const json trajectory = json_of(http(port(), "GET", "/api/v1/episodes/" + episode_id + "/trajectory"));
   EXPECT_EQ(trajectory["rate"], 10.0);
