@@ -122,6 +122,8 @@ constexpr std::array kDefinitions{
     Definition{"choreography_completed", "bool", kInteraction, Better::higher,
                "1 when every regular choreography step finished before the time limit; null without a choreography", "IMHuS"},
 
+    Definition{"episode_reward", "reward", kRewards, Better::higher,
+               "sum of the benchmark task's per-step rewards; null for a scenario without a benchmark task", "Gymnasium"},
     Definition{"episode_length", "steps", kRewards, Better::none, "number of simulation steps of the episode", "Gymnasium"},
 };
 

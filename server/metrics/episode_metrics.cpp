@@ -424,6 +424,7 @@ std::vector<MetricValue> compute_episode_metrics(const Recording& recording) {
   }
   Values values;
   set(values, "episode_length", static_cast<double>(recording.samples.back().tick - recording.samples.front().tick));
+  set_optional(values, "episode_reward", recording.episode_reward, "the scenario defines no benchmark task");
   interaction_metrics(recording, values);
   if (recording.has_robot) {
     path_metrics(recording, values);

@@ -52,6 +52,8 @@ struct Recording {
   bool has_choreography = false;
   bool choreography_completed = false;
   std::string termination;  ///< goal, collision, timeout, scenario_end, cancelled, error
+  /// The benchmark task's summed reward; empty for a scenario without a benchmark task.
+  std::optional<double> episode_reward;
   std::vector<Sample> samples;  ///< one per simulation step, the initial state first
   std::vector<RecordedEvent> events;
 };

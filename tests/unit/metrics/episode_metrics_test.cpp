@@ -83,6 +83,26 @@ TEST(EpisodeMetrics, HeadOnApproach) {
   EXPECT_EQ(value(values, "episode_length"), 30.0);
 }
 
+TEST(EpisodeMetrics, APersonCrossingInFront) {
+  // The robot drives along +x at 1 m/s from (0, 0); a person walks along +y at 1 m/s from (3, −3):
+  // they would meet at (3, 0) at t = 3 s, but the episode ends at t = 2 s. At time t the centres are
+  // (3 − t, −3 + t) apart: √2·(3 − t), so the closest surface distance is at the end, √2 − 0.6.
+  Recording r = with_robot();
+  for (int i = 0; i <= 20; ++i) {
+    const double t = i * kDt;
+    r.samples.push_back(sample(i, disc(0, t, 0, 1, 0), {disc(1, 3, -3 + t, 0, 1, M_PI / 2)}));
+  }
+  const auto values = compute_episode_metrics(r);
+  EXPECT_NEAR(value(values, "minimum_distance_to_people"), std::sqrt(2.0) - 0.6, 1e-12);
+  // Relative velocity (−1, 1) closes the gap √2·(3 − t) at √2 m/s, touching 0.6 m earlier:
+  // at the last step (3 − 2) − 0.6/√2 s.
+  EXPECT_NEAR(value(values, "min_time_to_collision"), 1.0 - 0.6 / std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(value(values, "collisions"), 0.0);
+  EXPECT_GT(value(values, "danger_fear_cost"), 0.0) << "closing in all the time";
+  EXPECT_EQ(value(values, "danger_panic_cost"), 0.0) << "on a collision course, not one that misses";
+  EXPECT_EQ(metric(values, "episode_reward").null_reason, "the scenario defines no benchmark task");
+}
+
 TEST(EpisodeMetrics, AContactLastingSeveralStepsCountsOnce) {
   // A still robot; the person touches it (surface distance 0) at steps 2–6, leaves, comes back at 9–10.
   Recording r = with_robot();
