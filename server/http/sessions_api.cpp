@@ -17,7 +17,9 @@
 #include "core/json_schema.hpp"
 #include "core/random.hpp"
 #include "http/request_helpers.hpp"
+#include "metrics/episode_metrics.hpp"
 #include "runs/spec.hpp"
+#include "sim/episode_recorder.hpp"
 #include "sim/session.hpp"
 #include "tasks/environment.hpp"
 
@@ -36,6 +38,7 @@ struct Live {
   std::mutex mutex;  ///< one request at a time works on the session
   std::unique_ptr<sim::Session> session;
   std::optional<tasks::Environment> environment;  ///< the Gymnasium view; none without a robot that can act
+  std::optional<sim::EpisodeRecorder> recorder;   ///< every step so far, for the metrics on demand
   std::size_t events_reported = 0;  ///< events before this index were in a step reply already
   std::uint64_t generation = 0;     ///< counts resets, so that viewers notice a fresh start
   Clock::time_point last_used;
@@ -47,6 +50,7 @@ struct Live {
   /// A fresh session of the same model (the lock held, or before anyone else has it).
   void start(std::shared_ptr<const scenario::Model> model) {
     session = std::make_unique<sim::Session>(std::move(model), static_cast<std::uint64_t>(seed));
+    recorder.emplace(*session);
     events_reported = 0;
     try {
       environment.emplace(*session);
@@ -55,6 +59,12 @@ struct Live {
     }
     realtime_origin = Clock::now();
     realtime_origin_tick = 0;
+  }
+
+  /// One step, recorded.
+  void step() {
+    session->step();
+    recorder->record(*session);
   }
 };
 
@@ -355,7 +365,7 @@ json step_session(Live& live, std::int64_t steps, const std::optional<std::vecto
   }
   double reward = 0.0;
   for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) {
-    session.step();
+    live.step();
     if (live.environment) reward += live.environment->reward(session);
   }
   json reply = status_of(live);
@@ -467,7 +477,7 @@ class Registry {
           live->realtime_origin = now;
           live->realtime_origin_tick = session.state().tick + most;
         }
-        for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) session.step();
+        for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) live->step();
       }
     }
   }
@@ -842,6 +852,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     ++live->generation;
     live->session = std::move(fresh->session);
     live->environment = std::move(fresh->environment);
+    live->recorder = std::move(fresh->recorder);
     live->events_reported = 0;
     live->realtime_origin = fresh->realtime_origin;
     live->realtime_origin_tick = 0;
@@ -874,6 +885,24 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     return Response::later([live, steps, action] {
       std::lock_guard lock(live->mutex);
       return Response::json(200, step_session(*live, steps, action));
+    });
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}/metrics", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    // Computed from every step so far, on the worker pool: a long session has many.
+    return Response::later([live] {
+      std::lock_guard lock(live->mutex);
+      json metrics = json::object(), null_reasons = json::object();
+      for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(live->recorder->finish(*live->session, live->session->state().finished ? "" : "running"))) {
+        metrics[metric.key] = metric.value ? json(*metric.value) : json();
+        if (!metric.value) null_reasons[metric.key] = metric.null_reason;
+      }
+      return Response::json(200, {{"id", live->id},
+                                  {"tick", live->session->state().tick},
+                                  {"time", live->session->time()},
+                                  {"metrics", metrics},
+                                  {"null_reasons", null_reasons}});
     });
   });
 

@@ -126,6 +126,20 @@ TEST_F(RunsApi, ABaselineWithoutTheRobotGivesTheHumanPathDeviation) {
   EXPECT_EQ(run["aggregates"]["human_path_deviation"]["count"], 2);
 }
 
+TEST_F(RunsApi, ALiveSessionsMetricsOnDemandEqualTheRunsForTheSameSeed) {
+  const std::string session = json_of(http(port(), "POST", "/api/v1/sessions", R"({"scenario": "queue", "seed": 4})"))["id"];
+  const json early = json_of(http(port(), "GET", "/api/v1/sessions/" + session + "/metrics"));
+  EXPECT_EQ(early["tick"], 0);
+  EXPECT_EQ(early["metrics"]["episode_length"], 0.0);
+  http(port(), "POST", "/api/v1/sessions/" + session + "/step", R"({"n": 100000})");
+  const json live = json_of(http(port(), "GET", "/api/v1/sessions/" + session + "/metrics"));
+  const json run = wait_for_run(port(), submit({{"scenario", "queue"}, {"seeds", {4}}})["id"]);
+  const json episode = json_of(http(port(), "GET", "/api/v1/episodes/" + run["episodes"][0]["episode_id"].get<std::string>()));
+  EXPECT_EQ(live["metrics"], episode["metrics"]) << "the same seed, stepped over REST or run headless";
+  EXPECT_EQ(live["null_reasons"], episode["null_reasons"]);
+  EXPECT_EQ(http(port(), "GET", "/api/v1/sessions/snope/metrics").status, 404);
+}
+
 TEST_F(RunsApi, TheSameSeedGivesTheSameEpisodeInEveryRun) {
   const json a = wait_for_run(port(), submit({{"scenario", "corridor_passing"}, {"count", 2}, {"first_seed", 7}})["id"]);
   const json b = wait_for_run(port(), submit({{"scenario", "corridor_passing"}, {"seeds", {8}}})["id"]);

@@ -280,6 +280,18 @@ describe('sessions', () => {
     assert.equal(after.state_hash, before.state_hash);
   });
 
+  it('GET /api/v1/sessions/{id}/metrics: every metric so far, null ones with their reason; 404', async () => {
+    const reply = await api.get(at('/metrics'));
+    assert.equal(reply.status, 200);
+    const keys = (await api.get('/api/v1/metrics')).json.items.map((m) => m.key);
+    assert.deepEqual(Object.keys(reply.json.metrics).sort(), [...keys].sort());
+    for (const [key, value] of Object.entries(reply.json.metrics)) {
+      assert.equal(value === null, key in reply.json.null_reasons, key);
+    }
+    assert.equal(reply.json.metrics.episode_length, reply.json.tick);
+    assert.equal((await api.get('/api/v1/sessions/snope/metrics')).status, 404);
+  });
+
   it('GET /api/v1/sessions/{id}/action_space: a Box of forward speed and yaw rate within the HSR\'s drive', async () => {
     const reply = await api.get(at('/action_space'));
     assert.equal(reply.status, 200);
