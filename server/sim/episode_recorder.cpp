@@ -6,7 +6,7 @@
 
 namespace hrisim::sim {
 
-EpisodeRecorder::EpisodeRecorder(const Session& session) {
+EpisodeRecorder::EpisodeRecorder(const Session& session, std::optional<std::size_t> max_bodies) : max_bodies_(max_bodies) {
   const scenario::Model& model = session.model();
   for (std::size_t a = 0; a < model.agents.size() && robot_ < 0; ++a) {
     if (model.agents[a].kind == scenario::AgentKind::robot) robot_ = static_cast<int>(a);
@@ -37,6 +37,7 @@ EpisodeRecorder::EpisodeRecorder(const Session& session) {
 void EpisodeRecorder::record(const Session& session) {
   const State& state = session.state();
   if (!recording_.samples.empty() && recording_.samples.back().tick == state.tick) return;
+  if (max_bodies_ && bodies_ >= *max_bodies_) return;
   metrics::Sample sample;
   sample.tick = state.tick;
   const scenario::Model& model = session.model();
@@ -72,6 +73,7 @@ void EpisodeRecorder::record(const Session& session) {
     }
     if (present.size() >= 2) sample.groups.push_back(std::move(present));
   }
+  bodies_ += sample.humans.size() + 1;
   recording_.samples.push_back(std::move(sample));
 }
 
@@ -79,6 +81,7 @@ metrics::Recording EpisodeRecorder::finish(const Session& session, std::string t
   metrics::Recording recording = recording_;
   const State& state = session.state();
   for (const Event& event : state.events) {
+    if (event.tick > recording.samples.back().tick) break;  // after what was recorded (events are in tick order)
     metrics::RecordedEvent recorded{event.tick, event.kind, event.subject, std::nullopt};
     if (event.data.contains("request") && event.data["request"].is_number_integer()) recorded.request = event.data["request"].get<std::int64_t>();
     recording.events.push_back(std::move(recorded));

@@ -135,6 +135,7 @@ TEST_F(RunsApi, ALiveSessionsMetricsOnDemandEqualTheRunsForTheSameSeed) {
   const json live = json_of(http(port(), "GET", "/api/v1/sessions/" + session + "/metrics"));
   const json run = wait_for_run(port(), submit({{"scenario", "queue"}, {"seeds", {4}}})["id"]);
   const json episode = json_of(http(port(), "GET", "/api/v1/episodes/" + run["episodes"][0]["episode_id"].get<std::string>()));
+  EXPECT_EQ(live["recorded_until_tick"], live["tick"]);
   EXPECT_EQ(live["metrics"], episode["metrics"]) << "the same seed, stepped over REST or run headless";
   EXPECT_EQ(live["null_reasons"], episode["null_reasons"]);
   EXPECT_EQ(http(port(), "GET", "/api/v1/sessions/snope/metrics").status, 404);

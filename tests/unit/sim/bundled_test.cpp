@@ -28,3 +28,30 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, Bundled,
 
 }  // namespace
 }  // namespace hrisim::sim
+
+#include "sim/episode_recorder.hpp"
+
+namespace hrisim::sim {
+namespace {
+
+TEST(EpisodeRecorder, StopsAtItsBodyLimitAndKeepsTheEventsUpToThere) {
+  const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/queue.json");
+  ASSERT_TRUE(loaded.model);
+  Session session(loaded.model, 1);
+  const std::size_t bodies = session.model().agents.size();  // every person present, and the robot
+  EpisodeRecorder capped(session, 10 * bodies), full(session);
+  for (int i = 0; i < 600; ++i) {
+    session.step();
+    capped.record(session);
+    full.record(session);
+  }
+  EXPECT_EQ(capped.recorded_until(), 9) << "ten samples: the start and nine steps";
+  EXPECT_EQ(full.recorded_until(), 600);
+  const metrics::Recording recording = capped.finish(session);
+  ASSERT_EQ(recording.samples.size(), 10u);
+  for (const metrics::RecordedEvent& event : recording.events) EXPECT_LE(event.tick, 9) << event.kind;
+  EXPECT_GT(full.finish(session).events.size(), recording.events.size());
+}
+
+}  // namespace
+}  // namespace hrisim::sim
