@@ -1,0 +1,45 @@
+#pragma once
+// Motion primitives as data (assets/motions/*.json, embedded): keyframes of humanoid_root's
+// translation and each joint's orientation over time, interpolated linearly and by slerp — the
+// position and orientation interpolators of seed 000 §2.3 — and blended at transitions.
+//
+// A file: {"name", "duration": s, "loop": bool, "keyframes": [{"time": s, "root": [x, y, z],
+// "joints": {"l_shoulder": [rx, ry, rz], …}}]}. Rotations are rotation vectors (axis × angle, rad)
+// in the parent joint's frame; joints a keyframe leaves out are at rest. Times start at 0, increase,
+// and end at the duration.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "humans/skeleton.hpp"
+
+namespace hrisim::humans {
+
+class MotionClip {
+ public:
+  /// Reads a motion document; throws core::Error(bad_request) naming the JSON pointer of what is wrong.
+  static MotionClip parse(const nlohmann::json& document);
+
+  const std::string& name() const { return name_; }
+  double duration() const { return duration_; }
+  bool loops() const { return loop_; }
+  /// The pose at time t: wrapped into the clip for a looping clip, held at the ends otherwise.
+  SkeletonPose sample(double t) const;
+
+ private:
+  std::string name_;
+  double duration_ = 0.0;
+  bool loop_ = false;
+  std::vector<std::pair<double, SkeletonPose>> keyframes_;
+};
+
+/// Between two poses: weight 0 gives a, 1 gives b (root linearly, joints by slerp).
+SkeletonPose blend(const SkeletonPose& a, const SkeletonPose& b, double weight);
+
+/// Names of the motion files shipped in assets/motions/, sorted.
+std::vector<std::string> builtin_motion_names();
+/// A shipped motion, or nullptr.
+const MotionClip* builtin_motion(std::string_view name);
+
+}  // namespace hrisim::humans
