@@ -43,7 +43,16 @@ MotionClip MotionClip::parse(const json& document) {
   if (!document.contains("duration") || !document["duration"].is_number() || !(document["duration"].get<double>() > 0.0)) {
     bad("/duration", "a duration in seconds > 0 is required");
   }
+  for (const auto& [key, unused] : document.items()) {
+    if (key != "name" && key != "description" && key != "duration" && key != "loop" && key != "speed" && key != "keyframes") {
+      bad("/" + key, "unknown field");
+    }
+  }
   if (document.contains("loop") && !document["loop"].is_boolean()) bad("/loop", "true or false");
+  if (document.contains("speed") && (!document["speed"].is_number() || !(document["speed"].get<double>() > 0.0))) {
+    bad("/speed", "a speed in m/s > 0");
+  }
+  clip.speed_ = document.value("speed", 0.0);
   clip.name_ = document["name"];
   clip.duration_ = document["duration"];
   clip.loop_ = document.value("loop", false);

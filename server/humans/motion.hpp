@@ -3,7 +3,8 @@
 // translation and each joint's orientation over time, interpolated linearly and by slerp — the
 // position and orientation interpolators of seed 000 §2.3 — and blended at transitions.
 //
-// A file: {"name", "duration": s, "loop": bool, "keyframes": [{"time": s, "root": [x, y, z],
+// A file: {"name", "description", "duration": s, "loop": bool, "speed": m/s (a clip walked in place),
+// "keyframes": [{"time": s, "root": [x, y, z],
 // "joints": {"l_shoulder": [rx, ry, rz], …}}]}. Rotations are rotation vectors (axis × angle, rad)
 // in the parent joint's frame; joints a keyframe leaves out are at rest. Times start at 0, increase,
 // and end at the duration.
@@ -24,6 +25,8 @@ class MotionClip {
   const std::string& name() const { return name_; }
   double duration() const { return duration_; }
   bool loops() const { return loop_; }
+  /// For a clip walked in place (walk): the speed at which its feet do not slide, m/s; 0 otherwise.
+  double speed() const { return speed_; }
   /// The pose at time t: wrapped into the clip for a looping clip, held at the ends otherwise.
   SkeletonPose sample(double t) const;
 
@@ -31,6 +34,7 @@ class MotionClip {
   std::string name_;
   double duration_ = 0.0;
   bool loop_ = false;
+  double speed_ = 0.0;
   std::vector<std::pair<double, SkeletonPose>> keyframes_;
 };
 

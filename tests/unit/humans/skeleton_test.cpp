@@ -91,6 +91,8 @@ TEST(Motion, BadFilesAreRefusedWithTheirPlace) {
       {R"({"name": "x", "duration": 1, "keyframes": [{"time": 0}, {"time": 0.5}]})", "/keyframes/1/time"},
       {R"({"name": "x", "duration": 1, "keyframes": [{"time": 0, "joints": {"l_toe": [0, 0, 1]}}]})", "/keyframes/0/joints/l_toe"},
       {R"({"name": "x", "duration": 1, "keyframes": [{"time": 0, "root": [0, 1]}]})", "/keyframes/0/root"},
+      {R"({"name": "x", "duration": 1, "speed": -1, "keyframes": [{"time": 0}]})", "/speed"},
+      {R"({"name": "x", "duration": 1, "tempo": 2, "keyframes": [{"time": 0}]})", "/tempo"},
   };
   for (const auto& [text, pointer] : cases) {
     try {
@@ -104,7 +106,7 @@ TEST(Motion, BadFilesAreRefusedWithTheirPlace) {
 
 TEST(Motion, TheShippedPrimitivesLoadAndPointingLeftMirrorsPointingRight) {
   const auto names = builtin_motion_names();
-  for (const char* expected : {"idle", "point_left", "point_right", "wave"}) {
+  for (const char* expected : {"idle", "point_left", "point_right", "walk", "wave"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   }
   for (const std::string& name : names) ASSERT_TRUE(builtin_motion(name)) << name;
@@ -117,6 +119,36 @@ TEST(Motion, TheShippedPrimitivesLoadAndPointingLeftMirrorsPointingRight) {
   EXPECT_GT(at(left, Joint::l_wrist).y(), at(left, Joint::l_shoulder).y() + 0.4);
   const auto waving = forward_kinematics(adult, builtin_motion("wave")->sample(1.0));
   EXPECT_GT(at(waving, Joint::r_wrist).z(), at(waving, Joint::skullbase).z()) << "the waving hand is above the head";
+}
+
+TEST(Motion, WalkingAtItsSpeedTheStanceFootDoesNotSlide) {
+  // The walker moves humanoid_root forward at the clip's speed; a foot on the ground must then stay
+  // where it is. The clip puts the left foot down for the first half of each stride and the right
+  // foot for the second; over two strides at 240 Hz, each stance's foot moves less than the bound
+  // and stays at ankle height.
+  constexpr double kSlideBound = 0.02;  // m
+  const MotionClip& walk = *builtin_motion("walk");
+  ASSERT_GT(walk.speed(), 0.0);
+  const Skeleton adult(kAdultBody);
+  const double ground = at(forward_kinematics(adult, SkeletonPose()), Joint::l_ankle).z();
+  const double period = walk.duration();
+  for (const auto& [foot, stance_start] : {std::pair{Joint::l_ankle, 0.0}, std::pair{Joint::r_ankle, 0.5}}) {
+    for (int stride = 0; stride < 2; ++stride) {
+      const double begin = (stride + stance_start) * period;
+      Eigen::Vector3d first = Eigen::Vector3d::Zero();
+      double worst = 0.0;
+      for (int i = 0; i <= 60; ++i) {
+        const double t = begin + 0.5 * period * i / 60;
+        Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+        base.translation().x() = walk.speed() * t;
+        const Eigen::Vector3d position = at(forward_kinematics(adult, walk.sample(t), base), foot);
+        if (i == 0) first = position;
+        worst = std::max(worst, (position - first).norm());
+        EXPECT_NEAR(position.z(), ground, 0.005) << joint_name(foot) << " at " << t << " s";
+      }
+      EXPECT_LT(worst, kSlideBound) << joint_name(foot) << ", stride " << stride;
+    }
+  }
 }
 
 }  // namespace
