@@ -106,7 +106,8 @@ TEST(Motion, BadFilesAreRefusedWithTheirPlace) {
 
 TEST(Motion, TheShippedPrimitivesLoadAndPointingLeftMirrorsPointingRight) {
   const auto names = builtin_motion_names();
-  for (const char* expected : {"idle", "point_left", "point_right", "walk", "wave"}) {
+  for (const char* expected : {"idle", "walk", "step", "turn_in_place", "sit_down", "stand_up", "wave", "point_left", "point_right",
+                               "press_button", "fall", "lie", "get_up"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   }
   for (const std::string& name : names) ASSERT_TRUE(builtin_motion(name)) << name;
@@ -119,6 +120,38 @@ TEST(Motion, TheShippedPrimitivesLoadAndPointingLeftMirrorsPointingRight) {
   EXPECT_GT(at(left, Joint::l_wrist).y(), at(left, Joint::l_shoulder).y() + 0.4);
   const auto waving = forward_kinematics(adult, builtin_motion("wave")->sample(1.0));
   EXPECT_GT(at(waving, Joint::r_wrist).z(), at(waving, Joint::skullbase).z()) << "the waving hand is above the head";
+}
+
+TEST(Motion, SittingLyingPressingAndTurningEndWhereTheyShould) {
+  const Skeleton adult(kAdultBody);
+  const auto end_of = [&](const char* name) {
+    const MotionClip& clip = *builtin_motion(name);
+    return forward_kinematics(adult, clip.sample(clip.duration()));
+  };
+  const auto rest = forward_kinematics(adult, SkeletonPose());
+  // Seated on a 0.45 m seat: hips 6 cm above it, thighs level, feet on the floor.
+  const auto seated = end_of("sit_down");
+  EXPECT_NEAR(at(seated, Joint::l_hip).z(), 0.51, 0.01);
+  EXPECT_NEAR(at(seated, Joint::l_knee).z(), at(seated, Joint::l_hip).z(), 1e-6);
+  EXPECT_NEAR(at(seated, Joint::r_ankle).z(), at(rest, Joint::r_ankle).z(), 0.02);
+  const MotionClip& stand_up = *builtin_motion("stand_up");
+  EXPECT_TRUE(at(forward_kinematics(adult, stand_up.sample(0.0)), Joint::skullbase).isApprox(at(seated, Joint::skullbase), 1e-9));
+  EXPECT_TRUE(at(end_of("stand_up"), Joint::skullbase).isApprox(at(rest, Joint::skullbase), 1e-12));
+  // Lying after a fall: the whole body within 35 cm of the floor, and get_up ends standing.
+  for (const char* name : {"fall", "lie"}) {
+    for (const auto& frame : end_of(name)) EXPECT_LT(frame.translation().z(), 0.35) << name;
+  }
+  EXPECT_TRUE(at(end_of("get_up"), Joint::skullbase).isApprox(at(rest, Joint::skullbase), 1e-12));
+  // Pressing a button: the right hand 0.5 m ahead of the body at shoulder height.
+  const auto pressing = forward_kinematics(adult, builtin_motion("press_button")->sample(0.8));
+  EXPECT_GT(at(pressing, Joint::r_wrist).x(), 0.5);
+  EXPECT_NEAR(at(pressing, Joint::r_wrist).z(), at(pressing, Joint::r_shoulder).z(), 0.05);
+  // A quarter turn to the left: the shoulders' line, left minus right, now points backwards (−x).
+  const auto turned = end_of("turn_in_place");
+  const Eigen::Vector3d across = at(turned, Joint::l_shoulder) - at(turned, Joint::r_shoulder);
+  EXPECT_NEAR(across.normalized().x(), -1.0, 1e-9);
+  // One step advances the body by half a stride.
+  EXPECT_NEAR(at(end_of("step"), Joint::humanoid_root).x(), 0.7, 0.01);
 }
 
 TEST(Motion, WalkingAtItsSpeedTheStanceFootDoesNotSlide) {
