@@ -97,6 +97,11 @@ SkeletonPose MotionClip::sample(double t) const {
   return blend(before->second, after->second, (t - before->first) / (after->first - before->first));
 }
 
+SkeletonPose walking_pose(const MotionClip& walk, double distance) {
+  if (!(walk.speed() > 0.0)) throw core::Error(core::ErrorCode::bad_request, "motion '" + walk.name() + "' is not walked in place (no speed)");
+  return walk.sample(distance / walk.speed());
+}
+
 SkeletonPose blend(const SkeletonPose& a, const SkeletonPose& b, double weight) {
   SkeletonPose pose;
   pose.root = (1.0 - weight) * a.root + weight * b.root;

@@ -38,6 +38,10 @@ class MotionClip {
   std::vector<std::pair<double, SkeletonPose>> keyframes_;
 };
 
+/// The pose of a clip walked in place (speed() > 0, e.g. walk) after walking `distance` m: the
+/// cycle advances with the distance, not the time, so a planted foot stays put at any walking speed.
+SkeletonPose walking_pose(const MotionClip& walk, double distance);
+
 /// Between two poses: weight 0 gives a, 1 gives b (root linearly, joints by slerp).
 SkeletonPose blend(const SkeletonPose& a, const SkeletonPose& b, double weight);
 

@@ -184,5 +184,28 @@ TEST(Motion, WalkingAtItsSpeedTheStanceFootDoesNotSlide) {
   }
 }
 
+TEST(Motion, TheGaitFollowsTheDistanceSoFeetDoNotSlideAtAnySpeed) {
+  // The pose depends on the distance walked only, never on time, so whatever the speed: while the
+  // body advances by a distance, each planted foot moves less than 2 cm. Sampled off the keyframes'
+  // grid (a third of a millimetre steps) over a stance each.
+  const MotionClip& walk = *builtin_motion("walk");
+  const Skeleton adult(kAdultBody);
+  const double stride = walk.speed() * walk.duration();
+  for (const auto& [foot, stance_start] : {std::pair{Joint::l_ankle, 0.0}, std::pair{Joint::r_ankle, 0.5}}) {
+    Eigen::Vector3d first = Eigen::Vector3d::Zero();
+    double worst = 0.0;
+    for (int i = 0; i <= 2100; ++i) {
+      const double distance = (stance_start + 0.5 * i / 2100) * stride;
+      Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+      base.translation().x() = distance;
+      const Eigen::Vector3d position = at(forward_kinematics(adult, walking_pose(walk, distance), base), foot);
+      if (i == 0) first = position;
+      worst = std::max(worst, (position - first).norm());
+    }
+    EXPECT_LT(worst, 0.02) << joint_name(foot);
+  }
+  EXPECT_THROW(walking_pose(*builtin_motion("wave"), 1.0), core::Error) << "not a clip walked in place";
+}
+
 }  // namespace
 }  // namespace hrisim::humans
