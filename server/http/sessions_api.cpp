@@ -16,8 +16,10 @@
 #include "core/error.hpp"
 #include "core/json_schema.hpp"
 #include "core/random.hpp"
+#include "http/frames.hpp"
 #include "http/request_helpers.hpp"
 #include "metrics/episode_metrics.hpp"
+#include "render/image_codec.hpp"
 #include "runs/spec.hpp"
 #include "sim/episode_recorder.hpp"
 #include "sim/session.hpp"
@@ -909,6 +911,25 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
                                   {"time", live->session->time()},
                                   {"metrics", metrics},
                                   {"null_reasons", null_reasons}});
+    });
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}/frames/{camera}", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    const std::string format = query_value(request.query, "format").value_or("png");
+    if (format != "png") throw core::Error(core::ErrorCode::bad_request, "format: png", {{"parameter", "format"}});
+    const auto width = static_cast<int>(integer_query(request, "width", 16, kMaxFrameSize, 640));
+    const auto height = static_cast<int>(integer_query(request, "height", 16, kMaxFrameSize, 480));
+    // The scene is copied under the session's lock; drawing happens after, on the worker pool.
+    std::vector<render::Box> boxes;
+    render::Camera camera;
+    {
+      std::lock_guard lock(live->mutex);
+      camera = overview_camera(*live->session, request.path_params.at("camera"), width, height);
+      boxes = scene_of(*live->session);
+    }
+    return Response::later([boxes = std::move(boxes), camera] {
+      return Response{200, "image/png", render::encode_png(render_frame(boxes, camera).colour), {}, {}};
     });
   });
 

@@ -622,3 +622,35 @@ TEST(SessionModes, ARealtimeSessionStepsItselfAndAControllerReplacesTheRobots) {
 
 }  // namespace
 }  // namespace hrisim::testing
+
+#include "render/image_codec.hpp"
+
+namespace hrisim::testing {
+namespace {
+
+TEST(SessionFrames, OverviewAndFollowCamerasGivePngFrames) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const std::string id = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 1})"))["id"];
+  const std::string base = "/api/v1/sessions/" + id + "/frames/";
+  const HttpReply overview = http(port, "GET", base + "overview?width=320&height=240");
+  ASSERT_EQ(overview.status, 200) << overview.body;
+  EXPECT_EQ(overview.headers.at("content-type"), "image/png");
+  const render::ImageRgba8 image = render::decode_png(overview.body);
+  EXPECT_EQ(image.width, 320);
+  EXPECT_EQ(image.height, 240);
+  // The map's floor fills the middle; the corners are sky.
+  const std::uint8_t* corner = image.pixel(0, 0);
+  const std::uint8_t* middle = image.pixel(160, 120);
+  EXPECT_NE(std::vector<std::uint8_t>(corner, corner + 3), std::vector<std::uint8_t>(middle, middle + 3));
+  const render::ImageRgba8 follow = render::decode_png(http(port, "GET", base + "follow").body);
+  EXPECT_EQ(follow.width, 640) << "640x480 by default";
+  EXPECT_EQ(http(port, "GET", base + "ceiling").status, 404);
+  EXPECT_EQ(http(port, "GET", base + "overview?format=jpeg").status, 400);
+  EXPECT_EQ(http(port, "GET", base + "overview?width=4").status, 400);
+  const std::string crowd = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "perpendicular_crossing"})"))["id"];
+  EXPECT_EQ(http(port, "GET", "/api/v1/sessions/" + crowd + "/frames/follow").status, 409) << "no robot to follow";
+}
+
+}  // namespace
+}  // namespace hrisim::testing

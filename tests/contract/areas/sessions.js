@@ -280,6 +280,22 @@ describe('sessions', () => {
     assert.equal(after.state_hash, before.state_hash);
   });
 
+  it('GET /api/v1/sessions/{id}/frames/{camera}: PNG frames from the overview and follow cameras; 400, 404, 409', async () => {
+    for (const camera of ['overview', 'follow']) {
+      const reply = await api.get(at(`/frames/${camera}?width=64&height=48`));
+      assert.equal(reply.status, 200, camera);
+      assert.equal(reply.headers['content-type'], 'image/png');
+      assert.equal(reply.body.slice(1, 4), 'PNG', 'the PNG signature');
+    }
+    assert.equal((await api.get(at('/frames/ceiling'))).status, 404);
+    assert.equal((await api.get(at('/frames/overview?format=gif'))).status, 400);
+    assert.equal((await api.get(at('/frames/overview?width=99999'))).status, 400);
+    const crossing = await createSession('perpendicular_crossing');
+    const refused = await api.get(`/api/v1/sessions/${crossing.id}/frames/follow`);
+    await api.delete(`/api/v1/sessions/${crossing.id}`);
+    assert.equal(refused.status, 409, 'no robot to follow');
+  });
+
   it('GET /api/v1/sessions/{id}/metrics: every metric so far, null ones with their reason; 404', async () => {
     const reply = await api.get(at('/metrics'));
     assert.equal(reply.status, 200);
