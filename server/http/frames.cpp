@@ -14,6 +14,8 @@ namespace {
 /// Walls drawn up to this height when the map gives none, m.
 constexpr double kWallHeight = 2.5;
 constexpr double kWallThickness = 0.05;
+/// Off-screen contexts (one per image size) a rendering thread keeps at most.
+constexpr std::size_t kRenderersPerThread = 4;
 /// The overview camera's field of view across the image, rad.
 constexpr double kOverviewFieldOfView = 1.0;
 
@@ -96,6 +98,8 @@ render::Camera overview_camera(const sim::Session& session, const std::string& n
 
 render::Frame render_frame(const std::vector<render::Box>& boxes, const render::Camera& camera) {
   thread_local std::map<std::pair<int, int>, std::unique_ptr<render::BoxRenderer>> renderers;
+  // A few sizes are kept; a client asking for ever new sizes does not pile up contexts.
+  if (!renderers.contains({camera.width, camera.height}) && renderers.size() >= kRenderersPerThread) renderers.clear();
   auto& renderer = renderers[{camera.width, camera.height}];
   if (!renderer) renderer = std::make_unique<render::BoxRenderer>(camera.width, camera.height);
   return renderer->render(boxes, camera);

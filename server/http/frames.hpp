@@ -25,7 +25,8 @@ std::vector<render::Box> scene_of(const sim::Session& session);
 /// without a robot).
 render::Camera overview_camera(const sim::Session& session, const std::string& name, int width, int height);
 
-/// Renders on this thread's own OSMesa context for that size (one per thread and size, kept).
+/// Renders on this thread's own OSMesa context for that size (kept for the next frame; a thread keeps
+/// a few sizes).
 render::Frame render_frame(const std::vector<render::Box>& boxes, const render::Camera& camera);
 
 }  // namespace hrisim::http
