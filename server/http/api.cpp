@@ -3,6 +3,7 @@
 #include <boost/version.hpp>
 
 #include "core/build_info.hpp"
+#include "core/embedded.hpp"
 #include "http/request_helpers.hpp"
 #include "http/runs_api.hpp"
 #include "http/scenarios_api.hpp"
@@ -22,10 +23,9 @@ extern const int kEmbeddedCount;
 namespace {
 
 std::string_view embedded_file(std::string_view name) {
-  for (int i = 0; i < embedded::kEmbeddedCount; ++i) {
-    if (embedded::kEmbedded[i].first == name) return embedded::kEmbedded[i].second;
-  }
-  throw core::Error(core::ErrorCode::internal, "embedded file " + std::string(name) + " is missing");
+  const std::string_view contents = core::find_embedded({embedded::kEmbedded, static_cast<std::size_t>(embedded::kEmbeddedCount)}, name);
+  if (contents.empty()) throw core::Error(core::ErrorCode::internal, "embedded file " + std::string(name) + " is missing");
+  return contents;
 }
 
 /// A built-in robot in a few lines, for lists.

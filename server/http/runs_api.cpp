@@ -158,10 +158,9 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
 
   router.add("POST", "/api/v1/runs", [catalogue, store, executor](const Request& request) {
     const json body = json_object_body(request);
-    runs::RunRequest run_request_ = run_request(body, *catalogue);
-    runs::RunSpec spec = runs::make_run_spec(run_request_);
-    const auto* entry = catalogue->find(run_request_.scenario_id);
-    spec.scenario_id = stored_scenario_id(*store, run_request_.scenario_id, *entry, run_request_.scenario_sha256);
+    const runs::RunRequest asked = run_request(body, *catalogue);
+    runs::RunSpec spec = runs::make_run_spec(asked);
+    spec.scenario_id = stored_scenario_id(*store, asked.scenario_id, *catalogue->find(asked.scenario_id), asked.scenario_sha256);
     const storage::RunRecord run = executor->submit(std::move(spec));
     Response response = Response::json(201, report_of(*store, *executor, find_run(*store, run.id)));
     response.headers.emplace_back("Location", "/api/v1/runs/" + run.id);

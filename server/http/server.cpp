@@ -60,6 +60,18 @@ struct Shared {
   std::unordered_map<const WebSocketSession*, std::weak_ptr<WebSocketSession>> websockets;
 };
 
+/// Runs deferred work on a worker: a core::Error becomes its JSON error, anything else a logged 500.
+Response run_deferred(const std::function<Response()>& work, const std::string& where) {
+  try {
+    return work();
+  } catch (const core::Error& e) {
+    return Response::error(e);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hrisim: internal error on %s: %s\n", where.c_str(), e.what());
+    return Response::error(core::Error(core::ErrorCode::internal, "internal error"));
+  }
+}
+
 /// A WebSocket connection: one message read, answered (on the worker pool when deferred), its
 /// answer queued, then the next read — so answers come in the order of the messages. Writes go out one
 /// at a time from a queue; pushed frames join it at the peer's rate, and a slow reader loses the
@@ -120,15 +132,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     }
     net::post(*shared_->workers, [self = shared_from_this(), work = std::move(response.deferred),
                                   guard = net::make_work_guard(ws_.get_executor())]() mutable {
-      Response result;
-      try {
-        result = work();
-      } catch (const core::Error& e) {
-        result = Response::error(e);
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "hrisim: internal error on a WebSocket: %s\n", e.what());
-        result = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
-      }
+      Response result = run_deferred(work, "a WebSocket");
       net::post(self->ws_.get_executor(), [self, result = std::move(result)]() mutable {
         self->send({std::move(result.body), result.content_type == kBinaryContentType, false});
         self->schedule_push();
@@ -327,15 +331,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
     // guard keeps the I/O threads running until it has.
     net::post(*shared_->workers, [self = shared_from_this(), work = std::move(response.deferred), answered = std::move(answered),
                                   guard = net::make_work_guard(stream_.get_executor())]() mutable {
-      Response result;
-      try {
-        result = work();
-      } catch (const core::Error& e) {
-        result = Response::error(e);
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "hrisim: internal error on %s %s: %s\n", answered.method.c_str(), answered.target.c_str(), e.what());
-        result = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
-      }
+      Response result = run_deferred(work, answered.method + " " + answered.target);
       net::post(self->stream_.get_executor(), [self, result = std::move(result), answered = std::move(answered)]() mutable {
         self->finish(std::move(result), answered);
       });

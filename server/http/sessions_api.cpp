@@ -32,8 +32,9 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 /// A live session records at most this many bodies (people and robot, summed over its steps) for its
-/// metrics on demand, about 150 MB: 1.5 hours of the elevator's six people at 60 Hz, half a minute of
-/// a thousand. Its metrics then cover the steps up to `recorded_until_tick`.
+/// metrics on demand: about 150 MB by the size of a body's record (not measured), 1.5 hours of the
+/// elevator's six people at 60 Hz, half a minute of a thousand. Its metrics then cover the steps up
+/// to `recorded_until_tick`.
 constexpr std::size_t kMaxLiveRecordedBodies = 2'000'000;
 
 struct Live {

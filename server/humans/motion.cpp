@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <mutex>
 
+#include "core/embedded.hpp"
 #include "core/error.hpp"
 
 namespace hrisim::humans::embedded {
@@ -16,6 +16,8 @@ namespace hrisim::humans {
 namespace {
 
 using nlohmann::json;
+
+const std::span<const core::EmbeddedFile> kFiles{embedded::kEmbedded, static_cast<std::size_t>(embedded::kEmbeddedCount)};
 
 [[noreturn]] void bad(const std::string& pointer, const std::string& message) {
   throw core::Error(core::ErrorCode::bad_request, pointer + ": " + message, {{"pointer", pointer}});
@@ -109,24 +111,14 @@ SkeletonPose blend(const SkeletonPose& a, const SkeletonPose& b, double weight) 
   return pose;
 }
 
-std::vector<std::string> builtin_motion_names() {
-  std::vector<std::string> names;
-  for (int i = 0; i < embedded::kEmbeddedCount; ++i) {
-    const std::string_view file = embedded::kEmbedded[i].first;
-    if (file.ends_with(".json")) names.emplace_back(file.substr(0, file.size() - 5));
-  }
-  std::sort(names.begin(), names.end());
-  return names;
-}
+std::vector<std::string> builtin_motion_names() { return core::json_file_stems(kFiles); }
 
 const MotionClip* builtin_motion(std::string_view name) {
   // Parsed once, on first use; the shipped files are checked by the tests.
   static const std::map<std::string, MotionClip, std::less<>> clips = [] {
     std::map<std::string, MotionClip, std::less<>> parsed;
-    for (int i = 0; i < embedded::kEmbeddedCount; ++i) {
-      const std::string_view file = embedded::kEmbedded[i].first;
-      if (!file.ends_with(".json")) continue;
-      parsed.emplace(std::string(file.substr(0, file.size() - 5)), MotionClip::parse(json::parse(embedded::kEmbedded[i].second)));
+    for (const std::string& stem : builtin_motion_names()) {
+      parsed.emplace(stem, MotionClip::parse(json::parse(core::find_embedded(kFiles, stem + ".json"))));
     }
     return parsed;
   }();

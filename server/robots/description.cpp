@@ -4,6 +4,7 @@
 #include <mutex>
 #include <set>
 
+#include "core/embedded.hpp"
 #include "core/error.hpp"
 
 namespace hrisim::robots::embedded {
@@ -16,12 +17,9 @@ namespace {
 
 using nlohmann::json;
 
-std::string_view embedded_file(std::string_view name) {
-  for (int i = 0; i < embedded::kEmbeddedCount; ++i) {
-    if (embedded::kEmbedded[i].first == name) return embedded::kEmbedded[i].second;
-  }
-  return {};
-}
+const std::span<const core::EmbeddedFile> kFiles{embedded::kEmbedded, static_cast<std::size_t>(embedded::kEmbeddedCount)};
+
+std::string_view embedded_file(std::string_view name) { return core::find_embedded(kFiles, name); }
 
 const core::JsonSchema& robot_schema() {
   static const core::JsonSchema schema(json::parse(embedded_file("robot.schema.json")));
@@ -242,15 +240,7 @@ LoadedRobot load_robot_description(const json& document) {
   return loaded;
 }
 
-std::vector<std::string> builtin_robot_names() {
-  std::vector<std::string> names;
-  for (int i = 0; i < embedded::kEmbeddedCount; ++i) {
-    const std::string_view file = embedded::kEmbedded[i].first;
-    if (file != "robot.schema.json" && file.ends_with(".json")) names.emplace_back(file.substr(0, file.size() - 5));
-  }
-  std::sort(names.begin(), names.end());
-  return names;
-}
+std::vector<std::string> builtin_robot_names() { return core::json_file_stems(kFiles, "robot.schema.json"); }
 
 json builtin_robot_document(std::string_view name) {
   const auto names = builtin_robot_names();

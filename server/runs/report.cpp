@@ -1,6 +1,7 @@
 #include "runs/report.hpp"
 
 #include <algorithm>
+#include <map>
 #include <numeric>
 #include <sstream>
 
@@ -31,6 +32,17 @@ const storage::MetricValue* find_metric(const storage::EpisodeRecord& episode, s
     if (metric.key == key) return &metric;
   }
   return nullptr;
+}
+
+/// A metric's value in each finished episode (empty where it has none), in order.
+std::vector<std::optional<double>> finished_values(const std::vector<storage::EpisodeRecord>& episodes, std::string_view key) {
+  std::vector<std::optional<double>> values;
+  for (const storage::EpisodeRecord& episode : episodes) {
+    if (episode.status != "finished") continue;
+    const storage::MetricValue* metric = find_metric(episode, key);
+    values.push_back(metric ? metric->value : std::nullopt);
+  }
+  return values;
 }
 
 std::string xml_escape(const std::string& text) {
@@ -89,24 +101,20 @@ json run_report(const storage::RunRecord& run, const std::vector<storage::Episod
     list.push_back(std::move(item));
   }
 
+  std::map<std::string, metrics::Aggregate, std::less<>> by_key;
   json aggregates = json::object();
   for (const metrics::Definition& definition : metrics::definitions()) {
-    std::vector<std::optional<double>> values;
-    for (const storage::EpisodeRecord& episode : episodes) {
-      if (episode.status != "finished") continue;
-      const storage::MetricValue* metric = find_metric(episode, definition.key);
-      values.push_back(metric ? metric->value : std::nullopt);
-    }
-    aggregates[std::string(definition.key)] = aggregate_json(metrics::aggregate(values, definition.unit == "bool"));
+    const metrics::Aggregate& stats = by_key[std::string(definition.key)] =
+        metrics::aggregate(finished_values(episodes, definition.key), definition.unit == "bool");
+    aggregates[std::string(definition.key)] = aggregate_json(stats);
   }
   // Rates over finished episodes, as their own lines.
   const auto rate = [&](const char* key, auto counts_as) {
     int hits = 0, total = 0;
-    for (const storage::EpisodeRecord& episode : episodes) {
-      const storage::MetricValue* metric = episode.status == "finished" ? find_metric(episode, key) : nullptr;
-      if (!metric || !metric->value) continue;
+    for (const auto& value : finished_values(episodes, key)) {
+      if (!value) continue;
       ++total;
-      hits += counts_as(*metric->value);
+      hits += counts_as(*value);
     }
     return total == 0 ? json() : json(static_cast<double>(hits) / total);
   };
@@ -116,14 +124,7 @@ json run_report(const storage::RunRecord& run, const std::vector<storage::Episod
   json gate_results = json::array(), reasons = json::array();
   bool passed = true;
   for (const metrics::Gate& gate : gates_of(run)) {
-    std::vector<std::optional<double>> values;
-    for (const storage::EpisodeRecord& episode : episodes) {
-      if (episode.status != "finished") continue;
-      const storage::MetricValue* metric = find_metric(episode, gate.metric);
-      values.push_back(metric ? metric->value : std::nullopt);
-    }
-    const metrics::GateResult result =
-        metrics::evaluate_gate(gate, metrics::aggregate(values, metrics::find_definition(gate.metric)->unit == "bool"));
+    const metrics::GateResult result = metrics::evaluate_gate(gate, by_key.at(gate.metric));
     gate_results.push_back({{"gate", gate.text},
                             {"metric", gate.metric},
                             {"statistic", gate.statistic},
@@ -164,9 +165,8 @@ json compare_runs(const storage::RunRecord& a, const std::vector<storage::Episod
                   const std::vector<storage::EpisodeRecord>& b_episodes) {
   const auto values_of = [](const std::vector<storage::EpisodeRecord>& episodes, std::string_view key) {
     std::vector<double> values;
-    for (const storage::EpisodeRecord& episode : episodes) {
-      const storage::MetricValue* metric = episode.status == "finished" ? find_metric(episode, key) : nullptr;
-      if (metric && metric->value) values.push_back(*metric->value);
+    for (const auto& value : finished_values(episodes, key)) {
+      if (value) values.push_back(*value);
     }
     return values;
   };
