@@ -1,64 +1,55 @@
-// Frames per second of the box renderer (OSMesa, llvmpipe, one thread): a 256×256 RGB-D camera (the
-// HSR head's size) and a 640×480 overview, in a room of walls and furniture with six people made of
-// boxes. Each frame is drawn twice (ids, then lit colour) and read back whole: colour, depth, ids.
-//   usage: render_bench [seconds per case = 3]
+// Frames per second of the scene renderer (OSMesa, llvmpipe) on bundled scenarios: the HSR's head
+// RGB-D camera at 256×256 (the gesture task's observation) and the 640×480 top-down overview, in the
+// elevator scenario with six people and in the furnished apartment. Each frame is the whole path a
+// client waits for: the scene taken from the session, drawn twice (ids, then lit colour) and read
+// back whole (colour, depth, ids). The session steps between frames so people move and gestures play.
+//   usage: render_bench [seconds per case = 3]    (LP_NUM_THREADS=1 for one core)
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <vector>
+#include <string>
 
-#include "render/box_renderer.hpp"
 #include "render/offscreen_context.hpp"
+#include "scenario/load.hpp"
+#include "sim/scene_view.hpp"
+#include "sim/session.hpp"
 
 namespace {
 
-using hrisim::render::Box;
-using hrisim::render::Camera;
+struct Figures {
+  double frames_per_second = 0.0;
+  double scene_ms = 0.0;  ///< taking the scene from the session, per frame
+  std::size_t parts = 0;
+};
 
-Box box(double x, double y, double z, double sx, double sy, double sz, std::uint32_t id) {
-  Box b;
-  b.pose.translation() = Eigen::Vector3d(x, y, z);
-  b.size = Eigen::Vector3d(sx, sy, sz);
-  b.id = id;
-  return b;
-}
-
-std::vector<Box> room() {
-  std::vector<Box> boxes;
-  std::uint32_t id = 1;
-  // A 12 × 8 m room: floor, four walls, and furniture along the walls.
-  boxes.push_back(box(0, 0, -0.05, 12, 8, 0.1, id++));
-  boxes.push_back(box(6, 0, 1.25, 0.1, 8, 2.5, id++));
-  boxes.push_back(box(-6, 0, 1.25, 0.1, 8, 2.5, id++));
-  boxes.push_back(box(0, 4, 1.25, 12, 0.1, 2.5, id++));
-  boxes.push_back(box(0, -4, 1.25, 12, 0.1, 2.5, id++));
-  for (int i = 0; i < 20; ++i) boxes.push_back(box(-5 + 0.5 * i, 3.5 - (i % 2) * 7, 0.4, 0.45, 0.45, 0.8, id++));
-  // Six people: legs, torso and head each.
-  for (int p = 0; p < 6; ++p) {
-    const double x = 1.0 + 0.6 * p, y = -1.5 + 0.6 * p;
-    boxes.push_back(box(x, y, 0.45, 0.25, 0.35, 0.9, id));
-    boxes.push_back(box(x, y, 1.2, 0.25, 0.45, 0.6, id));
-    boxes.push_back(box(x, y, 1.65, 0.2, 0.2, 0.25, id++));
+Figures measure(const std::string& scenario, const std::string& camera_name, int width, int height, double seconds) {
+  const auto loaded = hrisim::scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/" + scenario + ".json");
+  if (!loaded.model) {
+    std::fprintf(stderr, "%s does not load\n", scenario.c_str());
+    std::exit(2);
   }
-  return boxes;
-}
-
-double frames_per_second(int width, int height, double fx, double seconds) {
-  hrisim::render::BoxRenderer renderer(width, height);
-  Camera camera;
-  camera.width = width, camera.height = height, camera.fx = camera.fy = fx, camera.cx = width / 2.0, camera.cy = height / 2.0;
-  camera.pose.translation() = Eigen::Vector3d(-4, 0, 1.2);
-  const std::vector<Box> boxes = room();
+  hrisim::sim::Session session(loaded.model, 1);
+  for (int i = 0; i < 50; ++i) session.step();  // people on their way
+  Figures figures;
   int frames = 0;
+  double scene_seconds = 0.0;
   const auto start = std::chrono::steady_clock::now();
   double elapsed = 0.0;
   while (elapsed < seconds) {
-    camera.pose.linear() = Eigen::AngleAxisd(0.01 * frames, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    renderer.render(boxes, camera);
+    session.step();
+    const auto before = std::chrono::steady_clock::now();
+    const hrisim::render::Scene scene = hrisim::sim::scene_of(session);
+    const hrisim::render::Camera camera = hrisim::sim::camera_of(session, camera_name, width, height).camera;
+    scene_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count();
+    hrisim::render::render_on_this_thread(scene, camera);
+    figures.parts = scene.size();
     ++frames;
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  return frames / elapsed;
+  // The session's own steps are not rendering: they are taken out.
+  figures.frames_per_second = frames / elapsed;
+  figures.scene_ms = 1000.0 * scene_seconds / frames;
+  return figures;
 }
 
 }  // namespace
@@ -66,8 +57,14 @@ double frames_per_second(int width, int height, double fx, double seconds) {
 int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 3.0;
   const auto& gl = hrisim::render::probe_gl();
-  std::printf("render_bench: %s, %s; %zu boxes; colour + depth + ids per frame\n", gl.renderer.c_str(), gl.version.c_str(), room().size());
-  std::printf("256x256 RGB-D camera   %8.1f frames/s\n", frames_per_second(256, 256, 200, seconds));
-  std::printf("640x480 overview       %8.1f frames/s\n", frames_per_second(640, 480, 400, seconds));
+  std::printf("render_bench: %s, %s; colour + depth + ids per frame; LP_NUM_THREADS=%s\n", gl.renderer.c_str(), gl.version.c_str(),
+              std::getenv("LP_NUM_THREADS") ? std::getenv("LP_NUM_THREADS") : "(unset)");
+  for (const char* scenario : {"elevator", "apartment"}) {
+    for (const auto& [camera, width, height] : {std::tuple{"robot.head_rgbd", 256, 256}, std::tuple{"overview", 640, 480}}) {
+      const Figures f = measure(scenario, camera, width, height, seconds);
+      std::printf("%-10s %-16s %4dx%-4d %8.1f frames/s  (%zu parts; scene from the session %.3f ms)\n", scenario, camera, width, height,
+                  f.frames_per_second, f.parts, f.scene_ms);
+    }
+  }
   return 0;
 }

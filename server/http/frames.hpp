@@ -1,14 +1,15 @@
 #pragma once
-// Frames of a live session from the overview cameras: the map's walls, the people and the robots as
-// boxes, rendered off-screen (render::BoxRenderer) from a snapshot of the session, never inside its
-// step.
+// Camera frames of a live session: which image in which format a request asks for, encoding it, and
+// the binary WebSocket layout of an RGB-D frame. The scene is taken from the session under its lock
+// (sim::scene_of) and drawn afterwards on a worker thread's own OSMesa context, never inside a step.
+#include <cstdint>
 #include <string>
-#include <vector>
 
-#include "render/box_renderer.hpp"
+#include "http/router.hpp"
+#include "render/scene_renderer.hpp"
 
 namespace hrisim::sim {
-class Session;
+struct CameraInfo;
 }
 
 namespace hrisim::http {
@@ -16,17 +17,24 @@ namespace hrisim::http {
 /// Image sizes accepted for frames, pixels.
 inline constexpr int kMaxFrameSize = 2048;
 
-/// The session as boxes: floor, walls (the map's outline), people (by their kind's size) and robots
-/// (their footprint and height). Ids: 1 the floor, 2 the walls, 100 + agent index for agents.
-std::vector<render::Box> scene_of(const sim::Session& session);
+/// What a frame request asks for: ?format=png|jpeg|depth16|npy, ?image=colour|depth|segmentation,
+/// ?width=&height= (the camera's own size when absent).
+struct FrameRequest {
+  enum class Image { colour, depth, segmentation };
+  std::string format = "png";
+  Image image = Image::colour;
+  int width = 0, height = 0;  ///< 0: the camera's own
+};
 
-/// "overview": straight down onto the whole map, map x up in the image; "follow": behind and above the
-/// scenario's first robot, looking where it looks. Throws core::Error (404 unknown camera, 409 follow
-/// without a robot).
-render::Camera overview_camera(const sim::Session& session, const std::string& name, int width, int height);
+/// Reads and checks the query; throws core::Error(bad_request) naming the parameter.
+FrameRequest frame_request(const Request& request);
 
-/// Renders on this thread's own OSMesa context for that size (kept for the next frame; a thread keeps
-/// a few sizes).
-render::Frame render_frame(const std::vector<render::Box>& boxes, const render::Camera& camera);
+/// The frame as the request asked: content type and bytes.
+Response encode_frame(const render::Frame& frame, const FrameRequest& request);
+
+/// An RGB-D frame as a binary WebSocket message: a 96-byte little-endian header "HRCF", then RGBA8,
+/// depth float32 (m) and, when asked, instance ids uint32, each row-major from the top row. Layout in
+/// api/asyncapi.yaml.
+std::string camera_message(const render::Frame& frame, const sim::CameraInfo& camera, std::int64_t tick, double time, bool with_ids);
 
 }  // namespace hrisim::http

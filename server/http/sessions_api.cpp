@@ -22,6 +22,7 @@
 #include "render/image_codec.hpp"
 #include "runs/spec.hpp"
 #include "sim/episode_recorder.hpp"
+#include "sim/scene_view.hpp"
 #include "sim/session.hpp"
 #include "tasks/environment.hpp"
 
@@ -535,12 +536,29 @@ std::string laser_of(const sim::Session& session, const std::string& robot, cons
                     {{"pointer", sensor.empty() ? "/robot" : "/sensor"}});
 }
 
+/// A camera's name, kind, image size, intrinsics, range, rate and pose (position and quaternion x, y, z, w).
+json camera_json(const sim::CameraInfo& info) {
+  const render::Camera& c = info.camera;
+  const Eigen::Quaterniond q(c.pose.rotation());
+  json camera = {{"name", info.name}, {"kind", info.kind}, {"width", c.width}, {"height", c.height}, {"near", c.near}, {"far", c.far},
+                 {"rate", info.rate},
+                 {"pose", {{"position", {c.pose.translation().x(), c.pose.translation().y(), c.pose.translation().z()}},
+                           {"orientation", {q.x(), q.y(), q.z(), q.w()}}}}};
+  if (c.orthographic_width > 0.0) {
+    camera["orthographic_width"] = c.orthographic_width;
+  } else {
+    camera["fx"] = c.fx, camera["fy"] = c.fy, camera["cx"] = c.cx, camera["cy"] = c.cy;
+  }
+  return camera;
+}
+
 /// A session's WebSocket: lockstep messages, one answer each, in order.
 ///   {"type": "step", "n": 1}        → {"type": "step", …status, events, terminated, truncated}
 ///   {"type": "commands", "commands": [...]} → {"type": "commands", "applied", "tick"}
 ///   {"type": "state", "events_since": 0}    → {"type": "state", …}
 ///   {"type": "sensors", "robot": "robot"}   → {"type": "sensors", …}
 ///   {"type": "laser", "robot": "robot", "sensor": "base_laser"} → a binary laser frame
+///   {"type": "camera", "camera": "robot.head_rgbd", "width", "height", "ids"} → a binary RGB-D frame
 ///   {"type": "subscribe", "rate": 10}       → {"type": "subscribed", "rate"}, then state frames pushed
 ///     at that rate (0 stops them): {"type": "state_frame", …state, new events, dropped_frames}
 /// A wrong message gets {"type": "error", "error": {code, message, details}} and the socket stays open.
@@ -601,6 +619,30 @@ class SessionSocket : public WebSocketPeer {
         std::lock_guard lock(live->mutex);
         return Response{200, kBinaryContentType, laser_of(*live->session, body["robot"], body.value("sensor", "")), {}, {}};
       }
+      if (type == "camera") {
+        refuse_unknown_keys(body, {"camera", "width", "height", "ids"});
+        if (!body.contains("camera") || !body["camera"].is_string()) {
+          throw core::Error(core::ErrorCode::bad_request, "camera: a camera's name is required", {{"pointer", "/camera"}});
+        }
+        const auto width = static_cast<int>(integer_field(body, "width", 16, kMaxFrameSize, 0));
+        const auto height = static_cast<int>(integer_field(body, "height", 16, kMaxFrameSize, 0));
+        if (body.contains("ids") && !body["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/ids"}});
+        const bool ids = body.value("ids", false);
+        sim::CameraInfo camera;
+        render::Scene scene;
+        std::int64_t tick = 0;
+        double time = 0.0;
+        {
+          std::lock_guard lock(live->mutex);
+          camera = sim::camera_of(*live->session, body["camera"], width, height);
+          scene = sim::scene_of(*live->session);
+          tick = live->session->state().tick;
+          time = live->session->time();
+        }
+        return Response::later([scene = std::move(scene), camera, tick, time, ids] {
+          return Response{200, kBinaryContentType, camera_message(render::render_on_this_thread(scene, camera.camera), camera, tick, time, ids), {}, {}};
+        });
+      }
       if (type == "subscribe") {
         refuse_unknown_keys(body, {"rate"});
         if (!body.contains("rate") || !body["rate"].is_number() || !(body["rate"].get<double>() >= 0.0) ||
@@ -617,7 +659,7 @@ class SessionSocket : public WebSocketPeer {
         std::lock_guard lock(live->mutex);
         return reply("state", state_of(*live, since));
       }
-      throw core::Error(core::ErrorCode::bad_request, "type must be step, commands, state, sensors, laser or subscribe", {{"pointer", "/type"}});
+      throw core::Error(core::ErrorCode::bad_request, "type must be step, commands, state, sensors, laser, camera or subscribe", {{"pointer", "/type"}});
     } catch (const core::Error& e) {
       return failure(e);
     }
@@ -917,21 +959,25 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
 
   router.add("GET", "/api/v1/sessions/{id}/frames/{camera}", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"));
-    const std::string format = query_value(request.query, "format").value_or("png");
-    if (format != "png") throw core::Error(core::ErrorCode::bad_request, "format: png", {{"parameter", "format"}});
-    const auto width = static_cast<int>(integer_query(request, "width", 16, kMaxFrameSize, 640));
-    const auto height = static_cast<int>(integer_query(request, "height", 16, kMaxFrameSize, 480));
+    const FrameRequest asked = frame_request(request);
     // The scene is copied under the session's lock; drawing happens after, on the worker pool.
-    std::vector<render::Box> boxes;
+    render::Scene scene;
     render::Camera camera;
     {
       std::lock_guard lock(live->mutex);
-      camera = overview_camera(*live->session, request.path_params.at("camera"), width, height);
-      boxes = scene_of(*live->session);
+      camera = sim::camera_of(*live->session, request.path_params.at("camera"), asked.width, asked.height).camera;
+      scene = sim::scene_of(*live->session);
     }
-    return Response::later([boxes = std::move(boxes), camera] {
-      return Response{200, "image/png", render::encode_png(render_frame(boxes, camera).colour), {}, {}};
-    });
+    return Response::later([scene = std::move(scene), camera, asked] { return encode_frame(render::render_on_this_thread(scene, camera), asked); });
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}/cameras", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"));
+    std::lock_guard lock(live->mutex);
+    json cameras = json::array();
+    for (const sim::CameraInfo& info : sim::cameras_of(*live->session)) cameras.push_back(camera_json(info));
+    return Response::json(200, {{"id", live->id}, {"tick", live->session->state().tick}, {"cameras", cameras},
+                                {"segmentation", sim::segmentation_legend(*live->session)}});
   });
 
   router.add("GET", "/api/v1/sessions/{id}/action_space", [registry](const Request& request) {

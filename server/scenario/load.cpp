@@ -1,5 +1,7 @@
 #include "scenario/load.hpp"
 
+#include "humans/motion.hpp"
+
 #include <fstream>
 #include <functional>
 #include <set>
@@ -7,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "humans/motion.hpp"
 #include "world/ros_map.hpp"
 
 namespace hrisim::scenario {
@@ -130,15 +133,24 @@ class Loader {
     std::vector<Obstacle> obstacles;
     const json& walls = member(world, "walls");
     for (std::size_t i = 0; i < walls.size(); ++i) {
-      obstacles.push_back({"wall " + std::to_string(i),
-                           wall_polygon(read_point(walls[i]["from"]), read_point(walls[i]["to"]), walls[i].value("thickness", kDefaultWallThickness)),
-                           kDefaultObstacleHeight, {}});
+      const Vec2 from = read_point(walls[i]["from"]), to = read_point(walls[i]["to"]);
+      const double thickness = walls[i].value("thickness", kDefaultWallThickness);
+      Obstacle wall;
+      wall.name = "wall " + std::to_string(i);
+      wall.polygon = wall_polygon(from, to, thickness);
+      const Vec2 middle = 0.5 * (from + to);
+      wall.frame = {middle.x(), middle.y(), std::atan2(to.y() - from.y(), to.x() - from.x())};
+      wall.length = (to - from).norm();
+      wall.width = thickness;
+      obstacles.push_back(std::move(wall));
     }
     const json& listed = member(world, "obstacles");
     std::set<std::string> names;
     for (std::size_t i = 0; i < listed.size(); ++i) {
       const json& entry = listed[i];
-      Obstacle obstacle{entry["name"], {}, entry.value("height", kDefaultObstacleHeight), {}};
+      Obstacle obstacle;
+      obstacle.name = entry["name"];
+      obstacle.height = entry.value("height", kDefaultObstacleHeight);
       if (!names.insert(obstacle.name).second) {
         error("/world/obstacles/" + std::to_string(i) + "/name", "obstacle name '" + obstacle.name + "' is used twice");
       }
@@ -151,6 +163,18 @@ class Loader {
         Vec2 centre = Vec2::Zero();
         for (const Vec2& p : obstacle.polygon) centre += p / static_cast<double>(obstacle.polygon.size());
         frame = {centre.x(), centre.y(), 0.0};
+      }
+      obstacle.mesh = entry.value("mesh", "");
+      obstacle.frame = frame;
+      if (entry.contains("box")) {
+        obstacle.length = entry["box"]["length"];
+        obstacle.width = entry["box"]["width"];
+      } else {
+        Eigen::AlignedBox2d bounds;
+        for (const Vec2& p : obstacle.polygon) bounds.extend(p);
+        obstacle.frame = {bounds.center().x(), bounds.center().y(), 0.0};
+        obstacle.length = bounds.sizes().x();
+        obstacle.width = bounds.sizes().y();
       }
       for (const auto& [anchor, pose] : member(entry, "anchors").items()) {
         obstacle.anchors[anchor] = core::compose(frame, read_pose(pose));
@@ -549,6 +573,18 @@ class Loader {
       if (action.agent >= 0 && !names_.robots.contains(model_for_checks_->agents[action.agent].id)) {
         error(pointer + "/agent", "only a robot makes requests");
       }
+    } else if (entry.contains("motion")) {
+      action.kind = Action::Kind::play_motion;
+      action.motion = entry["motion"]["name"];
+      const humans::MotionClip* clip = humans::builtin_motion(action.motion);
+      if (!clip) {
+        std::string known;
+        for (const std::string& name : humans::builtin_motion_names()) known += (known.empty() ? "" : ", ") + name;
+        error(pointer + "/motion/name", "no motion primitive '" + action.motion + "' (" + known + ")");
+      } else {
+        action.value = entry["motion"].value("duration", clip->duration());
+      }
+      if (action.agent >= 0 && model_for_checks_->agents[action.agent].kind != AgentKind::human) error(pointer + "/agent", "only a human plays motions");
     } else {
       action.kind = Action::Kind::run_task;
       action.target = resolve(names_.tasks, entry["task"], pointer + "/task", "task");

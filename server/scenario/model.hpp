@@ -61,6 +61,11 @@ struct Obstacle {
   std::vector<Vec2> polygon;
   double height = kDefaultObstacleHeight;
   std::map<std::string, Pose2> anchors;  ///< absolute poses
+  /// How cameras draw it: a furniture mesh's name (empty: a box) filling the box `frame` (its centre
+  /// and orientation) × length × width × height.
+  std::string mesh;
+  Pose2 frame;
+  double length = 0.0, width = 0.0;
 };
 
 /// A door: a segment with thickness that blocks agents and paths while not fully open.
@@ -162,6 +167,7 @@ struct Action {
     harass,              ///< target: robot; value: duration; radius: distance in front of it
     stop_and_look,       ///< target: robot; value: duration; radius: distance that stops the human
     request,             ///< target: compound task a robot asks a human to run
+    play_motion,         ///< motion: a shipped motion primitive; value: seconds it plays
   };
   Kind kind = Kind::wait_duration;
   int agent = -1;   ///< acting agent in steps; -1 in compound tasks (the invoker acts) and group actions
@@ -173,6 +179,7 @@ struct Action {
   double value = 0.0;
   std::string topic;
   std::string message;
+  std::string motion;   ///< play_motion: the primitive's name
   std::string pointer;  ///< where it stands in the scenario (JSON pointer), for events and errors
 };
 

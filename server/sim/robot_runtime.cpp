@@ -130,21 +130,30 @@ Vec2 social_velocity(const Pose2& pose, const std::vector<Vec2>& path, double sp
   return onwards * slowest + push;
 }
 
-std::array<Vec2, 2> leg_centres(const Vec2& position, double heading, double gait_phase, double speed, double height) {
-  // A foot swings a quarter stride either way; at a given height, the hip angle's share of that.
-  const Vec2 forward = core::heading_vector(heading), side = core::left_normal(forward);
-  const double stride = kStrideLength * std::min(speed / kNominalWalkingSpeed, 1.0);
-  const double swing = 0.25 * stride * std::sin(gait_phase) * (kHipHeight - height) / kHipHeight;
-  return {position + 0.5 * kHipWidth * side + swing * forward, position - 0.5 * kHipWidth * side - swing * forward};
-}
-
-void add_human_body(sensors::RayScene& scene, const Vec2& position, double heading, double gait_phase, double speed, double height) {
-  if (height >= kShoulderHeight) return;
-  if (height >= kHipHeight) {
-    scene.add(sensors::Circle{position, kTorsoRadius});
-    return;
+void add_human_body(sensors::RayScene& scene, const humans::BodyCapsules& body, double height) {
+  for (const humans::Capsule& capsule : body) {
+    const Eigen::Vector3d axis = capsule.to - capsule.from;
+    const double r = capsule.radius;
+    // The stretch of the axis within r of the plane.
+    double t0 = 0.0, t1 = 1.0;
+    if (std::abs(axis.z()) > 1e-9) {
+      const double a = (height - r - capsule.from.z()) / axis.z(), b = (height + r - capsule.from.z()) / axis.z();
+      t0 = std::max(0.0, std::min(a, b));
+      t1 = std::min(1.0, std::max(a, b));
+      if (t0 > t1) continue;
+    } else if (std::abs(capsule.from.z() - height) >= r) {
+      continue;
+    }
+    // Circles a radius apart along it cover a limb lying in the plane; a steep one needs one.
+    const int circles = 1 + static_cast<int>(axis.head<2>().norm() * (t1 - t0) / r);
+    for (int k = 0; k < circles; ++k) {
+      const double t = t0 + (k + 0.5) / circles * (t1 - t0);
+      const Eigen::Vector3d centre = capsule.from + t * axis;
+      const double off_plane = centre.z() - height;
+      if (std::abs(off_plane) >= r) continue;
+      scene.add(sensors::Circle{Vec2(centre.x(), centre.y()), std::sqrt(r * r - off_plane * off_plane)});
+    }
   }
-  for (const Vec2& leg : leg_centres(position, heading, gait_phase, speed, height)) scene.add(sensors::Circle{leg, kLegRadius});
 }
 
 }  // namespace hrisim::sim

@@ -10,6 +10,7 @@
 
 #include "core/random.hpp"
 #include "core/state_hash.hpp"
+#include "humans/body.hpp"
 #include "robots/robot.hpp"
 #include "scenario/model.hpp"
 #include "sensors/laser.hpp"
@@ -40,15 +41,10 @@ inline constexpr double kSocialYieldAngle = 1.0;  ///< rad
 inline constexpr double kSocialRepulsion = 0.5;
 inline constexpr double kSocialRepulsionRange = 0.4;
 
-// Human bodies as range sensors see them (until the skeleton of the rendering issue exists).
-inline constexpr double kLegRadius = 0.07;       ///< m
-inline constexpr double kHipWidth = 0.2;         ///< m between the legs' centres
-inline constexpr double kHipHeight = 0.85;       ///< m: legs below, torso above
-inline constexpr double kShoulderHeight = 1.45;  ///< m: top of the torso
-inline constexpr double kTorsoRadius = 0.2;      ///< m
-/// Length of a full gait cycle (two steps) at the nominal walking speed, m; shorter when slower.
-inline constexpr double kStrideLength = 1.4;
-inline constexpr double kNominalWalkingSpeed = 1.34;  ///< m/s
+/// The people detector looks at this height, m (mid-torso of an adult)...
+inline constexpr double kPeopleDetectorHeight = 1.15;
+/// ...and reports a person as a disc of this radius, m.
+inline constexpr double kPersonRadius = 0.2;
 
 /// A range sensor reading in ROS LaserScan's terms (REP 117 for out-of-range values).
 struct LaserReading {
@@ -135,11 +131,8 @@ Vec2 social_velocity(const Pose2& pose, const std::vector<Vec2>& path, double sp
 /// Height of the cylinder that stands for a robot without a model in the physics world, m.
 inline constexpr double kDiscRobotHeight = 1.0;
 
-/// Centres of a human's two legs at `height` (below the hips): a hip width apart, swinging fore and
-/// aft in opposition with the gait phase.
-std::array<Vec2, 2> leg_centres(const Vec2& position, double heading, double gait_phase, double speed, double height);
-
-/// Where a human's legs (two circles) or torso (one) are at `height`, as range sensors see them.
-void add_human_body(sensors::RayScene& scene, const Vec2& position, double heading, double gait_phase, double speed, double height);
+/// A human's body where it crosses the plane at `height`, as range sensors see it: each capsule's
+/// cross-section as circles (one for a limb crossing the plane steeply, a row along one lying in it).
+void add_human_body(sensors::RayScene& scene, const humans::BodyCapsules& body, double height);
 
 }  // namespace hrisim::sim

@@ -43,6 +43,8 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
       agent.preferred_speed = def.preferred_speed.value_or(kScriptedRobotSpeed);
     }
     state_.agents.push_back(std::move(agent));
+    skeletons_.push_back(def.kind == AgentKind::human ? std::optional(humans::Skeleton(humans::body_dimensions(def.type).value_or(humans::kAdultBody)))
+                                                      : std::nullopt);
     ids_.add(static_cast<int>(state_.agents.size() - 1));
     runtime_of_agent_.push_back(def.robot_model ? static_cast<int>(robots_.size()) : -1);
     if (def.robot_model) robots_.emplace_back(static_cast<int>(state_.agents.size() - 1), def, model_->dt, state_.random);
@@ -162,8 +164,21 @@ scenario::Action Session::parse_human_command(AgentId human, std::string_view te
       action.kind = Kind::look_at_location;
       action.target = static_cast<int>(location - model_->locations.begin());
     }
+  } else if (verb == "motion") {
+    if (!(in >> action.motion) || !humans::builtin_motion(action.motion)) {
+      std::string known;
+      for (const std::string& name : humans::builtin_motion_names()) known += (known.empty() ? "" : ", ") + name;
+      throw core::Error(core::ErrorCode::bad_request, "motion: which primitive? (" + known + ")");
+    }
+    action.kind = Kind::play_motion;
+    action.value = humans::builtin_motion(action.motion)->duration();
+    if (in >> std::ws; !in.eof()) {
+      action.value = number("seconds");
+      if (action.value <= 0.0) throw core::Error(core::ErrorCode::bad_request, "motion: seconds must be > 0");
+    }
   } else {
-    throw core::Error(core::ErrorCode::bad_request, "unknown command '" + verb + "' (walk X Y, wait S, turn_to RAD, look_at NAME)");
+    throw core::Error(core::ErrorCode::bad_request,
+                      "unknown command '" + verb + "' (walk X Y, wait S, turn_to RAD, look_at NAME, motion NAME [S])");
   }
   std::string extra;
   if (in >> extra) throw core::Error(core::ErrorCode::bad_request, verb + ": unexpected '" + extra + "'");
@@ -623,6 +638,12 @@ bool Session::start_action(int agent, const Action& action, const PendingAction&
       state.awaited_request = open ? id : 0;
       return true;
     }
+    case Kind::play_motion:
+      state.motion = humans::builtin_motion(action.motion);
+      state.motion_tick = state_.tick;
+      state.motion_released_tick = -1;
+      state.wait_until_tick = state_.tick + ticks(action.value);
+      return true;
     case Kind::wait_message:
     case Kind::run_task:
       return true;
@@ -656,6 +677,7 @@ bool Session::action_done(int agent, const Action& action) {
     case Kind::turn_to:
       return !state.target_heading;
     case Kind::harass:
+    case Kind::play_motion:
       return state_.tick >= state.wait_until_tick;
     case Kind::request:
       return std::none_of(state_.requests.begin(), state_.requests.end(),
@@ -745,6 +767,45 @@ bool Session::plan_path(int agent) {
   }
   state.replan_at_tick = state_.tick + ticks(kReplanRetry);
   return false;
+}
+
+void Session::advance_body(AgentState& state, double turned) const {
+  const double speed = state.velocity.norm();
+  state.turn_rate = turned / model_->dt;
+  const humans::MotionClip& walk = *humans::builtin_motion("walk");
+  state.gait_distance = std::fmod(state.gait_distance + speed * model_->dt + humans::kTurnStepRadius * std::abs(turned), walk.speed() * walk.duration());
+  if (!state.motion) return;
+  const bool playing = !state.program.empty() && state.action_started && action_of(state.program.front()).kind == Kind::play_motion;
+  if (state.motion_released_tick < 0 && !playing && speed > kMotionReleaseSpeed) state.motion_released_tick = state_.tick;
+  if (state.motion_released_tick >= 0 && static_cast<double>(state_.tick - state.motion_released_tick) * model_->dt >= humans::kMotionBlendTime) {
+    state.motion = nullptr;
+    state.motion_released_tick = -1;
+  }
+}
+
+humans::Activity Session::activity(int agent) const {
+  const AgentState& state = state_.agents[agent];
+  humans::Activity activity;
+  activity.time = time();
+  activity.gait_distance = state.gait_distance;
+  activity.speed = state.velocity.norm();
+  activity.turn_rate = state.turn_rate;
+  activity.motion = state.motion;
+  if (state.motion) {
+    const std::int64_t until = state.motion_released_tick >= 0 ? state.motion_released_tick : state_.tick;
+    activity.motion_time = static_cast<double>(until - state.motion_tick) * model_->dt;
+    if (state.motion_released_tick >= 0) activity.since_release = static_cast<double>(state_.tick - state.motion_released_tick) * model_->dt;
+  }
+  return activity;
+}
+
+humans::BodyCapsules Session::human_body(int agent) const {
+  const AgentState& state = state_.agents[agent];
+  Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+  base.translation() = Eigen::Vector3d(state.position.x(), state.position.y(), 0.0);
+  base.linear() = Eigen::AngleAxisd(state.heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const humans::Skeleton& skeleton = *skeletons_[agent];
+  return humans::body_capsules(skeleton, humans::forward_kinematics(skeleton, humans::body_pose(activity(agent)), base));
 }
 
 void Session::locomotion() {
@@ -860,23 +921,22 @@ void Session::locomotion() {
     AgentState& state = state_.agents[i];
     state.velocity = velocities_[k];
     state.position += state.velocity * model_->dt;
-    if (model_->agents[i].kind == AgentKind::human) {
-      const double stride = kStrideLength * std::min(state.velocity.norm() / kNominalWalkingSpeed, 1.0);
-      if (stride > 0.0) state.gait_phase = std::fmod(state.gait_phase + 2.0 * std::numbers::pi * state.velocity.norm() * model_->dt / stride, 2.0 * std::numbers::pi);
-    }
+    const double heading_before = state.heading;
     std::optional<double> desired = watching_headings_[i] ? watching_headings_[i] : state.target_heading;
     // Walking direction, for every walker every step: the polynomial (1e-5 rad) spares a libm call.
     if (!desired && state.velocity.norm() > 0.05) desired = core::polynomial_atan2(state.velocity.y(), state.velocity.x());
-    if (!desired) continue;
-    const double difference = core::wrap_angle(*desired - state.heading);
-    if (std::abs(difference) <= max_turn) {
-      state.heading = core::wrap_angle(*desired);
-      if (!watching_headings_[i] && state.target_heading && std::abs(difference) <= kHeadingTolerance) {
-        state.target_heading.reset();
+    if (desired) {
+      const double difference = core::wrap_angle(*desired - state.heading);
+      if (std::abs(difference) <= max_turn) {
+        state.heading = core::wrap_angle(*desired);
+        if (!watching_headings_[i] && state.target_heading && std::abs(difference) <= kHeadingTolerance) {
+          state.target_heading.reset();
+        }
+      } else {
+        state.heading = core::wrap_angle(state.heading + std::copysign(max_turn, difference));
       }
-    } else {
-      state.heading = core::wrap_angle(state.heading + std::copysign(max_turn, difference));
     }
+    if (model_->agents[i].kind == AgentKind::human) advance_body(state, core::wrap_angle(state.heading - heading_before));
   }
 }
 
@@ -981,12 +1041,11 @@ void Session::place_object(int object, const Eigen::Isometry3d& pose) {
 
 namespace {
 
-/// A leg as a capsule from the hip to the foot.
-Eigen::Isometry3d leg_pose(const Vec2& hip, const Vec2& foot) {
-  const Eigen::Vector3d top(hip.x(), hip.y(), kHipHeight), bottom(foot.x(), foot.y(), 0.0);
+/// A capsule of the body as the physics world's shape: centred, its axis along z.
+Eigen::Isometry3d capsule_pose(const humans::Capsule& capsule) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translate(0.5 * (top + bottom));
-  pose.rotate(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), top - bottom));
+  pose.translate(0.5 * (capsule.from + capsule.to));
+  pose.rotate(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), capsule.to - capsule.from));
   return pose;
 }
 
@@ -1026,18 +1085,19 @@ void Session::build_physics() {
     door_bodies_.push_back(physics_->add_kinematic(slab, pose, {BodyOwner::Kind::map, -1, door.name}));
     physics_->set_enabled(door_bodies_.back(), door_blocks(static_cast<int>(d)));
   }
-  human_bodies_.assign(state_.agents.size(), {});
+  std::array<int, humans::kBodyPartCount> no_bodies;
+  no_bodies.fill(-1);
+  human_bodies_.assign(state_.agents.size(), no_bodies);
   for (std::size_t i = 0; i < state_.agents.size(); ++i) {
     if (model_->agents[i].kind != AgentKind::human) continue;
-    const Vec2 at = state_.agents[i].position;
     const int agent = static_cast<int>(i);
-    HumanBodies& body = human_bodies_[i];
-    body.torso = physics_->add_kinematic(capsule(kTorsoRadius, kShoulderHeight - kHipHeight - 2 * kTorsoRadius),
-                                         upright(at, 0.5 * (kHipHeight + kShoulderHeight)), {BodyOwner::Kind::human, agent, "torso"});
-    body.left_leg = physics_->add_kinematic(capsule(kLegRadius, kHipHeight - 2 * kLegRadius), upright(at, 0.5 * kHipHeight),
-                                            {BodyOwner::Kind::human, agent, "left_leg"});
-    body.right_leg = physics_->add_kinematic(capsule(kLegRadius, kHipHeight - 2 * kLegRadius), upright(at, 0.5 * kHipHeight),
-                                             {BodyOwner::Kind::human, agent, "right_leg"});
+    // Bone lengths do not change, so each capsule keeps the length it has now.
+    const humans::BodyCapsules body = human_body(agent);
+    for (int part = 0; part < humans::kBodyPartCount; ++part) {
+      const humans::Capsule& solid = body[part];
+      human_bodies_[i][part] = physics_->add_kinematic(capsule(solid.radius, (solid.to - solid.from).norm()), capsule_pose(solid),
+                                                       {BodyOwner::Kind::human, agent, std::string(humans::body_part_name(static_cast<humans::BodyPart>(part)))});
+    }
   }
   disc_robot_bodies_.assign(state_.agents.size(), -1);
   for (std::size_t i = 0; i < state_.agents.size(); ++i) {
@@ -1070,16 +1130,13 @@ void Session::build_physics() {
 void Session::step_physics() {
   for (std::size_t d = 0; d < door_bodies_.size(); ++d) physics_->set_enabled(door_bodies_[d], door_blocks(static_cast<int>(d)));
   for (std::size_t i = 0; i < human_bodies_.size(); ++i) {
-    const HumanBodies& body = human_bodies_[i];
-    if (body.torso < 0) continue;
+    const auto& bodies = human_bodies_[i];
+    if (bodies[0] < 0) continue;
     const AgentState& agent = state_.agents[i];
-    for (const int part : {body.torso, body.left_leg, body.right_leg}) physics_->set_enabled(part, agent.active);
+    for (const int part : bodies) physics_->set_enabled(part, agent.active);
     if (!agent.active) continue;
-    physics_->set_kinematic_pose(body.torso, upright(agent.position, 0.5 * (kHipHeight + kShoulderHeight)));
-    const auto feet = leg_centres(agent.position, agent.heading, agent.gait_phase, agent.velocity.norm(), 0.0);
-    const Vec2 side = 0.5 * kHipWidth * core::left_normal(core::heading_vector(agent.heading));
-    physics_->set_kinematic_pose(body.left_leg, leg_pose(agent.position + side, feet[0]));
-    physics_->set_kinematic_pose(body.right_leg, leg_pose(agent.position - side, feet[1]));
+    const humans::BodyCapsules body = human_body(static_cast<int>(i));
+    for (int part = 0; part < humans::kBodyPartCount; ++part) physics_->set_kinematic_pose(bodies[part], capsule_pose(body[part]));
   }
   for (std::size_t i = 0; i < disc_robot_bodies_.size(); ++i) {
     if (disc_robot_bodies_[i] < 0) continue;
@@ -1176,7 +1233,7 @@ sensors::RayScene Session::range_scene(double height, int robot_agent) const {
     if (!agent.active || static_cast<int>(i) == robot_agent) continue;
     const scenario::AgentDef& def = model_->agents[i];
     if (def.kind == AgentKind::human) {
-      add_human_body(scene, agent.position, agent.heading, agent.gait_phase, agent.velocity.norm(), height);
+      add_human_body(scene, human_body(static_cast<int>(i)), height);
     } else if (!def.robot_model || height < def.robot_model->height) {
       scene.add(sensors::Circle{agent.position, def.radius});
     }
@@ -1214,12 +1271,11 @@ void Session::sense() {
         const Eigen::Vector3d forward = mount.rotation().col(0);
         from = {mount.translation().x(), mount.translation().y(), std::atan2(forward.y(), forward.x())};
       }
-      const double torso_height = 0.5 * (kHipHeight + kShoulderHeight);
-      const sensors::RayScene scene = range_scene(torso_height, runtime.agent);
+      const sensors::RayScene scene = range_scene(kPeopleDetectorHeight, runtime.agent);
       std::vector<sensors::PersonTruth> people;
       for (std::size_t i = 0; i < state_.agents.size(); ++i) {
         if (state_.agents[i].active && model_->agents[i].kind == AgentKind::human) {
-          people.push_back({static_cast<int>(i), state_.agents[i].position, state_.agents[i].velocity, kTorsoRadius});
+          people.push_back({static_cast<int>(i), state_.agents[i].position, state_.agents[i].velocity, kPersonRadius});
         }
       }
       runtime.people_detector->detect(scene, from.position(), from.theta, people, runtime.sensor_random, runtime.people.people);
@@ -1284,7 +1340,13 @@ std::uint64_t Session::state_hash() const {
   hash.add(static_cast<std::int64_t>(state_.requests.size())).add(static_cast<std::int64_t>(state_.events.size()));
   hash.add(static_cast<std::int64_t>(state_.commanded.size()));
   for (std::uint64_t word : state_.random.state()) hash.add(word);
-  for (const AgentState& agent : state_.agents) hash.add(agent.gait_phase);
+  for (const AgentState& agent : state_.agents) {
+    hash.add(agent.gait_distance);
+    hash.add(agent.turn_rate);
+    hash.add(agent.motion ? agent.motion->name() : std::string());
+    hash.add(agent.motion_tick);
+    hash.add(agent.motion_released_tick);
+  }
   for (const RobotRuntime& runtime : robots_) runtime.hash(hash);
   for (const int body : object_bodies_) {
     const Eigen::Isometry3d pose = physics_->pose(body);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/id.hpp"
+#include "humans/body.hpp"
 #include "humans/locomotion.hpp"
 #include "physics/physics_world.hpp"
 #include "scenario/model.hpp"
@@ -41,6 +42,9 @@ inline constexpr double kReplanInterval = 0.5;
 inline constexpr double kRejoinClearance = 0.5;
 /// Without a path, planning is tried again after this long, s.
 inline constexpr double kReplanRetry = 1.0;
+
+/// A person holding a motion primitive's last pose walks off it (it blends out) above this speed, m/s.
+inline constexpr double kMotionReleaseSpeed = 0.2;
 
 struct AgentTag {};
 /// An agent of a session; stale once the agent is removed (using it then fails with not_found).
@@ -100,6 +104,13 @@ class Session {
   /// Places a movable object, at rest. Throws conflict while a gripper holds it.
   void place_object(int object, const Eigen::Isometry3d& pose);
 
+  /// What a human's body is doing now, and its solids (capsules between the skeleton's joints) in the
+  /// map frame: what contact, range sensors and cameras meet.
+  humans::Activity activity(int agent) const;
+  humans::BodyCapsules human_body(int agent) const;
+  /// A human's skeleton (its body's dimensions from its type); null for robots.
+  const humans::Skeleton* skeleton(int agent) const { return skeletons_[agent] ? &*skeletons_[agent] : nullptr; }
+
   const State& state() const { return state_; }
   const scenario::Model& model() const { return *model_; }
   const std::shared_ptr<const scenario::Model>& shared_model() const { return model_; }
@@ -132,6 +143,8 @@ class Session {
   bool slot_free(int space, int slot, int agent) const;
   bool idle(int agent) const;
   void locomotion();
+  /// A human's gait, turn rate and motion primitive after it moved this step and turned by `turned`.
+  void advance_body(AgentState& state, double turned) const;
   /// Robots with a model: their controllers pick a command (before the crowd moves).
   void decide_robots();
   /// Robots with a model: motors and bases advance; the agents follow their bases.
@@ -156,12 +169,11 @@ class Session {
   std::vector<Vec2> velocities_;
   std::vector<std::optional<double>> watching_headings_;  ///< per agent this tick: facing a watched robot
   std::vector<RobotRuntime> robots_;
+  std::vector<std::optional<humans::Skeleton>> skeletons_;  ///< per agent: humans' bodies
   /// The Bullet world, when the scenario has a robot with a model or a movable object.
   std::unique_ptr<physics::PhysicsWorld> physics_;
-  struct HumanBodies {
-    int torso = -1, left_leg = -1, right_leg = -1;
-  };
-  std::vector<HumanBodies> human_bodies_;  ///< per agent (robots: none)
+  /// Per agent: the physics bodies of a human's capsules (robots: -1).
+  std::vector<std::array<int, humans::kBodyPartCount>> human_bodies_;
   std::vector<int> door_bodies_;
   std::vector<int> disc_robot_bodies_;  ///< per agent: the body of a robot without a model, else -1
   std::vector<int> object_bodies_;

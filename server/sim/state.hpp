@@ -11,6 +11,7 @@
 
 #include "core/math.hpp"
 #include "core/random.hpp"
+#include "humans/motion.hpp"
 
 namespace hrisim::sim {
 
@@ -69,7 +70,13 @@ struct AgentState {
   bool answering_request = false;
 
   Vec2 commanded_velocity = Vec2::Zero();  ///< robots without a model: from the controller
-  double gait_phase = 0.0;  ///< humans: where in the walking cycle (rad), advanced by the distance walked
+  // Humans' bodies (humans::Activity): the gait advanced by the distance walked, the turn rate, and
+  // the motion primitive played, if any.
+  double gait_distance = 0.0;  ///< m, within one walk cycle
+  double turn_rate = 0.0;      ///< rad/s in the last step
+  const humans::MotionClip* motion = nullptr;  ///< a shipped primitive (its pose held once it ends)
+  std::int64_t motion_tick = 0;                ///< when it started
+  std::int64_t motion_released_tick = -1;      ///< when the person walked off (it blends out), -1 before
 };
 
 struct Event {

@@ -623,33 +623,91 @@ TEST(SessionModes, ARealtimeSessionStepsItselfAndAControllerReplacesTheRobots) {
 }  // namespace
 }  // namespace hrisim::testing
 
+#include <cstring>
+#include <set>
+
 #include "render/image_codec.hpp"
+#include "render/scene_renderer.hpp"
+#include "sim/scene_view.hpp"
 
 namespace hrisim::testing {
 namespace {
 
-TEST(SessionFrames, OverviewAndFollowCamerasGivePngFrames) {
+TEST(SessionFrames, CamerasGiveColourDepthAndSegmentationInEveryFormat) {
   TestServer server;
   const std::uint16_t port = server.port();
   const std::string id = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 1})"))["id"];
   const std::string base = "/api/v1/sessions/" + id + "/frames/";
+  // The cameras: the overview ones and the HSR's head RGB-D camera with its description's intrinsics.
+  const json cameras = json_of(http(port, "GET", "/api/v1/sessions/" + id + "/cameras"));
+  std::vector<std::string> names;
+  for (const json& camera : cameras["cameras"]) names.push_back(camera["name"]);
+  EXPECT_EQ(names, (std::vector<std::string>{"overview", "follow", "robot.head_rgbd"}));
+  const json& head = cameras["cameras"][2];
+  EXPECT_EQ(head["width"], 640);
+  EXPECT_NEAR(head["fx"].get<double>(), 320.0 / std::tan(1.047 / 2), 1e-6) << "from the horizontal field of view";
+  EXPECT_GT(cameras["segmentation"].size(), 6u);
+
   const HttpReply overview = http(port, "GET", base + "overview?width=320&height=240");
   ASSERT_EQ(overview.status, 200) << overview.body;
   EXPECT_EQ(overview.headers.at("content-type"), "image/png");
   const render::ImageRgba8 image = render::decode_png(overview.body);
   EXPECT_EQ(image.width, 320);
   EXPECT_EQ(image.height, 240);
-  // The map's floor fills the middle; the corners are sky.
-  const std::uint8_t* corner = image.pixel(0, 0);
   const std::uint8_t* middle = image.pixel(160, 120);
-  EXPECT_NE(std::vector<std::uint8_t>(corner, corner + 3), std::vector<std::uint8_t>(middle, middle + 3));
-  const render::ImageRgba8 follow = render::decode_png(http(port, "GET", base + "follow").body);
-  EXPECT_EQ(follow.width, 640) << "640x480 by default";
+  EXPECT_FALSE(std::abs(middle[0] - render::kBackground[0] * 255) < 2 && std::abs(middle[2] - render::kBackground[2] * 255) < 2)
+      << "the map fills the middle";
+  const HttpReply jpeg = http(port, "GET", base + "robot.head_rgbd?format=jpeg&width=256&height=256");
+  ASSERT_EQ(jpeg.status, 200);
+  EXPECT_EQ(jpeg.headers.at("content-type"), "image/jpeg");
+  EXPECT_EQ(jpeg.body.substr(0, 2), "\xFF\xD8");
+
+  // Depth as millimetres in a 16-bit PNG and as metres in .npy agree.
+  const HttpReply depth16 = http(port, "GET", base + "robot.head_rgbd?format=depth16&width=256&height=256");
+  ASSERT_EQ(depth16.status, 200);
+  int w = 0, h = 0;
+  const std::vector<std::uint16_t> millimetres = render::decode_depth16(depth16.body, w, h);
+  ASSERT_EQ(w, 256);
+  ASSERT_EQ(h, 256);
+  const HttpReply npy = http(port, "GET", base + "robot.head_rgbd?format=npy&image=depth&width=256&height=256");
+  ASSERT_EQ(npy.status, 200);
+  ASSERT_EQ(npy.body.substr(0, 6), "\x93NUMPY");
+  EXPECT_NE(npy.body.find("'descr': '<f4', 'fortran_order': False, 'shape': (256, 256)"), std::string::npos);
+  const std::size_t data = npy.body.size() - 256 * 256 * 4;
+  EXPECT_EQ(data % 64, 0u) << "the data starts on a 64-byte boundary";
+  int seen = 0;
+  for (std::size_t i = 0; i < millimetres.size(); i += 97) {
+    float metres = 0.0f;
+    std::memcpy(&metres, npy.body.data() + data + 4 * i, 4);
+    EXPECT_NEAR(millimetres[i], std::round(metres * 1000.0f), 1.0);
+    seen += metres > 0.1f && metres < 10.0f;
+  }
+  EXPECT_GT(seen, 100) << "the camera sees the room";
+
+  // Segmentation: every id is in the legend.
+  const HttpReply ids = http(port, "GET", base + "overview?format=npy&image=segmentation");
+  ASSERT_EQ(ids.status, 200);
+  std::set<std::uint32_t> legend;
+  for (const json& entry : cameras["segmentation"]) legend.insert(entry["id"].get<std::uint32_t>());
+  const std::size_t start = ids.body.size() - 640 * 480 * 4;
+  std::set<std::uint32_t> found;
+  for (std::size_t i = 0; i < 640 * 480; i += 7) {
+    std::uint32_t value = 0;
+    std::memcpy(&value, ids.body.data() + start + 4 * i, 4);
+    if (value != 0) found.insert(value);
+  }
+  for (const std::uint32_t value : found) EXPECT_TRUE(legend.contains(value)) << value;
+  EXPECT_TRUE(found.contains(sim::kFloorId));
+  EXPECT_TRUE(std::any_of(found.begin(), found.end(), [](std::uint32_t v) { return v >= sim::kAgentIdBase && v < sim::kAgentIdBase + 100; }))
+      << "people seen from above";
+
   EXPECT_EQ(http(port, "GET", base + "ceiling").status, 404);
-  EXPECT_EQ(http(port, "GET", base + "overview?format=jpeg").status, 400);
+  EXPECT_EQ(http(port, "GET", base + "overview?format=bmp").status, 400);
+  EXPECT_EQ(http(port, "GET", base + "overview?format=jpeg&image=depth").status, 400);
+  EXPECT_EQ(http(port, "GET", base + "overview?image=normals").status, 400);
   EXPECT_EQ(http(port, "GET", base + "overview?width=4").status, 400);
   const std::string crowd = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "perpendicular_crossing"})"))["id"];
-  EXPECT_EQ(http(port, "GET", "/api/v1/sessions/" + crowd + "/frames/follow").status, 409) << "no robot to follow";
+  EXPECT_EQ(http(port, "GET", "/api/v1/sessions/" + crowd + "/frames/follow").status, 404) << "no robot to follow";
 }
 
 }  // namespace

@@ -90,8 +90,10 @@ TEST(RobotSession, BaseLaserSeesAPersonsLegsAsTwoArcs) {
     on_leg = leg;
   }
   ASSERT_EQ(runs.size(), 2u) << "two legs, the wall showing between them";
-  // Each leg (0.07 m radius at 1.45 m) spans about 2 × asin(0.07 / 1.45) ≈ 5.5° ≈ 22 beams of 0.25°.
-  for (const int run : runs) EXPECT_NEAR(run, 22, 4);
+  // At 0.18 m the laser cuts an adult's shins: capsules of 0.11 × 0.45 m shoulder width = 0.0495 m
+  // radius, 0.09 m either side of her centre. At 1.53 m each spans 2 × asin(0.0495 / 1.53) ≈ 3.7° ≈
+  // 15 beams of 0.25°.
+  for (const int run : runs) EXPECT_NEAR(run, 15, 2);
 }
 
 TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
@@ -101,8 +103,8 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
                   1);
   const AgentId hsr = session.agent_id("hsr");
   session.step();
-  // Her legs (0.07 m capsules 0.1 m either side of her centre) overlap the HSR's 0.215 m base, and
-  // her torso (0.2 m, from 0.85 m up) its torso column; each part is its own contact.
+  // Her skeleton's capsules — shins, feet, thighs — overlap the HSR's 0.215 m base; each part is its
+  // own contact, named by its body part.
   const auto started = events_of(session, "contact_start");
   ASSERT_GE(started.size(), 2u);
   std::set<std::string> parts;
@@ -111,9 +113,12 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
     EXPECT_EQ(event->data["with"], "ana");
     parts.insert(event->data["part"]);
   }
-  EXPECT_TRUE(parts.contains("left_leg") || parts.contains("right_leg"));
+  EXPECT_TRUE(parts.contains("l_shin") || parts.contains("r_shin"));
   EXPECT_TRUE(std::all_of(parts.begin(), parts.end(), [](const std::string& part) {
-    return part == "left_leg" || part == "right_leg" || part == "torso";
+    for (int p = 0; p < humans::kBodyPartCount; ++p) {
+      if (part == humans::body_part_name(static_cast<humans::BodyPart>(p))) return true;
+    }
+    return false;
   }));
   session.command_robot_twist(hsr, {-0.2, 0.0});
   for (int i = 0; i < 200; ++i) session.step();

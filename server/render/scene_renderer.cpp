@@ -1,0 +1,388 @@
+#include "render/scene_renderer.hpp"
+
+#define GL_GLEXT_PROTOTYPES
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <numbers>
+#include <string>
+
+#include "core/error.hpp"
+#include "render/mesh.hpp"
+#include "render/offscreen_context.hpp"
+
+namespace hrisim::render {
+namespace {
+
+constexpr const char* kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+layout(location = 2) in vec3 colour;
+layout(location = 3) in uint id;
+uniform mat4 view_projection;
+uniform int ids;
+out vec3 world_normal;
+out vec3 lit_colour;
+flat out uint instance;
+void main() {
+  world_normal = normal;
+  lit_colour = colour;
+  instance = id;
+  gl_Position = view_projection * vec4(position, 1.0);
+}
+)";
+
+// Lit colour, or the instance id spread over the 8-bit channels for segmentation.
+constexpr const char* kFragmentShader = R"(#version 330 core
+in vec3 world_normal;
+in vec3 lit_colour;
+flat in uint instance;
+uniform int ids;
+out vec4 fragment;
+void main() {
+  if (ids == 1) {
+    fragment = vec4(float(instance & 255u), float((instance >> 8) & 255u), float((instance >> 16) & 255u), 255.0) / 255.0;
+    return;
+  }
+  vec3 light = normalize(vec3(0.3, 0.5, 1.0));
+  float lit = 0.35 + 0.65 * max(dot(normalize(world_normal), light), 0.0);
+  fragment = vec4(lit_colour * lit, 1.0);
+}
+)";
+
+constexpr int kFloatsPerVertex = 10;  // position, normal, colour, id (its bits)
+constexpr int kRoundSegments = 16;    // around cylinders, spheres and capsules
+constexpr int kSphereStacks = 8;      // even: the equator is an edge, so a sphere splits into capsule caps
+
+/// Triangles in a shape's local frame: positions and normals, three vertices per triangle.
+struct LocalMesh {
+  std::vector<Eigen::Vector3f> positions, normals;
+  void add(const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
+    positions.push_back(p);
+    normals.push_back(n);
+  }
+};
+
+/// The unit cube centred at the origin, faces counter-clockwise seen from outside.
+LocalMesh unit_cube() {
+  LocalMesh mesh;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const float side : {-1.0f, 1.0f}) {
+      Eigen::Vector3f n = Eigen::Vector3f::Zero();
+      n[axis] = side;
+      const Eigen::Vector3f u = Eigen::Vector3f::Unit((axis + 1) % 3), v = Eigen::Vector3f::Unit((axis + 2) % 3);
+      const Eigen::Vector3f c = 0.5f * n;
+      Eigen::Vector3f corners[4] = {c - 0.5f * u - 0.5f * v, c + 0.5f * u - 0.5f * v, c + 0.5f * u + 0.5f * v, c - 0.5f * u + 0.5f * v};
+      if (side < 0) std::swap(corners[1], corners[3]);
+      for (const int i : {0, 1, 2, 0, 2, 3}) mesh.add(corners[i], n);
+    }
+  }
+  return mesh;
+}
+
+Eigen::Vector3f around(int segment, float radius, float z) {
+  const float angle = 2.0f * std::numbers::pi_v<float> * static_cast<float>(segment) / kRoundSegments;
+  return {radius * std::cos(angle), radius * std::sin(angle), z};
+}
+
+/// The side of a cylinder of radius 0.5 from z = −0.5 to 0.5 (with its caps when `caps`).
+LocalMesh unit_cylinder(bool caps) {
+  LocalMesh mesh;
+  for (int s = 0; s < kRoundSegments; ++s) {
+    const Eigen::Vector3f a0 = around(s, 0.5f, -0.5f), a1 = around(s + 1, 0.5f, -0.5f);
+    const Eigen::Vector3f b0 = around(s, 0.5f, 0.5f), b1 = around(s + 1, 0.5f, 0.5f);
+    const Eigen::Vector3f n0 = around(s, 1.0f, 0.0f), n1 = around(s + 1, 1.0f, 0.0f);
+    mesh.add(a0, n0), mesh.add(a1, n1), mesh.add(b1, n1);
+    mesh.add(a0, n0), mesh.add(b1, n1), mesh.add(b0, n0);
+    if (!caps) continue;
+    mesh.add({0, 0, 0.5f}, Eigen::Vector3f::UnitZ()), mesh.add(b0, Eigen::Vector3f::UnitZ()), mesh.add(b1, Eigen::Vector3f::UnitZ());
+    mesh.add({0, 0, -0.5f}, -Eigen::Vector3f::UnitZ()), mesh.add(a1, -Eigen::Vector3f::UnitZ()), mesh.add(a0, -Eigen::Vector3f::UnitZ());
+  }
+  return mesh;
+}
+
+/// A sphere of radius 0.5 at the origin in latitude bands.
+LocalMesh unit_sphere() {
+  LocalMesh mesh;
+  const auto point = [](int stack, int segment) {
+    const float polar = std::numbers::pi_v<float> * static_cast<float>(stack) / kSphereStacks;
+    const float azimuth = 2.0f * std::numbers::pi_v<float> * static_cast<float>(segment) / kRoundSegments;
+    return Eigen::Vector3f(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar));
+  };
+  for (int t = 0; t < kSphereStacks; ++t) {
+    for (int s = 0; s < kRoundSegments; ++s) {
+      const Eigen::Vector3f a = point(t, s), b = point(t + 1, s), c = point(t + 1, s + 1), d = point(t, s + 1);
+      if (t > 0) mesh.add(0.5f * a, a), mesh.add(0.5f * b, b), mesh.add(0.5f * d, d);
+      if (t < kSphereStacks - 1) mesh.add(0.5f * d, d), mesh.add(0.5f * b, b), mesh.add(0.5f * c, c);
+    }
+  }
+  return mesh;
+}
+
+/// OpenGL's projection for the camera (pixel rows from the top), mapping depth to [-1, 1].
+Eigen::Matrix4f projection(const Camera& c) {
+  const float w = static_cast<float>(c.width), h = static_cast<float>(c.height), n = static_cast<float>(c.near), f = static_cast<float>(c.far);
+  Eigen::Matrix4f p = Eigen::Matrix4f::Zero();
+  if (c.orthographic_width > 0.0) {
+    const float span = static_cast<float>(c.orthographic_width);
+    p(0, 0) = 2.0f / span;
+    p(1, 1) = 2.0f / (span * h / w);
+    p(2, 2) = -2.0f / (f - n);
+    p(2, 3) = -(f + n) / (f - n);
+    p(3, 3) = 1.0f;
+    return p;
+  }
+  p(0, 0) = 2.0f * static_cast<float>(c.fx) / w;
+  p(0, 2) = 1.0f - 2.0f * static_cast<float>(c.cx) / w;
+  p(1, 1) = 2.0f * static_cast<float>(c.fy) / h;
+  p(1, 2) = 2.0f * static_cast<float>(c.cy) / h - 1.0f;
+  p(2, 2) = -(f + n) / (f - n);
+  p(2, 3) = -2.0f * f * n / (f - n);
+  p(3, 2) = -1.0f;
+  return p;
+}
+
+/// From the map into OpenGL's eye frame (x right, y up, looking down −z) of a REP 103 camera.
+Eigen::Matrix4f view(const Camera& c) {
+  Eigen::Matrix4d body_to_eye = Eigen::Matrix4d::Zero();
+  body_to_eye(0, 1) = -1.0;  // right = −left
+  body_to_eye(1, 2) = 1.0;   // up
+  body_to_eye(2, 0) = -1.0;  // −forward
+  body_to_eye(3, 3) = 1.0;
+  return (body_to_eye * c.pose.inverse().matrix()).cast<float>();
+}
+
+/// Appends a part's triangles, in the map frame, to the vertex array.
+class VertexWriter {
+ public:
+  explicit VertexWriter(std::vector<float>& out) : out_(out) {}
+
+  /// `local` mapped by `linear` and moved by `offset`; normals by `normal_matrix` (inverse transpose).
+  void add(const std::vector<Eigen::Vector3f>& positions, const std::vector<Eigen::Vector3f>& normals, const Eigen::Matrix3f& linear,
+           const Eigen::Vector3f& offset, const Eigen::Matrix3f& normal_matrix, const Part& part, std::size_t first = 0,
+           std::size_t count = SIZE_MAX) {
+    const std::size_t end = std::min(positions.size(), count == SIZE_MAX ? SIZE_MAX : first + count);
+    for (std::size_t i = first; i < end; ++i) write(linear * positions[i] + offset, normal_matrix * normals[i], part);
+  }
+  void add(const LocalMesh& local, const Eigen::Matrix3f& linear, const Eigen::Vector3f& offset, const Eigen::Matrix3f& normal_matrix,
+           const Part& part, std::size_t first = 0, std::size_t count = SIZE_MAX) {
+    add(local.positions, local.normals, linear, offset, normal_matrix, part, first, count);
+  }
+  void write(const Eigen::Vector3f& p, const Eigen::Vector3f& n, const Part& part) {
+    const Eigen::Vector3f unit = n.normalized();
+    float id_bits = 0.0f;
+    std::memcpy(&id_bits, &part.id, sizeof id_bits);
+    out_.insert(out_.end(), {p.x(), p.y(), p.z(), unit.x(), unit.y(), unit.z(), part.colour[0], part.colour[1], part.colour[2], id_bits});
+  }
+
+ private:
+  std::vector<float>& out_;
+};
+
+struct Shapes {
+  LocalMesh cube = unit_cube(), cylinder = unit_cylinder(true), tube = unit_cylinder(false), sphere = unit_sphere();
+};
+
+const Shapes& shapes() {
+  static const Shapes instance;
+  return instance;
+}
+
+void write_part(VertexWriter& writer, const Part& part) {
+  const Shapes& s = shapes();
+  const Eigen::Matrix3f rotation = part.pose.linear().cast<float>();
+  const Eigen::Vector3f centre = part.pose.translation().cast<float>();
+  switch (part.shape) {
+    case Part::Shape::box:
+    case Part::Shape::cylinder:
+    case Part::Shape::sphere: {
+      const Eigen::Vector3f size = part.size.cast<float>();
+      const LocalMesh& local = part.shape == Part::Shape::box ? s.cube : part.shape == Part::Shape::cylinder ? s.cylinder : s.sphere;
+      writer.add(local, rotation * size.asDiagonal(), centre, rotation * size.cwiseInverse().asDiagonal(), part);
+      return;
+    }
+    case Part::Shape::mesh: {
+      if (!part.mesh || part.mesh->positions.empty()) return;
+      const Eigen::AlignedBox3f bounds = part.mesh->bounds();
+      const Eigen::Vector3f extent = bounds.sizes().cwiseMax(1e-6f), fit = part.size.cast<float>().cwiseQuotient(extent);
+      // Stretched so its bounds fill the part's box, centred on the pose.
+      const Eigen::Matrix3f linear = rotation * fit.asDiagonal();
+      writer.add(part.mesh->positions, part.mesh->normals, linear, centre - linear * bounds.center(), rotation * fit.cwiseInverse().asDiagonal(), part);
+      return;
+    }
+    case Part::Shape::capsule: {
+      const Eigen::Vector3f from = part.from.cast<float>(), to = part.to.cast<float>(), axis = to - from;
+      const float length = axis.norm(), diameter = 2.0f * static_cast<float>(part.radius);
+      const Eigen::Matrix3f turn = length > 0.0f ? Eigen::Quaternionf::FromTwoVectors(Eigen::Vector3f::UnitZ(), axis / length).toRotationMatrix()
+                                                 : Eigen::Matrix3f::Identity();
+      const Eigen::Matrix3f round = turn * (diameter * Eigen::Matrix3f::Identity());
+      writer.add(s.tube, turn * Eigen::Vector3f(diameter, diameter, length).asDiagonal(), 0.5f * (from + to),
+                 turn * Eigen::Vector3f(1.0f / diameter, 1.0f / diameter, length > 0.0f ? 1.0f / length : 1.0f).asDiagonal(), part);
+      // The sphere's upper half caps `to`, its lower half `from` (the first half of its triangles lie above the equator).
+      const std::size_t half = s.sphere.positions.size() / 2;
+      writer.add(s.sphere, round, to, turn, part, 0, half);
+      writer.add(s.sphere, round, from, turn, part, half, half);
+      return;
+    }
+  }
+}
+
+GLuint compile(GLenum kind, const char* source) {
+  const GLuint shader = glCreateShader(kind);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[1024];
+    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+    throw core::Error(core::ErrorCode::internal, std::string("shader does not compile: ") + log);
+  }
+  return shader;
+}
+
+}  // namespace
+
+Part Part::box(const Eigen::Isometry3d& pose, const Eigen::Vector3d& size, std::array<float, 3> colour, std::uint32_t id) {
+  Part part;
+  part.pose = pose;
+  part.size = size;
+  part.colour = colour;
+  part.id = id;
+  return part;
+}
+
+Part Part::capsule(const Eigen::Vector3d& from, const Eigen::Vector3d& to, double radius, std::array<float, 3> colour, std::uint32_t id) {
+  Part part;
+  part.shape = Shape::capsule;
+  part.from = from;
+  part.to = to;
+  part.radius = radius;
+  part.colour = colour;
+  part.id = id;
+  return part;
+}
+
+Camera Camera::pinhole(int width, int height, double horizontal_fov, double near, double far) {
+  Camera camera;
+  camera.width = width;
+  camera.height = height;
+  camera.fx = camera.fy = (width / 2.0) / std::tan(horizontal_fov / 2.0);
+  camera.cx = width / 2.0;
+  camera.cy = height / 2.0;
+  camera.near = near;
+  camera.far = far;
+  return camera;
+}
+
+struct SceneRenderer::Gl {
+  OffscreenContext context;
+  GLuint program = 0, vao = 0, vbo = 0;
+  GLint view_projection = -1, ids = -1;
+  Gl(int width, int height) : context(width, height) {}
+};
+
+SceneRenderer::SceneRenderer(int width, int height) : gl_(std::make_unique<Gl>(width, height)) {
+  Gl& gl = *gl_;
+  gl.program = glCreateProgram();
+  const GLuint vertex = compile(GL_VERTEX_SHADER, kVertexShader), fragment = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+  glAttachShader(gl.program, vertex);
+  glAttachShader(gl.program, fragment);
+  glLinkProgram(gl.program);
+  glDeleteShader(vertex);
+  glDeleteShader(fragment);
+  GLint ok = 0;
+  glGetProgramiv(gl.program, GL_LINK_STATUS, &ok);
+  if (!ok) throw core::Error(core::ErrorCode::internal, "the scene shaders do not link");
+  gl.view_projection = glGetUniformLocation(gl.program, "view_projection");
+  gl.ids = glGetUniformLocation(gl.program, "ids");
+  glGenVertexArrays(1, &gl.vao);
+  glBindVertexArray(gl.vao);
+  glGenBuffers(1, &gl.vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, gl.vbo);
+  constexpr GLsizei stride = kFloatsPerVertex * sizeof(float);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
+  glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(6 * sizeof(float)));
+  glVertexAttribIPointer(3, 1, GL_UNSIGNED_INT, stride, reinterpret_cast<const void*>(9 * sizeof(float)));
+  for (GLuint attribute = 0; attribute < 4; ++attribute) glEnableVertexAttribArray(attribute);
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_CULL_FACE);
+}
+
+SceneRenderer::~SceneRenderer() {
+  gl_->context.make_current();
+  glDeleteBuffers(1, &gl_->vbo);
+  glDeleteVertexArrays(1, &gl_->vao);
+  glDeleteProgram(gl_->program);
+}
+
+Frame SceneRenderer::render(const Scene& scene, const Camera& camera) {
+  Gl& gl = *gl_;
+  if (camera.width != gl.context.width() || camera.height != gl.context.height()) {
+    throw core::Error(core::ErrorCode::bad_request, "the camera's image size is not the renderer's");
+  }
+  gl.context.make_current();
+  vertices_.clear();
+  VertexWriter writer(vertices_);
+  for (const Part& part : scene) write_part(writer, part);
+  glViewport(0, 0, camera.width, camera.height);
+  glUseProgram(gl.program);
+  glBindVertexArray(gl.vao);
+  glBindBuffer(GL_ARRAY_BUFFER, gl.vbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices_.size() * sizeof(float)), vertices_.data(), GL_STREAM_DRAW);
+  const Eigen::Matrix4f view_projection = projection(camera) * view(camera);
+  glUniformMatrix4fv(gl.view_projection, 1, GL_FALSE, view_projection.data());
+  const auto count = static_cast<GLsizei>(vertices_.size() / kFloatsPerVertex);
+  const auto draw = [&](bool ids) {
+    glClearColor(ids ? 0.0f : kBackground[0], ids ? 0.0f : kBackground[1], ids ? 0.0f : kBackground[2], 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUniform1i(gl.ids, ids ? 1 : 0);
+    if (count > 0) glDrawArrays(GL_TRIANGLES, 0, count);
+  };
+  Frame frame;
+  const std::size_t pixels = static_cast<std::size_t>(camera.width) * camera.height;
+  draw(true);
+  const ImageRgba8 ids = gl.context.read_rgba();
+  std::vector<float> window_depth(pixels);
+  glReadPixels(0, 0, camera.width, camera.height, GL_DEPTH_COMPONENT, GL_FLOAT, window_depth.data());
+  frame.ids.resize(pixels);
+  frame.depth.resize(pixels);
+  const double n = camera.near, f = camera.far;
+  const bool orthographic = camera.orthographic_width > 0.0;
+  for (int y = 0; y < camera.height; ++y) {
+    // GL's rows start at the bottom.
+    const float* depth_row = window_depth.data() + static_cast<std::size_t>(camera.height - 1 - y) * camera.width;
+    for (int x = 0; x < camera.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * camera.width + x;
+      const std::uint8_t* p = ids.pixel(x, y);
+      frame.ids[i] = p[0] | (p[1] << 8) | (p[2] << 16);
+      // The window depth back to metres along the axis.
+      const float d = depth_row[x];
+      if (d >= 1.0f) {
+        frame.depth[i] = 0.0f;
+      } else if (orthographic) {
+        frame.depth[i] = static_cast<float>(n + d * (f - n));
+      } else {
+        frame.depth[i] = static_cast<float>(2.0 * f * n / (f + n - (2.0 * d - 1.0) * (f - n)));
+      }
+    }
+  }
+  draw(false);
+  frame.colour = gl.context.read_rgba();
+  return frame;
+}
+
+Frame render_on_this_thread(const Scene& scene, const Camera& camera) {
+  constexpr std::size_t kRenderersPerThread = 4;
+  thread_local std::map<std::pair<int, int>, std::unique_ptr<SceneRenderer>> renderers;
+  if (!renderers.contains({camera.width, camera.height}) && renderers.size() >= kRenderersPerThread) renderers.clear();
+  auto& renderer = renderers[{camera.width, camera.height}];
+  if (!renderer) renderer = std::make_unique<SceneRenderer>(camera.width, camera.height);
+  return renderer->render(scene, camera);
+}
+
+}  // namespace hrisim::render
