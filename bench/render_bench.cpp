@@ -38,8 +38,9 @@ Figures measure(const std::string& scenario, const std::string& camera_name, int
   while (elapsed < seconds) {
     session.step();
     const auto before = std::chrono::steady_clock::now();
-    const hrisim::render::Scene scene = hrisim::sim::scene_of(session);
-    const hrisim::render::Camera camera = hrisim::sim::camera_of(session, camera_name, width, height).camera;
+    const hrisim::sim::CameraInfo info = hrisim::sim::camera_of(session, camera_name, width, height);
+    const hrisim::render::Scene scene = hrisim::sim::scene_for(session, info);
+    const hrisim::render::Camera& camera = info.camera;
     scene_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count();
     hrisim::render::render_on_this_thread(scene, camera);
     figures.parts = scene.size();

@@ -28,6 +28,9 @@ constexpr const char* kUsage =
     "            (FILE: native JSON, IMHuS or Pedsim XML)\n"
     "  import    convert IMHuS or Pedsim XML to the native JSON on stdout:\n"
     "            hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]\n"
+    "  render    replay a stored episode to a video:\n"
+    "            hrisim render EPISODE --out FILE.mp4 [--db FILE] [--camera overview|follow|ROBOT.SENSOR]\n"
+    "                          [--fps 25] [--width W] [--height H]\n"
     "  metrics   print the metrics reference (docs/metrics.md) as Markdown\n"
     "  version   print build and library versions as JSON\n"
     "  help      print this text\n";
@@ -84,6 +87,7 @@ int main(int argc, char** argv) {
     if (command == "validate") return hrisim::app::validate_command(args);
     if (command == "run") return hrisim::app::run_command(args);
     if (command == "import") return hrisim::app::import_command(args);
+    if (command == "render") return hrisim::app::render_command(args);
     if (command == "metrics") {
       std::fputs(hrisim::metrics::reference_markdown().c_str(), stdout);
       return 0;

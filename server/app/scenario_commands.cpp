@@ -17,13 +17,17 @@
 #include "core/error.hpp"
 #include "core/random.hpp"
 #include "core/sha256.hpp"
+#include "app/cli.hpp"
 #include "scenario/import.hpp"
 #include "scenario/load.hpp"
 #include "runs/episode.hpp"
 #include "runs/executor.hpp"
 #include "runs/report.hpp"
+#include "render/scene_renderer.hpp"
+#include "render/video_writer.hpp"
 #include "runs/spec.hpp"
 #include "scenario/source.hpp"
+#include "sim/scene_view.hpp"
 #include "sim/session.hpp"
 #include "storage/store.hpp"
 
@@ -59,6 +63,10 @@ ParsedArgs parse_args(const std::vector<std::string>& args, const std::set<std::
   ParsedArgs parsed;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
+    if (arg == "--help" || arg == "-h") {
+      std::printf("%s\n", usage.c_str());
+      std::exit(0);
+    }
     if (valued.contains(arg)) {
       if (i + 1 >= args.size()) usage_error(arg + " needs a value");
       parsed.values[arg].push_back(args[++i]);
@@ -394,6 +402,78 @@ int run_command(const std::vector<std::string>& args) {
   for (const auto& reason : report["verdict"]["reasons"]) std::fprintf(stderr, "%s\n", reason.get<std::string>().c_str());
   std::fprintf(stderr, "%s: %zu episodes, verdict %s\n", spec.model->name.c_str(), seeds.size(), passed ? "PASSED" : "FAILED");
   return passed ? 0 : 1;
+}
+
+int render_command(const std::vector<std::string>& args) {
+  const ParsedArgs parsed = parse_args(args, {"--db", "--camera", "--out", "--fps", "--width", "--height", "--scenarios"}, {},
+                                       "usage: hrisim render EPISODE --out FILE.mp4|FILE.avi [--db FILE] [--camera overview] [--fps 25] "
+                                       "[--width W] [--height H] [--scenarios DIR]");
+  const auto out = parsed.last("--out");
+  if (!out) usage_error("--out: the video file to write (.mp4 or .avi) is required");
+  const std::string camera_name = parsed.last("--camera").value_or("overview");
+  const auto whole = [&](const char* option, int low, int high, int fallback) {
+    const auto text = parsed.last(option);
+    if (!text) return fallback;
+    int value = 0;
+    const auto [end, ec] = std::from_chars(text->data(), text->data() + text->size(), value);
+    if (ec != std::errc() || end != text->data() + text->size() || value < low || value > high) {
+      usage_error(std::string(option) + ": expected " + std::to_string(low) + " to " + std::to_string(high) + ", got '" + *text + "'");
+    }
+    return value;
+  };
+  const int fps = whole("--fps", 1, 120, kDefaultVideoFps);
+  const int width = whole("--width", 16, 4096, 0), height = whole("--height", 16, 4096, 0);
+
+  const std::filesystem::path database = parsed.last("--db").value_or(kDefaultDatabase);
+  if (!std::filesystem::exists(database)) usage_error("--db: no database " + database.string());
+  storage::Store store(database);
+  const auto episode = store.episode(parsed.file);
+  if (!episode) throw core::Error(core::ErrorCode::not_found, "no episode '" + parsed.file + "' in " + database.string());
+  const auto stored = store.scenario(episode->scenario_id);
+  if (!stored) throw core::Error(core::ErrorCode::not_found, "the scenario of episode " + parsed.file + " is not stored");
+  const nlohmann::json config = episode->run_id ? store.run(*episode->run_id).value_or(storage::RunRecord{}).config : nlohmann::json::object();
+
+  // The episode again, exactly: same scenario, seed, controller, time limit and requests.
+  scenario::SourceOptions source;
+  source.load.map_search_path = {parsed.last("--scenarios").value_or(bundled_scenarios_dir())};
+  const scenario::CompiledSource compiled = scenario::compile_source(stored->source, scenario::source_format(stored->format).value_or(scenario::SourceFormat::json), source);
+  if (!compiled.model) throw core::Error(core::ErrorCode::internal, "the stored scenario of episode " + parsed.file + " no longer loads");
+  runs::RunRequest request;
+  request.document = compiled.document;
+  request.load = source.load;
+  request.seeds = {episode->seed};
+  if (config.contains("controller") && !config["controller"].is_null()) request.controller = config["controller"];
+  if (config.contains("max_time") && config["max_time"].is_number()) request.max_time = config["max_time"].get<double>();
+  for (const nlohmann::json& asked : config.value("requests", nlohmann::json::array())) request.requests.emplace_back(asked["time"], asked["task"]);
+  const runs::RunSpec spec = runs::make_run_spec(request);
+
+  // A frame every `stride` ticks, as close to the asked rate as whole ticks allow.
+  const auto stride = std::max<std::int64_t>(1, std::llround(1.0 / (spec.model->dt * fps)));
+  const double video_fps = 1.0 / (static_cast<double>(stride) * spec.model->dt);
+  std::optional<render::VideoWriter> video;
+  runs::EpisodeOptions options;
+  options.max_time = spec.max_time;
+  options.requests = spec.requests;
+  options.observe = [&](const sim::Session& session) {
+    if (session.state().tick % stride != 0) return;
+    const sim::CameraInfo camera = sim::camera_of(session, camera_name, width, height);
+    if (!video) video.emplace(*out, video_fps, camera.camera.width, camera.camera.height);
+    video->write(render::render_on_this_thread(sim::scene_for(session, camera), camera.camera).colour);
+  };
+  const runs::EpisodeResult replay = runs::run_episode(spec.model, episode->seed, options);
+  if (!video) throw core::Error(core::ErrorCode::internal, "the episode has no frame to write");
+  video->close();
+  const bool same = replay.record.ticks == episode->ticks && replay.record.termination_reason == episode->termination_reason;
+  if (!same) {
+    std::fprintf(stderr, "hrisim: warning: the replay ended at tick %lld (%s), the stored episode at %lld (%s): another hrisim version ran it\n",
+                 static_cast<long long>(replay.record.ticks), replay.record.termination_reason.c_str(), static_cast<long long>(episode->ticks),
+                 episode->termination_reason.c_str());
+  }
+  const nlohmann::json summary = {{"episode", parsed.file}, {"out", *out},       {"camera", camera_name},
+                                  {"frames", video->frames()}, {"fps", video_fps}, {"ticks", replay.record.ticks},
+                                  {"matches_stored_episode", same}};
+  std::printf("%s\n", summary.dump(2).c_str());
+  return 0;
 }
 
 int import_command(const std::vector<std::string>& args) {

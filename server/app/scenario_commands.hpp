@@ -1,5 +1,6 @@
 #pragma once
-// `hrisim validate` and `hrisim run`: checking a scenario file and running it headless.
+// `hrisim validate`, `run`, `import` and `render`: checking a scenario file, running it headless,
+// converting XML, and replaying a stored episode to a video.
 #include <string>
 #include <vector>
 
@@ -19,6 +20,15 @@ int run_command(const std::vector<std::string>& args);
 /// hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]: the native JSON on stdout,
 /// warnings and errors (with XML lines) on stderr; exit 1 when the file cannot be imported.
 int import_command(const std::vector<std::string>& args);
+
+/// Frames per second of `hrisim render` videos unless --fps says otherwise.
+inline constexpr int kDefaultVideoFps = 25;
+
+/// hrisim render EPISODE --out FILE.mp4 [--db FILE] [--camera overview] [--fps 25] [--width W] [--height H]
+/// [--scenarios DIR]: runs the stored episode again (same scenario snapshot, seed, controller, time
+/// limit and requests: bit for bit the same) and writes what the camera sees to a video; warns when
+/// the replay ends otherwise than the stored episode did.
+int render_command(const std::vector<std::string>& args);
 
 /// Folder of bundled scenarios and maps searched for relative map names.
 std::string bundled_scenarios_dir();

@@ -94,7 +94,10 @@ std::string camera_message(const render::Frame& frame, const sim::CameraInfo& ca
   put(48, static_cast<float>(c.near));
   put(52, static_cast<float>(c.far));
   put(56, std::uint32_t{with_ids ? 7u : 3u});  // parts: 1 colour, 2 depth, 4 ids
-  std::memcpy(data + 60, camera.name.data(), std::min(camera.name.size(), kNameBytes - 1));
+  // Cut at a character boundary: never inside a UTF-8 sequence.
+  std::size_t name_bytes = std::min(camera.name.size(), kNameBytes - 1);
+  while (name_bytes > 0 && name_bytes < camera.name.size() && (static_cast<unsigned char>(camera.name[name_bytes]) & 0xC0) == 0x80) --name_bytes;
+  std::memcpy(data + 60, camera.name.data(), name_bytes);
   std::size_t at = kHeader;
   std::memcpy(data + at, frame.colour.pixels.data(), pixels * 4);
   at += pixels * 4;

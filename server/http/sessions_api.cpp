@@ -635,7 +635,7 @@ class SessionSocket : public WebSocketPeer {
         {
           std::lock_guard lock(live->mutex);
           camera = sim::camera_of(*live->session, body["camera"], width, height);
-          scene = sim::scene_of(*live->session);
+          scene = sim::scene_for(*live->session, camera);
           tick = live->session->state().tick;
           time = live->session->time();
         }
@@ -965,8 +965,9 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     render::Camera camera;
     {
       std::lock_guard lock(live->mutex);
-      camera = sim::camera_of(*live->session, request.path_params.at("camera"), asked.width, asked.height).camera;
-      scene = sim::scene_of(*live->session);
+      const sim::CameraInfo info = sim::camera_of(*live->session, request.path_params.at("camera"), asked.width, asked.height);
+      camera = info.camera;
+      scene = sim::scene_for(*live->session, info);
     }
     return Response::later([scene = std::move(scene), camera, asked] { return encode_frame(render::render_on_this_thread(scene, camera), asked); });
   });

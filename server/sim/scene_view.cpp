@@ -15,7 +15,16 @@ using Colour = std::array<float, 3>;
 
 constexpr Colour kFloorColour{0.92f, 0.92f, 0.9f};
 constexpr Colour kWallColour{0.62f, 0.64f, 0.68f};
-constexpr Colour kFurnitureColour{0.62f, 0.45f, 0.3f};
+constexpr Colour kFurnitureColour{0.62f, 0.45f, 0.3f};  // wood, and boxes without a mesh
+/// Colours of meshes that are not wood.
+constexpr std::array<std::pair<std::string_view, Colour>, 8> kMeshColours{{{"sofa", {0.35f, 0.42f, 0.55f}},
+                                                                          {"armchair", {0.35f, 0.42f, 0.55f}},
+                                                                          {"plant", {0.25f, 0.55f, 0.25f}},
+                                                                          {"stove", {0.85f, 0.85f, 0.85f}},
+                                                                          {"lamp", {0.95f, 0.9f, 0.75f}},
+                                                                          {"cup", {0.95f, 0.95f, 0.95f}},
+                                                                          {"glass", {0.75f, 0.85f, 0.9f}},
+                                                                          {"shelf", {0.55f, 0.4f, 0.28f}}}};
 constexpr Colour kDoorColour{0.45f, 0.3f, 0.2f};
 constexpr Colour kObjectColour{0.9f, 0.85f, 0.2f};
 constexpr Colour kSkinColour{0.87f, 0.68f, 0.55f};
@@ -64,7 +73,7 @@ struct CameraSettings {
 
 CameraSettings settings_of(const robots::Sensor& sensor) {
   CameraSettings s;
-  const nlohmann::json camera = sensor.settings.value("camera", nlohmann::json::object());
+  const nlohmann::json& camera = sensor.settings;
   s.width = camera.value("width", s.width);
   s.height = camera.value("height", s.height);
   s.horizontal_fov = camera.value("horizontal_fov", s.horizontal_fov);
@@ -123,6 +132,9 @@ render::Scene scene_of(const Session& session) {
       if (const render::TriangleMesh* mesh = obstacle.mesh.empty() ? nullptr : render::builtin_mesh(obstacle.mesh)) {
         part.shape = render::Part::Shape::mesh;
         part.mesh = mesh;
+        for (const auto& [name, colour] : kMeshColours) {
+          if (name == obstacle.mesh) part.colour = colour;
+        }
       }
       scene.push_back(part);
     }
@@ -173,6 +185,12 @@ render::Scene scene_of(const Session& session) {
       scene.push_back(disc);
     }
   }
+  return scene;
+}
+
+render::Scene scene_for(const Session& session, const CameraInfo& camera) {
+  render::Scene scene = scene_of(session);
+  if (camera.mount_id != 0) std::erase_if(scene, [&](const render::Part& part) { return part.id == camera.mount_id; });
   return scene;
 }
 
@@ -229,6 +247,8 @@ std::vector<CameraInfo> cameras_of(const Session& session) {
       const CameraSettings s = settings_of(sensor);
       CameraInfo info{model.agents[a].id + "." + sensor.name, sensor.type, render::Camera::pinhole(s.width, s.height, s.horizontal_fov, s.near, s.far), s.rate};
       info.camera.pose = runtime->robot.sensor_pose(sensor);
+      const int link = runtime->robot.description().find_link(sensor.link);
+      info.mount_id = kRobotLinkIdBase + static_cast<std::uint32_t>(a) * 1000 + static_cast<std::uint32_t>(link);
       cameras.push_back(info);
     }
   }
@@ -242,9 +262,11 @@ CameraInfo camera_of(const Session& session, const std::string& name, int width,
     names += (names.empty() ? "" : ", ") + info.name;
     if (info.name != name) continue;
     render::Camera& c = info.camera;
-    const double sx = width > 0 ? static_cast<double>(width) / c.width : 1.0, sy = height > 0 ? static_cast<double>(height) / c.height : sx;
+    // A size given alone scales the other with it.
+    const double sx = width > 0 ? static_cast<double>(width) / c.width : height > 0 ? static_cast<double>(height) / c.height : 1.0;
+    const double sy = height > 0 ? static_cast<double>(height) / c.height : sx;
     if (c.orthographic_width > 0.0) {
-      c = overview_camera(session.model(), width > 0 ? width : c.width, height > 0 ? height : (width > 0 ? static_cast<int>(std::lround(c.height * sx)) : c.height));
+      c = overview_camera(session.model(), static_cast<int>(std::lround(c.width * sx)), static_cast<int>(std::lround(c.height * sy)));
     } else {
       // The horizontal field of view is kept; square pixels.
       const double hfov = 2.0 * std::atan(c.width / 2.0 / c.fx);

@@ -40,7 +40,12 @@ struct CameraInfo {
   std::string kind;   ///< "orthographic", "perspective", or the sensor's type (camera, rgbd_camera)
   render::Camera camera;
   double rate = 0.0;  ///< frames per second the description gives; 0 for the overview cameras
+  std::uint32_t mount_id = 0;  ///< a robot camera: the instance id of the link it is mounted on
 };
+
+/// The scene as `camera` sees it: without the link a robot's camera is mounted on (a camera looks out
+/// of its housing, not at it).
+render::Scene scene_for(const Session& session, const CameraInfo& camera);
 
 /// Default image size of the overview cameras, pixels.
 inline constexpr int kOverviewWidth = 640;

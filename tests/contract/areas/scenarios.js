@@ -6,7 +6,7 @@ const { describe, it } = require('node:test');
 const { api } = require('../lib/client');
 const { cupOnASideTable, fixture } = require('../lib/fixtures');
 
-const BUNDLED = ['conversation_group', 'corridor_passing', 'elevator', 'pair_walking', 'perpendicular_crossing', 'queue'];
+const BUNDLED = ['apartment', 'conversation_group', 'corridor_passing', 'elevator', 'pair_walking', 'perpendicular_crossing', 'queue'];
 
 /** The cup scenario with a human placed outside the map and a step naming an unknown agent. */
 function brokenScenario() {

@@ -1,13 +1,16 @@
 'use strict';
 // A session's WebSocket (api/asyncapi.yaml): each message answered once, in order; wrong messages get
-// an error and the socket stays open; binary laser frames; state frames pushed to subscribers;
+// an error and the socket stays open; binary laser and camera frames; state frames pushed to subscribers;
 // realtime sessions; an unknown session, a missing token or ticket and a foreign Origin are refused
 // before the upgrade.
 const assert = require('node:assert/strict');
 const { describe, it, before, after } = require('node:test');
 const { api, Client } = require('../lib/client');
 const { LAYOUT, layoutInSpec, decodeLaserFrame } = require('../lib/laser_frame');
+const cameraFrame = require('../lib/camera_frame');
+const { decodeNpy } = require('../lib/images');
 const { startServer } = require('../lib/server');
+const { asyncapi } = require('../lib/contract');
 
 const sleep = (ms) => new Promise((resolve) => { setTimeout(resolve, ms); });
 
@@ -131,6 +134,54 @@ describe('session WebSocket', () => {
     }
   });
 
+  it('camera answers a binary frame: the spec\'s layout, the head camera\'s images at 256 × 256, with ids when asked', async () => {
+    assert.deepEqual(cameraFrame.layoutInSpec(), cameraFrame.LAYOUT, 'the decoder reads the layout api/asyncapi.yaml gives');
+    const { cameras, segmentation } = (await api.get(`/api/v1/sessions/${session.id}/cameras`)).json;
+    const head = cameras.find((camera) => camera.name === 'robot.head_rgbd');
+    const { tick, dt } = (await api.get(`/api/v1/sessions/${session.id}`)).json;
+    const size = 256;
+    const plain = cameraFrame.decodeCameraFrame(await socket.send({ type: 'camera', camera: 'robot.head_rgbd', width: size, height: size }));
+    const withIds = cameraFrame.decodeCameraFrame(await socket.send({ type: 'camera', camera: 'robot.head_rgbd', width: size, height: size, ids: true }));
+    // The pinhole keeps its horizontal field of view at the new size, with square pixels.
+    const focal = (size / 2) / Math.tan(Math.atan(head.width / 2 / head.fx));
+    for (const [frame, parts] of [[plain, 3], [withIds, 7]]) {
+      assert.equal(frame.parts, parts);
+      assert.equal(frame.camera, 'robot.head_rgbd');
+      assert.deepEqual([frame.width, frame.height], [size, size]);
+      assert.equal(frame.tick, tick);
+      assert.equal(frame.time, tick * dt);
+      assert.ok(Math.abs(frame.fx - focal) < 1e-3 && frame.fy === frame.fx, `fx ${frame.fx}, fy ${frame.fy}: ${focal}`);
+      assert.deepEqual([frame.cx, frame.cy], [size / 2, size / 2]);
+      assert.deepEqual([frame.near, frame.far], [Math.fround(head.near), Math.fround(head.far)]);
+    }
+    assert.equal(plain.ids, undefined);
+    assert.deepEqual(withIds.colour, plain.colour, 'the same colour image');
+    assert.deepEqual(withIds.depth, plain.depth, 'the same depth image');
+    // The images are GET .../frames' npy images of the same camera and size.
+    const npy = async (image) => decodeNpy((await api.get(`/api/v1/sessions/${session.id}/frames/robot.head_rgbd?format=npy&image=${image}&width=${size}&height=${size}`)).bytes).values;
+    assert.deepEqual(plain.colour, await npy('colour'), 'colour as GET .../frames');
+    assert.deepEqual(plain.depth, await npy('depth'), 'depth as GET .../frames');
+    assert.deepEqual(withIds.ids, await npy('segmentation'), 'ids as GET .../frames');
+    const known = new Set(segmentation.map((label) => label.id));
+    assert.ok(withIds.ids.every((id) => id === 0 || known.has(id)), 'every id is in the legend');
+  });
+
+  it('camera: an unknown camera, a size out of range, ids that are no boolean or a wrong field is an error', async () => {
+    const cases = [[{ camera: 'ceiling' }, 'not_found'], [{}, 'bad_request', '/camera'], [{ camera: 5 }, 'bad_request', '/camera'],
+      [{ camera: 'overview', width: 15 }, 'bad_request', '/width'], [{ camera: 'overview', width: 2049 }, 'bad_request', '/width'],
+      [{ camera: 'overview', width: 64.5 }, 'bad_request', '/width'], [{ camera: 'overview', height: '64' }, 'bad_request', '/height'],
+      [{ camera: 'overview', ids: 1 }, 'bad_request', '/ids'], [{ camera: 'overview', colour: 'red' }, 'bad_request', '/colour']];
+    for (const [fields, code, pointer] of cases) {
+      const reply = await socket.send({ type: 'camera', ...fields });
+      assert.equal(reply.type, 'error', JSON.stringify(fields));
+      assert.equal(reply.error.code, code, JSON.stringify(fields));
+      if (pointer) assert.equal(reply.error.details.pointer, pointer, JSON.stringify(fields));
+    }
+    const unknown = await socket.send({ type: 'camera', camera: 'ceiling' });
+    assert.equal(unknown.error.details.camera, 'ceiling');
+    assert.match(unknown.error.message, /overview, follow, robot\.head_rgbd/, 'the message lists the cameras there are');
+  });
+
   it('subscribe: a state frame when the session changed, with the events since the last one', async () => {
     const own = (await api.post('/api/v1/sessions', { scenario: 'elevator', seed: 3 })).json;
     const ownSocket = await api.openSocket(own.id);
@@ -246,6 +297,15 @@ describe('session WebSocket', () => {
       assert.equal(reply.type, 'error', JSON.stringify(message));
       assert.equal(reply.error.code, 'bad_request');
       if (pointer) assert.equal(reply.error.details.pointer, pointer, JSON.stringify(message));
+    }
+    // An unknown type's error names every type the spec has the client send.
+    const unknownType = await socket.send({ type: 'jump' });
+    // "#/channels/session/messages/NAME", which refers to "#/components/messages/MESSAGE"
+    const messageOf = (ref) => asyncapi.components.messages[asyncapi.channels.session.messages[ref.split('/').pop()].$ref.split('/').pop()];
+    const types = Object.values(asyncapi.operations).filter((operation) => operation.action === 'receive')
+      .map((operation) => messageOf(operation.messages[0].$ref).payload.properties.type.const);
+    for (const type of types) {
+      assert.match(unknownType.error.message, new RegExp(`\\b${type}\\b`), `an unknown type's error lists '${type}'`);
     }
     assert.ok(socket.isOpen);
     assert.equal((await socket.send({ type: 'step' })).type, 'step');

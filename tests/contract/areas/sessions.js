@@ -1,12 +1,13 @@
 'use strict';
 // Live sessions over REST: create (lockstep or realtime, with a controller), list, get, step (with an
-// action), state, commands, sensors, poses, reset (with poses), the Gymnasium spaces, WebSocket
-// tickets, delete, the session limit, and the errors of each.
+// action), state, commands, sensors, poses, reset (with poses), cameras and their frames, the Gymnasium
+// spaces, WebSocket tickets, delete, the session limit, and the errors of each.
 const assert = require('node:assert/strict');
 const { describe, it, before, after } = require('node:test');
 const { api } = require('../lib/client');
 const { specAllows } = require('../lib/contract');
 const { cupOnASideTable } = require('../lib/fixtures');
+const { decodePng, jpegSize, decodeNpy } = require('../lib/images');
 
 const UNKNOWN_SESSION = `s${'0'.repeat(32)}`;
 const POLL_MS = 20;
@@ -38,6 +39,53 @@ function assertWithin(observation, space) {
     const [low, high] = [space.low[i], space.high[i]].map((bound) => (bound === 'inf' ? Infinity : bound === '-inf' ? -Infinity : bound));
     assert.ok(value >= low && value <= high, `observation[${i}] = ${value} outside [${low}, ${high}]`);
   });
+}
+
+/** Fails unless the numbers of `actual` are within 1e-6 of `expected`'s. */
+function assertClose(actual, expected, what) {
+  assert.equal(actual.length, expected.length, what);
+  assert.ok(actual.every((value, i) => Math.abs(value - expected[i]) < 1e-6), `${what}: ${actual} is not ${expected}`);
+}
+
+/** Axis `i` (0 x, 1 y, 2 z) of a camera's frame in the map frame, from its quaternion [qx, qy, qz, qw]. */
+function cameraAxis(camera, i) {
+  const [x, y, z, w] = camera.pose.orientation;
+  const matrix = [
+    [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+    [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+    [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+  ];
+  return matrix.map((row) => row[i]);
+}
+
+const byId = (labels) => [...labels].sort((a, b) => a.id - b.id);
+
+/**
+ * The segmentation legend api/openapi.yaml's id scheme gives a bundled scenario whose map is geometry:
+ * the floor, its walls then obstacles, doors, objects, then its humans and robots in order (a robot
+ * with a model as its links that have a collision shape).
+ */
+async function expectedLegend(scenarioId) {
+  const scenario = (await api.get(`/api/v1/scenarios/${scenarioId}`)).json;
+  const { world } = scenario;
+  assert.ok(!world.map, `${scenarioId}: a map given as geometry`);
+  const legend = [{ id: 1, kind: 'floor', name: 'floor' }];
+  const obstacles = [...(world.walls ?? []).map((_, i) => `wall ${i}`), ...(world.obstacles ?? []).map((obstacle) => obstacle.name)];
+  obstacles.forEach((name, i) => legend.push({ id: 1000 + i, kind: 'obstacle', name }));
+  (world.doors ?? []).forEach((door, d) => legend.push({ id: 2000 + d, kind: 'door', name: door.name }));
+  (scenario.objects ?? []).forEach((object, o) => legend.push({ id: 3000 + o, kind: 'object', name: object.name }));
+  const agents = [...(scenario.humans ?? []).map((human) => ({ ...human, kind: 'human' })), ...(scenario.robots ?? []).map((robot) => ({ ...robot, kind: 'robot' }))];
+  for (const [a, agent] of agents.entries()) {
+    if (!agent.model) {
+      legend.push({ id: 10000 + a, kind: agent.kind, name: agent.id, agent: agent.id });
+      continue;
+    }
+    const { links } = (await api.get(`/api/v1/robots/${agent.model}`)).json.description;
+    links.forEach((link, l) => {
+      if (link.collision) legend.push({ id: 1000000 + 1000 * a + l, kind: 'robot_link', name: `${agent.id}/${link.name}`, agent: agent.id, link: link.name });
+    });
+  }
+  return legend;
 }
 
 describe('sessions', () => {
@@ -280,20 +328,139 @@ describe('sessions', () => {
     assert.equal(after.state_hash, before.state_hash);
   });
 
-  it('GET /api/v1/sessions/{id}/frames/{camera}: PNG frames from the overview and follow cameras; 400, 404, 409', async () => {
-    for (const camera of ['overview', 'follow']) {
-      const reply = await api.get(at(`/frames/${camera}?width=64&height=48`));
-      assert.equal(reply.status, 200, camera);
-      assert.equal(reply.headers['content-type'], 'image/png');
-      assert.equal(reply.body.slice(1, 4), 'PNG', 'the PNG signature');
+  it('GET /api/v1/sessions/{id}/cameras: overview, follow and the HSR\'s head camera where they are; the segmentation legend', async () => {
+    const reply = await api.get(at('/cameras'));
+    assert.equal(reply.status, 200);
+    assert.equal(reply.json.id, session.id);
+    const { cameras, segmentation } = reply.json;
+    assert.deepEqual(cameras.map((camera) => [camera.name, camera.kind]),
+      [['overview', 'orthographic'], ['follow', 'perspective'], ['robot.head_rgbd', 'rgbd_camera']]);
+    const [overview, follow, head] = cameras;
+    for (const camera of cameras) {
+      assert.ok(Math.abs(Math.hypot(...camera.pose.orientation) - 1) < 1e-9, `${camera.name}: a unit quaternion`);
+      assert.ok(camera.near < camera.far, camera.name);
+      if (camera.kind !== 'orthographic') {
+        assert.equal(camera.fx, camera.fy, `${camera.name}: square pixels`);
+        assert.deepEqual([camera.cx, camera.cy], [camera.width / 2, camera.height / 2], `${camera.name}: the principal point at the centre`);
+      }
     }
-    assert.equal((await api.get(at('/frames/ceiling'))).status, 404);
-    assert.equal((await api.get(at('/frames/overview?format=gif'))).status, 400);
-    assert.equal((await api.get(at('/frames/overview?width=99999'))).status, 400);
+    assert.deepEqual([overview.rate, follow.rate], [0, 0]);
+    assert.ok(head.rate > 0, 'the rate the HSR\'s description gives');
+
+    // The overview looks straight down onto the middle of the map, all of it in the image, map x to the right.
+    const { world } = (await api.get('/api/v1/scenarios/elevator')).json;
+    const [mapWidth, mapDepth] = [0, 1].map((i) => world.bounds.max[i] - world.bounds.min[i]);
+    assertClose(overview.pose.position.slice(0, 2), [0, 1].map((i) => (world.bounds.min[i] + world.bounds.max[i]) / 2), 'overview: above the map\'s middle');
+    assertClose(cameraAxis(overview, 0), [0, 0, -1], 'overview: optical axis (x) down');
+    assertClose(cameraAxis(overview, 1), [-1, 0, 0], 'overview: the image\'s left (y) towards map -x');
+    assert.ok(overview.orthographic_width >= mapWidth && overview.orthographic_width * overview.height / overview.width >= mapDepth, 'the whole map');
+    // Follow: 3 m behind the robot and 2.5 m up, looking where it heads, down; the head camera on the robot, ahead.
+    const robot = (await api.get(at('/poses'))).json.agents.find((agent) => agent.id === 'robot');
+    const heading = [Math.cos(robot.yaw), Math.sin(robot.yaw)];
+    assertClose(follow.pose.position, [robot.x - 3 * heading[0], robot.y - 3 * heading[1], 2.5], 'follow: behind the robot');
+    const followAxis = cameraAxis(follow, 0);
+    assert.ok(followAxis[2] < 0 && followAxis[0] * heading[0] + followAxis[1] * heading[1] > 0.8, `follow looks ahead and down: ${followAxis}`);
+    assert.ok(Math.hypot(head.pose.position[0] - robot.x, head.pose.position[1] - robot.y) < 0.3 && head.pose.position[2] > 0.5, 'the head camera is on the robot');
+    const headAxis = cameraAxis(head, 0);
+    assert.ok(headAxis[0] * heading[0] + headAxis[1] * heading[1] > 0.9, `the head camera looks ahead: ${headAxis}`);
+
+    assert.deepEqual(byId(segmentation), byId(await expectedLegend('elevator')));
+    assert.equal((await api.get(`/api/v1/sessions/${UNKNOWN_SESSION}/cameras`)).status, 404);
+  });
+
+  it('GET .../cameras: a robot\'s camera has the size, field of view, range and rate its description gives', async () => {
+    const head = (await api.get(at('/cameras'))).json.cameras.find((camera) => camera.name === 'robot.head_rgbd');
+    const described = (await api.get('/api/v1/robots/hsr')).json.description.sensors.find((sensor) => sensor.name === 'head_rgbd').camera;
+    assert.deepEqual([head.width, head.height, head.near, head.far, head.rate], [described.width, described.height, described.near, described.far, described.rate]);
+    assert.ok(Math.abs(2 * Math.atan(head.width / 2 / head.fx) - described.horizontal_fov) < 1e-9, 'the horizontal field of view');
+  });
+
+  it('GET .../cameras: without a robot only the overview (follow is 404); a robot without a model is one instance', async () => {
     const crossing = await createSession('perpendicular_crossing');
-    const refused = await api.get(`/api/v1/sessions/${crossing.id}/frames/follow`);
-    await api.delete(`/api/v1/sessions/${crossing.id}`);
-    assert.equal(refused.status, 409, 'no robot to follow');
+    const queue = await createSession('queue');
+    try {
+      const crossingCameras = (await api.get(`/api/v1/sessions/${crossing.id}/cameras`)).json;
+      assert.deepEqual(crossingCameras.cameras.map((camera) => camera.name), ['overview']);
+      assert.deepEqual(byId(crossingCameras.segmentation), byId(await expectedLegend('perpendicular_crossing')));
+      const refused = await api.get(`/api/v1/sessions/${crossing.id}/frames/follow`);
+      assert.equal(refused.status, 404, 'no robot to follow');
+      assert.equal(refused.json.error.details.camera, 'follow');
+      const queueCameras = (await api.get(`/api/v1/sessions/${queue.id}/cameras`)).json;
+      assert.deepEqual(queueCameras.cameras.map((camera) => camera.name), ['overview', 'follow']);
+      assert.deepEqual(byId(queueCameras.segmentation), byId(await expectedLegend('queue')));
+      assert.ok(queueCameras.segmentation.some((label) => label.kind === 'robot'), 'the robot without a model');
+    } finally {
+      await api.delete(`/api/v1/sessions/${crossing.id}`);
+      await api.delete(`/api/v1/sessions/${queue.id}`);
+    }
+  });
+
+  it('GET /api/v1/sessions/{id}/frames/{camera}: colour, depth and segmentation in each format that carries them, the same image in each', async () => {
+    const { cameras, segmentation } = (await api.get(at('/cameras'))).json;
+    const head = cameras.find((camera) => camera.name === 'robot.head_rgbd');
+    const [width, height] = [64, 48];
+    const frame = async (query, contentType) => {
+      const reply = await api.get(at(`/frames/robot.head_rgbd?width=${width}&height=${height}&${query}`));
+      assert.equal(reply.status, 200, `${query}: ${reply.body.slice(0, 300)}`);
+      assert.equal(reply.headers['content-type'], contentType, query);
+      return reply.bytes;
+    };
+    const rgba = decodePng(await frame('', 'image/png'));
+    assert.deepEqual([rgba.width, rgba.height, rgba.bitDepth, rgba.colourType], [width, height, 8, 6], 'colour: 8-bit RGBA PNG');
+    assert.deepEqual(decodePng(await frame('format=png&image=colour', 'image/png')).samples, rgba.samples, 'png and colour are the defaults');
+    assert.deepEqual(jpegSize(await frame('format=jpeg', 'image/jpeg')), { width, height, components: 3 });
+    const colour = decodeNpy(await frame('format=npy', 'application/octet-stream'));
+    assert.deepEqual([colour.descr, colour.shape], ['|u1', [height, width, 4]]);
+    assert.deepEqual(colour.values, rgba.samples, 'the npy colour image is the PNG\'s');
+
+    const depth16 = decodePng(await frame('format=depth16', 'image/png'));
+    assert.deepEqual([depth16.width, depth16.height, depth16.bitDepth, depth16.colourType], [width, height, 16, 0], 'depth16: 16-bit greyscale PNG');
+    const depth = decodeNpy(await frame('format=npy&image=depth', 'application/octet-stream'));
+    assert.deepEqual([depth.descr, depth.shape], ['<f4', [height, width]]);
+    depth.values.forEach((metres, i) => {
+      assert.ok(metres === 0 || (metres >= head.near - 1e-3 && metres <= head.far + 1e-3), `depth ${metres} m: 0 or within [near, far]`);
+      assert.ok(Math.abs(depth16.samples[i] - metres * 1000) <= 0.5 + 1e-3, `pixel ${i}: ${depth16.samples[i]} mm for ${metres} m`);
+    });
+    assert.ok(depth.values.some((metres) => metres > 0), 'the camera sees something');
+
+    const labelled = decodePng(await frame('image=segmentation', 'image/png'));
+    assert.deepEqual([labelled.width, labelled.height, labelled.bitDepth, labelled.colourType], [width, height, 8, 6]);
+    const ids = decodeNpy(await frame('format=npy&image=segmentation', 'application/octet-stream'));
+    assert.deepEqual([ids.descr, ids.shape], ['<u4', [height, width]]);
+    const known = new Set(segmentation.map((label) => label.id));
+    ids.values.forEach((id, i) => {
+      assert.ok(id === 0 || known.has(id), `pixel ${i}: id ${id} is in the legend`);
+      assert.equal(id === 0, depth.values[i] === 0, `pixel ${i}: nothing in the ids where nothing is in depth`);
+      assert.deepEqual([...labelled.samples.subarray(4 * i, 4 * i + 4)], [id & 0xff, (id >>> 8) & 0xff, (id >>> 16) & 0xff, 255], `pixel ${i}: id ${id} as R, G, B`);
+    });
+  });
+
+  it('GET .../frames/{camera}: each camera at its own size by default; a width or a height alone keeps the aspect ratio', async () => {
+    const { cameras } = (await api.get(at('/cameras'))).json;
+    for (const camera of cameras) {
+      const image = decodePng((await api.get(at(`/frames/${camera.name}`))).bytes);
+      assert.deepEqual([image.width, image.height], [camera.width, camera.height], camera.name);
+    }
+    const narrow = decodePng((await api.get(at('/frames/overview?width=64'))).bytes);
+    assert.deepEqual([narrow.width, narrow.height], [64, Math.round(64 * cameras[0].height / cameras[0].width)]);
+    const low = decodePng((await api.get(at('/frames/overview?height=48'))).bytes);
+    assert.deepEqual([low.width, low.height], [Math.round(48 * cameras[0].width / cameras[0].height), 48]);
+  });
+
+  it('GET .../frames/{camera}: 400 naming the parameter, 404 naming the camera', async () => {
+    const cases = [['format=gif', 'format'], ['image=normals', 'image'], ['image=depth', 'format'], ['image=depth&format=jpeg', 'format'],
+      ['image=segmentation&format=jpeg', 'format'], ['image=segmentation&format=depth16', 'format'], ['image=colour&format=depth16', 'format'],
+      ['width=15', 'width'], ['width=2049', 'width'], ['width=64.5', 'width'], ['width=wide', 'width'], ['height=0', 'height'], ['height=4096', 'height']];
+    for (const [query, parameter] of cases) {
+      const reply = await api.get(at(`/frames/overview?${query}`));
+      assert.equal(reply.status, 400, query);
+      assert.equal(reply.json.error.details.parameter, parameter, query);
+    }
+    const unknown = await api.get(at('/frames/ceiling'));
+    assert.equal(unknown.status, 404);
+    assert.equal(unknown.json.error.details.camera, 'ceiling');
+    assert.match(unknown.json.error.message, /overview, follow, robot\.head_rgbd/, 'the message lists the cameras there are');
+    assert.equal((await api.get(`/api/v1/sessions/${UNKNOWN_SESSION}/frames/overview`)).status, 404);
   });
 
   it('GET /api/v1/sessions/{id}/metrics: every metric so far, null ones with their reason; 404', async () => {
@@ -509,6 +676,15 @@ describe('a session with a cup in the HSR\'s open hand', () => {
     const { contacts } = (await api.get(`/api/v1/sessions/${cup.id}/robots/hsr/sensors`)).json;
     assert.deepEqual(contacts, [{ with: 'cup', part: 'cup' }]);
     await api.delete(`/api/v1/sessions/${cup.id}`);
+  });
+
+  it('GET .../cameras: the cup is a movable object of the segmentation legend', async () => {
+    const cup = await createSession(scenario);
+    const { cameras, segmentation } = (await api.get(`/api/v1/sessions/${cup.id}/cameras`)).json;
+    await api.delete(`/api/v1/sessions/${cup.id}`);
+    assert.deepEqual(cameras.map((camera) => camera.name), ['overview', 'follow', 'hsr.head_rgbd']);
+    assert.deepEqual(byId(segmentation), byId(await expectedLegend(scenario)));
+    assert.deepEqual(segmentation.find((label) => label.kind === 'object'), { id: 3000, kind: 'object', name: 'cup' });
   });
 
   it('POST /api/v1/sessions with a goal controller: it drives the HSR that otherwise stands still', async () => {

@@ -13,7 +13,10 @@ function exchange(port, method, target, headers, body) {
     const request = http.request({ host: '127.0.0.1', port, method, path: target, headers, agent: false }, (response) => {
       const chunks = [];
       response.on('data', (chunk) => chunks.push(chunk));
-      response.on('end', () => resolve({ status: response.statusCode, headers: response.headers, body: Buffer.concat(chunks).toString('utf8') }));
+      response.on('end', () => {
+        const bytes = Buffer.concat(chunks);
+        resolve({ status: response.statusCode, headers: response.headers, body: bytes.toString('utf8'), bytes });
+      });
       response.on('error', reject);
     });
     request.setTimeout(REPLY_LIMIT_MS, () => request.destroy(new Error(`${method} ${target}: no reply within ${REPLY_LIMIT_MS} ms`)));
@@ -35,7 +38,8 @@ class Client {
 
   /**
    * Sends a request; `json` is sent as application/json, `body` as it is with `contentType`, plus any
-   * `headers`. Resolves to { status, headers, body, json } after the contract check.
+   * `headers`. Resolves to { status, headers, body, bytes, json } after the contract check: `body` as
+   * UTF-8 text, `bytes` as received (an image).
    */
   async request(method, target, { json, body, contentType, token = this.token, headers: extraHeaders } = {}) {
     const headers = { ...extraHeaders };

@@ -56,4 +56,4 @@ function decodeLaserFrame(buffer) {
   return frame;
 }
 
-module.exports = { LAYOUT, layoutInSpec, decodeLaserFrame };
+module.exports = { LAYOUT, READ, layoutInSpec, decodeLaserFrame };

@@ -24,7 +24,7 @@ TEST_P(Bundled, CompletesForEverySeed) {
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, Bundled,
                          ::testing::Values("corridor_passing", "perpendicular_crossing", "conversation_group", "queue",
-                                           "elevator", "pair_walking"));
+                                           "elevator", "pair_walking", "apartment"));
 
 }  // namespace
 }  // namespace hrisim::sim

@@ -1,0 +1,43 @@
+#include "render/video_writer.hpp"
+
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "core/error.hpp"
+
+namespace hrisim::render {
+
+struct VideoWriter::Cv {
+  cv::VideoWriter writer;
+  cv::Mat bgr;
+};
+
+VideoWriter::VideoWriter(const std::filesystem::path& path, double fps, int width, int height) : cv_(std::make_unique<Cv>()) {
+  const std::string extension = path.extension().string();
+  int fourcc = 0;
+  if (extension == ".mp4") {
+    fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+  } else if (extension == ".avi") {
+    fourcc = cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+  } else {
+    throw core::Error(core::ErrorCode::bad_request, "video file " + path.string() + ": the name must end in .mp4 or .avi");
+  }
+  if (!cv_->writer.open(path.string(), cv::CAP_FFMPEG, fourcc, fps, cv::Size(width, height))) {
+    throw core::Error(core::ErrorCode::internal, "cannot write the video " + path.string() + " (OpenCV's FFmpeg backend refused it)");
+  }
+}
+
+VideoWriter::~VideoWriter() { close(); }
+
+void VideoWriter::write(const ImageRgba8& frame) {
+  const cv::Mat rgba(frame.height, frame.width, CV_8UC4, const_cast<std::uint8_t*>(frame.pixels.data()));
+  cv::cvtColor(rgba, cv_->bgr, cv::COLOR_RGBA2BGR);
+  cv_->writer.write(cv_->bgr);
+  ++frames_;
+}
+
+void VideoWriter::close() {
+  if (cv_->writer.isOpened()) cv_->writer.release();
+}
+
+}  // namespace hrisim::render
