@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -178,6 +179,36 @@ TEST(Cli, RunsSeveralSeedsAndStoresTheEpisodes) {
   // Runs of the same file reuse its scenario record.
   EXPECT_EQ(store.counts().scenarios, 1);
   EXPECT_EQ(store.counts().episodes, 4);
+}
+
+TEST(CliRender, AStoredEpisodeReplaysToAVideo) {
+  TempDir dir;
+  const std::string db = (dir.path() / "hrisim.db").string();
+  const CommandResult run = run_command(kHrisim + " run " + kScenarios + "/elevator.json --seeds 2 --max-time 4 --db " + db, false);
+  ASSERT_EQ(run.exit_status, 0) << run.output;
+  const std::string episode = nlohmann::json::parse(run.output)["episodes"][0]["episode_id"];
+  const std::string video = (dir.path() / "run.mp4").string();
+  const CommandResult rendered =
+      run_command(kHrisim + " render " + episode + " --db " + db + " --camera robot.head_rgbd --width 128 --fps 10 --out " + video, false);
+  ASSERT_EQ(rendered.exit_status, 0) << rendered.output;
+  const nlohmann::json summary = nlohmann::json::parse(rendered.output);
+  // 4 s at 60 Hz, a frame every 6 ticks, the first at tick 0: 41 frames.
+  EXPECT_EQ(summary["frames"], 41);
+  EXPECT_EQ(summary["fps"], 10.0);
+  EXPECT_TRUE(summary["matches_stored_episode"].get<bool>()) << "the replay is the stored episode, tick for tick";
+  std::ifstream file(video, std::ios::binary);
+  std::string head(12, '\0');
+  file.read(head.data(), 12);
+  EXPECT_EQ(head.substr(4, 4), "ftyp") << "an MP4 container";
+  EXPECT_GT(std::filesystem::file_size(video), 1000u);
+
+  EXPECT_EQ(run_command(kHrisim + " render " + episode + " --db " + db).exit_status, 2) << "no --out";
+  EXPECT_EQ(run_command(kHrisim + " render " + episode + " --db " + db + " --out " + (dir.path() / "run.gif").string()).exit_status, 2);
+  EXPECT_EQ(run_command(kHrisim + " render " + episode + " --db " + db + " --fps 0 --out " + video).exit_status, 2);
+  EXPECT_EQ(run_command(kHrisim + " render no-such-episode --db " + db + " --out " + video).exit_status, 1);
+  const CommandResult camera = run_command(kHrisim + " render " + episode + " --db " + db + " --camera ceiling --out " + video);
+  EXPECT_EQ(camera.exit_status, 1);
+  EXPECT_NE(camera.output.find("no camera 'ceiling' (overview, follow, robot.head_rgbd)"), std::string::npos) << camera.output;
 }
 
 TEST(Cli, GatesDecideTheExitStatusAndJUnitListsThem) {
