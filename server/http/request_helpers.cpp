@@ -73,17 +73,18 @@ nlohmann::json json_object_body(const Request& request) {
   return body;
 }
 
-void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const char*> known) {
+void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const char*> known, const std::string& at) {
   for (const auto& [key, unused] : body.items()) {
     if (std::none_of(known.begin(), known.end(), [&](const char* name) { return key == name; })) {
       std::string names;
       for (const char* name : known) names += (names.empty() ? "" : ", ") + std::string(name);
-      throw core::Error(core::ErrorCode::bad_request, "unknown field '" + key + "' (known: " + names + ")", {{"pointer", "/" + key}});
+      throw core::Error(core::ErrorCode::bad_request, "unknown field '" + key + "' (known: " + names + ")", {{"pointer", at + "/" + key}});
     }
   }
 }
 
-std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int64_t low, std::int64_t high, std::int64_t fallback) {
+std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int64_t low, std::int64_t high, std::int64_t fallback,
+                           const std::string& at) {
   if (!body.contains(key)) return fallback;
   const nlohmann::json& value = body[key];
   const bool integral = value.is_number_integer() || (value.is_number_float() && std::floor(value.get<double>()) == value.get<double>() &&
@@ -92,7 +93,7 @@ std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int
   if (!integral || number < low || number > high) {
     throw core::Error(core::ErrorCode::bad_request,
                       std::string(key) + " must be an integer from " + std::to_string(low) + " to " + std::to_string(high),
-                      {{"pointer", "/" + std::string(key)}});
+                      {{"pointer", at + "/" + std::string(key)}});
   }
   return number;
 }

@@ -26,10 +26,12 @@ void check_json_nesting(const std::string& text);
 /// nested too deep, or for anything but an object. An empty body is an empty object.
 nlohmann::json json_object_body(const Request& request);
 
-/// 400 naming the first key of `body` that is not among `known` (e.g. a typo in a field name).
-void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const char*> known);
+/// 400 naming the first key of `body` that is not among `known` (e.g. a typo in a field name); its
+/// pointer is `at` (where `body` sits in the request) + "/" + key.
+void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const char*> known, const std::string& at = "");
 
-/// An integer field in [low, high], or `fallback` when absent; 400 naming /key otherwise.
-std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int64_t low, std::int64_t high, std::int64_t fallback);
+/// An integer field in [low, high], or `fallback` when absent; 400 naming at + /key otherwise.
+std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int64_t low, std::int64_t high, std::int64_t fallback,
+                           const std::string& at = "");
 
 }  // namespace hrisim::http

@@ -56,11 +56,13 @@ class WebSocketPeer {
   virtual Response on_message(const std::string& text) = 0;
   /// Pushed frames per second wanted now (0: none); read after every answer and every frame.
   virtual double push_rate() const { return 0.0; }
-  /// The frame to push now, or nothing to skip this one. Runs on the connection's I/O strand: it must
-  /// not wait (e.g. skip when the session is busy). `dropped`: frames dropped so far on this socket.
-  virtual std::optional<std::string> push_frame(std::uint64_t dropped) {
+  /// The frames to push now, in order (none to skip this time): text, or binary by content type, and
+  /// each may be deferred to the worker pool (rendering an image). Runs on the connection's I/O strand:
+  /// it must not wait (e.g. skip when the session is busy). `dropped`: frames dropped so far on this
+  /// socket.
+  virtual std::vector<Response> push_frames(std::uint64_t dropped) {
     (void)dropped;
-    return std::nullopt;
+    return {};
   }
 };
 

@@ -1,7 +1,11 @@
 #include "http/scenarios_api.hpp"
 
 #include "http/request_helpers.hpp"
+#include "render/image_codec.hpp"
+#include "render/scene_renderer.hpp"
 #include "scenario/source.hpp"
+#include "sim/scene_view.hpp"
+#include "sim/session.hpp"
 
 namespace hrisim::http {
 namespace {
@@ -58,6 +62,23 @@ void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> cata
     const auto* entry = catalogue->find(id);
     if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
     return Response::json(200, entry->source.document);
+  });
+
+  router.add("GET", "/api/v1/scenarios/{id}/thumbnail", [catalogue](const Request& request) {
+    const std::string& id = request.path_params.at("id");
+    const auto* entry = catalogue->find(id);
+    if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
+    if (!entry->source.model) throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' does not load", {{"id", id}});
+    const auto width = static_cast<int>(integer_query(request, "width", 16, kMaxThumbnailSize, kThumbnailWidth));
+    const auto height = static_cast<int>(integer_query(request, "height", 16, kMaxThumbnailSize, kThumbnailHeight));
+    // The scenario at its start (seed 0) from above, drawn on the worker pool.
+    return Response::later([model = entry->source.model, width, height] {
+      const sim::Session session(model, 0);
+      const sim::CameraInfo camera = sim::camera_of(session, "overview", width, height);
+      Response image{200, "image/png", render::encode_png(render::render_on_this_thread(sim::scene_for(session, camera), camera.camera).colour), {}, {}};
+      image.headers.emplace_back("Cache-Control", "max-age=3600");
+      return image;
+    });
   });
 
   router.add("POST", "/api/v1/scenarios/validate", [catalogue](const Request& request) {

@@ -177,13 +177,39 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     pushing_ = true;
     push_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate)));
     push_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
-      self->pushing_ = false;
-      if (ec || !self->ws_.is_open()) return;
+      if (ec || !self->ws_.is_open()) {
+        self->pushing_ = false;
+        return;
+      }
       // The peer may have unsubscribed since the timer was set.
-      if (self->peer_->push_rate() <= 0.0) return;
-      if (auto frame = self->peer_->push_frame(self->dropped_)) self->send({std::move(*frame), false, true});
-      self->schedule_push();
+      if (self->peer_->push_rate() <= 0.0) {
+        self->pushing_ = false;
+        return;
+      }
+      self->push(std::make_shared<std::vector<Response>>(self->peer_->push_frames(self->dropped_)), 0);
     });
+  }
+
+  /// Sends frames[next] and those after it in order, each deferred one once a worker has made it; then
+  /// the timer is set again (so the next push never overtakes these).
+  void push(std::shared_ptr<std::vector<Response>> frames, std::size_t next) {
+    for (; next < frames->size(); ++next) {
+      Response& frame = (*frames)[next];
+      if (frame.deferred) {
+        net::post(*shared_->workers, [self = shared_from_this(), frames, next, guard = net::make_work_guard(ws_.get_executor())]() mutable {
+          Response made = run_deferred((*frames)[next].deferred, "a pushed WebSocket frame");
+          net::post(self->ws_.get_executor(), [self, frames, next, made = std::move(made)]() mutable {
+            // A failed frame is not sent: the subscription's next push tries again.
+            if (made.status < 400 && self->ws_.is_open()) self->send({std::move(made.body), made.content_type == kBinaryContentType, true});
+            self->push(frames, next + 1);
+          });
+        });
+        return;
+      }
+      send({std::move(frame.body), frame.content_type == kBinaryContentType, true});
+    }
+    pushing_ = false;
+    if (ws_.is_open()) schedule_push();
   }
 
   beast::websocket::stream<beast::tcp_stream> ws_;
@@ -192,7 +218,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   beast::flat_buffer buffer_;
   std::deque<Outgoing> outbox_;  ///< waiting to be written, the first one being written
   net::steady_timer push_timer_{ws_.get_executor()};
-  bool pushing_ = false;       ///< the push timer runs
+  bool pushing_ = false;       ///< the push timer runs, or pushed frames are being made
   std::uint64_t dropped_ = 0;  ///< pushed frames dropped for a slow reader
 };
 

@@ -559,8 +559,10 @@ json camera_json(const sim::CameraInfo& info) {
 ///   {"type": "sensors", "robot": "robot"}   → {"type": "sensors", …}
 ///   {"type": "laser", "robot": "robot", "sensor": "base_laser"} → a binary laser frame
 ///   {"type": "camera", "camera": "robot.head_rgbd", "width", "height", "ids"} → a binary RGB-D frame
-///   {"type": "subscribe", "rate": 10}       → {"type": "subscribed", "rate"}, then state frames pushed
-///     at that rate (0 stops them): {"type": "state_frame", …state, new events, dropped_frames}
+///   {"type": "subscribe", "rate": 10, "camera": {"name", "width", "height", "ids"}?}
+///     → {"type": "subscribed", "rate", "camera"}, then state frames pushed at that rate (0 stops
+///     them): {"type": "state_frame", …state, new events, dropped_frames}, each followed by a binary
+///     RGB-D frame of the camera when one was asked for
 /// A wrong message gets {"type": "error", "error": {code, message, details}} and the socket stays open.
 class SessionSocket : public WebSocketPeer {
  public:
@@ -644,14 +646,31 @@ class SessionSocket : public WebSocketPeer {
         });
       }
       if (type == "subscribe") {
-        refuse_unknown_keys(body, {"rate"});
+        refuse_unknown_keys(body, {"rate", "camera"});
         if (!body.contains("rate") || !body["rate"].is_number() || !(body["rate"].get<double>() >= 0.0) ||
             body["rate"].get<double>() > kMaxPushRate) {
           throw core::Error(core::ErrorCode::bad_request, "rate: frames per second from 0 (stop) to " + std::to_string(static_cast<int>(kMaxPushRate)),
                             {{"pointer", "/rate"}});
         }
+        std::optional<CameraSubscription> camera;
+        if (body.contains("camera") && !body["camera"].is_null()) {
+          const json& asked = body["camera"];
+          if (!asked.is_object() || !asked.contains("name") || !asked["name"].is_string()) {
+            throw core::Error(core::ErrorCode::bad_request, "camera: {name, width, height, ids}", {{"pointer", "/camera"}});
+          }
+          refuse_unknown_keys(asked, {"name", "width", "height", "ids"}, "/camera");
+          camera = CameraSubscription{asked["name"], static_cast<int>(integer_field(asked, "width", 16, kMaxFrameSize, 0, "/camera")),
+                                      static_cast<int>(integer_field(asked, "height", 16, kMaxFrameSize, 0, "/camera")), false};
+          if (asked.contains("ids") && !asked["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/camera/ids"}});
+          camera->ids = asked.value("ids", false);
+          std::lock_guard lock(live->mutex);
+          sim::camera_of(*live->session, camera->name, camera->width, camera->height);  // refuses an unknown camera now
+        }
         rate_ = body["rate"].get<double>();
-        return reply("subscribed", {{"rate", rate_}});
+        camera_ = camera;
+        json answer = {{"rate", rate_}, {"camera", nullptr}};
+        if (camera_) answer["camera"] = {{"name", camera_->name}, {"width", camera_->width}, {"height", camera_->height}, {"ids", camera_->ids}};
+        return reply("subscribed", answer);
       }
       if (type == "state") {
         refuse_unknown_keys(body, {"events_since"});
@@ -667,16 +686,16 @@ class SessionSocket : public WebSocketPeer {
 
   double push_rate() const override { return rate_; }
 
-  std::optional<std::string> push_frame(std::uint64_t dropped) override {
+  std::vector<Response> push_frames(std::uint64_t dropped) override {
     std::shared_ptr<Live> live;
     try {
       live = registry_->find(id_);
     } catch (const core::Error&) {
       rate_ = 0.0;  // the session is gone
-      return std::nullopt;
+      return {};
     }
     std::unique_lock lock(live->mutex, std::try_to_lock);
-    if (!lock) return std::nullopt;  // stepping: the next frame will show it
+    if (!lock) return {};  // stepping: the next frame will show it
     const auto& events = live->session->state().events;
     const bool reset = live->generation != pushed_generation_;
     if (reset) {
@@ -684,7 +703,7 @@ class SessionSocket : public WebSocketPeer {
       pushed_generation_ = live->generation;
     }
     const std::int64_t tick = live->session->state().tick;
-    if (!reset && tick == pushed_tick_ && events_pushed_ == events.size()) return std::nullopt;  // nothing new
+    if (!reset && tick == pushed_tick_ && events_pushed_ == events.size()) return {};  // nothing new
     json frame = state_of(*live, std::numeric_limits<std::int64_t>::max());
     json fresh = json::array();
     for (std::size_t e = events_pushed_; e < events.size(); ++e) fresh.push_back(event_json(events[e]));
@@ -693,7 +712,21 @@ class SessionSocket : public WebSocketPeer {
     frame["type"] = "state_frame";
     events_pushed_ = events.size();
     pushed_tick_ = tick;
-    return frame.dump();
+    std::vector<Response> frames{Response::json(200, frame)};
+    if (camera_) {
+      try {
+        // The scene is taken now, under the lock; the worker pool draws it.
+        sim::CameraInfo camera = sim::camera_of(*live->session, camera_->name, camera_->width, camera_->height);
+        render::Scene scene = sim::scene_for(*live->session, camera);
+        const double time = live->session->time();
+        frames.push_back(Response::later([scene = std::move(scene), camera = std::move(camera), tick, time, ids = camera_->ids] {
+          return Response{200, kBinaryContentType, camera_message(render::render_on_this_thread(scene, camera.camera), camera, tick, time, ids), {}, {}};
+        }));
+      } catch (const core::Error&) {
+        camera_.reset();  // the robot carrying it left the session
+      }
+    }
+    return frames;
   }
 
  private:
@@ -712,6 +745,12 @@ class SessionSocket : public WebSocketPeer {
   std::shared_ptr<Live> live_;  ///< for the count of connected clients; messages look it up by id
   // Touched on the connection's strand only.
   double rate_ = 0.0;              ///< state frames per second subscribed to
+  struct CameraSubscription {
+    std::string name;
+    int width = 0, height = 0;
+    bool ids = false;
+  };
+  std::optional<CameraSubscription> camera_;  ///< a camera frame follows each state frame
   std::size_t events_pushed_ = 0;  ///< events before this index were in a frame
   std::int64_t pushed_tick_ = -1;
   std::uint64_t pushed_generation_ = 0;  ///< the session's resets when the last frame was pushed
