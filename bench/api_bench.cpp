@@ -1,6 +1,6 @@
 // Session round trips on loopback against a running `hrisim serve` (bench/api_bench.sh starts one):
 // REST `POST /step {"n":1,"action":[v,ω]}` on one keep-alive connection, and WebSocket lockstep `{"type":"step",…}`
-// messages, both on a session of the bundled elevator scenario (six people, an HSR with laser, people
+// messages (also followed by the head camera's 256×256 RGB-D frame), both on a session of the bundled elevator scenario (six people, an HSR with laser, people
 // detector and physics). Prints steps per second and the median and 99th-percentile round trip.
 //   usage: api_bench PORT [seconds per case=5]
 #include <algorithm>
@@ -98,6 +98,27 @@ int main(int argc, char** argv) {
   }
   const Figures over_socket = summarise(trips, std::chrono::duration<double>(Clock::now() - start).count());
 
+  // As the gesture task steps: one step, then the HSR head camera's 256×256 RGB-D frame (RGBA8 and
+  // float32 depth: 512 KiB plus a 96-byte header) as a binary message.
+  const std::string camera = R"({"type": "camera", "camera": "robot.head_rgbd", "width": 256, "height": 256})";
+  std::size_t frame_bytes = 0;
+  trips.clear();
+  start = Clock::now();
+  while (std::chrono::duration<double>(Clock::now() - start).count() < seconds) {
+    const auto before = Clock::now();
+    socket.write(net::buffer(step));
+    socket.read(buffer);
+    const bool finished = beast::buffers_to_string(buffer.data()).find("\"finished\"") != std::string::npos;
+    buffer.consume(buffer.size());
+    socket.write(net::buffer(camera));
+    socket.read(buffer);
+    trips.push_back(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
+    frame_bytes = buffer.size();
+    buffer.consume(buffer.size());
+    if (finished) request(rest, http::verb::post, "/api/v1/sessions/" + id + "/reset", "{}");
+  }
+  const Figures with_camera = summarise(trips, std::chrono::duration<double>(Clock::now() - start).count());
+
   // Two sessions stepped at once, each over its own WebSocket, 1000 steps per message: the worker
   // pool runs them in parallel.
   auto stepped_in = [&](int sessions) {
@@ -136,6 +157,8 @@ int main(int argc, char** argv) {
               over_rest.median_us, over_rest.p99_us);
   std::printf("WebSocket lockstep step        %8.0f steps/s   median %6.1f us   p99 %7.1f us\n", over_socket.steps_per_second,
               over_socket.median_us, over_socket.p99_us);
+  std::printf("WebSocket step + RGB-D frame    %8.0f steps/s   median %6.1f us   p99 %7.1f us   (frame %zu bytes)\n",
+              with_camera.steps_per_second, with_camera.median_us, with_camera.p99_us, frame_bytes);
   std::printf("1 session,  1000 steps per message  %8.0f steps/s\n", one);
   std::printf("2 sessions, 1000 steps per message  %8.0f steps/s   (%.2fx one)\n", two, two / one);
   return 0;

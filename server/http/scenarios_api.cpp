@@ -1,5 +1,7 @@
 #include "http/scenarios_api.hpp"
 
+#include <algorithm>
+
 #include "http/request_helpers.hpp"
 #include "render/image_codec.hpp"
 #include "render/scene_renderer.hpp"
@@ -69,8 +71,11 @@ void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> cata
     const auto* entry = catalogue->find(id);
     if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
     if (!entry->source.model) throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' does not load", {{"id", id}});
-    const auto width = static_cast<int>(integer_query(request, "width", 16, kMaxThumbnailSize, kThumbnailWidth));
-    const auto height = static_cast<int>(integer_query(request, "height", 16, kMaxThumbnailSize, kThumbnailHeight));
+    // A size given alone keeps the default's 4:3.
+    const auto asked_width = static_cast<int>(integer_query(request, "width", 16, kMaxThumbnailSize, 0));
+    const auto asked_height = static_cast<int>(integer_query(request, "height", 16, kMaxThumbnailSize, 0));
+    const int width = asked_width ? asked_width : asked_height ? std::clamp(asked_height * kThumbnailWidth / kThumbnailHeight, 16, kMaxThumbnailSize) : kThumbnailWidth;
+    const int height = asked_height ? asked_height : asked_width ? std::clamp(asked_width * kThumbnailHeight / kThumbnailWidth, 16, kMaxThumbnailSize) : kThumbnailHeight;
     // The scenario at its start (seed 0) from above, drawn on the worker pool.
     return Response::later([model = entry->source.model, width, height] {
       const sim::Session session(model, 0);

@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <ctime>
 #include <mutex>
+#include <set>
 #include <optional>
 #include <thread>
 #include <unordered_map>
@@ -46,7 +47,8 @@ class WebSocketSession;
 
 /// Largest WebSocket message accepted; bigger ones close the connection (code 1009).
 constexpr std::size_t kMaxWebSocketMessage = 1 << 20;
-/// Pushed frames waiting behind the write in flight at most; an older one is dropped for a newer.
+/// Pushes (a state frame with its image, if any) waiting behind the write in flight at most; the
+/// oldest is dropped for a newer one.
 constexpr std::size_t kMaxQueuedFrames = 4;
 
 /// State shared by the listener and every connection.
@@ -145,16 +147,27 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     std::string data;
     bool binary = false;
     bool droppable = false;  ///< a pushed frame, not an answer
+    std::uint64_t group = 0;  ///< pushed frames pushed together (a state frame and its image) go together
   };
 
   void send(Outgoing message) {
-    if (message.droppable) {
-      // The first message may be in flight; of the rest, the oldest frame makes room.
-      const auto queued = std::count_if(outbox_.begin() + (outbox_.empty() ? 0 : 1), outbox_.end(),
-                                        [](const Outgoing& m) { return m.droppable; });
-      if (static_cast<std::size_t>(queued) >= kMaxQueuedFrames) {
-        outbox_.erase(std::find_if(outbox_.begin() + 1, outbox_.end(), [](const Outgoing& m) { return m.droppable; }));
-        ++dropped_;
+    if (message.droppable && (outbox_.empty() || outbox_.back().group != message.group)) {
+      // The first message may be in flight; of the rest, the oldest push makes room, all its frames
+      // at once — but not one whose first frame is being written.
+      const auto queued = outbox_.begin() + (outbox_.empty() ? 0 : 1);
+      const std::uint64_t in_flight = outbox_.empty() ? 0 : outbox_.front().group;
+      std::set<std::uint64_t> groups;
+      for (auto m = queued; m != outbox_.end(); ++m) {
+        if (m->droppable) groups.insert(m->group);
+      }
+      if (groups.size() >= kMaxQueuedFrames) {
+        const auto oldest = std::find_if(groups.begin(), groups.end(), [&](std::uint64_t g) { return g != in_flight; });
+        if (oldest != groups.end()) {
+          const std::uint64_t dropped_group = *oldest;
+          outbox_.erase(std::remove_if(queued, outbox_.end(), [&](const Outgoing& m) { return m.droppable && m.group == dropped_group; }),
+                        outbox_.end());
+          ++dropped_;
+        }
       }
     }
     outbox_.push_back(std::move(message));
@@ -190,23 +203,25 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     });
   }
 
-  /// Sends frames[next] and those after it in order, each deferred one once a worker has made it; then
-  /// the timer is set again (so the next push never overtakes these).
+  /// Makes the deferred frames from frames[next] on, one after another on the worker pool, then sends
+  /// them all at once, in order and next to each other (no answer comes between a state frame and
+  /// its image); then the timer is set again, so the next push never overtakes these.
   void push(std::shared_ptr<std::vector<Response>> frames, std::size_t next) {
     for (; next < frames->size(); ++next) {
-      Response& frame = (*frames)[next];
-      if (frame.deferred) {
-        net::post(*shared_->workers, [self = shared_from_this(), frames, next, guard = net::make_work_guard(ws_.get_executor())]() mutable {
-          Response made = run_deferred((*frames)[next].deferred, "a pushed WebSocket frame");
-          net::post(self->ws_.get_executor(), [self, frames, next, made = std::move(made)]() mutable {
-            // A failed frame is not sent: the subscription's next push tries again.
-            if (made.status < 400 && self->ws_.is_open()) self->send({std::move(made.body), made.content_type == kBinaryContentType, true});
-            self->push(frames, next + 1);
-          });
+      if (!(*frames)[next].deferred) continue;
+      net::post(*shared_->workers, [self = shared_from_this(), frames, next, guard = net::make_work_guard(ws_.get_executor())]() mutable {
+        Response made = run_deferred((*frames)[next].deferred, "a pushed WebSocket frame");
+        net::post(self->ws_.get_executor(), [self, frames, next, made = std::move(made)]() mutable {
+          (*frames)[next] = std::move(made);
+          self->push(frames, next + 1);
         });
-        return;
-      }
-      send({std::move(frame.body), frame.content_type == kBinaryContentType, true});
+      });
+      return;
+    }
+    // A frame that failed is left out; the subscription's next push tries again.
+    const std::uint64_t group = ++push_groups_;
+    for (Response& frame : *frames) {
+      if (frame.status < 400 && ws_.is_open()) send({std::move(frame.body), frame.content_type == kBinaryContentType, true, group});
     }
     pushing_ = false;
     if (ws_.is_open()) schedule_push();
@@ -219,7 +234,8 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   std::deque<Outgoing> outbox_;  ///< waiting to be written, the first one being written
   net::steady_timer push_timer_{ws_.get_executor()};
   bool pushing_ = false;       ///< the push timer runs, or pushed frames are being made
-  std::uint64_t dropped_ = 0;  ///< pushed frames dropped for a slow reader
+  std::uint64_t dropped_ = 0;  ///< pushes (a state frame and its image) dropped for a slow reader
+  std::uint64_t push_groups_ = 0;
 };
 
 std::string utc_timestamp() {

@@ -667,7 +667,7 @@ class SessionSocket : public WebSocketPeer {
           sim::camera_of(*live->session, camera->name, camera->width, camera->height);  // refuses an unknown camera now
         }
         rate_ = body["rate"].get<double>();
-        camera_ = camera;
+        camera_ = rate_ > 0.0 ? camera : std::nullopt;  // rate 0 stops both kinds of frame
         json answer = {{"rate", rate_}, {"camera", nullptr}};
         if (camera_) answer["camera"] = {{"name", camera_->name}, {"width", camera_->width}, {"height", camera_->height}, {"ids", camera_->ids}};
         return reply("subscribed", answer);

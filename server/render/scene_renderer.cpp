@@ -23,39 +23,35 @@ layout(location = 1) in vec3 normal;
 layout(location = 2) in vec3 colour;
 layout(location = 3) in uint id;
 uniform mat4 view_projection;
-uniform int ids;
 out vec3 world_normal;
-out vec3 lit_colour;
+out vec3 surface_colour;
 flat out uint instance;
 void main() {
   world_normal = normal;
-  lit_colour = colour;
+  surface_colour = colour;
   instance = id;
   gl_Position = view_projection * vec4(position, 1.0);
 }
 )";
 
-// Lit colour, or the instance id spread over the 8-bit channels for segmentation.
+// One pass writes both images: the lit colour, and the instance id for segmentation.
 constexpr const char* kFragmentShader = R"(#version 330 core
 in vec3 world_normal;
-in vec3 lit_colour;
+in vec3 surface_colour;
 flat in uint instance;
-uniform int ids;
-out vec4 fragment;
+layout(location = 0) out vec4 fragment;
+layout(location = 1) out uint fragment_id;
 void main() {
-  if (ids == 1) {
-    fragment = vec4(float(instance & 255u), float((instance >> 8) & 255u), float((instance >> 16) & 255u), 255.0) / 255.0;
-    return;
-  }
   vec3 light = normalize(vec3(0.3, 0.5, 1.0));
   float lit = 0.35 + 0.65 * max(dot(normalize(world_normal), light), 0.0);
-  fragment = vec4(lit_colour * lit, 1.0);
+  fragment = vec4(surface_colour * lit, 1.0);
+  fragment_id = instance;
 }
 )";
 
 constexpr int kFloatsPerVertex = 10;  // position, normal, colour, id (its bits)
-constexpr int kRoundSegments = 16;    // around cylinders, spheres and capsules
-constexpr int kSphereStacks = 8;      // even: the equator is an edge, so a sphere splits into capsule caps
+constexpr int kRoundSegments = 12;    // around cylinders, spheres and capsules
+constexpr int kSphereStacks = 6;      // even: the equator is an edge, so a sphere splits into capsule caps
 
 /// Triangles in a shape's local frame: positions and normals, three vertices per triangle.
 struct LocalMesh {
@@ -191,6 +187,30 @@ const Shapes& shapes() {
   return instance;
 }
 
+/// A sphere around the part, in the map frame: centre and radius.
+std::pair<Eigen::Vector3d, double> bounding_sphere(const Part& part) {
+  if (part.shape == Part::Shape::capsule) return {0.5 * (part.from + part.to), 0.5 * (part.to - part.from).norm() + part.radius};
+  return {part.pose.translation(), 0.5 * part.size.norm()};
+}
+
+/// Whether a sphere (in the camera's REP 103 frame) may show in the image: it is not wholly outside
+/// one of the view volume's six planes.
+bool in_view(const Camera& c, const Eigen::Vector3d& centre, double radius) {
+  const double x = centre.x(), y = centre.y(), z = centre.z();
+  if (x + radius < c.near || x - radius > c.far) return false;
+  if (c.orthographic_width > 0.0) {
+    const double half_width = c.orthographic_width / 2, half_height = half_width * c.height / c.width;
+    return std::abs(y) - radius <= half_width && std::abs(z) - radius <= half_height;
+  }
+  // The image's edges as planes through the optical centre: y/x from (cx − w)/fx to cx/fx, z/x from
+  // (cy − h)/fy to cy/fy; the signed distance of the centre to each, positive inside.
+  const auto inside = [&](double along, double lateral, double slope, double sign) {
+    return sign * (slope * along - lateral) / std::sqrt(1.0 + slope * slope) >= -radius;
+  };
+  return inside(x, y, c.cx / c.fx, 1.0) && inside(x, y, (c.cx - c.width) / c.fx, -1.0) && inside(x, z, c.cy / c.fy, 1.0) &&
+         inside(x, z, (c.cy - c.height) / c.fy, -1.0);
+}
+
 void write_part(VertexWriter& writer, const Part& part) {
   const Shapes& s = shapes();
   const Eigen::Matrix3f rotation = part.pose.linear().cast<float>();
@@ -281,7 +301,8 @@ Camera Camera::pinhole(int width, int height, double horizontal_fov, double near
 struct SceneRenderer::Gl {
   OffscreenContext context;
   GLuint program = 0, vao = 0, vbo = 0;
-  GLint view_projection = -1, ids = -1;
+  GLuint framebuffer = 0, colour = 0, ids = 0, depth = 0;  ///< the frame: colour, instance ids, depth
+  GLint view_projection = -1;
   Gl(int width, int height) : context(width, height) {}
 };
 
@@ -298,7 +319,23 @@ SceneRenderer::SceneRenderer(int width, int height) : gl_(std::make_unique<Gl>(w
   glGetProgramiv(gl.program, GL_LINK_STATUS, &ok);
   if (!ok) throw core::Error(core::ErrorCode::internal, "the scene shaders do not link");
   gl.view_projection = glGetUniformLocation(gl.program, "view_projection");
-  gl.ids = glGetUniformLocation(gl.program, "ids");
+  // A framebuffer with two colour images (RGBA8 colour, 32-bit ids) and 24-bit depth.
+  glGenFramebuffers(1, &gl.framebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, gl.framebuffer);
+  const auto attach = [&](GLuint& buffer, GLenum format, GLenum attachment) {
+    glGenRenderbuffers(1, &buffer);
+    glBindRenderbuffer(GL_RENDERBUFFER, buffer);
+    glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, buffer);
+  };
+  attach(gl.colour, GL_RGBA8, GL_COLOR_ATTACHMENT0);
+  attach(gl.ids, GL_R32UI, GL_COLOR_ATTACHMENT1);
+  attach(gl.depth, GL_DEPTH_COMPONENT24, GL_DEPTH_ATTACHMENT);
+  const GLenum targets[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glDrawBuffers(2, targets);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    throw core::Error(core::ErrorCode::internal, "the off-screen framebuffer (colour, ids, depth) is incomplete");
+  }
   glGenVertexArrays(1, &gl.vao);
   glBindVertexArray(gl.vao);
   glGenBuffers(1, &gl.vbo);
@@ -315,6 +352,9 @@ SceneRenderer::SceneRenderer(int width, int height) : gl_(std::make_unique<Gl>(w
 
 SceneRenderer::~SceneRenderer() {
   gl_->context.make_current();
+  glDeleteFramebuffers(1, &gl_->framebuffer);
+  const GLuint buffers[] = {gl_->colour, gl_->ids, gl_->depth};
+  glDeleteRenderbuffers(3, buffers);
   glDeleteBuffers(1, &gl_->vbo);
   glDeleteVertexArrays(1, &gl_->vao);
   glDeleteProgram(gl_->program);
@@ -328,7 +368,12 @@ Frame SceneRenderer::render(const Scene& scene, const Camera& camera) {
   gl.context.make_current();
   vertices_.clear();
   VertexWriter writer(vertices_);
-  for (const Part& part : scene) write_part(writer, part);
+  // Parts wholly outside the view are not sent: a robot's camera sees a fraction of the scene.
+  const Eigen::Isometry3d to_camera = camera.pose.inverse();
+  for (const Part& part : scene) {
+    const auto [centre, radius] = bounding_sphere(part);
+    if (in_view(camera, to_camera * centre, radius)) write_part(writer, part);
+  }
   glViewport(0, 0, camera.width, camera.height);
   glUseProgram(gl.program);
   glBindVertexArray(gl.vao);
@@ -337,42 +382,49 @@ Frame SceneRenderer::render(const Scene& scene, const Camera& camera) {
   const Eigen::Matrix4f view_projection = projection(camera) * view(camera);
   glUniformMatrix4fv(gl.view_projection, 1, GL_FALSE, view_projection.data());
   const auto count = static_cast<GLsizei>(vertices_.size() / kFloatsPerVertex);
-  const auto draw = [&](bool ids) {
-    glClearColor(ids ? 0.0f : kBackground[0], ids ? 0.0f : kBackground[1], ids ? 0.0f : kBackground[2], 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glUniform1i(gl.ids, ids ? 1 : 0);
-    if (count > 0) glDrawArrays(GL_TRIANGLES, 0, count);
-  };
+  glBindFramebuffer(GL_FRAMEBUFFER, gl.framebuffer);
+  const GLfloat background[] = {kBackground[0], kBackground[1], kBackground[2], 1.0f};
+  const GLuint nothing[] = {0, 0, 0, 0};
+  const GLfloat farthest = 1.0f;
+  glClearBufferfv(GL_COLOR, 0, background);
+  glClearBufferuiv(GL_COLOR, 1, nothing);
+  glClearBufferfv(GL_DEPTH, 0, &farthest);
+  if (count > 0) glDrawArrays(GL_TRIANGLES, 0, count);
+
+  // Read back; GL's rows start at the bottom, a frame's at the top.
   Frame frame;
-  const std::size_t pixels = static_cast<std::size_t>(camera.width) * camera.height;
-  draw(true);
-  const ImageRgba8 ids = gl.context.read_rgba();
+  const int w = camera.width, h = camera.height;
+  const std::size_t pixels = static_cast<std::size_t>(w) * h;
+  std::vector<std::uint8_t> colour(pixels * 4);
+  std::vector<std::uint32_t> ids(pixels);
   std::vector<float> window_depth(pixels);
-  glReadPixels(0, 0, camera.width, camera.height, GL_DEPTH_COMPONENT, GL_FLOAT, window_depth.data());
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, colour.data());
+  glReadBuffer(GL_COLOR_ATTACHMENT1);
+  glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
+  glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, window_depth.data());
+  frame.colour = {w, h, std::vector<std::uint8_t>(pixels * 4)};
   frame.ids.resize(pixels);
   frame.depth.resize(pixels);
   const double n = camera.near, f = camera.far;
   const bool orthographic = camera.orthographic_width > 0.0;
-  for (int y = 0; y < camera.height; ++y) {
-    // GL's rows start at the bottom.
-    const float* depth_row = window_depth.data() + static_cast<std::size_t>(camera.height - 1 - y) * camera.width;
-    for (int x = 0; x < camera.width; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * camera.width + x;
-      const std::uint8_t* p = ids.pixel(x, y);
-      frame.ids[i] = p[0] | (p[1] << 8) | (p[2] << 16);
+  for (int y = 0; y < h; ++y) {
+    const std::size_t from = static_cast<std::size_t>(h - 1 - y) * w, to = static_cast<std::size_t>(y) * w;
+    std::memcpy(frame.colour.pixels.data() + 4 * to, colour.data() + 4 * from, 4 * static_cast<std::size_t>(w));
+    std::memcpy(frame.ids.data() + to, ids.data() + from, sizeof(std::uint32_t) * static_cast<std::size_t>(w));
+    for (int x = 0; x < w; ++x) {
       // The window depth back to metres along the axis.
-      const float d = depth_row[x];
+      const float d = window_depth[from + x];
+      float& metres = frame.depth[to + x];
       if (d >= 1.0f) {
-        frame.depth[i] = 0.0f;
+        metres = 0.0f;
       } else if (orthographic) {
-        frame.depth[i] = static_cast<float>(n + d * (f - n));
+        metres = static_cast<float>(n + d * (f - n));
       } else {
-        frame.depth[i] = static_cast<float>(2.0 * f * n / (f + n - (2.0 * d - 1.0) * (f - n)));
+        metres = static_cast<float>(2.0 * f * n / (f + n - (2.0 * d - 1.0) * (f - n)));
       }
     }
   }
-  draw(false);
-  frame.colour = gl.context.read_rgba();
   return frame;
 }
 

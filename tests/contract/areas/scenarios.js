@@ -1,12 +1,41 @@
 'use strict';
-// Scenarios: the paged list, one scenario, validate, upload (JSON and XML) and bad input.
+// Scenarios: the paged list, one scenario, its thumbnail, validate, upload (JSON and XML) and bad input.
 const assert = require('node:assert/strict');
 const crypto = require('node:crypto');
 const { describe, it } = require('node:test');
 const { api } = require('../lib/client');
 const { cupOnASideTable, fixture } = require('../lib/fixtures');
+const { decodePng } = require('../lib/images');
 
 const BUNDLED = ['apartment', 'conversation_group', 'corridor_passing', 'elevator', 'pair_walking', 'perpendicular_crossing', 'queue'];
+
+// The overview's background: RGB 0.82, 0.86, 0.9 (× 255, rounded), opaque.
+const BACKGROUND = [209, 219, 230, 255];
+
+/** A thumbnail: 200, an RGBA PNG that caches may keep an hour, decoded. */
+async function thumbnail(id, query = '') {
+  const reply = await api.get(`/api/v1/scenarios/${id}/thumbnail${query}`);
+  assert.equal(reply.status, 200, `${id}${query}: ${reply.body.slice(0, 300)}`);
+  assert.equal(reply.headers['content-type'], 'image/png');
+  assert.equal(reply.headers['cache-control'], 'max-age=3600');
+  const image = decodePng(reply.bytes);
+  assert.deepEqual([image.bitDepth, image.colourType], [8, 6], 'an 8-bit RGBA PNG');
+  return image;
+}
+
+/** The RGBA of pixel (x, y), y from the top row. */
+const pixel = (image, x, y) => [...image.samples.subarray(4 * (y * image.width + x), 4 * (y * image.width + x) + 4)];
+
+/** Where two images of one size differ: the bounding box of the differing pixels, or undefined. */
+function differences(a, b) {
+  let box;
+  for (let i = 0; i < a.width * a.height; i++) {
+    if (a.samples.subarray(4 * i, 4 * i + 4).every((value, k) => value === b.samples[4 * i + k])) continue;
+    const [x, y] = [i % a.width, Math.floor(i / a.width)];
+    box = box ? { left: Math.min(box.left, x), right: Math.max(box.right, x), top: Math.min(box.top, y), bottom: Math.max(box.bottom, y) } : { left: x, right: x, top: y, bottom: y };
+  }
+  return box;
+}
 
 /** The cup scenario with a human placed outside the map and a step naming an unknown agent. */
 function brokenScenario() {
@@ -50,6 +79,63 @@ describe('scenarios', () => {
     const unknown = await api.get('/api/v1/scenarios/u0000');
     assert.equal(unknown.status, 404);
     assert.equal(unknown.json.error.code, 'not_found');
+  });
+
+  it('GET /api/v1/scenarios/{id}/thumbnail: 320 × 240 by default, the overview of a fresh seed-0 session, one per scenario', async () => {
+    const elevator = await thumbnail('elevator');
+    assert.deepEqual([elevator.width, elevator.height], [320, 240]);
+    assert.notDeepEqual(pixel(elevator, 160, 120), BACKGROUND, 'the map covers the centre');
+    assert.deepEqual(pixel(elevator, 0, 0), BACKGROUND, 'a corner is in the margin around the map');
+    const apartment = await thumbnail('apartment');
+    assert.ok(differences(elevator, apartment), 'two scenarios, two thumbnails');
+    // The scenario at its start, as the overview draws it.
+    const session = (await api.post('/api/v1/sessions', { scenario: 'elevator', seed: 0 })).json;
+    try {
+      const frame = await api.get(`/api/v1/sessions/${session.id}/frames/overview?width=320&height=240`);
+      assert.deepEqual(decodePng(frame.bytes).samples, elevator.samples, 'GET .../frames/overview of a fresh session');
+    } finally {
+      await api.delete(`/api/v1/sessions/${session.id}`);
+    }
+  });
+
+  it('GET .../thumbnail: width and height from 16 to 1024; one given alone keeps 4:3', async () => {
+    for (const [query, size] of [['?width=100&height=100', [100, 100]], ['?width=1024&height=16', [1024, 16]], ['?width=16&height=1024', [16, 1024]],
+      ['?width=64', [64, 48]], ['?height=48', [64, 48]], ['?width=16', [16, 16]], ['?height=1024', [1024, 1024]]]) {
+      const image = await thumbnail('queue', query);
+      assert.deepEqual([image.width, image.height], size, query);
+    }
+  });
+
+  it('GET .../thumbnail of an uploaded scenario: the map from above, x to the right and y up', async () => {
+    // The cup scenario (an 11 m square map), and the same with a crate near its top right corner.
+    const withCrate = structuredClone(cupOnASideTable);
+    withCrate.world.obstacles.push({ name: 'crate', box: { x: 8.5, y: 8, length: 1, width: 1 }, height: 0.5 });
+    const upload = async (scenario) => {
+      const reply = await api.post('/api/v1/scenarios', scenario);
+      assert.equal(reply.status, 201);
+      return reply.json.summary.id;
+    };
+    const plain = await thumbnail(await upload(cupOnASideTable));
+    const crated = await thumbnail(await upload(withCrate));
+    assert.deepEqual([plain.width, plain.height], [320, 240]);
+    assert.notDeepEqual(pixel(plain, 160, 120), BACKGROUND, 'the floor at the centre');
+    const crate = differences(plain, crated);
+    assert.ok(crate, 'the crate is seen');
+    assert.ok(crate.left > 160 && crate.bottom < 120, `the crate is in the top right quarter: ${JSON.stringify(crate)}`);
+  });
+
+  it('GET .../thumbnail: 404 naming an unknown scenario, 400 naming a bad width or height', async () => {
+    const unknown = await api.get('/api/v1/scenarios/u0000/thumbnail');
+    assert.equal(unknown.status, 404);
+    assert.equal(unknown.json.error.code, 'not_found');
+    assert.equal(unknown.json.error.details.id, 'u0000');
+    for (const [query, parameter] of [['width=15', 'width'], ['width=1025', 'width'], ['width=64.5', 'width'], ['width=wide', 'width'],
+      ['height=0', 'height'], ['height=2048', 'height']]) {
+      const reply = await api.get(`/api/v1/scenarios/elevator/thumbnail?${query}`);
+      assert.equal(reply.status, 400, query);
+      assert.equal(reply.json.error.code, 'bad_request', query);
+      assert.equal(reply.json.error.details.parameter, parameter, query);
+    }
   });
 
   it('POST /api/v1/scenarios/validate: a valid scenario, with its summary', async () => {

@@ -1,7 +1,7 @@
 'use strict';
 // A session's WebSocket (api/asyncapi.yaml): each message answered once, in order; wrong messages get
-// an error and the socket stays open; binary laser and camera frames; state frames pushed to subscribers;
-// realtime sessions; an unknown session, a missing token or ticket and a foreign Origin are refused
+// an error and the socket stays open; binary laser and camera frames; state frames pushed to subscribers,
+// each followed by a camera frame when the subscription has a camera; realtime sessions; an unknown session, a missing token or ticket and a foreign Origin are refused
 // before the upgrade.
 const assert = require('node:assert/strict');
 const { describe, it, before, after } = require('node:test');
@@ -186,7 +186,7 @@ describe('session WebSocket', () => {
     const own = (await api.post('/api/v1/sessions', { scenario: 'elevator', seed: 3 })).json;
     const ownSocket = await api.openSocket(own.id);
     try {
-      assert.deepEqual(await ownSocket.send({ type: 'subscribe', rate: 50 }), { type: 'subscribed', rate: 50 });
+      assert.deepEqual(await ownSocket.send({ type: 'subscribe', rate: 50 }), { type: 'subscribed', rate: 50, camera: null });
       const first = await ownSocket.nextFrame();
       assert.equal(first.type, 'state_frame');
       assert.equal(first.tick, 0);
@@ -204,7 +204,7 @@ describe('session WebSocket', () => {
       const all = (await ownSocket.send({ type: 'state', events_since: 0 })).events;
       assert.deepEqual([...first.events, ...second.events, ...third.events], all, 'each event in one frame');
       assert.deepEqual(third.agents, (await ownSocket.send({ type: 'state' })).agents);
-      assert.deepEqual(await ownSocket.send({ type: 'subscribe', rate: 0 }), { type: 'subscribed', rate: 0 });
+      assert.deepEqual(await ownSocket.send({ type: 'subscribe', rate: 0 }), { type: 'subscribed', rate: 0, camera: null });
       await sleep(60);  // the frame timer set at rate 50 runs out once more (see the todo test below)
       await ownSocket.send({ type: 'step' });
       assert.equal(await ownSocket.nextFrame(100), undefined, 'rate 0: no more frames');
@@ -224,6 +224,109 @@ describe('session WebSocket', () => {
     }
     assert.equal((await socket.send({ type: 'subscribe', rate: 60 })).rate, 60);
     assert.equal((await socket.send({ type: 'subscribe', rate: 0 })).rate, 0);
+  });
+
+  /** The next pushed frame, which must be a state frame. */
+  const nextStateFrame = async (from) => {
+    const frame = await from.nextFrame();
+    assert.ok(frame && !Buffer.isBuffer(frame), `a state frame, not ${Buffer.isBuffer(frame) ? 'a binary frame' : frame}`);
+    assert.equal(frame.type, 'state_frame');
+    return frame;
+  };
+  /** The next pushed frame, which must be a camera frame, decoded. */
+  const nextCameraFrame = async (from) => {
+    const frame = await from.nextFrame();
+    assert.ok(Buffer.isBuffer(frame), `a binary camera frame, not ${JSON.stringify(frame)?.slice(0, 100)}`);
+    return cameraFrame.decodeCameraFrame(frame);
+  };
+
+  it('subscribe with a camera: each state frame is followed by that camera\'s frame of the same tick, as the camera message draws it', async () => {
+    const own = (await api.post('/api/v1/sessions', { scenario: 'elevator', seed: 5 })).json;
+    const ownSocket = await api.openSocket(own.id);
+    try {
+      const head = { name: 'robot.head_rgbd', width: 64, height: 48, ids: false };
+      assert.deepEqual(await ownSocket.send({ type: 'subscribe', rate: 60, camera: head }), { type: 'subscribed', rate: 60, camera: head });
+      const check = (frame, tick, [name, width, height, parts]) => {
+        assert.deepEqual([frame.tick, frame.time, frame.camera, frame.width, frame.height, frame.parts], [tick, tick * own.dt, name, width, height, parts]);
+      };
+      assert.equal((await nextStateFrame(ownSocket)).tick, 0, 'the session as it is now');
+      check(await nextCameraFrame(ownSocket), 0, ['robot.head_rgbd', 64, 48, 3]);
+      // Stepped over the socket and over REST: a state frame and its camera frame each time.
+      await ownSocket.send({ type: 'step', n: 5 });
+      assert.equal((await nextStateFrame(ownSocket)).tick, 5);
+      const pushed = await nextCameraFrame(ownSocket);
+      check(pushed, 5, ['robot.head_rgbd', 64, 48, 3]);
+      assert.equal(await ownSocket.nextFrame(50), undefined, 'nothing changed: nothing pushed');
+      const asked = cameraFrame.decodeCameraFrame(await ownSocket.send({ type: 'camera', camera: 'robot.head_rgbd', width: 64, height: 48 }));
+      assert.deepEqual(pushed, asked, 'the camera message\'s frame of the same moment');
+      assert.equal((await api.post(`/api/v1/sessions/${own.id}/step`, { n: 2 })).status, 200);
+      assert.equal((await nextStateFrame(ownSocket)).tick, 7);
+      check(await nextCameraFrame(ownSocket), 7, ['robot.head_rgbd', 64, 48, 3]);
+
+      // A new subscription replaces the camera: a width alone keeps the overview's 4:3, with ids.
+      const overview = { name: 'overview', width: 64, ids: true };
+      assert.deepEqual((await ownSocket.send({ type: 'subscribe', rate: 60, camera: overview })).camera, { ...overview, height: 0 }, '0: not asked for');
+      await ownSocket.send({ type: 'step' });
+      assert.equal((await nextStateFrame(ownSocket)).tick, 8);
+      const withIds = await nextCameraFrame(ownSocket);
+      check(withIds, 8, ['overview', 64, 48, 7]);
+      assert.ok(withIds.ids.some((id) => id !== 0), 'the overview sees the map');
+      // ...and a subscription without one stops the camera frames, not the state frames.
+      assert.deepEqual(await ownSocket.send({ type: 'subscribe', rate: 60, camera: null }), { type: 'subscribed', rate: 60, camera: null });
+      await ownSocket.send({ type: 'step' });
+      assert.equal((await nextStateFrame(ownSocket)).tick, 9);
+      assert.equal(await ownSocket.nextFrame(100), undefined, 'no camera frame');
+      await ownSocket.send({ type: 'subscribe', rate: 60, camera: { name: 'follow', height: 32 } });
+      assert.deepEqual((await ownSocket.send({ type: 'subscribe', rate: 60 })).camera, null, 'no camera: none');
+    } finally {
+      ownSocket.close();
+      await api.delete(`/api/v1/sessions/${own.id}`);
+    }
+  });
+
+  it('subscribe with a camera on a realtime session: each state frame, then its camera frame', async () => {
+    const realtime = (await api.post('/api/v1/sessions', { scenario: 'elevator', mode: 'realtime' })).json;
+    const realtimeSocket = await api.openSocket(realtime.id);
+    try {
+      await realtimeSocket.send({ type: 'subscribe', rate: 30, camera: { name: 'robot.head_rgbd', width: 32, height: 24, ids: true } });
+      const ticks = [];
+      for (let pair = 0; pair < 3; pair++) {
+        const state = await nextStateFrame(realtimeSocket);
+        const camera = await nextCameraFrame(realtimeSocket);
+        assert.deepEqual([camera.tick, camera.camera, camera.width, camera.height, camera.parts], [state.tick, 'robot.head_rgbd', 32, 24, 7]);
+        assert.equal(camera.time, state.time);
+        ticks.push(state.tick);
+      }
+      assert.ok(ticks.every((tick, i) => i === 0 || tick > ticks[i - 1]), `ticks advance on their own: ${ticks}`);
+      assert.equal((await realtimeSocket.send({ type: 'subscribe', rate: 0, camera: { name: 'overview' } })).rate, 0);
+    } finally {
+      realtimeSocket.close();
+      await api.delete(`/api/v1/sessions/${realtime.id}`);
+    }
+  });
+
+  it('subscribe: a wrong camera is an error naming it, and subscribes nothing', async () => {
+    const other = await api.openSocket(session.id);
+    try {
+      const cases = [[{ name: 'ceiling' }, 'not_found'], ['robot.head_rgbd', 'bad_request', '/camera'], [{}, 'bad_request', '/camera'],
+        [{ name: 5 }, 'bad_request', '/camera'], [[], 'bad_request', '/camera'],
+        [{ name: 'overview', width: 15 }, 'bad_request', '/camera/width'], [{ name: 'overview', width: 2049 }, 'bad_request', '/camera/width'],
+        [{ name: 'overview', width: 64.5 }, 'bad_request', '/camera/width'], [{ name: 'overview', height: '48' }, 'bad_request', '/camera/height'],
+        [{ name: 'overview', ids: 1 }, 'bad_request', '/camera/ids'], [{ name: 'overview', colour: 'red' }, 'bad_request', '/camera/colour']];
+      for (const [camera, code, pointer] of cases) {
+        const reply = await other.send({ type: 'subscribe', rate: 60, camera });
+        assert.equal(reply.type, 'error', JSON.stringify(camera));
+        assert.equal(reply.error.code, code, JSON.stringify(camera));
+        if (pointer) assert.equal(reply.error.details.pointer, pointer, JSON.stringify(camera));
+      }
+      const unknown = await other.send({ type: 'subscribe', rate: 60, camera: { name: 'ceiling' } });
+      assert.equal(unknown.error.details.camera, 'ceiling');
+      assert.match(unknown.error.message, /overview, follow, robot\.head_rgbd/, 'the message lists the cameras there are');
+      await other.send({ type: 'step' });
+      assert.equal(await other.nextFrame(100), undefined, 'nothing subscribed');
+    } finally {
+      await other.closeAndWait();
+    }
   });
 
   it('a realtime session moves by itself: frames at most at the rate, step is a conflict', async () => {

@@ -90,8 +90,11 @@ class Client {
 
 /**
  * A session's WebSocket: each message sent gets the next answer, checked against the spec (a JSON
- * object, or a Buffer for a binary answer); state frames the server pushes are checked and kept apart
- * for nextFrame().
+ * object, or a Buffer for a binary answer); state frames the server pushes, and the binary camera
+ * frames that follow them when the subscription has a camera, are checked and kept apart for
+ * nextFrame(). A binary message is a pushed camera frame while a state frame's is due, unless the
+ * answer awaited is a laser frame (told apart by its magic) or a camera frame: then the two cannot be
+ * told apart, and nextFrame() fails.
  */
 class SessionSocket {
   constructor(socket) {
@@ -101,6 +104,8 @@ class SessionSocket {
     this.frames = [];  // pushed frames not yet taken, oldest first
     this.frameWaiters = [];  // resolve functions of nextFrame() calls
     this.problems = [];  // pushed frames that broke the spec
+    this.cameraSubscribed = false;  // the last subscribed answer had a camera and a rate above 0
+    this.cameraFramesDue = 0;  // pushed state frames whose camera frame has not come yet
     socket.on('message', (data, binary) => {
       let message;
       if (!binary) {
@@ -109,7 +114,20 @@ class SessionSocket {
         } catch {
           message = undefined;  // not JSON: checkSocketReply says so below
         }
-        if (isPushed(message)) return this.pushed(message);
+        if (isPushed(message)) {
+          if (message.type === 'state_frame' && this.cameraSubscribed) this.cameraFramesDue += 1;
+          return this.pushed(message);
+        }
+        // State frames taken after this answer follow it; those taken before came before it.
+        if (message?.type === 'subscribed') this.cameraSubscribed = message.rate > 0 && message.camera != null;
+      } else if (this.cameraFramesDue > 0) {
+        const awaited = this.waiting[0]?.sent?.type;
+        if (awaited === 'camera') {
+          this.problems.push(new Error('a binary message while both a camera answer and a pushed camera frame are due: they cannot be told apart'));
+        } else if (awaited !== 'laser' || data.toString('latin1', 0, 4) === 'HRCF') {
+          this.cameraFramesDue -= 1;
+          return this.pushed(data, { binary: true });
+        }
       }
       const next = this.waiting.shift();
       if (!next) {
@@ -131,9 +149,9 @@ class SessionSocket {
     });
   }
 
-  pushed(frame) {
+  pushed(frame, { binary = false } = {}) {
     try {
-      checkSocketPush(frame);
+      checkSocketPush(frame, { binary });
     } catch (error) {
       this.problems.push(error);
     }
@@ -163,8 +181,8 @@ class SessionSocket {
   }
 
   /**
-   * The oldest pushed frame not yet taken, waiting up to `withinMs` for one; undefined when none
-   * came. Fails when a frame broke the spec.
+   * The oldest pushed frame not yet taken (a state frame's object, or a camera frame's Buffer),
+   * waiting up to `withinMs` for one; undefined when none came. Fails when a frame broke the spec.
    */
   async nextFrame(withinMs = REPLY_LIMIT_MS) {
     const deadline = Date.now() + withinMs;

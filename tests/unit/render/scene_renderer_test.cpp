@@ -82,6 +82,19 @@ TEST(SceneRenderer, ACapsuleIsRoundAndAsThickAsItsDiameter) {
   EXPECT_EQ(id_at(frame, camera, 128, 66), 0u);
 }
 
+TEST(SceneRenderer, PartsOutsideTheViewAreLeftOutButThoseReachingIntoItAreDrawn) {
+  SceneRenderer renderer(128, 128);
+  Camera camera;
+  camera.width = camera.height = 128, camera.cx = camera.cy = 64, camera.fx = camera.fy = 64;  // 90° across
+  // A long wall whose centre is far off to the left, out of view, but whose end reaches the middle;
+  // a box behind the camera; a box beyond the far plane.
+  Part wall = box_at(3.0, 20.0, 0.0, {0.1, 40.2, 4.0}, 3);
+  const Frame frame = renderer.render({wall, box_at(-2, 0, 0, {1, 1, 1}, 4), box_at(60, 0, 0, {1, 1, 1}, 5)}, camera);
+  EXPECT_EQ(id_at(frame, camera, 20, 64), 3u) << "the wall's end in the left half";
+  EXPECT_EQ(id_at(frame, camera, 100, 64), 0u);
+  for (const std::uint32_t id : frame.ids) EXPECT_TRUE(id == 0u || id == 3u);
+}
+
 TEST(SceneRenderer, AnOrthographicCameraLooksStraightDownWithDepthInMetres) {
   SceneRenderer renderer(200, 100);
   Camera camera;
