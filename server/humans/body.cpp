@@ -54,7 +54,11 @@ SkeletonPose body_pose(const Activity& activity) {
   const MotionClip& idle = *builtin_motion("idle");
   const MotionClip& walk = *builtin_motion("walk");
   const double stepping = std::max(std::abs(activity.speed), kTurnStepRadius * std::abs(activity.turn_rate));
-  SkeletonPose pose = blend(idle.sample(activity.time), walking_pose(walk, activity.gait_distance), std::clamp(stepping / kFullGaitSpeed, 0.0, 1.0));
+  const double gait = std::clamp(stepping / kFullGaitSpeed, 0.0, 1.0);
+  // Only the clips that show are sampled.
+  SkeletonPose pose = gait >= 1.0   ? walking_pose(walk, activity.gait_distance)
+                      : gait <= 0.0 ? idle.sample(activity.time)
+                                    : blend(idle.sample(activity.time), walking_pose(walk, activity.gait_distance), gait);
   const double twist = std::clamp(kTurnTwistGain * activity.turn_rate, -kMaxTurnTwist, kMaxTurnTwist);
   if (twist != 0.0) {
     Eigen::Quaterniond& spine = pose.rotations[static_cast<int>(Joint::vl5)];

@@ -105,6 +105,8 @@ SkeletonPose walking_pose(const MotionClip& walk, double distance) {
 }
 
 SkeletonPose blend(const SkeletonPose& a, const SkeletonPose& b, double weight) {
+  if (weight <= 0.0) return a;
+  if (weight >= 1.0) return b;
   SkeletonPose pose;
   pose.root = (1.0 - weight) * a.root + weight * b.root;
   for (int j = 0; j < kJointCount; ++j) pose.rotations[j] = a.rotations[j].slerp(weight, b.rotations[j]);

@@ -43,6 +43,7 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
       agent.preferred_speed = def.preferred_speed.value_or(kScriptedRobotSpeed);
     }
     state_.agents.push_back(std::move(agent));
+    body_cache_.emplace_back();
     skeletons_.push_back(def.kind == AgentKind::human ? std::optional(humans::Skeleton(humans::body_dimensions(def.type).value_or(humans::kAdultBody)))
                                                       : std::nullopt);
     ids_.add(static_cast<int>(state_.agents.size() - 1));
@@ -801,11 +802,16 @@ humans::Activity Session::activity(int agent) const {
 
 humans::BodyCapsules Session::human_body(int agent) const {
   const AgentState& state = state_.agents[agent];
+  // The physics world, each laser scan and each camera ask for the same bodies within a tick.
+  CachedBody& cached = body_cache_[agent];
+  if (cached.tick == state_.tick && cached.position == state.position && cached.heading == state.heading) return cached.body;
   Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
   base.translation() = Eigen::Vector3d(state.position.x(), state.position.y(), 0.0);
   base.linear() = Eigen::AngleAxisd(state.heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const humans::Skeleton& skeleton = *skeletons_[agent];
-  return humans::body_capsules(skeleton, humans::forward_kinematics(skeleton, humans::body_pose(activity(agent)), base));
+  cached = {state_.tick, state.position, state.heading,
+            humans::body_capsules(skeleton, humans::forward_kinematics(skeleton, humans::body_pose(activity(agent)), base))};
+  return cached.body;
 }
 
 void Session::locomotion() {
@@ -1041,11 +1047,14 @@ void Session::place_object(int object, const Eigen::Isometry3d& pose) {
 
 namespace {
 
-/// A capsule of the body as the physics world's shape: centred, its axis along z.
+/// A capsule of the body as the physics world's shape: centred, its axis along z (about which it is
+/// round, so any x and y across it do).
 Eigen::Isometry3d capsule_pose(const humans::Capsule& capsule) {
+  const Eigen::Vector3d z = (capsule.to - capsule.from).normalized();
+  const Eigen::Vector3d x = (std::abs(z.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(z).normalized();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translate(0.5 * (capsule.from + capsule.to));
-  pose.rotate(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), capsule.to - capsule.from));
+  pose.linear() << x, z.cross(x), z;
+  pose.translation() = 0.5 * (capsule.from + capsule.to);
   return pose;
 }
 
@@ -1129,14 +1138,25 @@ void Session::build_physics() {
 
 void Session::step_physics() {
   for (std::size_t d = 0; d < door_bodies_.size(); ++d) physics_->set_enabled(door_bodies_[d], door_blocks(static_cast<int>(d)));
+  // People touch robots only: a body far from every robot is left out of the world, which spares
+  // Bullet most of its kinematic bodies in a crowd.
+  std::vector<Vec2> robots_at;
+  for (std::size_t i = 0; i < state_.agents.size(); ++i) {
+    if (state_.agents[i].active && model_->agents[i].kind == AgentKind::robot) robots_at.push_back(state_.agents[i].position);
+  }
   for (std::size_t i = 0; i < human_bodies_.size(); ++i) {
     const auto& bodies = human_bodies_[i];
     if (bodies[0] < 0) continue;
     const AgentState& agent = state_.agents[i];
-    for (const int part : bodies) physics_->set_enabled(part, agent.active);
-    if (!agent.active) continue;
-    const humans::BodyCapsules body = human_body(static_cast<int>(i));
-    for (int part = 0; part < humans::kBodyPartCount; ++part) physics_->set_kinematic_pose(bodies[part], capsule_pose(body[part]));
+    const bool near_a_robot = std::any_of(robots_at.begin(), robots_at.end(), [&](const Vec2& robot) {
+      return (robot - agent.position).squaredNorm() <= kHumanContactRange * kHumanContactRange;
+    });
+    const bool present = agent.active && near_a_robot;
+    if (present) {
+      const humans::BodyCapsules body = human_body(static_cast<int>(i));
+      for (int part = 0; part < humans::kBodyPartCount; ++part) physics_->set_kinematic_pose(bodies[part], capsule_pose(body[part]));
+    }
+    for (const int part : bodies) physics_->set_enabled(part, present);
   }
   for (std::size_t i = 0; i < disc_robot_bodies_.size(); ++i) {
     if (disc_robot_bodies_[i] < 0) continue;

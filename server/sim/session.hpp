@@ -43,6 +43,9 @@ inline constexpr double kRejoinClearance = 0.5;
 /// Without a path, planning is tried again after this long, s.
 inline constexpr double kReplanRetry = 1.0;
 
+/// A person's body takes part in the physics world within this distance of a robot, m (farther, it
+/// cannot touch one: a robot's reach plus a person's).
+inline constexpr double kHumanContactRange = 3.0;
 /// A person holding a motion primitive's last pose walks off it (it blends out) above this speed, m/s.
 inline constexpr double kMotionReleaseSpeed = 0.2;
 
@@ -170,6 +173,15 @@ class Session {
   std::vector<std::optional<double>> watching_headings_;  ///< per agent this tick: facing a watched robot
   std::vector<RobotRuntime> robots_;
   std::vector<std::optional<humans::Skeleton>> skeletons_;  ///< per agent: humans' bodies
+  /// Per agent: the body last computed, for the tick and place it was computed at. A body depends
+  /// on nothing else that changes within a tick. (Like the rest of a Session, not for several threads.)
+  struct CachedBody {
+    std::int64_t tick = -1;
+    Vec2 position = Vec2::Zero();
+    double heading = 0.0;
+    humans::BodyCapsules body;
+  };
+  mutable std::vector<CachedBody> body_cache_;
   /// The Bullet world, when the scenario has a robot with a model or a movable object.
   std::unique_ptr<physics::PhysicsWorld> physics_;
   /// Per agent: the physics bodies of a human's capsules (robots: -1).
