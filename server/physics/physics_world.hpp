@@ -27,7 +27,7 @@ struct BodyOwner {
   enum class Kind { map, human, robot, object };
   Kind kind = Kind::map;
   int index = -1;    ///< agent index (human, robot) or object index; -1 for the map
-  std::string part;  ///< human: torso, left_leg, right_leg; robot: its link; object and map: its name
+  std::string part;  ///< human: a body part (humans::body_part_name); robot: its link; object and map: its name
   bool operator==(const BodyOwner&) const = default;
 };
 

@@ -71,7 +71,7 @@ struct OdometryReading {
 struct Contact {
   int agent = -1;    ///< the human or robot touched, or -1
   int object = -1;   ///< the movable object touched, or -1 (neither: the map)
-  std::string part;  ///< a human's torso, left_leg or right_leg; another robot's link; the object's or obstacle's name
+  std::string part;  ///< a human's body part (l_shin, torso, …); another robot's link; the object's or obstacle's name
   bool operator==(const Contact&) const = default;
 };
 

@@ -265,19 +265,15 @@ CameraInfo camera_of(const Session& session, const std::string& name, int width,
     // A size given alone scales the other with it.
     const double sx = width > 0 ? static_cast<double>(width) / c.width : height > 0 ? static_cast<double>(height) / c.height : 1.0;
     const double sy = height > 0 ? static_cast<double>(height) / c.height : sx;
+    const int w = static_cast<int>(std::lround(c.width * sx)), h = static_cast<int>(std::lround(c.height * sy));
     if (c.orthographic_width > 0.0) {
-      c = overview_camera(session.model(), static_cast<int>(std::lround(c.width * sx)), static_cast<int>(std::lround(c.height * sy)));
+      c = overview_camera(session.model(), w, h);
     } else {
-      // The horizontal field of view is kept; square pixels.
-      const double hfov = 2.0 * std::atan(c.width / 2.0 / c.fx);
-      c = [&] {
-        render::Camera scaled = render::Camera::pinhole(static_cast<int>(std::lround(c.width * sx)), static_cast<int>(std::lround(c.height * sy)), hfov, c.near, c.far);
-        scaled.pose = c.pose;
-        return scaled;
-      }();
+      // The horizontal field of view is kept, with square pixels and the principal point centred.
+      const Eigen::Isometry3d pose = c.pose;
+      c = render::Camera::pinhole(w, h, 2.0 * std::atan(c.width / 2.0 / c.fx), c.near, c.far);
+      c.pose = pose;
     }
-    c.cx = c.width / 2.0;
-    c.cy = c.height / 2.0;
     return info;
   }
   throw core::Error(core::ErrorCode::not_found, "no camera '" + name + "' (" + names + ")", {{"camera", name}});

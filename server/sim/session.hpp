@@ -81,8 +81,9 @@ class Session {
   /// A robot will ask for a task at simulation time `time`.
   void schedule_request(double time, AgentId robot, int task);
   /// A textual command to a human, as SimVis3D's command interface: "walk X Y", "wait S",
-  /// "turn_to RAD", "look_at NAME" (an agent or a location). It goes before whatever the human was
-  /// doing, which starts again afterwards. Throws core::Error(bad_request) saying what is wrong.
+  /// "turn_to RAD", "look_at NAME" (an agent or a location), "motion NAME [S]" (a motion primitive).
+  /// It goes before whatever the human was doing, which starts again afterwards. Throws
+  /// core::Error(bad_request) saying what is wrong.
   void command_human(AgentId human, std::string_view text);
   /// The action a command would give, checked but not given.
   scenario::Action parse_human_command(AgentId human, std::string_view text) const;
