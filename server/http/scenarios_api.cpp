@@ -66,6 +66,16 @@ void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> cata
     return Response::json(200, entry->source.document);
   });
 
+  router.add("GET", "/api/v1/scenarios/{id}/world", [catalogue](const Request& request) {
+    const std::string& id = request.path_params.at("id");
+    const auto* entry = catalogue->find(id);
+    if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
+    if (!entry->source.model) throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' does not load", {{"id", id}});
+    nlohmann::json world = scenario::world_geometry(*entry->source.model);
+    world["id"] = id;
+    return Response::json(200, world);
+  });
+
   router.add("GET", "/api/v1/scenarios/{id}/thumbnail", [catalogue](const Request& request) {
     const std::string& id = request.path_params.at("id");
     const auto* entry = catalogue->find(id);

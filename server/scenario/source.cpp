@@ -1,5 +1,7 @@
 #include "scenario/source.hpp"
 
+#include <cmath>
+
 namespace hrisim::scenario {
 
 std::string_view to_string(SourceFormat format) {
@@ -77,6 +79,74 @@ nlohmann::json summarize(const Model& model) {
           {"duration", model.time_limit},
           {"steps", model.steps.size()},
           {"dt", model.dt}};
+}
+
+namespace {
+
+nlohmann::json pose_json(const Pose2& pose) { return {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}}; }
+nlohmann::json point_json(const Vec2& p) { return nlohmann::json::array({p.x(), p.y()}); }
+
+}  // namespace
+
+nlohmann::json world_geometry(const Model& model) {
+  const world::OccupancyGrid& grid = model.grid;
+  const Vec2 low = grid.origin(), high = low + Vec2(grid.width() * grid.resolution(), grid.height() * grid.resolution());
+  nlohmann::json walls = nlohmann::json::array();
+  for (const world::Segment& segment : model.outline) {
+    walls.push_back({{"from", point_json(segment.a)}, {"to", point_json(segment.b)},
+                     {"top", std::isfinite(segment.top) ? nlohmann::json(segment.top) : nlohmann::json()}});
+  }
+  nlohmann::json obstacles = nlohmann::json::array();
+  for (const Obstacle& obstacle : model.obstacles) {
+    nlohmann::json polygon = nlohmann::json::array();
+    for (const Vec2& p : obstacle.polygon) polygon.push_back(point_json(p));
+    obstacles.push_back({{"name", obstacle.name}, {"polygon", polygon}, {"height", obstacle.height},
+                         {"mesh", obstacle.mesh.empty() ? nlohmann::json() : nlohmann::json(obstacle.mesh)}});
+  }
+  nlohmann::json doors = nlohmann::json::array();
+  for (const Door& door : model.doors) {
+    doors.push_back({{"name", door.name}, {"from", point_json(door.from)}, {"to", point_json(door.to)}, {"thickness", door.thickness},
+                     {"initially_open", door.initially_open}});
+  }
+  nlohmann::json elevators = nlohmann::json::array();
+  for (const Elevator& elevator : model.elevators) {
+    nlohmann::json names = nlohmann::json::array();
+    for (const int d : elevator.doors) names.push_back(model.doors[d].name);
+    elevators.push_back({{"name", elevator.name}, {"doors", names}});
+  }
+  nlohmann::json locations = nlohmann::json::array();
+  for (const Location& location : model.locations) {
+    nlohmann::json entry = pose_json(location.pose);
+    entry["name"] = location.name;
+    entry["radius"] = location.radius;
+    locations.push_back(entry);
+  }
+  nlohmann::json spaces = nlohmann::json::array();
+  for (const SocialSpace& space : model.social_spaces) {
+    nlohmann::json slots = nlohmann::json::array();
+    for (const Pose2& slot : space.slots) slots.push_back(pose_json(slot));
+    spaces.push_back({{"name", space.name}, {"centre", pose_json(space.centre)}, {"slots", slots}});
+  }
+  nlohmann::json agents = nlohmann::json::array();
+  for (const AgentDef& agent : model.agents) {
+    agents.push_back({{"id", agent.id},
+                      {"kind", agent.kind == AgentKind::human ? "human" : "robot"},
+                      {"type", agent.kind == AgentKind::human ? nlohmann::json(agent.type) : nlohmann::json()},
+                      {"model", agent.robot_model ? nlohmann::json(agent.robot_model->name) : nlohmann::json()},
+                      {"radius", agent.radius},
+                      {"start", pose_json(agent.start)}});
+  }
+  return {{"name", model.name},
+          {"bounds", {{"min", point_json(low)}, {"max", point_json(high)}}},
+          {"walls", walls},
+          {"obstacles", obstacles},
+          {"doors", doors},
+          {"elevators", elevators},
+          {"locations", locations},
+          {"social_spaces", spaces},
+          {"agents", agents},
+          {"dt", model.dt},
+          {"time_limit", model.time_limit}};
 }
 
 }  // namespace hrisim::scenario

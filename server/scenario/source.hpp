@@ -51,4 +51,10 @@ CompiledSource compile_source(std::string_view text, SourceFormat format, const 
 /// duration (its time limit, s), steps, dt.
 nlohmann::json summarize(const Model& model);
 
+/// What a map view draws of a scenario, in the map frame (m, rad): the map's bounds; its walls as the
+/// segments range sensors see (with their tops, null for full height); obstacles as polygons with
+/// their height and furniture mesh; doors; elevators (door names); locations; social spaces with
+/// their slots; and every agent with its kind, type, robot model, radius and start pose.
+nlohmann::json world_geometry(const Model& model);
+
 }  // namespace hrisim::scenario

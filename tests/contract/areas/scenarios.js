@@ -98,6 +98,36 @@ describe('scenarios', () => {
     }
   });
 
+  it('GET /api/v1/scenarios/{id}/world: the elevator as a map view draws it; 404 for an unknown id', async () => {
+    const reply = await api.get('/api/v1/scenarios/elevator/world');
+    assert.equal(reply.status, 200);
+    const world = reply.json;
+    const document = (await api.get('/api/v1/scenarios/elevator')).json;
+    assert.equal(world.id, 'elevator');
+    assert.equal(world.name, document.name);
+    // Every agent of the document, in order: humans then robots, each at its start.
+    const agents = [...document.humans.map((h) => [h.id, 'human']), ...document.robots.map((r) => [r.id, 'robot'])];
+    assert.deepEqual(world.agents.map((a) => [a.id, a.kind]), agents);
+    const robot = world.agents.find((a) => a.kind === 'robot');
+    assert.equal(robot.model, 'hsr');
+    assert.equal(robot.type, null);
+    assert.deepEqual([robot.start.x, robot.start.y], [document.robots[0].start.x, document.robots[0].start.y]);
+    assert.deepEqual(world.locations.map((l) => l.name).sort(), Object.keys(document.locations).sort());
+    assert.ok(world.doors.length >= 2 && world.elevators.length === 1, 'the elevator and its doors');
+    assert.ok(world.walls.length > 0, 'the map from an image as wall segments');
+    // Everything lies within the bounds.
+    const [[x0, y0], [x1, y1]] = [world.bounds.min, world.bounds.max];
+    for (const agent of world.agents) assert.ok(agent.start.x >= x0 && agent.start.x <= x1 && agent.start.y >= y0 && agent.start.y <= y1, agent.id);
+    const apartment = (await api.get('/api/v1/scenarios/apartment/world')).json;
+    const chair = apartment.obstacles.find((o) => o.name === 'chair_1');
+    assert.equal(chair.mesh, 'chair');
+    assert.equal(chair.polygon.length, 4);
+    assert.ok(apartment.obstacles.some((o) => o.name.startsWith('wall ') && o.mesh === null), 'walls come as obstacles too');
+    const unknown = await api.get('/api/v1/scenarios/no_such_scenario/world');
+    assert.equal(unknown.status, 404);
+    assert.equal(unknown.json.error.details.id, 'no_such_scenario');
+  });
+
   it('GET .../thumbnail: width and height from 16 to 1024; one given alone keeps 4:3', async () => {
     for (const [query, size] of [['?width=100&height=100', [100, 100]], ['?width=1024&height=16', [1024, 16]], ['?width=16&height=1024', [16, 1024]],
       ['?width=64', [64, 48]], ['?height=48', [64, 48]], ['?width=16', [16, 16]], ['?height=1024', [1024, 1024]]]) {
