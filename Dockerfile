@@ -6,14 +6,14 @@ WORKDIR /src
 COPY scripts/setup scripts/debian-packages.txt scripts/
 RUN ./scripts/setup && rm -rf /var/lib/apt/lists/*
 COPY . .
-RUN cmake --preset release && cmake --build --preset release
+RUN cmake --preset release && cmake --build --preset release && ./scripts/npm-deps web
 
 FROM debian:12
 COPY scripts/setup scripts/runtime-packages.txt /tmp/setup/
 RUN /tmp/setup/setup /tmp/setup/runtime-packages.txt && rm -rf /var/lib/apt/lists/* /tmp/setup \
  && useradd --system --create-home --home-dir /var/lib/hrisim hrisim
 COPY --from=build /src/build/release/server/app/hrisim /usr/local/bin/hrisim
-COPY web/ /opt/hrisim/web/
+COPY --from=build /src/web/ /opt/hrisim/web/
 COPY scenarios/ /opt/hrisim/scenarios/
 ENV HRISIM_HOST=0.0.0.0 \
     HRISIM_PORT=8080 \

@@ -1,24 +1,69 @@
-// Placeholder page logic: shows the server's health and version from the REST API.
-async function fetchJson(path) {
-  const response = await fetch(path);
-  const body = await response.json();
-  if (!response.ok) throw new Error(body.error ? body.error.message : response.statusText);
-  return body;
+// The browser UI: a hash router over the pages in pages/. Each page module exports
+// `render(root, params, query)`, which fills `root` and may return a function that cleans up (closes
+// sockets, stops timers) when the user leaves the page.
+import { api } from './lib/api.js';
+import { showError } from './lib/ui.js';
+
+const routes = [
+  { pattern: /^\/?$/, page: 'scenarios', nav: 'scenarios' },
+  { pattern: /^\/scenarios\/([^/]+)$/, page: 'scenario', nav: 'scenarios', keys: ['id'] },
+  { pattern: /^\/sessions\/([^/]+)$/, page: 'session', nav: 'scenarios', keys: ['id'] },
+  { pattern: /^\/runs$/, page: 'runs', nav: 'runs' },
+  { pattern: /^\/runs\/([^/]+)$/, page: 'run', nav: 'runs', keys: ['id'] },
+  { pattern: /^\/episodes\/([^/]+)$/, page: 'episode', nav: 'runs', keys: ['id'] },
+  { pattern: /^\/compare\/([^/]+)\/([^/]+)$/, page: 'compare', nav: 'runs', keys: ['a', 'b'] },
+];
+
+let cleanup = null;
+let navigation = 0;
+
+async function show() {
+  const current = ++navigation;
+  if (cleanup) {
+    try { cleanup(); } catch (error) { console.warn('cleaning up the last page failed', error); }
+    cleanup = null;
+  }
+  const [path, queryText = ''] = decodeURIComponent(location.hash.slice(1) || '/').split('?');
+  const query = new URLSearchParams(queryText);
+  const root = document.getElementById('main');
+  root.replaceChildren();
+  const route = routes.find((r) => r.pattern.test(path));
+  for (const link of document.querySelectorAll('[data-nav]')) {
+    if (route && link.dataset.nav === route.nav) link.setAttribute('aria-current', 'page');
+    else link.removeAttribute('aria-current');
+  }
+  if (!route) {
+    showError(root, new Error(`No page at ${path}`));
+    return;
+  }
+  const match = route.pattern.exec(path);
+  const params = Object.fromEntries((route.keys ?? []).map((key, i) => [key, match[i + 1]]));
+  try {
+    const module = await import(`./pages/${route.page}.js`);
+    if (current !== navigation) return;  // the user moved on meanwhile
+    const done = await module.render(root, params, query);
+    if (current !== navigation) {
+      if (typeof done === 'function') done();
+      return;
+    }
+    cleanup = typeof done === 'function' ? done : null;
+  } catch (error) {
+    if (current === navigation) showError(root, error);
+  }
 }
 
-function show(id, text, cls) {
-  const element = document.getElementById(id);
-  element.textContent = text;
-  if (cls) element.className = cls;
+async function showServer() {
+  const status = document.getElementById('server-status');
+  try {
+    const version = await api.get('/api/v1/version');
+    status.textContent = `hrisim ${version.version}`;
+    status.title = `commit ${version.git_commit}`;
+  } catch (error) {
+    status.textContent = `server: ${error.message}`;
+    status.classList.add('error');
+  }
 }
 
-fetchJson('/healthz')
-  .then((health) => show('health', `${health.status} (database ${health.database})`, 'ok'))
-  .catch((error) => show('health', error.message, 'error'));
-
-fetchJson('/api/v1/version')
-  .then((version) => {
-    show('version', `${version.version} (${version.build_type}, ${version.compiler})`);
-    show('commit', version.git_commit);
-  })
-  .catch((error) => show('version', error.message, 'error'));
+window.addEventListener('hashchange', show);
+show();
+showServer();

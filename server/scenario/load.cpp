@@ -368,7 +368,8 @@ class Loader {
       }
       agent.controller.goal_radius = goal.value("radius", kDefaultGoalRadius);
       const bool drives = agent.controller.kind == Kind::goal || agent.controller.kind == Kind::social;
-      if (drives && !agent.controller.goal) error(pointer + "/controller/goal", "a " + type + " controller needs a goal");
+      // A goal that was given but is wrong has its own error already.
+      if (drives && !goal.contains("location") && !goal.contains("pose")) error(pointer + "/controller/goal", "a " + type + " controller needs a goal");
       if (!drives && controller.contains("goal")) error(pointer + "/controller/goal", "only goal and social controllers drive to a goal");
       if (agent.robot_model && !agent.robot_model->drive && agent.controller.kind != Kind::idle) {
         error(pointer + "/controller/type", "robot model '" + agent.robot_model->name + "' has no drive");

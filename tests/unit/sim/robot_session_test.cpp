@@ -178,8 +178,9 @@ TEST(RobotSession, RobotDefinitionsAreValidated) {
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"radius", 0.3}, {"start", start}}), "/robots/0/radius"));
   EXPECT_TRUE(has(errors({{"id", "r"}, {"start", start}, {"controller", {{"type", "idle"}}}}), "/robots/0/controller only a robot with a model"));
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "goal"}}}}), "/robots/0/controller/goal"));
-  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "goal"}, {"goal", {{"location", "nowhere"}}}}}}),
-                  "/robots/0/controller/goal/location"));
+  const auto unknown_location = errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "goal"}, {"goal", {{"location", "nowhere"}}}}}});
+  EXPECT_TRUE(has(unknown_location, "/robots/0/controller/goal/location"));
+  EXPECT_EQ(unknown_location.size(), 1u) << "a goal that is wrong is not also missing";
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "goal"}, {"goal", {{"pose", {{"x", 5}, {"y", 5}}}}}}}}),
                   "/robots/0/controller/goal/pose")) << "inside the table";
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "roman"}, {"start", start}, {"controller", {{"type", "teleop"}}}}), "/robots/0/controller/type"));

@@ -1,0 +1,235 @@
+'use strict';
+// The scenario catalogue and a scenario's page: a card per scenario with its thumbnail, searching and
+// filtering, the elevator's map and timeline, uploads whose errors appear at the lines they concern, and
+// starting a live session from a scenario.
+const assert = require('node:assert/strict');
+const path = require('node:path');
+const { describe, it } = require('node:test');
+const context = require('../lib/context');
+const { newPage, screenshot } = require('../lib/browser');
+
+const BUNDLED = ['apartment', 'conversation_group', 'corridor_passing', 'elevator', 'pair_walking', 'perpendicular_crossing', 'queue'];
+
+// A small valid scenario, pretty-printed so that its errors have lines of their own.
+function roomScenario(name, extraAction = null) {
+  const actions = [{ agent: 'ana', goto: { location: 'door' } }];
+  if (extraAction) actions.push(extraAction);
+  return JSON.stringify({
+    name,
+    description: 'A small room for the UI tests.',
+    time_limit: 30,
+    world: {
+      bounds: { min: [0, 0], max: [6, 4] },
+      walls: [{ from: [0, 0], to: [6, 0] }, { from: [6, 0], to: [6, 4] }, { from: [6, 4], to: [0, 4] }, { from: [0, 4], to: [0, 0] }],
+    },
+    locations: { door: { x: 5, y: 2, theta: 0 } },
+    humans: [{ id: 'ana', start: { x: 1, y: 2, theta: 0 } }],
+    steps: [{ name: 'leave', actions }],
+  }, null, 2);
+}
+
+const lineOf = (text, fragment) => text.split('\n').findIndex((line) => line.includes(fragment)) + 1;
+
+async function serverGet(path) {
+  const reply = await fetch(`http://127.0.0.1:${context.server.port}${path}`);
+  return { status: reply.status, json: await reply.json() };
+}
+
+describe('scenarios', () => {
+  it('the catalogue shows a card per scenario with its thumbnail, and searching and filters narrow it', async () => {
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open('/');
+      await tab.page.waitForSelector('.sc-scenario-card');
+      const ids = await tab.page.$$eval('.sc-scenario-card', (cards) => cards.map((card) => card.dataset.id));
+      for (const id of BUNDLED) assert.ok(ids.includes(id), `a card for ${id}: ${ids.join(', ')}`);
+      const bundled = await tab.page.$$eval('.sc-scenario-card', (cards) => cards.filter((card) => card.querySelector('.badge').textContent === 'bundled').length);
+      assert.equal(bundled, BUNDLED.length);
+      // Lazy thumbnails load once scrolled to; each is a real picture.
+      for (const image of await tab.page.$$('.sc-scenario-card img')) await image.scrollIntoViewIfNeeded();
+      await tab.page.waitForFunction(() => [...document.querySelectorAll('.sc-scenario-card img')].every((image) => image.complete && image.naturalWidth > 0),
+        null, { timeout: 20000 });
+      const elevator = await tab.page.textContent('.sc-scenario-card[data-id=elevator]');
+      assert.match(elevator, /Humans\s*6/);
+      assert.match(elevator, /robot \(hsr\)/);
+      assert.match(elevator, /240 s/);
+      await tab.page.evaluate(() => window.scrollTo(0, 0));
+      await screenshot(tab.page, 'scenarios-catalogue');
+
+      // Search by name, by keyboard; Tab goes on to the filters.
+      await tab.page.focus('#scenario-search');
+      await tab.page.keyboard.type('elev');
+      assert.deepEqual(await tab.page.$$eval('.sc-scenario-card:not([hidden])', (cards) => cards.map((card) => card.dataset.id)), ['elevator']);
+      assert.equal(await tab.page.textContent('.sc-scenario-count'), `1 of ${ids.length} scenarios`);
+      await tab.page.keyboard.press('Tab');
+      assert.equal(await tab.page.evaluate(() => document.activeElement.id), 'scenario-origin');
+      await tab.page.fill('#scenario-search', '');
+      await tab.page.selectOption('#scenario-robot', 'model');
+      assert.deepEqual(await tab.page.$$eval('.sc-scenario-card:not([hidden])', (cards) => cards.map((card) => card.dataset.id)), ['apartment', 'elevator']);
+      await tab.page.selectOption('#scenario-robot', 'no');
+      assert.deepEqual(await tab.page.$$eval('.sc-scenario-card:not([hidden])', (cards) => cards.map((card) => card.dataset.id)), ['perpendicular_crossing']);
+      await tab.page.selectOption('#scenario-robot', '');
+      await tab.page.fill('#scenario-min-humans', '5');
+      await tab.page.fill('#scenario-max-humans', '5');
+      assert.deepEqual(await tab.page.$$eval('.sc-scenario-card:not([hidden])', (cards) => cards.map((card) => card.dataset.id)), ['queue']);
+      await tab.page.fill('#scenario-min-humans', '7');
+      await tab.page.fill('#scenario-max-humans', '');
+      assert.equal(await tab.page.isVisible('text=No scenario matches these filters.'), true);
+      // A card opens its scenario.
+      await tab.page.fill('#scenario-min-humans', '');
+      await tab.page.click('.sc-scenario-card[data-id=queue] .sc-card-link');
+      await tab.page.waitForFunction(() => location.hash === '#/scenarios/queue');
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+    }
+  });
+
+  it('the JSON pointer resolver finds the line of keys, array elements and escaped names; an unknown scenario says so', async () => {
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open('/');
+      const lines = await tab.page.evaluate(async () => {
+        const { jsonPointerLines } = await import('/pages/scenarios.js');
+        const text = '{\n  "a": [\n    1,\n    {"b/c": "x\\"y",\n     "d~e": [[], {}]}\n  ],\n  "f": {\n  }\n';  // unterminated: tolerated
+        return Object.fromEntries(jsonPointerLines(text));
+      });
+      assert.deepEqual(lines, { '': 1, '/a': 2, '/a/0': 3, '/a/1': 4, '/a/1/b~1c': 4, '/a/1/d~0e': 5, '/a/1/d~0e/0': 5, '/a/1/d~0e/1': 5, '/f': 7 });
+      assert.deepEqual(tab.errors, []);
+      // An unknown scenario says so in the page.
+      await tab.open('/scenarios/no_such_scenario');
+      await tab.page.waitForSelector('[role=alert]');
+      assert.match(await tab.page.textContent('[role=alert]'), /no_such_scenario/);
+    } finally {
+      await tab.close();
+    }
+  });
+
+  it('the elevator page shows its facts, its map with obstacles and a timeline row per agent', async () => {
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open('/scenarios/elevator');
+      await tab.page.waitForSelector('svg.map polygon');
+      assert.equal(await tab.page.textContent('h1'), 'elevator');
+      assert.ok(await tab.page.$$eval('svg.map polygon', (polygons) => polygons.length) >= 12, 'walls and tables');
+      assert.match(await tab.page.textContent('svg.map'), /button_floor1/);
+      assert.match(await tab.page.textContent('.sc-facts'), /240 s/);
+      const rows = await tab.page.$$eval('table.sc-timeline tbody tr', (trs) => trs.map((tr) => tr.dataset.agent));
+      assert.deepEqual(rows, ['ada', 'ben', 'cleo', 'dev', 'eli', 'fay', 'robot']);
+      const steps = await tab.page.$$eval('table.sc-timeline thead th', (ths) => ths.slice(1).map((th) => th.textContent));
+      assert.deepEqual(steps, ['1. gather', '2. ride_up', '3. swap', '4. ride_down', '5. afterwards']);
+      const eliSwap = await tab.page.textContent('tr[data-agent=eli] td:nth-of-type(3)');
+      assert.match(eliSwap, /wait 4 s.*goto cabin/);
+      assert.match(await tab.page.textContent('tr[data-agent=ada] td:nth-of-type(1)'), /task call_up.*goto button_floor1/);
+      assert.equal(await tab.page.getAttribute('a:has-text("Run in batch")', 'href'), '#/runs?scenario=elevator');
+      await screenshot(tab.page, 'scenario-elevator');
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+    }
+  });
+
+  it('an invalid upload shows each error at its line: JSON by pointer, IMHuS XML by line', async () => {
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open('/');
+      await tab.page.click('.sc-upload-panel summary');
+      const json = roomScenario('ui broken room', { agent: 'nobody', wait: { duration: 2 } });
+      await tab.page.fill('#upload-text', json);
+      await tab.page.click('button:has-text("Upload")');
+      await tab.page.waitForSelector('.sc-source-note.error');
+      const line = lineOf(json, '"agent": "nobody"');
+      const note = await tab.page.$(`.sc-source-note.error[data-line="${line}"]`);
+      assert.ok(note, `an error note at line ${line}`);
+      assert.match(await note.textContent(), /Error at \/steps\/0\/actions\/1\/agent: unknown agent 'nobody'/);
+      // The note sits right under its line.
+      assert.equal(await note.evaluate((element) => element.previousElementSibling.dataset.line), String(line));
+      assert.match(await tab.page.textContent('.sc-issue-list'), /\/steps\/0\/actions\/1\/agent/);
+      await screenshot(tab.page, 'scenarios-upload-json-errors');
+
+      // IMHuS XML from a file: a pose that does not exist, at line 5.
+      const xml = ['<?xml version="1.0"?>', '<map_name name="elevator"/>', '<agents><human id="ann"/></agents>',
+        '<poses><pose><pose id="start" x="4" y="-3" theta="0"/></pose></poses>',
+        '<goals><scenarios><walk><initialisation><goto_action entityID="ann" poseID="start"/></initialisation>',
+        '<go>', '<goto_action entityID="ann" poseID="nowhere"/>', '</go></walk></scenarios></goals>'].join('\n');
+      await tab.page.setInputFiles('#upload-file', { name: 'broken.xml', mimeType: 'application/xml', buffer: Buffer.from(xml) });
+      await tab.page.waitForFunction(() => document.querySelector('#upload-text').value.startsWith('<?xml'));
+      await tab.page.click('button:has-text("Validate only")');
+      await tab.page.waitForSelector('.sc-source-note.error[data-line="7"]');
+      assert.match(await tab.page.textContent('.sc-source-note.error[data-line="7"]'), /Error: <goto_action>: unknown pose 'nowhere'/);
+      await tab.page.click('.sc-issue-list button:has-text("line 7")');
+      assert.equal(await tab.page.evaluate(() => document.activeElement.dataset.line), '7');
+      await screenshot(tab.page, 'scenarios-upload-xml-errors');
+      assert.deepEqual(tab.errors.filter((error) => !/status of 400/.test(error)), []);
+    } finally {
+      await tab.close();
+    }
+  });
+
+  it('a valid upload opens as a new scenario and appears in the catalogue', async () => {
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open('/');
+      await tab.page.click('.sc-upload-panel summary');
+      await tab.page.fill('#upload-text', roomScenario('ui test room'));
+      await tab.page.click('button:has-text("Validate only")');
+      await tab.page.waitForSelector('text=/Valid JSON: “ui test room”/');
+      await tab.page.click('button:has-text("Upload")');
+      await tab.page.waitForFunction(() => /^#\/scenarios\/u[0-9a-f]{32}$/.test(location.hash));
+      await tab.page.waitForSelector('table.sc-timeline');
+      assert.match(await tab.page.textContent('[role=status]'), /Uploaded and stored as u[0-9a-f]{32}/);
+      assert.equal(await tab.page.textContent('h1'), 'ui test room');
+      const id = (await tab.page.evaluate(() => location.hash)).split('/')[2];
+      await screenshot(tab.page, 'scenario-uploaded');
+      await tab.open('/');
+      await tab.page.fill('#scenario-search', 'ui test room');
+      await tab.page.waitForSelector(`.sc-scenario-card[data-id="${id}"] img`);
+      assert.match(await tab.page.textContent(`.sc-scenario-card[data-id="${id}"]`), /uploaded/);
+
+      // An IMHuS file, imported: its steps and agents read as the native ones do.
+      await tab.page.click('.sc-upload-panel summary');
+      await tab.page.setInputFiles('#upload-file', path.join(__dirname, '../../fixtures/imhus/office.xml'));
+      await tab.page.waitForFunction(() => document.querySelector('#upload-text').value.startsWith('<?xml'));
+      await tab.page.selectOption('#upload-format', 'imhus');
+      await tab.page.click('button:has-text("Upload")');
+      await tab.page.waitForFunction((before) => /^#\/scenarios\/u/.test(location.hash) && location.hash !== before, `#/scenarios/${id}`);
+      await tab.page.waitForSelector('table.sc-timeline');
+      const agents = await tab.page.$$eval('table.sc-timeline tbody tr', (trs) => trs.map((tr) => tr.dataset.agent));
+      assert.deepEqual(agents, ['ann', 'bo', 'cy', 'pepper']);
+      await screenshot(tab.page, 'scenario-imported-imhus');
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+    }
+  });
+
+  it('starting a live session from a scenario opens the session; a refused one says why next to the form', async () => {
+    const tab = await newPage(context.browser, context.server.port);
+    let session = null;
+    try {
+      await tab.open('/scenarios/elevator');
+      await tab.page.waitForSelector('#session-controller');
+      // A seed out of range is named beside the seed.
+      await tab.page.fill('#session-seed', '-1');
+      await tab.page.click('button:has-text("Start live session")');
+      await tab.page.waitForSelector('#session-seed-error:not(:empty)');
+      assert.equal(await tab.page.getAttribute('#session-seed', 'aria-invalid'), 'true');
+      assert.deepEqual(tab.errors.filter((error) => !/status of 400/.test(error)), []);
+      tab.errors.length = 0;
+      await tab.page.fill('#session-seed', '7');
+      await tab.page.selectOption('#session-controller', 'social');
+      await tab.page.selectOption('#session-goal', 'centre_floor1');
+      await tab.page.click('button:has-text("Start live session")');
+      await tab.page.waitForFunction(() => /^#\/sessions\/s[0-9a-f]+$/.test(location.hash));
+      session = (await tab.page.evaluate(() => location.hash)).split('/')[2];
+      const status = await serverGet(`/api/v1/sessions/${session}`);
+      assert.equal(status.status, 200);
+      assert.equal(status.json.scenario, 'elevator');
+      assert.equal(status.json.seed, 7);
+      assert.deepEqual(status.json.controller, { type: 'social', goal: { location: 'centre_floor1' } });
+    } finally {
+      await tab.close();
+      if (session) await fetch(`http://127.0.0.1:${context.server.port}/api/v1/sessions/${session}`, { method: 'DELETE' });
+    }
+  });
+});

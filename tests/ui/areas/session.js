@@ -1,0 +1,152 @@
+'use strict';
+// The live session page (#/sessions/ID): the 3D scene renders, Play / Pause / Step drive the lockstep
+// session over its WebSocket, a camera frame shows, humans take commands (and a refused one says why),
+// the robot drives with the arrow keys under teleop, and ending the session goes back to its scenario.
+const assert = require('node:assert/strict');
+const { describe, it } = require('node:test');
+const context = require('../lib/context');
+const { newPage, screenshot } = require('../lib/browser');
+
+async function call(method, path, body) {
+  const response = await fetch(`http://127.0.0.1:${context.server.port}${path}`, {
+    method,
+    headers: body ? { 'content-type': 'application/json' } : {},
+    body: body ? JSON.stringify(body) : undefined,
+  });
+  const text = await response.text();
+  return { status: response.status, body: text ? JSON.parse(text) : null };
+}
+
+async function createSession(body) {
+  const created = await call('POST', '/api/v1/sessions', body);
+  assert.equal(created.status, 201, JSON.stringify(created.body));
+  return created.body.id;
+}
+
+/** Agents' positions as the page's agent table shows them, {id: [x, y]}. */
+function positions(page) {
+  return page.$$eval('.agent-table tr[data-agent]', (rows) => Object.fromEntries(rows.map((row) => [row.dataset.agent, [Number(row.dataset.x), Number(row.dataset.y)]])));
+}
+
+const tick = (page) => page.evaluate(() => Number(document.querySelector('.session-toolbar .clock').dataset.tick));
+
+/** How many different colours a canvas shows (a blank or failed one shows one). */
+function colours(page, selector) {
+  return page.$eval(selector, (canvas) => {
+    const copy = document.createElement('canvas');
+    copy.width = canvas.width;
+    copy.height = canvas.height;
+    const context = copy.getContext('2d');
+    context.drawImage(canvas, 0, 0);
+    const data = context.getImageData(0, 0, copy.width, copy.height).data;
+    const seen = new Set();
+    for (let i = 0; i < data.length && seen.size < 50; i += 4 * 97) seen.add((data[i] << 16) | (data[i + 1] << 8) | data[i + 2]);
+    return seen.size;
+  });
+}
+
+describe('session', () => {
+  it('renders the scene and a camera, plays, pauses, steps and commands a human', async () => {
+    const id = await createSession({ scenario: 'elevator', seed: 3 });
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open(`/sessions/${id}`);
+      await tab.page.waitForSelector('.scene-box[data-frames]');
+      await tab.page.waitForSelector('.camera-frame[data-tick]');
+      assert.ok(await colours(tab.page, '.scene-box canvas') > 5, 'the WebGL scene shows the map');
+      assert.ok(await colours(tab.page, '.camera-frame') > 5, 'the camera frame has content');
+      assert.match(await tab.page.textContent('.camera-caption'), /robot\.head_rgbd · tick 0 · 320 × 240 px/);
+      assert.match(await tab.page.textContent('.step-name'), /step 1 of 5: gather/);
+
+      // A robot request (elevator answers call_elevator_floor2): its fate shows once the session steps.
+      assert.equal(await tab.page.inputValue('.robot-request select'), 'call_elevator_floor2');
+      await tab.page.click('.robot-request button[type=submit]');
+      await tab.page.waitForSelector('.robot-request .message:has-text("asked for call_elevator_floor2")');
+
+      // Play: the page steps the session; Pause stops it.
+      const before = await positions(tab.page);
+      await tab.page.click('button.play');
+      await tab.page.waitForFunction(() => Number(document.querySelector('.session-toolbar .clock').dataset.tick) >= 90, null, { timeout: 10000 });
+      await tab.page.click('button.play');
+      await tab.page.waitForTimeout(300);  // the step in flight, if any, lands
+      const paused = await tick(tab.page);
+      await tab.page.waitForTimeout(500);
+      assert.equal(await tick(tab.page), paused, 'no ticks while paused');
+      assert.equal((await call('GET', `/api/v1/sessions/${id}`)).body.tick, paused);
+      const after = await positions(tab.page);
+      const moved = Object.keys(before).filter((agent) => Math.hypot(after[agent][0] - before[agent][0], after[agent][1] - before[agent][1]) > 0.05);
+      assert.ok(moved.length >= 2, `humans walked: ${moved.join(', ')}`);
+      assert.ok(await tab.page.locator('.event-list li[data-kind=step_started]').count() >= 1, 'the events list shows the start of a step');
+      assert.ok(await tab.page.locator('.event-list li[data-kind=request]').count() === 1, 'the events list shows the request');
+      assert.match(await tab.page.textContent('.robot-request .message'), /Request #\d+ (\(call_elevator_floor2\) is open|accepted by|dropped)/);
+      await tab.page.waitForFunction((t) => Number(document.querySelector('.camera-frame').dataset.tick) === t, paused);
+
+      // Single step: one tick a click, quick clicks added up.
+      await tab.page.click('text=Step 1 tick');
+      await tab.page.waitForFunction((t) => Number(document.querySelector('.session-toolbar .clock').dataset.tick) === t + 1, paused);
+      for (let i = 0; i < 3; i++) await tab.page.click('text=Step 1 tick');
+      await tab.page.waitForFunction((t) => Number(document.querySelector('.camera-frame').dataset.tick) === t + 4, paused);
+      await tab.page.waitForTimeout(200);
+      assert.equal(await tick(tab.page), paused + 4);
+      assert.equal((await call('GET', `/api/v1/sessions/${id}`)).body.tick, paused + 4);
+
+      // The perspective view renders new frames.
+      const frames = Number(await tab.page.getAttribute('.scene-box', 'data-frames'));
+      await tab.page.click('button[data-view=perspective]');
+      await tab.page.waitForFunction((n) => Number(document.querySelector('.scene-box').dataset.frames) > n, frames);
+
+      // A human command: accepted to free floor, refused (with the API's message) into a wall.
+      await tab.page.selectOption('.human-command select', 'ada');
+      await tab.page.fill('.human-command input', 'walk 2 3');
+      await tab.page.click('.human-command button[type=submit]');
+      await tab.page.waitForSelector('.human-command .message.info');
+      assert.match(await tab.page.textContent('.human-command .message'), /ada: “walk 2 3” given at tick/);
+      await tab.page.fill('.human-command input', 'walk 0 5');
+      await tab.page.press('.human-command input', 'Enter');
+      await tab.page.waitForSelector('.human-command .message.error');
+      assert.match(await tab.page.textContent('.human-command .message'), /not free floor/);
+
+      await screenshot(tab.page, 'session');
+
+      // Leaving the page closes its socket.
+      assert.equal((await call('GET', `/api/v1/sessions/${id}`)).body.connected_clients, 1);
+      await tab.page.evaluate(() => { location.hash = '#/'; });
+      for (let i = 0; i < 50 && (await call('GET', `/api/v1/sessions/${id}`)).body.connected_clients !== 0; i++) await tab.page.waitForTimeout(100);
+      assert.equal((await call('GET', `/api/v1/sessions/${id}`)).body.connected_clients, 0);
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+      await call('DELETE', `/api/v1/sessions/${id}`);
+    }
+  });
+
+  it('drives the robot with the arrow keys under teleop, and ends the session', async () => {
+    const id = await createSession({ scenario: 'elevator', controller: { type: 'teleop' } });
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open(`/sessions/${id}`);
+      await tab.page.waitForSelector('.agent-table tr[data-agent=robot][data-x]');
+      const [x0, y0] = (await positions(tab.page)).robot;
+      await tab.page.click('button.play');
+      await tab.page.focus('.scene-box');
+      await tab.page.keyboard.down('ArrowUp');
+      await tab.page.waitForSelector('.teleop kbd[data-direction=forward].pressed');
+      await tab.page.waitForTimeout(1500);
+      await screenshot(tab.page, 'session-teleop');
+      await tab.page.keyboard.up('ArrowUp');
+      await tab.page.waitForTimeout(300);
+      await tab.page.click('button.play');
+      const [x1, y1] = (await positions(tab.page)).robot;
+      assert.ok(Math.hypot(x1 - x0, y1 - y0) > 0.1, `the robot drove from (${x0}, ${y0}) to (${x1}, ${y1})`);
+      assert.match(await tab.page.textContent('.teleop-velocity'), /v 0\.00 m\/s · ω 0\.00 rad\/s/, 'keys up: stop');
+
+      await tab.page.click('text=End session');
+      await tab.page.waitForFunction(() => location.hash === '#/scenarios/elevator');
+      assert.equal((await call('GET', `/api/v1/sessions/${id}`)).status, 404);
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+      await call('DELETE', `/api/v1/sessions/${id}`);
+    }
+  });
+});

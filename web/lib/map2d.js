@@ -1,0 +1,120 @@
+// A scenario's map from above as SVG, from GET /api/v1/scenarios/{id}/world: walls, obstacles
+// (furniture), doors, locations, social spaces and agents' start poses, with x to the right and y up
+// as in the map frame. Pages add paths and markers on top (trajectories, people, the robot).
+const SVG = 'http://www.w3.org/2000/svg';
+
+function svg(tag, attributes = {}, parent = null) {
+  const element = document.createElementNS(SVG, tag);
+  for (const [name, value] of Object.entries(attributes)) element.setAttribute(name, String(value));
+  if (parent) parent.append(element);
+  return element;
+}
+
+/** Colours of agents and layers, shared by every view of a map. */
+export const palette = {
+  wall: '#5b6270',
+  obstacle: '#b08a64',
+  door: '#7a5236',
+  location: '#2f7d4f',
+  space: '#8a5cb8',
+  human: '#2f6fd1',
+  robot: '#e07b18',
+  path: ['#2f6fd1', '#d1492f', '#2f9d5b', '#c99016', '#7d4fb8', '#1f9aa6'],
+};
+
+export class MapView {
+  /**
+   * Draws `world` into `container`, `width` pixels wide (the height follows the map's shape, at most
+   * `maxHeight`). Options: labels (names of locations and spaces, default true), starts (agents' start
+   * poses, default true).
+   */
+  constructor(container, world, { width = 640, maxHeight = 480, labels = true, starts = true } = {}) {
+    this.world = world;
+    const [x0, y0] = world.bounds.min;
+    const [x1, y1] = world.bounds.max;
+    const margin = 0.3;
+    this.x0 = x0 - margin;
+    this.y1 = y1 + margin;
+    const spanX = x1 - x0 + 2 * margin, spanY = y1 - y0 + 2 * margin;
+    this.scale = Math.min(width / spanX, maxHeight / spanY);
+    this.width = spanX * this.scale;
+    this.height = spanY * this.scale;
+    this.svg = svg('svg', { class: 'map', viewBox: `0 0 ${this.width} ${this.height}`, width: this.width, height: this.height, role: 'img' });
+    this.svg.setAttribute('aria-label', `Map of ${world.name}`);
+    svg('rect', { x: 0, y: 0, width: this.width, height: this.height, class: 'map-floor' }, this.svg);
+    const base = svg('g', { class: 'map-base' }, this.svg);
+    for (const obstacle of world.obstacles) {
+      const polygon = svg('polygon', { points: obstacle.polygon.map(([x, y]) => this.point(x, y).join(',')).join(' '),
+        fill: obstacle.name.startsWith('wall ') ? palette.wall : palette.obstacle, opacity: 0.85 }, base);
+      svg('title', {}, polygon).textContent = obstacle.name + (obstacle.mesh ? ` (${obstacle.mesh})` : '');
+    }
+    for (const wall of world.walls) {
+      // Walls of a map from an image (obstacles' own edges are drawn as the polygons above).
+      if (world.obstacles.length === 0) this.line(wall.from, wall.to, { stroke: palette.wall, 'stroke-width': 2 }, base);
+    }
+    for (const door of world.doors) this.line(door.from, door.to, { stroke: palette.door, 'stroke-width': 4, class: 'map-door' }, base);
+    this.layers = { spaces: svg('g', {}, this.svg), locations: svg('g', {}, this.svg), paths: svg('g', {}, this.svg), marks: svg('g', {}, this.svg) };
+    for (const space of world.social_spaces) {
+      const [cx, cy] = this.point(space.centre.x, space.centre.y);
+      svg('circle', { cx, cy, r: 0.6 * this.scale, fill: 'none', stroke: palette.space, 'stroke-dasharray': '4 3' }, this.layers.spaces);
+      for (const slot of space.slots) {
+        const [sx, sy] = this.point(slot.x, slot.y);
+        svg('circle', { cx: sx, cy: sy, r: 3, fill: palette.space }, this.layers.spaces);
+      }
+      if (labels) this.text(space.centre.x, space.centre.y + 0.7, space.name, palette.space, this.layers.spaces);
+    }
+    for (const location of world.locations) {
+      const [lx, ly] = this.point(location.x, location.y);
+      svg('circle', { cx: lx, cy: ly, r: Math.max(location.radius * this.scale, 3), fill: 'none', stroke: palette.location }, this.layers.locations);
+      if (labels) this.text(location.x, location.y - 0.35, location.name, palette.location, this.layers.locations);
+    }
+    if (starts) {
+      for (const agent of world.agents) this.agent(agent.start.x, agent.start.y, agent.start.theta, agent.kind, agent.radius, agent.id, this.layers.marks, 0.5);
+    }
+    container.append(this.svg);
+  }
+
+  /** Map coordinates → SVG pixels. */
+  point(x, y) {
+    return [(x - this.x0) * this.scale, (this.y1 - y) * this.scale];
+  }
+
+  line(from, to, attributes, parent) {
+    const [ax, ay] = this.point(from[0], from[1]);
+    const [bx, by] = this.point(to[0], to[1]);
+    return svg('line', { x1: ax, y1: ay, x2: bx, y2: by, ...attributes }, parent);
+  }
+
+  text(x, y, label, colour, parent) {
+    const [tx, ty] = this.point(x, y);
+    const element = svg('text', { x: tx, y: ty, fill: colour, 'text-anchor': 'middle', class: 'map-label' }, parent);
+    element.textContent = label;
+    return element;
+  }
+
+  /** An agent as a disc with a heading tick; returns the SVG group (for removing or moving it). */
+  agent(x, y, theta, kind, radius = 0.3, label = '', parent = this.layers.marks, opacity = 1) {
+    const group = svg('g', { class: `map-agent ${kind}`, opacity }, parent);
+    const [cx, cy] = this.point(x, y);
+    const colour = kind === 'robot' ? palette.robot : palette.human;
+    svg('circle', { cx, cy, r: Math.max(radius * this.scale, 3), fill: colour, 'fill-opacity': 0.35, stroke: colour }, group);
+    const [hx, hy] = this.point(x + radius * 1.6 * Math.cos(theta), y + radius * 1.6 * Math.sin(theta));
+    svg('line', { x1: cx, y1: cy, x2: hx, y2: hy, stroke: colour, 'stroke-width': 2 }, group);
+    if (label) svg('title', {}, group).textContent = label;
+    return group;
+  }
+
+  /** A polyline through [[x, y], …] (a trajectory); returns the element. */
+  path(points, { colour = palette.path[0], width = 2, dash = null, label = '' } = {}) {
+    const element = svg('polyline', { points: points.map(([x, y]) => this.point(x, y).join(',')).join(' '), fill: 'none',
+      stroke: colour, 'stroke-width': width, 'stroke-linejoin': 'round', ...(dash ? { 'stroke-dasharray': dash } : {}) }, this.layers.paths);
+    if (label) svg('title', {}, element).textContent = label;
+    return element;
+  }
+
+  /** Removes what pages added (paths and agents), keeping the map. */
+  clear() {
+    this.layers.paths.replaceChildren();
+    this.layers.marks.replaceChildren();
+  }
+}

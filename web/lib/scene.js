@@ -1,0 +1,483 @@
+// A scenario in 3D with three.js, from GET /api/v1/scenarios/{id}/world: floor, walls, furniture,
+// doors, locations and social spaces, with live agents, paths, a laser scan and proxemic rings on top.
+// Map frame as everywhere in hrisim: x right, y up (north), z up from the floor, metres and radians.
+// It renders on demand only (something changed, or the view is being moved), so an idle page costs
+// nothing.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { palette } from './map2d.js';
+
+/** Hall's proxemic distances (The Hidden Dimension, 1966), outer limits in m. */
+export const PROXEMIC_DISTANCES = Object.freeze({ intimate: 0.45, personal: 1.2, social: 3.6 });
+
+/** Walls of a map from an image are drawn this high when the world gives no top, m. */
+const DEFAULT_WALL_HEIGHT = 2.0;
+/** Doors are slabs this high, m. */
+const DOOR_HEIGHT = 2.0;
+/** A person: body cylinder height and head radius, m (about the adult body of docs/rendering.md). */
+const BODY_HEIGHT = 1.4;
+const HEAD_RADIUS = 0.12;
+/** A robot without a model drawn as a cylinder this high, m, with a mast on top. */
+const ROBOT_BASE_HEIGHT = 0.45;
+const ROBOT_MAST_HEIGHT = 0.6;
+/** Lines on the floor sit slightly above it so they never fight with it for depth. */
+const FLOOR_LIFT = 0.02;
+/** The perspective view: vertical field of view (degrees) and the angle it looks down at first (rad). */
+const PERSPECTIVE_FOV = 45;
+const PERSPECTIVE_ELEVATION = 0.95;
+/** Where the laser points are drawn when the reading has no height, m. */
+const DEFAULT_LASER_HEIGHT = 0.2;
+
+const colours = {
+  floor: 0xecebe6,
+  grid: 0xd6d3ca,
+  background: 0xf6f7f9,
+  wall: new THREE.Color(palette.wall),
+  furniture: new THREE.Color(palette.obstacle),
+  door: new THREE.Color(palette.door),
+  location: new THREE.Color(palette.location),
+  space: new THREE.Color(palette.space),
+  human: new THREE.Color(palette.human),
+  humanIdle: new THREE.Color('#7ea6e6'),
+  robot: new THREE.Color(palette.robot),
+  robotDark: new THREE.Color('#9c530c'),
+  laser: new THREE.Color('#d62828'),
+  proxemic: [new THREE.Color('#c0392b'), new THREE.Color('#d68910'), new THREE.Color('#2f8a4f')],
+};
+
+/** A flat arrow pointing along +x, from x = 0 to x = 1, lying in the xy plane. */
+function arrowGeometry() {
+  const shape = new THREE.Shape();
+  shape.moveTo(0, -0.08);
+  shape.lineTo(0.6, -0.08);
+  shape.lineTo(0.6, -0.25);
+  shape.lineTo(1, 0);
+  shape.lineTo(0.6, 0.25);
+  shape.lineTo(0.6, 0.08);
+  shape.lineTo(0, 0.08);
+  shape.closePath();
+  return new THREE.ShapeGeometry(shape);
+}
+
+/** A text label that always faces the camera, `height` m tall. */
+function labelSprite(text, colour = '#1d2330', height = 0.35) {
+  const canvas = document.createElement('canvas');
+  const context = canvas.getContext('2d');
+  const font = '600 40px system-ui, sans-serif';
+  context.font = font;
+  const width = Math.ceil(context.measureText(text).width) + 20;
+  canvas.width = width;
+  canvas.height = 56;
+  context.font = font;
+  context.fillStyle = 'rgba(255, 255, 255, 0.8)';
+  context.fillRect(0, 0, width, 56);
+  context.fillStyle = colour;
+  context.textBaseline = 'middle';
+  context.fillText(text, 10, 29);
+  const texture = new THREE.CanvasTexture(canvas);
+  texture.colorSpace = THREE.SRGBColorSpace;
+  const sprite = new THREE.Sprite(new THREE.SpriteMaterial({ map: texture, depthTest: false, transparent: true }));
+  sprite.scale.set(height * width / 56, height, 1);
+  sprite.renderOrder = 10;
+  return sprite;
+}
+
+function polyline(points, z, material) {
+  const geometry = new THREE.BufferGeometry().setFromPoints(points.map(([x, y]) => new THREE.Vector3(x, y, z)));
+  return new THREE.Line(geometry, material);
+}
+
+/** Frees the GPU resources of everything under `root`. */
+function disposeTree(root) {
+  root.traverse((object) => {
+    if (object.geometry && !object.geometry.userData.shared) object.geometry.dispose();
+    const materials = Array.isArray(object.material) ? object.material : object.material ? [object.material] : [];
+    for (const material of materials) {
+      if (material.userData.shared) continue;
+      if (material.map) material.map.dispose();
+      material.dispose();
+    }
+  });
+}
+
+export class SceneView {
+  /**
+   * A view of `world` (GET /api/v1/scenarios/{id}/world) filling the width of `container`, `height`
+   * pixels high. The container gets `data-frames`, the count of frames rendered so far.
+   */
+  constructor(container, world, { height = 480 } = {}) {
+    this.container = container;
+    this.world = world;
+    this.height = height;
+    this.frames = 0;
+    this.frameRequest = 0;
+    this.disposed = false;
+
+    const [x0, y0] = world.bounds.min;
+    const [x1, y1] = world.bounds.max;
+    this.centre = new THREE.Vector3((x0 + x1) / 2, (y0 + y1) / 2, 0);
+    this.span = { x: x1 - x0, y: y1 - y0 };
+    // Labels grow with the map so that they stay readable when the whole map is in view.
+    this.labelHeight = Math.min(Math.max(Math.max(this.span.x, this.span.y) / 40, 0.3), 1.0);
+
+    // preserveDrawingBuffer keeps the last frame readable (saving the image, checks in tests).
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
+    this.renderer.setClearColor(colours.background);
+    this.renderer.domElement.classList.add('scene-canvas');
+    container.append(this.renderer.domElement);
+
+    this.scene = new THREE.Scene();
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x8d8a80, 2.2));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.4);
+    sun.position.set(this.centre.x - 0.4 * this.span.x, this.centre.y - 0.6 * this.span.y, 25);
+    sun.target.position.copy(this.centre);
+    this.scene.add(sun, sun.target);
+
+    // Geometries and materials every agent shares; freed once in dispose().
+    this.shared = {
+      cylinder: new THREE.CylinderGeometry(1, 1, 1, 24).rotateX(Math.PI / 2).translate(0, 0, 0.5),
+      sphere: new THREE.SphereGeometry(1, 16, 12),
+      box: new THREE.BoxGeometry(1, 1, 1).translate(0, 0, 0.5),
+      arrow: arrowGeometry(),
+      human: new THREE.MeshLambertMaterial({ color: colours.human }),
+      humanIdle: new THREE.MeshLambertMaterial({ color: colours.humanIdle }),
+      head: new THREE.MeshLambertMaterial({ color: 0xe8c4a0 }),
+      robot: new THREE.MeshLambertMaterial({ color: colours.robot }),
+      robotDark: new THREE.MeshLambertMaterial({ color: colours.robotDark }),
+      humanArrow: new THREE.MeshBasicMaterial({ color: colours.human, side: THREE.DoubleSide }),
+      robotArrow: new THREE.MeshBasicMaterial({ color: colours.robotDark, side: THREE.DoubleSide }),
+    };
+    for (const item of Object.values(this.shared)) item.userData.shared = true;
+
+    this.buildMap();
+    this.layers = { paths: new THREE.Group(), agents: new THREE.Group(), laser: new THREE.Group(), rings: new THREE.Group() };
+    for (const layer of Object.values(this.layers)) this.scene.add(layer);
+    this.agents = new Map();
+    this.paths = new Map();
+    this.lasers = new Map();
+    this.ringRadii = null;
+
+    this.onChange = () => this.invalidate();
+    this.setView('top');
+    this.resizeObserver = new ResizeObserver(() => this.resize());
+    this.resizeObserver.observe(container);
+    this.resize();
+  }
+
+  buildMap() {
+    const world = this.world;
+    const base = new THREE.Group();
+    const floor = new THREE.Mesh(new THREE.PlaneGeometry(this.span.x, this.span.y), new THREE.MeshLambertMaterial({ color: colours.floor }));
+    floor.position.copy(this.centre);
+    base.add(floor);
+
+    // A 1 m grid, to read distances by eye.
+    const [x0, y0] = world.bounds.min;
+    const [x1, y1] = world.bounds.max;
+    const grid = [];
+    for (let x = Math.ceil(x0); x <= x1; x++) grid.push(new THREE.Vector3(x, y0, 0.002), new THREE.Vector3(x, y1, 0.002));
+    for (let y = Math.ceil(y0); y <= y1; y++) grid.push(new THREE.Vector3(x0, y, 0.002), new THREE.Vector3(x1, y, 0.002));
+    base.add(new THREE.LineSegments(new THREE.BufferGeometry().setFromPoints(grid), new THREE.LineBasicMaterial({ color: colours.grid })));
+
+    const wallMaterial = new THREE.MeshLambertMaterial({ color: colours.wall });
+    const furnitureMaterial = new THREE.MeshLambertMaterial({ color: colours.furniture });
+    for (const obstacle of world.obstacles) {
+      const shape = new THREE.Shape(obstacle.polygon.map(([x, y]) => new THREE.Vector2(x, y)));
+      const geometry = new THREE.ExtrudeGeometry(shape, { depth: obstacle.height, bevelEnabled: false });
+      const mesh = new THREE.Mesh(geometry, obstacle.name.startsWith('wall ') ? wallMaterial : furnitureMaterial);
+      mesh.name = obstacle.name;
+      base.add(mesh);
+    }
+    // A map from an image has its walls only as segments (a geometry map's are its obstacles' edges).
+    if (world.obstacles.length === 0) {
+      for (const wall of world.walls) base.add(this.slab(wall.from, wall.to, 0.08, wall.top ?? DEFAULT_WALL_HEIGHT, wallMaterial));
+    }
+    this.doors = new Map();
+    for (const door of world.doors) {
+      const material = new THREE.MeshLambertMaterial({ color: colours.door, transparent: true, opacity: 0.9 });
+      const slab = this.slab(door.from, door.to, Math.max(door.thickness, 0.04), DOOR_HEIGHT, material);
+      slab.name = door.name;
+      base.add(slab);
+      this.doors.set(door.name, slab);
+      this.setDoorState(door.name, door.initially_open ? 'open' : 'closed', false);
+    }
+
+    const locationMaterial = new THREE.MeshBasicMaterial({ color: colours.location, side: THREE.DoubleSide });
+    for (const location of world.locations) {
+      const radius = Math.max(location.radius, 0.15);
+      const ring = new THREE.Mesh(new THREE.RingGeometry(radius - 0.04, radius, 40), locationMaterial);
+      ring.position.set(location.x, location.y, FLOOR_LIFT);
+      ring.name = location.name;
+      base.add(ring);
+    }
+
+    const dashed = new THREE.LineDashedMaterial({ color: colours.space, dashSize: 0.15, gapSize: 0.1 });
+    const slotMaterial = new THREE.MeshBasicMaterial({ color: colours.space });
+    for (const space of world.social_spaces) {
+      const { x, y } = space.centre;
+      const reach = Math.max(0.6, ...space.slots.map((slot) => Math.hypot(slot.x - x, slot.y - y) + 0.3));
+      const circle = [];
+      for (let i = 0; i <= 64; i++) {
+        const angle = (i / 64) * 2 * Math.PI;
+        circle.push([x + reach * Math.cos(angle), y + reach * Math.sin(angle)]);
+      }
+      const line = polyline(circle, FLOOR_LIFT, dashed);
+      line.computeLineDistances();
+      line.name = space.name;
+      base.add(line);
+      for (const slot of space.slots) {
+        const dot = new THREE.Mesh(new THREE.CircleGeometry(0.07, 16), slotMaterial);
+        dot.position.set(slot.x, slot.y, FLOOR_LIFT);
+        base.add(dot);
+      }
+    }
+    this.scene.add(base);
+  }
+
+  /** A box from `from` to `to` on the floor, `thickness` wide and `height` high. */
+  slab(from, to, thickness, height, material) {
+    const dx = to[0] - from[0], dy = to[1] - from[1];
+    const mesh = new THREE.Mesh(new THREE.BoxGeometry(Math.hypot(dx, dy), thickness, height), material);
+    mesh.position.set((from[0] + to[0]) / 2, (from[1] + to[1]) / 2, height / 2);
+    mesh.rotation.z = Math.atan2(dy, dx);
+    return mesh;
+  }
+
+  /** A door as the session reports it (`door_state` events): open doors are hidden, moving ones faint. */
+  setDoorState(name, state, redraw = true) {
+    const slab = this.doors.get(name);
+    if (!slab) return;
+    slab.visible = state !== 'open';
+    slab.material.opacity = state === 'closed' ? 0.9 : 0.35;
+    if (redraw) this.invalidate();
+  }
+
+  /** 'top': orthographic from above, x right and y up; 'perspective': orbit around the map with the mouse. */
+  setView(view) {
+    if (this.controls) {
+      this.controls.removeEventListener('change', this.onChange);
+      this.controls.dispose();
+    }
+    this.view = view;
+    if (view === 'top') {
+      this.camera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0.1, 200);
+      this.camera.up.set(0, 1, 0);
+      this.camera.position.set(this.centre.x, this.centre.y, 50);
+      this.fitCamera();
+    } else {
+      this.camera = new THREE.PerspectiveCamera(PERSPECTIVE_FOV, 1, 0.05, 500);
+      this.camera.up.set(0, 0, 1);  // before the controls: they orbit about the camera's up
+      this.fitCamera();
+      // From the south, far enough that the whole map fits the frame.
+      const tanV = Math.tan(THREE.MathUtils.degToRad(PERSPECTIVE_FOV) / 2);
+      const distance = 1.15 * Math.max(this.span.x / (2 * tanV * this.camera.aspect), (0.8 * this.span.y) / (2 * tanV));
+      this.camera.position.set(this.centre.x, this.centre.y - distance * Math.cos(PERSPECTIVE_ELEVATION),
+        distance * Math.sin(PERSPECTIVE_ELEVATION));
+    }
+    this.camera.lookAt(this.centre);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.target.copy(this.centre);
+    if (view === 'top') {
+      this.controls.enableRotate = false;
+      this.controls.screenSpacePanning = true;
+      this.controls.mouseButtons = { LEFT: THREE.MOUSE.PAN, MIDDLE: THREE.MOUSE.DOLLY, RIGHT: THREE.MOUSE.PAN };
+    } else {
+      this.controls.maxPolarAngle = Math.PI / 2 - 0.05;  // stay above the floor
+    }
+    this.controls.update();
+    this.controls.addEventListener('change', this.onChange);
+    this.invalidate();
+  }
+
+  /** The camera's projection for the canvas's shape: the top view shows the whole map. */
+  fitCamera() {
+    const width = Math.max(this.renderer.domElement.clientWidth, 1);
+    const aspect = width / this.height;
+    if (this.camera.isOrthographicCamera) {
+      const margin = 0.5;
+      let halfWidth = this.span.x / 2 + margin, halfHeight = this.span.y / 2 + margin;
+      if (halfWidth / halfHeight > aspect) halfHeight = halfWidth / aspect;
+      else halfWidth = halfHeight * aspect;
+      Object.assign(this.camera, { left: -halfWidth, right: halfWidth, top: halfHeight, bottom: -halfHeight });
+    } else {
+      this.camera.aspect = aspect;
+    }
+    this.camera.updateProjectionMatrix();
+  }
+
+  /** Agents now: [{id, kind: 'human'|'robot', x, y, theta, radius, busy?}]; those left out are removed. */
+  update(agents) {
+    const seen = new Set();
+    for (const agent of agents) {
+      seen.add(agent.id);
+      let entry = this.agents.get(agent.id);
+      if (!entry || entry.kind !== agent.kind || entry.radius !== agent.radius) {
+        if (entry) this.removeAgent(agent.id);
+        entry = this.makeAgent(agent);
+        this.agents.set(agent.id, entry);
+        this.layers.agents.add(entry.group);
+      }
+      entry.group.position.set(agent.x, agent.y, 0);
+      entry.group.rotation.z = agent.theta;
+      if (entry.body && agent.kind === 'human') entry.body.material = agent.busy === false ? this.shared.humanIdle : this.shared.human;
+    }
+    for (const id of [...this.agents.keys()]) if (!seen.has(id)) this.removeAgent(id);
+    this.invalidate();
+  }
+
+  makeAgent({ id, kind, radius = 0.3 }) {
+    const group = new THREE.Group();
+    group.name = id;
+    const s = this.shared;
+    let body;
+    if (kind === 'human') {
+      body = new THREE.Mesh(s.cylinder, s.human);
+      body.scale.set(radius * 0.8, radius * 0.8, BODY_HEIGHT);
+      const head = new THREE.Mesh(s.sphere, s.head);
+      head.scale.setScalar(HEAD_RADIUS);
+      head.position.set(0.02, 0, BODY_HEIGHT + HEAD_RADIUS + 0.02);
+      group.add(body, head);
+    } else {
+      body = new THREE.Mesh(s.cylinder, s.robot);
+      body.scale.set(radius, radius, ROBOT_BASE_HEIGHT);
+      const mast = new THREE.Mesh(s.box, s.robotDark);
+      mast.scale.set(radius * 0.6, radius * 0.6, ROBOT_MAST_HEIGHT);
+      mast.position.z = ROBOT_BASE_HEIGHT;
+      group.add(body, mast);
+    }
+    // The heading: a flat arrow on the floor from the body's edge forwards.
+    const arrow = new THREE.Mesh(s.arrow, kind === 'human' ? s.humanArrow : s.robotArrow);
+    arrow.scale.set(Math.max(radius, 0.25) * 1.4, Math.max(radius, 0.25) * 0.9, 1);
+    arrow.position.set(radius * 0.9, 0, FLOOR_LIFT * 2);
+    group.add(arrow);
+    const label = labelSprite(id, kind === 'human' ? palette.human : '#9c530c', this.labelHeight);
+    label.position.set(0, 0, (kind === 'human' ? BODY_HEIGHT + 0.55 : ROBOT_BASE_HEIGHT + ROBOT_MAST_HEIGHT + 0.35));
+    group.add(label);
+    return { group, body, kind, radius };
+  }
+
+  removeAgent(id) {
+    const entry = this.agents.get(id);
+    if (!entry) return;
+    this.layers.agents.remove(entry.group);
+    disposeTree(entry.group);
+    this.agents.delete(id);
+  }
+
+  /** Polylines on the floor by agent id, {id: [[x, y], …]} (planned paths or trails); others are removed. */
+  setPaths(paths) {
+    for (const line of this.paths.values()) {
+      this.layers.paths.remove(line);
+      disposeTree(line);
+    }
+    this.paths.clear();
+    let index = 0;
+    for (const [id, points] of Object.entries(paths)) {
+      const colour = palette.path[index++ % palette.path.length];
+      if (points.length < 2) continue;
+      const line = polyline(points, FLOOR_LIFT * 1.5, new THREE.LineBasicMaterial({ color: colour }));
+      line.name = `path ${id}`;
+      this.layers.paths.add(line);
+      this.paths.set(id, line);
+    }
+    this.invalidate();
+  }
+
+  /**
+   * A robot's laser scan: {x, y, theta} of the sensor, angle_min, angle_increment (rad), ranges (m;
+   * "inf", "-inf" or non-finite values have no return and are skipped), height (m, optional). null
+   * removes it.
+   */
+  setLaser(robotId, scan) {
+    const old = this.lasers.get(robotId);
+    if (old) {
+      this.layers.laser.remove(old);
+      disposeTree(old);
+      this.lasers.delete(robotId);
+    }
+    if (scan) {
+      const z = scan.height ?? DEFAULT_LASER_HEIGHT;
+      const points = [];
+      scan.ranges.forEach((value, i) => {
+        const range = Number(value);
+        if (!Number.isFinite(range)) return;
+        const angle = scan.theta + scan.angle_min + i * scan.angle_increment;
+        points.push(new THREE.Vector3(scan.x + range * Math.cos(angle), scan.y + range * Math.sin(angle), z));
+      });
+      const cloud = new THREE.Points(new THREE.BufferGeometry().setFromPoints(points),
+        new THREE.PointsMaterial({ color: colours.laser, size: 3, sizeAttenuation: false }));
+      cloud.name = `laser ${robotId}`;
+      this.layers.laser.add(cloud);
+      this.lasers.set(robotId, cloud);
+    }
+    this.invalidate();
+  }
+
+  /** Rings at Hall's distances around (x, y) (the robot); radii in m, null hides them. */
+  setProxemicRings(x, y, radii = Object.values(PROXEMIC_DISTANCES)) {
+    const rings = this.layers.rings;
+    if (radii === null) {
+      rings.visible = false;
+      this.invalidate();
+      return;
+    }
+    const key = radii.join(',');
+    if (this.ringRadii !== key) {
+      for (const child of [...rings.children]) {
+        rings.remove(child);
+        disposeTree(child);
+      }
+      const names = Object.keys(PROXEMIC_DISTANCES);
+      radii.forEach((radius, i) => {
+        const colour = colours.proxemic[i % colours.proxemic.length];
+        const ring = new THREE.Mesh(new THREE.RingGeometry(radius - 0.025, radius, 72),
+          new THREE.MeshBasicMaterial({ color: colour, transparent: true, opacity: 0.7, side: THREE.DoubleSide }));
+        ring.position.z = FLOOR_LIFT * 0.5;
+        rings.add(ring);
+        const label = labelSprite(`${names[i] ?? ''} ${radius} m`.trim(), `#${colour.getHexString()}`, this.labelHeight * 0.7);
+        label.position.set(radius * Math.SQRT1_2, -radius * Math.SQRT1_2, 0.15);
+        rings.add(label);
+      });
+      this.ringRadii = key;
+    }
+    rings.visible = true;
+    rings.position.set(x, y, 0);
+    this.invalidate();
+  }
+
+  /** Fits the canvas to the container's width (called by a ResizeObserver, or by the page). */
+  resize() {
+    if (this.disposed) return;
+    const width = Math.max(Math.floor(this.container.clientWidth), 1);
+    this.renderer.setSize(width, this.height);
+    this.fitCamera();
+    this.invalidate();
+  }
+
+  /** Asks for one frame at the next animation frame (several changes before it make one frame). */
+  invalidate() {
+    if (this.disposed || this.frameRequest) return;
+    this.frameRequest = requestAnimationFrame(() => {
+      this.frameRequest = 0;
+      this.renderer.render(this.scene, this.camera);
+      this.frames += 1;
+      this.container.dataset.frames = String(this.frames);
+    });
+  }
+
+  /** Frees every WebGL resource and removes the canvas. */
+  dispose() {
+    if (this.disposed) return;
+    this.disposed = true;
+    cancelAnimationFrame(this.frameRequest);
+    this.resizeObserver.disconnect();
+    this.controls.removeEventListener('change', this.onChange);
+    this.controls.dispose();
+    disposeTree(this.scene);
+    for (const item of Object.values(this.shared)) item.dispose();
+    this.renderer.dispose();
+    this.renderer.forceContextLoss();  // browsers cap live WebGL contexts; do not wait for garbage collection
+    this.renderer.domElement.remove();
+  }
+}

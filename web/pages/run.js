@@ -1,0 +1,237 @@
+// #/runs/ID: one run's report — progress (polled every second while it runs), verdict, every
+// metric's aggregates with units and which way is better, per-episode values as dot plots, and the
+// episodes with links to their replays.
+import { api } from '../lib/api.js';
+import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
+import { loadMetrics, withUnit, unitLabel, betterArrow, statusBadge, dotPlot } from '../lib/plots.js';
+
+const CATEGORY_NAMES = {
+  task_and_path: 'Task and path', proximity: 'Proximity', contact: 'Contact', social_forces: 'Social forces',
+  interaction: 'Interaction', task_rewards: 'Task rewards',
+};
+// Shown per episode and plotted, in this order, when the metrics list has them.
+const KEY_METRICS = ['success', 'collisions', 'minimum_distance_to_people', 'path_length', 'time_to_goal'];
+const PLOT_COLOURS = ['#2f8a4f', '#c0392b', '#2f6fd1', '#7d4fb8', '#b7791f'];
+
+/** Seeds as ranges: 1-5, 8, 10-12. */
+function seedRanges(seeds) {
+  const parts = [];
+  for (let i = 0; i < seeds.length;) {
+    let j = i;
+    while (j + 1 < seeds.length && seeds[j + 1] === seeds[j] + 1) j++;
+    parts.push(j > i ? `${seeds[i]}-${seeds[j]}` : String(seeds[i]));
+    i = j + 1;
+  }
+  return parts.join(', ');
+}
+
+const running = (report) => report.status === 'queued' || report.status === 'running';
+
+function summaryPanel(report) {
+  const p = report.progress;
+  const done = p.finished + p.error;
+  const config = report.config;
+  const controller = config.controller
+    ? `${config.controller.type}${config.controller.goal?.location ? ` → ${config.controller.goal.location}` : ''}` : "the scenario's own";
+  return h('div', { class: 'panel run-summary' },
+    h('div', { class: 'row' },
+      h('div', {}, h('span', { class: 'muted' }, 'Status '), statusBadge(report.status)),
+      h('div', { class: 'progress-wrap' },
+        h('label', { for: 'run-progress' }, `${done} of ${p.total} episodes done`
+          + (p.running ? `, ${p.running} running` : '') + (p.queued ? `, ${p.queued} queued` : '')
+          + (p.error ? `, ${p.error} in error` : '') + (p.cancelled ? `, ${p.cancelled} cancelled` : '') + (p.interrupted ? `, ${p.interrupted} interrupted` : '')),
+        h('progress', { id: 'run-progress', max: p.total, value: done }, `${done} / ${p.total}`))),
+    h('dl', { class: 'facts' },
+      h('dt', {}, 'Scenario'), h('dd', {}, h('a', { href: `#/scenarios/${encodeURIComponent(report.scenario)}` }, report.scenario),
+        h('span', { class: 'muted' }, ` (snapshot ${report.scenario_record})`)),
+      h('dt', {}, 'Controller'), h('dd', {}, controller),
+      h('dt', {}, 'Seeds'), h('dd', {}, `${seedRanges(config.seeds)} (${config.seeds.length})`),
+      h('dt', {}, 'Time limit'), h('dd', {}, config.max_time === null ? "the scenario's" : `${formatNumber(config.max_time)} s`),
+      h('dt', {}, 'Success rate'), h('dd', {}, report.rates.success_rate === null ? '—' : `${formatNumber(report.rates.success_rate * 100, 2)} %`),
+      h('dt', {}, 'Collision rate'), h('dd', {}, report.rates.collision_rate === null ? '—' : `${formatNumber(report.rates.collision_rate * 100, 2)} %`),
+      h('dt', {}, 'Created'), h('dd', {}, new Date(report.created_at).toLocaleString('en-GB')),
+      h('dt', {}, 'Finished'), h('dd', {}, report.finished_at ? new Date(report.finished_at).toLocaleString('en-GB') : '—'),
+      h('dt', {}, 'hrisim'), h('dd', {}, `${config.hrisim_version} (${config.git_commit.slice(0, 12)})`)));
+}
+
+function verdictPanel(report) {
+  const v = report.verdict;
+  const badge = v.passed ? h('span', { class: 'badge good' }, 'passed')
+    : running(report) ? h('span', { class: 'badge' }, 'pending') : h('span', { class: 'badge bad' }, 'failed');
+  return h('section', { class: 'panel verdict', 'aria-labelledby': 'verdict-title' },
+    h('h2', { id: 'verdict-title' }, 'Verdict ', badge),
+    v.gates.length ? h('table', { class: 'gates' },
+      h('thead', {}, h('tr', {}, h('th', { scope: 'col' }, 'Gate'), h('th', { scope: 'col', class: 'number' }, 'Actual'), h('th', { scope: 'col' }, 'Result'))),
+      h('tbody', {}, v.gates.map((g) => h('tr', {},
+        h('td', {}, h('code', {}, g.gate)),
+        h('td', { class: 'number' }, g.actual === null ? 'no value' : formatNumber(g.actual)),
+        h('td', {}, h('span', { class: `badge ${g.passed ? 'good' : 'bad'}` }, g.passed ? 'passed' : 'failed'))))))
+      : h('p', { class: 'muted' }, 'No gates: the verdict needs only every episode to finish.'),
+    v.reasons.length ? h('ul', { class: 'reasons' }, v.reasons.map((r) => h('li', {}, r))) : null);
+}
+
+function aggregatesTable(report, metrics) {
+  const rows = [];
+  let category = null;
+  for (const metric of metrics.items) {
+    const a = report.aggregates[metric.key];
+    if (!a) continue;
+    if (metric.category !== category) {
+      category = metric.category;
+      rows.push(h('tr', { class: 'category' }, h('th', { colspan: 9, scope: 'rowgroup' }, CATEGORY_NAMES[category] ?? category)));
+    }
+    rows.push(h('tr', { 'data-metric': metric.key },
+      h('th', { scope: 'row', title: `${metric.description} (${metric.convention})` }, metric.key),
+      h('td', { class: 'arrow' }, betterArrow(metric.better)),
+      h('td', {}, unitLabel(metric.unit)),
+      h('td', { class: 'number' }, withUnit(a.mean, metric.unit)),
+      h('td', { class: 'number ci' }, a.ci95_low === null ? '—' : `${formatNumber(a.ci95_low)} … ${formatNumber(a.ci95_high)}`),
+      h('td', { class: 'number' }, withUnit(a.min, metric.unit)),
+      h('td', { class: 'number' }, withUnit(a.max, metric.unit)),
+      h('td', { class: 'number' }, a.std === null ? '—' : formatNumber(a.std)),
+      h('td', { class: 'number' }, `${a.count} / ${a.nulls}`)));
+  }
+  return h('table', { class: 'aggregates' },
+    h('caption', { class: 'muted' }, 'Over the finished episodes: the mean and its 95 % confidence interval (Wilson\'s for 0/1 metrics, Student\'s t otherwise), in the unit of each row. ↑ higher is better, ↓ lower is better.'),
+    h('thead', {}, h('tr', {}, ['Metric', 'Better', 'Unit', 'Mean', '95 % CI', 'Min', 'Max', 'Std', 'Count / nulls']
+      .map((t, i) => h('th', { scope: 'col', class: i >= 3 ? 'number' : null }, t)))),
+    h('tbody', {}, rows));
+}
+
+function episodesTable(report, episodes, keys, metrics) {
+  const byId = new Map(episodes.map((e) => [e.id, e]));
+  return h('table', { class: 'episodes' },
+    h('thead', {}, h('tr', {},
+      h('th', { scope: 'col', class: 'number' }, 'Seed'), h('th', { scope: 'col' }, 'Status'), h('th', { scope: 'col' }, 'Termination'),
+      h('th', { scope: 'col', class: 'number' }, 'Simulated time'),
+      keys.map((k) => h('th', { scope: 'col', class: 'number' }, k.replaceAll('_', ' '), ' ', betterArrow(metrics.byKey.get(k).better))),
+      h('th', { scope: 'col' }, 'Replay'))),
+    h('tbody', {}, report.episodes.map((seed) => {
+      const episode = seed.episode_id ? byId.get(seed.episode_id) : null;
+      return h('tr', {},
+        h('td', { class: 'number' }, seed.seed),
+        h('td', {}, statusBadge(seed.status)),
+        h('td', {}, seed.termination ?? '—'),
+        h('td', { class: 'number' }, seed.sim_time === undefined ? '—' : `${formatNumber(seed.sim_time)} s`),
+        keys.map((k) => h('td', { class: 'number' }, episode ? withUnit(episode.metrics[k], metrics.byKey.get(k).unit, { bool: 'word' }) : '—')),
+        h('td', {}, seed.episode_id ? h('a', { href: `#/episodes/${seed.episode_id}`, 'aria-label': `Replay seed ${seed.seed}` }, 'replay') : '—'));
+    })));
+}
+
+export async function render(root, params) {
+  const id = params.id;
+  pageTitle(root, `Run ${id.slice(0, 9)}`, id);
+  const wait = loading(root, 'Loading the run');
+  let report, metrics;
+  try {
+    [report, metrics] = await Promise.all([api.get(`/api/v1/runs/${encodeURIComponent(id)}`), loadMetrics()]);
+  } catch (error) {
+    wait.remove();
+    showError(root, error);
+    return null;
+  }
+  wait.remove();
+  const keys = KEY_METRICS.filter((k) => metrics.byKey.has(k));
+
+  const cancelButton = h('button', { type: 'button', class: 'secondary danger' }, 'Cancel the run');
+  const actionMessage = h('div', { 'aria-live': 'polite' });
+  const actions = h('div', { class: 'row run-actions' },
+    cancelButton,
+    h('a', { class: 'button secondary', href: `/api/v1/runs/${encodeURIComponent(id)}/junit`, download: `hrisim-${id}.xml` }, 'JUnit report (XML)'),
+    h('a', { class: 'button secondary', href: `#/runs?scenario=${encodeURIComponent(report.scenario)}` }, 'Start another run of this scenario'),
+    actionMessage);
+  const summary = h('div');
+  const verdict = h('div');
+  const plots = h('section', { 'aria-labelledby': 'plots-title' });
+  const aggregates = h('section', { 'aria-labelledby': 'aggregates-title' });
+  const episodesArea = h('section', { 'aria-labelledby': 'episodes-title' });
+  root.append(actions, h('div', { class: 'run-top' }, summary, verdict), plots, aggregates, episodesArea);
+
+  let uplots = [];
+  const destroyPlots = () => { for (const u of uplots) u.destroy(); uplots = []; };
+  let shownStored = -1;
+  let shownStatus = null;
+
+  const showDetails = async () => {
+    const stored = report.progress.finished + report.progress.error;
+    if (stored === shownStored && report.status === shownStatus) return;
+    shownStored = stored;
+    shownStatus = report.status;
+    aggregates.replaceChildren(h('h2', { id: 'aggregates-title' }, 'Metrics'), aggregatesTable(report, metrics));
+    let episodes = [];
+    try {
+      episodes = (await api.get(`/api/v1/runs/${encodeURIComponent(id)}/episodes`)).items;
+    } catch (error) {
+      episodesArea.replaceChildren(h('h2', { id: 'episodes-title' }, 'Episodes'));
+      showError(episodesArea, error);
+      return;
+    }
+    episodesArea.replaceChildren(h('h2', { id: 'episodes-title' }, 'Episodes'), episodesTable(report, episodes, keys, metrics));
+    destroyPlots();
+    const finished = episodes.filter((e) => e.status === 'finished');
+    const grid = h('div', { class: 'dot-plots' });
+    plots.replaceChildren(h('h2', { id: 'plots-title' }, 'Per-episode values'), grid);
+    if (!finished.length) {
+      grid.replaceWith(h('p', { class: 'muted' }, 'No finished episode yet.'));
+      return;
+    }
+    // The seeds' order of the report, so a plot's x axis reads like the episodes table.
+    const order = new Map(report.config.seeds.map((s, i) => [s, i]));
+    finished.sort((a, b) => order.get(a.seed) - order.get(b.seed));
+    keys.forEach((key, i) => {
+      const metric = metrics.byKey.get(key);
+      const points = finished.map((e) => ({ seed: e.seed, value: e.metrics[key] ?? null }));
+      const cell = h('figure', { class: 'dot-plot', 'data-metric': key });
+      grid.append(cell);
+      if (points.every((p) => p.value === null)) {
+        const reason = `${key.replaceAll('_', ' ')}: no value in any episode`;
+        cell.append(h('figcaption', {}, reason));
+        return;
+      }
+      const title = `${key.replaceAll('_', ' ')} ${metric.better === 'higher' ? '↑' : metric.better === 'lower' ? '↓' : ''}`;
+      uplots.push(dotPlot(cell, { points, title, unit: unitLabel(metric.unit), bool: metric.unit === 'bool', colour: PLOT_COLOURS[i % PLOT_COLOURS.length] }));
+    });
+  };
+
+  const show = () => {
+    summary.replaceChildren(summaryPanel(report));
+    verdict.replaceChildren(verdictPanel(report));
+    cancelButton.hidden = !running(report);
+    return showDetails();
+  };
+
+  let timer = null;
+  let left = false;
+  const poll = async () => {
+    try {
+      report = await api.get(`/api/v1/runs/${encodeURIComponent(id)}`);
+      if (left) return;
+      await show();
+    } catch (error) {
+      if (left) return;
+      actionMessage.replaceChildren(h('span', { class: 'message error', role: 'alert' }, `Updating failed: ${error.message}`));
+    }
+    if (!left && running(report)) timer = setTimeout(poll, 1000);
+  };
+
+  cancelButton.addEventListener('click', async () => {
+    cancelButton.disabled = true;
+    try {
+      report = await api.post(`/api/v1/runs/${encodeURIComponent(id)}/cancel`);
+      actionMessage.replaceChildren(h('span', { class: 'muted' }, 'Cancelling: running episodes stop at their next step.'));
+      await show();
+    } catch (error) {
+      actionMessage.replaceChildren(h('span', { class: 'message error', role: 'alert' }, `Cancelling failed: ${error.message}`));
+    } finally {
+      cancelButton.disabled = false;
+    }
+  });
+
+  await show();
+  if (running(report)) timer = setTimeout(poll, 1000);
+  return () => {
+    left = true;
+    clearTimeout(timer);
+    destroyPlots();
+  };
+}
