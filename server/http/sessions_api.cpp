@@ -125,6 +125,15 @@ json status_of(const Live& live) {
 }
 
 /// Every agent's pose and motion, requests waiting for an answer, and the events since a tick.
+/// The waypoints an agent still has to pass, from where it is: [[x, y], …]; empty when it stands.
+json path_ahead(const sim::AgentState& agent) {
+  json points = json::array();
+  if (!agent.navigating) return points;
+  points.push_back({agent.position.x(), agent.position.y()});
+  for (std::size_t w = agent.path_index; w < agent.path.size(); ++w) points.push_back({agent.path[w].x(), agent.path[w].y()});
+  return points;
+}
+
 json state_of(const Live& live, std::int64_t events_since_tick) {
   const sim::Session& session = *live.session;
   const sim::State& state = session.state();
@@ -140,7 +149,9 @@ json state_of(const Live& live, std::int64_t events_since_tick) {
                       {"theta", agent.heading},
                       {"vx", agent.velocity.x()},
                       {"vy", agent.velocity.y()},
-                      {"busy", !agent.program.empty()}});
+                      {"busy", !agent.program.empty()},
+                      {"path", path_ahead(agent)},
+                      {"motion", agent.motion ? json(agent.motion->name()) : json()}});
   }
   json requests = json::array();
   for (const sim::OpenRequest& open : state.requests) {

@@ -365,7 +365,10 @@ export class SceneView {
     this.agents.delete(id);
   }
 
-  /** Polylines on the floor by agent id, {id: [[x, y], …]} (planned paths or trails); others are removed. */
+  /**
+   * Polylines on the floor by key, {key: [[x, y], …] or {points, colour, dashed}} (trails, planned paths
+   * ahead); others are removed.
+   */
   setPaths(paths) {
     for (const line of this.paths.values()) {
       this.layers.paths.remove(line);
@@ -373,10 +376,16 @@ export class SceneView {
     }
     this.paths.clear();
     let index = 0;
-    for (const [id, points] of Object.entries(paths)) {
-      const colour = palette.path[index++ % palette.path.length];
+    for (const [id, value] of Object.entries(paths)) {
+      // A path is its points, or {points, colour, dashed} (a planned path ahead, say).
+      const points = Array.isArray(value) ? value : value.points;
+      const colour = (!Array.isArray(value) && value.colour) || palette.path[index % palette.path.length];
+      index++;
       if (points.length < 2) continue;
-      const line = polyline(points, FLOOR_LIFT * 1.5, new THREE.LineBasicMaterial({ color: colour }));
+      const dashed = !Array.isArray(value) && value.dashed;
+      const material = dashed ? new THREE.LineDashedMaterial({ color: colour, dashSize: 0.25, gapSize: 0.15 }) : new THREE.LineBasicMaterial({ color: colour });
+      const line = polyline(points, FLOOR_LIFT * 1.5, material);
+      if (dashed) line.computeLineDistances();
       line.name = `path ${id}`;
       this.layers.paths.add(line);
       this.paths.set(id, line);

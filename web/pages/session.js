@@ -5,6 +5,7 @@
 import { api, ApiError, sessionSocketUrl } from '../lib/api.js';
 import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
 import { SceneView, PROXEMIC_DISTANCES } from '../lib/scene.js';
+import { palette } from '../lib/map2d.js';
 
 /** Playback speeds, simulated seconds per wall-clock second. */
 const SPEEDS = [0.25, 0.5, 1, 2, 4];
@@ -153,7 +154,7 @@ export async function render(root, { id }) {
     ?? cameras.cameras.find((c) => c.name === 'follow') ?? cameras.cameras[0])?.name ?? null;
   let lastCamera = -Infinity;
   let lastSensors = -Infinity;
-  let layers = { laser: Boolean(robot?.model), rings: Boolean(robot), trails: true };
+  let layers = { laser: Boolean(robot?.model), rings: Boolean(robot), trails: true, plans: true };
   const trails = new Map();
   const speedSamples = [];
   let teleopOn = status.controller?.type === 'teleop';
@@ -213,6 +214,7 @@ export async function render(root, { id }) {
   });
   const layerToggles = [
     ['trails', 'Trails (last 10 s)', true],
+    ['plans', 'Planned paths (dashed)', true],
     ['laser', 'Laser scan', Boolean(robot?.model)],
     ['rings', `Proxemic rings (${Object.entries(PROXEMIC_DISTANCES).map(([name, r]) => `${name} ${r} m`).join(', ')})`, Boolean(robot)],
   ].filter(([, , available]) => available).map(([key, text]) => h('label', { class: 'check' },
@@ -304,7 +306,7 @@ export async function render(root, { id }) {
 
   function setLayer(key, on) {
     layers = { ...layers, [key]: on };
-    if (key === 'trails' && !on) scene.setPaths({});
+    if ((key === 'trails' || key === 'plans') && !on) scene.setPaths({});
     if (key === 'laser' && !on) for (const laser of laserKeys) scene.setLaser(laser, null);
     if (key === 'rings' && !on) scene.setProxemicRings(0, 0, null);
     lastSensors = -Infinity;
@@ -500,10 +502,15 @@ export async function render(root, { id }) {
       if (!last || Math.hypot(agent.x - last.x, agent.y - last.y) >= TRAIL_SPACING_M) trail.push({ x: agent.x, y: agent.y, t: status.time });
       while (trail.length && status.time - trail[0].t > TRAIL_SECONDS) trail.shift();
     }
-    if (layers.trails) {
-      scene.setPaths(Object.fromEntries([...trails].map(([agent, trail]) => [agent, [...trail.map((p) => [p.x, p.y]),
-        ...state.agents.filter((a) => a.id === agent).map((a) => [a.x, a.y])]])));
-    }
+    const paths = {};
+    state.agents.forEach((agent, index) => {
+      // One colour per agent for its trail behind and its planned path ahead.
+      const colour = palette.path[index % palette.path.length];
+      const trail = trails.get(agent.id);
+      if (layers.trails && trail) paths[`trail ${agent.id}`] = { points: [...trail.map((p) => [p.x, p.y]), [agent.x, agent.y]], colour };
+      if (layers.plans && agent.path.length > 1) paths[`plan ${agent.id}`] = { points: agent.path, colour, dashed: true };
+    });
+    scene.setPaths(paths);
   }
 
   function showSensors(sensors) {

@@ -246,6 +246,25 @@ describe('sessions', () => {
     assert.deepEqual([...first.json.events, ...second.json.events, ...third.json.events], all);
   });
 
+  it('GET .../state: a walking human\'s planned path ahead ends at her goal; a played motion is named', async () => {
+    const own = await createSession('elevator', 4);
+    const ownAt = (suffix) => `/api/v1/sessions/${own.id}${suffix}`;
+    try {
+      assert.equal((await api.post(ownAt('/commands'), { commands: [{ human: 'dev', command: 'walk 8 -1' }, { human: 'fay', command: 'motion wave 5' }] })).status, 200);
+      await api.post(ownAt('/step'), { n: 2 });
+      const agents = (await api.get(ownAt('/state'))).json.agents;
+      const dev = agents.find((agent) => agent.id === 'dev');
+      assert.ok(dev.path.length >= 2, `a path ahead: ${JSON.stringify(dev.path)}`);
+      assert.deepEqual(dev.path[0], [dev.x, dev.y], 'from where she is');
+      const [endX, endY] = dev.path[dev.path.length - 1];
+      assert.ok(Math.hypot(endX - 8, endY + 1) < 0.3, `to the goal: ${endX}, ${endY}`);
+      assert.equal(agents.find((agent) => agent.id === 'fay').motion, 'wave');
+      assert.ok(agents.filter((agent) => agent.id !== 'dev' && agent.id !== 'fay').every((agent) => agent.motion === null));
+    } finally {
+      await api.delete(ownAt(''));
+    }
+  });
+
   it('POST /api/v1/sessions/{id}/commands: 400 names the wrong command, none is given', async () => {
     const reply = await api.post(at('/commands'), { commands: [{ human: 'ada', command: 'walk 1 1' }, { robot: 'robot', gripper: 'squeeze' }] });
     assert.equal(reply.status, 400);
