@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 namespace hrisim::core {
 
@@ -41,6 +42,9 @@ inline double wrap_angle(double angle) {
 
 /// The vector rotated by +90°.
 inline Vec2 left_normal(const Vec2& v) { return {-v.y(), v.x()}; }
+
+/// "x, y" with up to six significant digits, for messages: "9, 1", "2.5, -0.333333".
+std::string point_text(const Vec2& p);
 
 /// 2D cross product (z of the 3D one).
 inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }

@@ -82,8 +82,8 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
   ordered_json locations = ordered_json::object();
   for (const auto& [id, waypoint] : waypoints) {
     if (!inside(waypoint.x, waypoint.y)) {
-      result.warnings.push_back({waypoint.line, "<waypoint>: waypoint '" + id + "' at (" + std::to_string(waypoint.x) + ", " +
-                                                    std::to_string(waypoint.y) + ") lies outside the walls and is left out"});
+      result.warnings.push_back({waypoint.line, "<waypoint>: waypoint '" + id + "' at (" +
+                                                    core::point_text({waypoint.x, waypoint.y}) + ") lies outside the walls and is left out"});
       continue;
     }
     locations[id] = {{"x", waypoint.x}, {"y", waypoint.y}, {"radius", waypoint.radius}};

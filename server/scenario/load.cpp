@@ -230,23 +230,17 @@ class Loader {
   /// Errors when p is outside the map or inside an obstacle, naming the obstacle when one contains it.
   void check_free(const Model& model, const Vec2& p, const std::string& pointer, const std::string& what) {
     if (!model.grid.in_bounds(model.grid.cell_of(p))) {
-      error(pointer, what + " at (" + format(p) + ") is outside the map");
+      error(pointer, what + " at (" + core::point_text(p) + ") is outside the map");
       return;
     }
     if (!model.grid.blocked(p)) return;
     for (const Obstacle& obstacle : model.obstacles) {
       if (world::contains(obstacle.polygon, p)) {
-        error(pointer, what + " at (" + format(p) + ") is inside obstacle \"" + obstacle.name + "\"");
+        error(pointer, what + " at (" + core::point_text(p) + ") is inside obstacle \"" + obstacle.name + "\"");
         return;
       }
     }
-    error(pointer, what + " at (" + format(p) + ") is on an occupied or unknown cell of the map");
-  }
-
-  static std::string format(const Vec2& p) {
-    std::ostringstream out;
-    out << p.x() << ", " << p.y();
-    return out.str();
+    error(pointer, what + " at (" + core::point_text(p) + ") is on an occupied or unknown cell of the map");
   }
 
   void read_places(Model& model) {

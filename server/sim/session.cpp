@@ -141,7 +141,7 @@ scenario::Action Session::parse_human_command(AgentId human, std::string_view te
     action.radius = scenario::kDefaultGoalRadius;
     const Vec2 goal(x, y);
     if (!model_->grid.in_bounds(model_->grid.cell_of(goal)) || model_->grid.blocked(goal)) {
-      throw core::Error(core::ErrorCode::bad_request, "walk: (" + std::to_string(x) + ", " + std::to_string(y) + ") is not free floor");
+      throw core::Error(core::ErrorCode::bad_request, "walk: (" + core::point_text(goal) + ") is not free floor");
     }
   } else if (verb == "wait") {
     action.kind = Kind::wait_duration;
@@ -1018,7 +1018,7 @@ void Session::place_agent(AgentId id, const Pose2& pose) {
   const int agent = index_of(id);
   const Vec2 at = pose.position();
   if (!model_->grid.in_bounds(model_->grid.cell_of(at)) || model_->grid.blocked(at)) {
-    throw core::Error(core::ErrorCode::bad_request, "(" + std::to_string(pose.x) + ", " + std::to_string(pose.y) + ") is not free floor");
+    throw core::Error(core::ErrorCode::bad_request, "(" + core::point_text(pose.position()) + ") is not free floor");
   }
   AgentState& state = state_.agents[agent];
   state.position = at;

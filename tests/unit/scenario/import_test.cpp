@@ -170,7 +170,7 @@ TEST(ImportImhus, RealElevatorFileCompletesWithRepeatedRobotRequests) {
 
 TEST(ImportPedsim, OwnFixture) {
   const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/hall.xml"), bundled());
-  EXPECT_TRUE(has_message(imported.warnings, 10, "waypoint 'outside' at (20.000000, 4.000000) lies outside the walls"));
+  EXPECT_TRUE(has_message(imported.warnings, 10, "waypoint 'outside' at (20, 4) lies outside the walls"));
   EXPECT_TRUE(has_message(imported.warnings, 9, "waypoint 'right' is a sink"));
   EXPECT_TRUE(has_message(imported.warnings, 20, "unsupported element <attraction> ignored"));
   const auto model = load_imported(imported);
