@@ -1,8 +1,8 @@
 // The browser UI: a hash router over the pages in pages/. Each page module exports
 // `render(root, params, query)`, which fills `root` and may return a function that cleans up (closes
 // sockets, stops timers) when the user leaves the page.
-import { api } from './lib/api.js';
-import { showError } from './lib/ui.js';
+import { api, savedToken, saveToken } from './lib/api.js';
+import { h, showError } from './lib/ui.js';
 
 const routes = [
   { pattern: /^\/?$/, page: 'scenarios', nav: 'scenarios' },
@@ -64,6 +64,26 @@ async function showServer() {
   }
 }
 
+/** A server started with --token answers 401 until the page has the token: ask for it, once. */
+function askForToken() {
+  if (document.getElementById('token-form')) return;
+  const input = h('input', { type: 'password', id: 'token-input', autocomplete: 'off', required: true });
+  const form = h('form', { id: 'token-form', class: 'message info token-form',
+    onsubmit: (event) => {
+      event.preventDefault();
+      saveToken(input.value.trim());
+      location.reload();
+    } },
+    h('p', {}, savedToken()
+      ? 'The server refused the saved token. Give the one it was started with (--token or HRISIM_TOKEN).'
+      : 'This server was started with a token (--token or HRISIM_TOKEN): give it to use the API from this browser. It is kept in this browser only.'),
+    h('div', { class: 'fields' }, h('label', { for: 'token-input' }, 'Token', input), h('button', { type: 'submit' }, 'Use this token'),
+      savedToken() ? h('button', { type: 'button', class: 'secondary', onclick: () => { saveToken(''); location.reload(); } }, 'Forget the saved token') : null));
+  document.querySelector('header.top').after(form);
+  input.focus();
+}
+
+window.addEventListener('hrisim-unauthorized', askForToken);
 window.addEventListener('hashchange', show);
 show();
 showServer();

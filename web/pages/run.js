@@ -1,7 +1,7 @@
 // #/runs/ID: one run's report — progress (polled every second while it runs), verdict, every
 // metric's aggregates with units and which way is better, per-episode values as dot plots, and the
 // episodes with links to their replays.
-import { api } from '../lib/api.js';
+import { api, authorisedUrl } from '../lib/api.js';
 import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
 import { loadMetrics, withUnit, unitLabel, betterArrow, statusBadge, dotPlot } from '../lib/plots.js';
 
@@ -137,7 +137,7 @@ export async function render(root, params) {
   const actionMessage = h('div', { 'aria-live': 'polite' });
   const actions = h('div', { class: 'row run-actions' },
     cancelButton,
-    h('a', { class: 'button secondary', href: `/api/v1/runs/${encodeURIComponent(id)}/junit`, download: `hrisim-${id}.xml` }, 'JUnit report (XML)'),
+    junitLink(id),
     h('a', { class: 'button secondary', href: `#/runs?scenario=${encodeURIComponent(report.scenario)}` }, 'Start another run of this scenario'),
     actionMessage);
   const summary = h('div');
@@ -234,4 +234,11 @@ export async function render(root, params) {
     clearTimeout(timer);
     destroyPlots();
   };
+}
+
+/** The JUnit report as a download; with a token (which a plain link cannot send) fetched with it first. */
+function junitLink(id) {
+  const link = h('a', { class: 'button secondary', href: `/api/v1/runs/${encodeURIComponent(id)}/junit`, download: `hrisim-${id}.xml` }, 'JUnit report (XML)');
+  authorisedUrl(link.getAttribute('href')).then((source) => { link.href = source; }, () => {});
+  return link;
 }

@@ -1,6 +1,6 @@
 // The scenario catalogue (#/): every scenario the server holds as a card with its thumbnail, searched
 // and filtered in the page, and an upload form that shows the server's errors at their lines.
-import { api } from '../lib/api.js';
+import { api, authorisedUrl } from '../lib/api.js';
 import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
 import { recentUploads } from './scenario.js';
 
@@ -25,10 +25,11 @@ function robotsText(robots) {
 
 function card(scenario) {
   const link = `#/scenarios/${encodeURIComponent(scenario.id)}`;
-  const image = h('img', { src: `/api/v1/scenarios/${encodeURIComponent(scenario.id)}/thumbnail`, alt: `${scenario.name} from above at its start`,
-    width: 320, height: 240, loading: 'lazy', decoding: 'async' });
+  const image = h('img', { alt: `${scenario.name} from above at its start`, width: 320, height: 240, loading: 'lazy', decoding: 'async' });
   // A scenario whose picture cannot be drawn (an upload this server no longer compiles) says so in place.
-  image.addEventListener('error', () => image.replaceWith(h('div', { class: 'sc-thumb-missing' }, 'No picture')), { once: true });
+  const missing = () => image.replaceWith(h('div', { class: 'sc-thumb-missing' }, 'No picture'));
+  image.addEventListener('error', missing, { once: true });
+  authorisedUrl(`/api/v1/scenarios/${encodeURIComponent(scenario.id)}/thumbnail`).then((source) => { image.src = source; }, missing);
   const facts = [
     ['Humans', formatNumber(scenario.humans)],
     ['Robots', robotsText(scenario.robots)],

@@ -264,7 +264,7 @@ export async function render(root, { id }) {
   showStatus(status);
 
   // ---- Socket ----
-  socket = new Lockstep(sessionSocketUrl(id), (event) => {
+  socket = new Lockstep(await sessionSocketUrl(id), (event) => {
     pause();
     setDisabled(true);
     message(connection, 'error', `The connection to the session closed (code ${event.code}${event.reason ? `: ${event.reason}` : ''}). `
