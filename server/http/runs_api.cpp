@@ -192,7 +192,9 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
                        {"finished_at", report["finished_at"]},
                        {"progress", report["progress"]},
                        {"success_rate", report["rates"]["success_rate"]},
-                       {"verdict", {{"passed", report["verdict"]["passed"]}, {"complete", report["verdict"]["complete"]}}}});
+                       {"verdict", {{"passed", report["verdict"]["passed"]},
+                                    {"complete", report["verdict"]["complete"]},
+                                    {"reasons", report["verdict"]["reasons"]}}}});
     }
     json reply{{"items", items}};
     reply["next_cursor"] = static_cast<int>(page.size()) == limit ? json(page.back().id) : json();

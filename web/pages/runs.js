@@ -205,7 +205,7 @@ function runRow(run, chosen, onChoose) {
   const verdict = run.verdict.passed ? h('span', { class: 'badge good' }, 'passed')
     : run.verdict.complete ? h('span', { class: 'badge bad' }, 'failed')
       : h('span', { class: 'badge' }, run.status === 'queued' || run.status === 'running' ? 'pending' : 'incomplete');
-  const gatesCell = h('span', { class: 'failing-gates' });
+  const gatesCell = h('span', { class: 'failing-gates' }, run.verdict.complete && !run.verdict.passed ? run.verdict.reasons.join('; ') : '');
   const box = h('input', { type: 'checkbox', checked: chosen.includes(run.id), 'aria-label': `Compare run ${run.id}`, onchange: (e) => onChoose(run.id, e.target.checked) });
   return {
     row: h('tr', {},
@@ -299,13 +299,6 @@ export async function render(root, params, query) {
         .map((title, i) => h('th', { scope: 'col', class: i === 5 || i === 6 ? 'number' : null }, title)))),
       h('tbody', {}, rows.map((r) => r.row))));
     if (focused) listArea.querySelector(`[aria-label="${CSS.escape(focused)}"]`)?.focus();
-    // The list has no gate results: the failing gates come from each failed run's report.
-    for (const { run, gatesCell } of rows.filter((r) => r.run.verdict.complete && !r.run.verdict.passed)) {
-      api.get(`/api/v1/runs/${run.id}`).then((report) => {
-        const failing = report.verdict.gates.filter((g) => !g.passed).map((g) => g.gate);
-        gatesCell.textContent = (failing.length ? failing : report.verdict.reasons).join('; ');
-      }).catch((error) => { gatesCell.textContent = `(gates unavailable: ${error.message})`; });
-    }
     // Keep the progress of unfinished runs current.
     if (reply.items.some((run) => run.status === 'queued' || run.status === 'running')) timer = setTimeout(() => load({ quiet: true }), 2000);
   };

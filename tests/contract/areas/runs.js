@@ -285,12 +285,12 @@ describe('runs', () => {
     assert.deepEqual(second.json.items.map((item) => item.id), ids.slice(2, 4));
   });
 
-  it('GET /api/v1/runs: the summary agrees with the report', async () => {
+  it('GET /api/v1/runs: the summary agrees with the report, with the reasons of its verdict', async () => {
     const listed = (await api.get('/api/v1/runs?limit=100')).json.items.find((item) => item.id === report.id);
     assert.deepEqual(listed, {
       id: report.id, scenario: 'queue', controller: 'scenario', status: 'finished', created_at: report.created_at,
       finished_at: report.finished_at, progress: report.progress, success_rate: report.rates.success_rate,
-      verdict: { passed: false, complete: true },
+      verdict: { passed: false, complete: true, reasons: report.verdict.reasons },
     });
   });
 
