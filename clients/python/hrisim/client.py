@@ -1,0 +1,284 @@
+"""REST client for hrisim's HTTP API (api/openapi.yaml), standard library only."""
+
+import json
+import time
+import urllib.error
+import urllib.parse
+import urllib.request
+
+from ._websocket import WebSocket, WebSocketError
+
+DEFAULT_URL = "http://127.0.0.1:8080"
+
+# Run statuses after which a run changes no more (RunStatus in api/openapi.yaml).
+FINAL_RUN_STATUSES = ("finished", "failed", "cancelled", "interrupted")
+
+
+class HrisimError(Exception):
+    """An error answer of the server: ``{"error": {"code", "message", "details"}}``.
+
+    ``status`` is the HTTP status (None for an error answer on the WebSocket), ``code`` the
+    error code (``bad_request``, ``not_found``, ...), ``message`` the text and ``details`` a dict
+    (e.g. ``{"pointer": "/action"}``).
+    """
+
+    def __init__(self, status, code, message, details=None):
+        self.status = status
+        self.code = code
+        self.message = message
+        self.details = details or {}
+        prefix = "HTTP %s " % status if status is not None else ""
+        super().__init__("%s%s: %s" % (prefix, code, message))
+
+    @property
+    def pointer(self):
+        """``details["pointer"]``, the JSON pointer of the wrong field, or None."""
+        return self.details.get("pointer")
+
+    @classmethod
+    def from_body(cls, status, body):
+        """An error from a response body (bytes, str or an already decoded dict)."""
+        data = body
+        if isinstance(body, (bytes, bytearray)):
+            body = body.decode("utf-8", "replace")
+        if isinstance(body, str):
+            try:
+                data = json.loads(body)
+            except ValueError:
+                return cls(status, "http_%s" % status, body.strip() or "HTTP error %s" % status)
+        error = data.get("error") if isinstance(data, dict) else None
+        if not isinstance(error, dict):
+            if isinstance(data, dict) and data.get("type") == "error":
+                error = data
+            else:
+                return cls(status, "http_%s" % status, str(data))
+        return cls(status, error.get("code"), error.get("message", ""), error.get("details"))
+
+
+class Client:
+    """hrisim's REST API. ``Client(url="http://127.0.0.1:8080", token=None)``.
+
+    Every method returns the decoded JSON answer; an error answer raises ``HrisimError``.
+    """
+
+    def __init__(self, url=DEFAULT_URL, token=None, timeout=60.0):
+        self.url = url.rstrip("/")
+        self.token = token
+        self.timeout = timeout
+
+    def __repr__(self):
+        return "Client(%r)" % self.url
+
+    # -- plumbing ----------------------------------------------------------------------------
+    def _headers(self):
+        headers = {"Accept": "application/json"}
+        if self.token:
+            headers["Authorization"] = "Bearer " + self.token
+        return headers
+
+    def request(self, method, path, body=None, params=None, raw=False, timeout=None):
+        """``method`` ``path`` with a JSON ``body`` → the decoded JSON (bytes with ``raw``)."""
+        url = self.url + path
+        if params:
+            query = {k: v for k, v in params.items() if v is not None}
+            if query:
+                url += "?" + urllib.parse.urlencode(query)
+        headers = self._headers()
+        data = None
+        if body is not None:
+            data = json.dumps(body).encode("utf-8")
+            headers["Content-Type"] = "application/json"
+        elif method in ("POST", "PUT"):
+            data = b""
+        req = urllib.request.Request(url, data=data, headers=headers, method=method)
+        try:
+            with urllib.request.urlopen(req, timeout=timeout or self.timeout) as response:
+                content = response.read()
+                if raw:
+                    return content
+                if not content:
+                    return None
+                return json.loads(content.decode("utf-8"))
+        except urllib.error.HTTPError as e:
+            content = e.read()
+            raise HrisimError.from_body(e.code, content) from None
+
+    def get(self, path, **params):
+        return self.request("GET", path, params=params)
+
+    def post(self, path, body=None, **params):
+        return self.request("POST", path, body=body, params=params)
+
+    @staticmethod
+    def _q(value):
+        return urllib.parse.quote(str(value), safe="")
+
+    # -- server ------------------------------------------------------------------------------
+    def health(self):
+        return self.get("/healthz")
+
+    def version(self):
+        return self.get("/api/v1/version")
+
+    # -- scenarios ---------------------------------------------------------------------------
+    def scenarios(self, limit=None):
+        """Every scenario's summary (all pages followed) as a list."""
+        items = []
+        cursor = None
+        while True:
+            page = self.get("/api/v1/scenarios", limit=limit, cursor=cursor)
+            items.extend(page.get("items", []))
+            cursor = page.get("next_cursor")
+            if not cursor:
+                return items
+
+    def scenario(self, scenario_id):
+        return self.get("/api/v1/scenarios/" + self._q(scenario_id))
+
+    # -- sessions ----------------------------------------------------------------------------
+    def create_session(self, scenario, seed=0, controller=None, mode="lockstep", realtime_factor=None):
+        body = {"scenario": scenario, "seed": seed, "mode": mode}
+        if controller is not None:
+            body["controller"] = controller
+        if realtime_factor is not None:
+            body["realtime_factor"] = realtime_factor
+        return self.post("/api/v1/sessions", body)
+
+    def sessions(self):
+        return self.get("/api/v1/sessions")
+
+    def session(self, session_id):
+        return self.get("/api/v1/sessions/" + self._q(session_id))
+
+    def delete_session(self, session_id):
+        return self.request("DELETE", "/api/v1/sessions/" + self._q(session_id))
+
+    def step_session(self, session_id, action=None, n=1):
+        body = {"n": n}
+        if action is not None:
+            body["action"] = [float(a) for a in action]
+        return self.post("/api/v1/sessions/%s/step" % self._q(session_id), body)
+
+    def reset_session(self, session_id, seed=None, options=None):
+        body = {}
+        if seed is not None:
+            body["seed"] = int(seed)
+        if options is not None:
+            body["options"] = options
+        return self.post("/api/v1/sessions/%s/reset" % self._q(session_id), body)
+
+    def action_space(self, session_id):
+        return self.get("/api/v1/sessions/%s/action_space" % self._q(session_id))
+
+    def observation_space(self, session_id):
+        return self.get("/api/v1/sessions/%s/observation_space" % self._q(session_id))
+
+    def session_state(self, session_id, events_since=None):
+        return self.get("/api/v1/sessions/%s/state" % self._q(session_id), events_since=events_since)
+
+    def session_metrics(self, session_id):
+        return self.get("/api/v1/sessions/%s/metrics" % self._q(session_id))
+
+    def cameras(self, session_id):
+        return self.get("/api/v1/sessions/%s/cameras" % self._q(session_id))
+
+    def commands(self, session_id, commands):
+        return self.post("/api/v1/sessions/%s/commands" % self._q(session_id), {"commands": commands})
+
+    def ws_ticket(self, session_id):
+        return self.post("/api/v1/sessions/%s/ws-ticket" % self._q(session_id))
+
+    def websocket(self, session_id, timeout=None):
+        """An open WebSocket to the session (``hrisim._websocket.WebSocket``).
+
+        With a token, opened with a single-use ticket from POST .../ws-ticket.
+        """
+        parts = urllib.parse.urlsplit(self.url)
+        if parts.scheme != "http":
+            raise HrisimError(None, "unsupported", "only http:// servers are supported, not %s" % self.url)
+        base = "ws://" + parts.netloc + parts.path.rstrip("/")
+        if self.token:
+            path = self.ws_ticket(session_id)["url"]
+        else:
+            path = "/api/v1/sessions/%s/ws" % self._q(session_id)
+        try:
+            return WebSocket(base + path, timeout=timeout or self.timeout)
+        except WebSocketError as e:
+            if e.status is not None:
+                raise HrisimError.from_body(e.status, e.body) from None
+            raise
+
+    # -- runs --------------------------------------------------------------------------------
+    def start_run(self, scenario, seeds=None, count=None, controller=None, gates=None, max_time=None,
+                  first_seed=None, requests=None):
+        """POST /api/v1/runs → the run's report (its ``id`` to poll)."""
+        body = {"scenario": scenario}
+        if seeds is not None:
+            body["seeds"] = [int(s) for s in seeds]
+        if count is not None:
+            body["count"] = int(count)
+        if first_seed is not None:
+            body["first_seed"] = int(first_seed)
+        if controller is not None:
+            body["controller"] = controller
+        if gates is not None:
+            body["gates"] = list(gates)
+        if max_time is not None:
+            body["max_time"] = max_time
+        if requests is not None:
+            body["requests"] = requests
+        return self.post("/api/v1/runs", body)
+
+    def runs(self, status=None, scenario=None, limit=None, cursor=None):
+        """One page of runs, newest first: ``{"items", "next_cursor"}``."""
+        return self.get("/api/v1/runs", status=status, scenario=scenario, limit=limit, cursor=cursor)
+
+    def run(self, run_id):
+        return self.get("/api/v1/runs/" + self._q(run_id))
+
+    def cancel_run(self, run_id):
+        return self.post("/api/v1/runs/%s/cancel" % self._q(run_id))
+
+    def wait_run(self, run_id, timeout=600.0, interval=0.2):
+        """Poll the run until it has ended (finished, failed, cancelled or interrupted) → its report.
+
+        Raises ``TimeoutError`` when it has not ended within ``timeout`` seconds.
+        """
+        deadline = time.monotonic() + timeout
+        while True:
+            report = self.run(run_id)
+            if report.get("status") in FINAL_RUN_STATUSES:
+                return report
+            if time.monotonic() >= deadline:
+                raise TimeoutError("run %s still %s after %s s" % (run_id, report.get("status"), timeout))
+            time.sleep(interval)
+
+    def junit(self, run_id):
+        return self.request("GET", "/api/v1/runs/%s/junit" % self._q(run_id), raw=True).decode("utf-8")
+
+    def episodes(self, run_id):
+        """The run's stored episodes (a list)."""
+        return self.get("/api/v1/runs/%s/episodes" % self._q(run_id)).get("items", [])
+
+    def episode(self, episode_id):
+        return self.get("/api/v1/episodes/" + self._q(episode_id))
+
+    def trajectory(self, episode_id):
+        return self.get("/api/v1/episodes/%s/trajectory" % self._q(episode_id))
+
+    def series(self, episode_id, name=None):
+        return self.get("/api/v1/episodes/%s/series" % self._q(episode_id), name=name)
+
+    def metrics(self):
+        """Every metric's definition: ``{"items": [...], "series": [...]}``."""
+        return self.get("/api/v1/metrics")
+
+    def compare(self, a, b):
+        return self.get("/api/v1/runs/compare", a=a, b=b)
+
+    # -- robots ------------------------------------------------------------------------------
+    def robots(self):
+        return self.get("/api/v1/robots")
+
+    def robot(self, name):
+        return self.get("/api/v1/robots/" + self._q(name))

@@ -1,0 +1,341 @@
+"""Gymnasium-style environment over a lockstep hrisim session."""
+
+import json
+import struct
+
+import numpy as np
+
+from ._websocket import WebSocketError
+from .client import DEFAULT_URL, Client, HrisimError
+
+try:  # optional: Env is a gymnasium.Env and the spaces gymnasium's when it is installed
+    import gymnasium as _gym
+    from gymnasium import spaces as _gym_spaces
+except ImportError:  # pragma: no cover - depends on the machine
+    _gym = None
+    _gym_spaces = None
+
+_EnvBase = _gym.Env if _gym is not None else object
+
+CAMERA_HEADER = struct.Struct("<4sHHqdIIffffffI36s")
+assert CAMERA_HEADER.size == 96
+
+
+def _number(value):
+    if isinstance(value, str):
+        if value in ("inf", "+inf", "Infinity"):
+            return np.inf
+        if value in ("-inf", "-Infinity"):
+            return -np.inf
+        return float(value)
+    return float(value)
+
+
+class Box:
+    """A Gymnasium-like Box space (used when gymnasium is not installed)."""
+
+    def __init__(self, low, high, shape=None, dtype=np.float64, seed=None):
+        self.dtype = np.dtype(dtype)
+        self.low = np.asarray(low, dtype=self.dtype)
+        self.high = np.asarray(high, dtype=self.dtype)
+        self.shape = tuple(shape) if shape is not None else self.low.shape
+        self.low = np.broadcast_to(self.low, self.shape).copy()
+        self.high = np.broadcast_to(self.high, self.shape).copy()
+        self.np_random = np.random.default_rng(seed)
+
+    def seed(self, seed=None):
+        self.np_random = np.random.default_rng(seed)
+        return [seed]
+
+    def sample(self):
+        """Uniform within finite bounds; normal where unbounded both ways, exponential where one way."""
+        low, high = self.low, self.high
+        lower, upper = np.isfinite(low), np.isfinite(high)
+        out = np.empty(self.shape, dtype=np.float64)
+        both = lower & upper
+        out[both] = self.np_random.uniform(low[both], high[both])
+        none = ~lower & ~upper
+        out[none] = self.np_random.normal(size=int(none.sum()))
+        low_only = lower & ~upper
+        out[low_only] = low[low_only] + self.np_random.exponential(size=int(low_only.sum()))
+        high_only = ~lower & upper
+        out[high_only] = high[high_only] - self.np_random.exponential(size=int(high_only.sum()))
+        return out.astype(self.dtype)
+
+    def contains(self, x):
+        try:
+            x = np.asarray(x, dtype=self.dtype)
+        except (TypeError, ValueError):
+            return False
+        return bool(x.shape == self.shape and np.all(x >= self.low) and np.all(x <= self.high))
+
+    __contains__ = contains
+
+    def __repr__(self):
+        return "Box(%s, %s, %s, %s)" % (self.low.min(), self.high.max(), self.shape, self.dtype)
+
+    def __eq__(self, other):
+        return (isinstance(other, Box) and self.shape == other.shape and self.dtype == other.dtype
+                and np.array_equal(self.low, other.low) and np.array_equal(self.high, other.high))
+
+
+class Discrete:
+    """A Gymnasium-like Discrete space (used when gymnasium is not installed)."""
+
+    def __init__(self, n, seed=None):
+        self.n = int(n)
+        self.shape = ()
+        self.dtype = np.dtype(np.int64)
+        self.np_random = np.random.default_rng(seed)
+
+    def sample(self):
+        return int(self.np_random.integers(self.n))
+
+    def contains(self, x):
+        try:
+            return 0 <= int(x) < self.n and int(x) == x
+        except (TypeError, ValueError):
+            return False
+
+    __contains__ = contains
+
+    def __repr__(self):
+        return "Discrete(%d)" % self.n
+
+
+def space_from_json(doc):
+    """A space from gym-http-api's form (``{"name": "Box", "shape", "low", "high", "dtype"}``)."""
+    name = doc.get("name")
+    if name == "Box":
+        dtype = np.dtype(doc.get("dtype", "float64"))
+        shape = tuple(int(s) for s in doc["shape"])
+        low = np.array([_number(v) for v in doc["low"]], dtype=dtype).reshape(shape)
+        high = np.array([_number(v) for v in doc["high"]], dtype=dtype).reshape(shape)
+        if _gym_spaces is not None:
+            return _gym_spaces.Box(low=low, high=high, shape=shape, dtype=dtype)
+        return Box(low, high, shape, dtype)
+    if name == "Discrete":
+        if _gym_spaces is not None:
+            return _gym_spaces.Discrete(int(doc["n"]))
+        return Discrete(doc["n"])
+    raise ValueError("unknown space %r" % name)
+
+
+def decode_camera_frame(data):
+    """A binary HRCF camera frame (api/asyncapi.yaml's cameraFrame) → a dict of numpy arrays."""
+    if len(data) < CAMERA_HEADER.size:
+        raise ValueError("camera frame of %d bytes is shorter than its header" % len(data))
+    (magic, version, header_size, tick, time_, width, height, fx, fy, cx, cy, near, far, parts,
+     name) = CAMERA_HEADER.unpack_from(data, 0)
+    if magic != b"HRCF":
+        raise ValueError("not a camera frame (magic %r)" % magic)
+    if version != 1:
+        raise ValueError("camera frame version %d is not supported" % version)
+    w, h = width, height
+    has_ids = bool(parts & 4)
+    expected = header_size + w * h * (12 if has_ids else 8)
+    if len(data) != expected:
+        raise ValueError("camera frame of %d bytes, expected %d" % (len(data), expected))
+    buf = memoryview(data)
+    offset = header_size
+    rgba = np.frombuffer(buf, dtype=np.uint8, count=w * h * 4, offset=offset).reshape(h, w, 4).copy()
+    offset += 4 * w * h
+    depth = np.frombuffer(buf, dtype="<f4", count=w * h, offset=offset).reshape(h, w).astype(np.float32)
+    offset += 4 * w * h
+    ids = None
+    if has_ids:
+        ids = np.frombuffer(buf, dtype="<u4", count=w * h, offset=offset).reshape(h, w).astype(np.uint32)
+    return {
+        "camera": name.split(b"\0", 1)[0].decode("utf-8", "replace"),
+        "tick": tick,
+        "time": time_,
+        "width": w,
+        "height": h,
+        "fx": fx,
+        "fy": fy,
+        "cx": cx,
+        "cy": cy,
+        "near": near,
+        "far": far,
+        "rgba": rgba,
+        "depth": depth,
+        "ids": ids,
+    }
+
+
+def _observation(value):
+    if value is None:
+        return None
+    return np.asarray(value, dtype=np.float64)
+
+
+class Env(_EnvBase):
+    """A lockstep hrisim session with Gymnasium's API.
+
+    Usually made with ``hrisim.make(scenario, ...)``; ``Env(client, session)`` wraps a session
+    created elsewhere (its status, from POST /api/v1/sessions). Steps go over the session's
+    WebSocket, resets over REST (the WebSocket has no reset message).
+    """
+
+    metadata = {"render_modes": []}
+    render_mode = None
+
+    def __init__(self, client, session, own_session=True):
+        self.client = client
+        self.session = session
+        self.session_id = session["id"]
+        self.scenario = session.get("scenario")
+        self._own_session = own_session
+        self._ws = None
+        self._closed = False
+        try:
+            self.action_space = space_from_json(client.action_space(self.session_id))
+            self.observation_space = space_from_json(client.observation_space(self.session_id))
+        except BaseException:
+            self.close()
+            raise
+
+    def __repr__(self):
+        return "<hrisim.Env %s scenario=%s>" % (self.session_id, self.scenario)
+
+    # -- socket ------------------------------------------------------------------------------
+    @property
+    def ws(self):
+        if self._closed:
+            raise HrisimError(None, "closed", "the environment is closed")
+        if self._ws is None or self._ws.closed:
+            self._ws = self.client.websocket(self.session_id)
+        return self._ws
+
+    def _ask(self, message):
+        """Send a JSON message and return its answer (dict for text, bytes for binary)."""
+        ws = self.ws
+        try:
+            ws.send_json(message)
+            answer = ws.recv()
+        except (OSError, WebSocketError):
+            self._ws = None
+            raise
+        if isinstance(answer, bytes):
+            return answer
+        doc = json.loads(answer)
+        if doc.get("type") == "error":
+            raise HrisimError.from_body(None, doc)
+        return doc
+
+    # -- Gymnasium API -----------------------------------------------------------------------
+    def reset(self, *, seed=None, options=None):
+        """Start the session again from tick 0 → ``(observation, info)``.
+
+        ``seed`` None keeps the session's seed; ``options`` as POST .../reset's
+        (``{"poses": {"robot": {"x", "y", "yaw"}}}``).
+        """
+        if self._closed:
+            raise HrisimError(None, "closed", "the environment is closed")
+        if _gym is not None and seed is not None:
+            _gym.Env.reset(self, seed=seed)
+        reply = self.client.reset_session(self.session_id, seed=seed, options=options)
+        self.last_status = reply
+        info = dict(reply.get("info") or {})
+        info.setdefault("tick", reply.get("tick"))
+        info.setdefault("time", reply.get("time"))
+        return _observation(reply.get("observation")), info
+
+    def step(self, action, n=1):
+        """Apply ``action`` and advance ``n`` steps (default 1) →
+        ``(observation, reward, terminated, truncated, info)``.
+
+        ``info`` holds the server's info plus ``events`` (those since the previous step reply) and
+        ``status`` (the session's status fields).
+        """
+        message = {"type": "step", "n": int(n)}
+        if action is not None:
+            message["action"] = [float(a) for a in np.asarray(action, dtype=np.float64).ravel()]
+        reply = self._ask(message)
+        if isinstance(reply, bytes):
+            raise HrisimError(None, "protocol", "binary answer to a step")
+        self.last_status = reply
+        info = dict(reply.get("info") or {})
+        info["events"] = reply.get("events", [])
+        info["status"] = {k: v for k, v in reply.items()
+                          if k not in ("observation", "reward", "terminated", "truncated", "info",
+                                       "events", "type")}
+        return (_observation(reply.get("observation")), float(reply.get("reward", 0.0)),
+                bool(reply.get("terminated")), bool(reply.get("truncated")), info)
+
+    def render(self):
+        return None
+
+    def close(self):
+        """Close the WebSocket and delete the session (when this Env created it)."""
+        if self._closed:
+            return
+        self._closed = True
+        if self._ws is not None:
+            try:
+                self._ws.close()
+            except (OSError, WebSocketError):
+                pass
+            self._ws = None
+        if self._own_session:
+            try:
+                self.client.delete_session(self.session_id)
+            except (HrisimError, OSError):
+                pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def __del__(self):
+        try:
+            if not self._closed and self._ws is not None:
+                self._ws.close()
+        except Exception:
+            pass
+
+    # -- more of the session -----------------------------------------------------------------
+    def camera(self, name, width=None, height=None, ids=False):
+        """One camera frame of the session now (``GET …/cameras`` lists the names) → dict with
+        ``rgba`` (uint8 H×W×4), ``depth`` (float32 H×W, m, 0 = nothing), ``ids`` (uint32 H×W or
+        None), ``tick``, ``time``, ``width``, ``height``, ``fx``, ``fy``, ``cx``, ``cy``, ``near``,
+        ``far`` and ``camera``."""
+        message = {"type": "camera", "camera": name, "ids": bool(ids)}
+        if width is not None:
+            message["width"] = int(width)
+        if height is not None:
+            message["height"] = int(height)
+        reply = self._ask(message)
+        if not isinstance(reply, bytes):
+            raise HrisimError(None, "protocol", "text answer %r to a camera request" % reply.get("type"))
+        return decode_camera_frame(reply)
+
+    def state(self, events_since=0):
+        """Every agent's pose and motion (the WebSocket's ``state``)."""
+        return self._ask({"type": "state", "events_since": int(events_since)})
+
+    def sensors(self, robot):
+        return self._ask({"type": "sensors", "robot": robot})
+
+    def commands(self, commands):
+        return self._ask({"type": "commands", "commands": list(commands)})
+
+    def metrics(self):
+        return self.client.session_metrics(self.session_id)
+
+    def cameras(self):
+        return self.client.cameras(self.session_id)
+
+
+def make(scenario, url=DEFAULT_URL, seed=0, controller=None, token=None, client=None):
+    """Create a lockstep session of ``scenario`` and return its ``Env``.
+
+    The benchmark tasks (``hrisim.make("approach_human")``) come with issue 9; until then
+    ``scenario`` is a scenario id (GET /api/v1/scenarios) and the spaces are the default view.
+    """
+    client = client or Client(url, token=token)
+    session = client.create_session(scenario, seed=seed, controller=controller, mode="lockstep")
+    return Env(client, session)
