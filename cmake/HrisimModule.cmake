@@ -22,3 +22,20 @@ function(hrisim_module name)
   target_link_libraries(hrisim_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
   hrisim_target_settings(hrisim_${name})
 endfunction()
+
+# hrisim_embed_files(VAR NAMESPACE ns COMMENT text FILES file...)
+# Generates a source (its path in VAR) defining, in namespace ns, `kEmbedded` — {file name, contents}
+# of each file — and `kEmbeddedCount` (cmake/EmbedFiles.cmake), so the files ship inside the binary.
+function(hrisim_embed_files var)
+  cmake_parse_arguments(ARG "" "NAMESPACE;COMMENT" "FILES" ${ARGN})
+  string(REPLACE "::" "_" stem "${ARG_NAMESPACE}")
+  set(output "${CMAKE_CURRENT_BINARY_DIR}/${stem}.cpp")
+  string(REPLACE ";" "$<SEMICOLON>" inputs "${ARG_FILES}")
+  add_custom_command(
+    OUTPUT "${output}"
+    COMMAND ${CMAKE_COMMAND} "-DINPUTS=${inputs}" -DOUTPUT=${output} -DNAMESPACE=${ARG_NAMESPACE} -P ${PROJECT_SOURCE_DIR}/cmake/EmbedFiles.cmake
+    DEPENDS ${ARG_FILES} ${PROJECT_SOURCE_DIR}/cmake/EmbedFiles.cmake
+    COMMENT "${ARG_COMMENT}"
+    VERBATIM)
+  set(${var} "${output}" PARENT_SCOPE)
+endfunction()

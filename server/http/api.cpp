@@ -4,6 +4,7 @@
 
 #include "core/build_info.hpp"
 #include "core/embedded.hpp"
+#include "core/text.hpp"
 #include "http/request_helpers.hpp"
 #include "http/runs_api.hpp"
 #include "http/scenarios_api.hpp"
@@ -139,9 +140,7 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
     const std::string& name = request.path_params.at("name");
     const auto robot = robots::builtin_robot(name);
     if (!robot) {
-      std::string known;
-      for (const std::string& candidate : robots::builtin_robot_names()) known += (known.empty() ? "" : ", ") + candidate;
-      return Response::error(core::Error(core::ErrorCode::not_found, "no robot named '" + name + "' (known: " + known + ")",
+      return Response::error(core::Error(core::ErrorCode::not_found, "no robot named '" + name + "' (known: " + core::join(robots::builtin_robot_names()) + ")",
                                          {{"name", name}}));
     }
     return Response::json(200, {{"summary", robot_summary(*robot)}, {"description", robots::builtin_robot_document(name)}});

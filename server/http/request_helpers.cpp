@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/json_schema.hpp"
+#include "core/text.hpp"
 
 namespace hrisim::http {
 
@@ -76,9 +77,7 @@ nlohmann::json json_object_body(const Request& request) {
 void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const char*> known, const std::string& at) {
   for (const auto& [key, unused] : body.items()) {
     if (std::none_of(known.begin(), known.end(), [&](const char* name) { return key == name; })) {
-      std::string names;
-      for (const char* name : known) names += (names.empty() ? "" : ", ") + std::string(name);
-      throw core::Error(core::ErrorCode::bad_request, "unknown field '" + key + "' (known: " + names + ")", {{"pointer", at + "/" + key}});
+      throw core::Error(core::ErrorCode::bad_request, "unknown field '" + key + "' (known: " + core::join(known) + ")", {{"pointer", at + "/" + key}});
     }
   }
 }

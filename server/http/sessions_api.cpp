@@ -563,6 +563,16 @@ json camera_json(const sim::CameraInfo& info) {
   return camera;
 }
 
+/// A binary RGB-D frame of a camera, as a deferred answer: the scene is taken now (the caller holds
+/// the session's lock), the worker pool draws it.
+Response camera_frame(const sim::Session& session, const std::string& name, int width, int height, bool ids) {
+  sim::CameraInfo camera = sim::camera_of(session, name, width, height);
+  render::Scene scene = sim::scene_for(session, camera);
+  return Response::later([scene = std::move(scene), camera = std::move(camera), tick = session.state().tick, time = session.time(), ids] {
+    return Response{200, kBinaryContentType, camera_message(render::render_on_this_thread(scene, camera.camera), camera, tick, time, ids), {}, {}};
+  });
+}
+
 /// A session's WebSocket: lockstep messages, one answer each, in order.
 ///   {"type": "step", "n": 1}        → {"type": "step", …status, events, terminated, truncated}
 ///   {"type": "commands", "commands": [...]} → {"type": "commands", "applied", "tick"}
@@ -640,21 +650,8 @@ class SessionSocket : public WebSocketPeer {
         const auto width = static_cast<int>(integer_field(body, "width", 16, kMaxFrameSize, 0));
         const auto height = static_cast<int>(integer_field(body, "height", 16, kMaxFrameSize, 0));
         if (body.contains("ids") && !body["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/ids"}});
-        const bool ids = body.value("ids", false);
-        sim::CameraInfo camera;
-        render::Scene scene;
-        std::int64_t tick = 0;
-        double time = 0.0;
-        {
-          std::lock_guard lock(live->mutex);
-          camera = sim::camera_of(*live->session, body["camera"], width, height);
-          scene = sim::scene_for(*live->session, camera);
-          tick = live->session->state().tick;
-          time = live->session->time();
-        }
-        return Response::later([scene = std::move(scene), camera, tick, time, ids] {
-          return Response{200, kBinaryContentType, camera_message(render::render_on_this_thread(scene, camera.camera), camera, tick, time, ids), {}, {}};
-        });
+        std::lock_guard lock(live->mutex);
+        return camera_frame(*live->session, body["camera"], width, height, body.value("ids", false));
       }
       if (type == "subscribe") {
         refuse_unknown_keys(body, {"rate", "camera"});
@@ -726,13 +723,7 @@ class SessionSocket : public WebSocketPeer {
     std::vector<Response> frames{Response::json(200, frame)};
     if (camera_) {
       try {
-        // The scene is taken now, under the lock; the worker pool draws it.
-        sim::CameraInfo camera = sim::camera_of(*live->session, camera_->name, camera_->width, camera_->height);
-        render::Scene scene = sim::scene_for(*live->session, camera);
-        const double time = live->session->time();
-        frames.push_back(Response::later([scene = std::move(scene), camera = std::move(camera), tick, time, ids = camera_->ids] {
-          return Response{200, kBinaryContentType, camera_message(render::render_on_this_thread(scene, camera.camera), camera, tick, time, ids), {}, {}};
-        }));
+        frames.push_back(camera_frame(*live->session, camera_->name, camera_->width, camera_->height, camera_->ids));
       } catch (const core::Error&) {
         camera_.reset();  // the robot carrying it left the session
       }

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "humans/motion.hpp"
 #include "world/ros_map.hpp"
 
@@ -334,9 +335,7 @@ class Loader {
       const std::string name = entry["model"];
       agent.robot_model = robots::builtin_robot(name);
       if (!agent.robot_model) {
-        std::string known;
-        for (const auto& candidate : robots::builtin_robot_names()) known += (known.empty() ? "" : ", ") + candidate;
-        error(pointer + "/model", "unknown robot model '" + name + "' (known: " + known + ")");
+        error(pointer + "/model", "unknown robot model '" + name + "' (known: " + core::join(robots::builtin_robot_names()) + ")");
       } else if (entry.contains("radius")) {
         error(pointer + "/radius", "a robot with a model has its model's footprint (" + std::to_string(agent.robot_model->footprint_radius) + " m)");
       } else {
@@ -573,9 +572,7 @@ class Loader {
       action.motion = entry["motion"]["name"];
       const humans::MotionClip* clip = humans::builtin_motion(action.motion);
       if (!clip) {
-        std::string known;
-        for (const std::string& name : humans::builtin_motion_names()) known += (known.empty() ? "" : ", ") + name;
-        error(pointer + "/motion/name", "no motion primitive '" + action.motion + "' (" + known + ")");
+        error(pointer + "/motion/name", "no motion primitive '" + action.motion + "' (" + core::join(humans::builtin_motion_names()) + ")");
       } else {
         action.value = entry["motion"].value("duration", clip->duration());
       }

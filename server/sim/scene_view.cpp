@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "render/mesh.hpp"
 #include "robots/robot.hpp"
 #include "sim/session.hpp"
@@ -257,9 +258,9 @@ std::vector<CameraInfo> cameras_of(const Session& session) {
 
 CameraInfo camera_of(const Session& session, const std::string& name, int width, int height) {
   std::vector<CameraInfo> cameras = cameras_of(session);
-  std::string names;
+  std::vector<std::string> names;
   for (CameraInfo& info : cameras) {
-    names += (names.empty() ? "" : ", ") + info.name;
+    names.push_back(info.name);
     if (info.name != name) continue;
     render::Camera& c = info.camera;
     // A size given alone scales the other with it.
@@ -276,7 +277,7 @@ CameraInfo camera_of(const Session& session, const std::string& name, int width,
     }
     return info;
   }
-  throw core::Error(core::ErrorCode::not_found, "no camera '" + name + "' (" + names + ")", {{"camera", name}});
+  throw core::Error(core::ErrorCode::not_found, "no camera '" + name + "' (" + core::join(names) + ")", {{"camera", name}});
 }
 
 }  // namespace hrisim::sim

@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "core/portable_math.hpp"
 #include "core/state_hash.hpp"
+#include "core/text.hpp"
 
 namespace hrisim::sim {
 namespace {
@@ -167,9 +168,7 @@ scenario::Action Session::parse_human_command(AgentId human, std::string_view te
     }
   } else if (verb == "motion") {
     if (!(in >> action.motion) || !humans::builtin_motion(action.motion)) {
-      std::string known;
-      for (const std::string& name : humans::builtin_motion_names()) known += (known.empty() ? "" : ", ") + name;
-      throw core::Error(core::ErrorCode::bad_request, "motion: which primitive? (" + known + ")");
+      throw core::Error(core::ErrorCode::bad_request, "motion: which primitive? (" + core::join(humans::builtin_motion_names()) + ")");
     }
     action.kind = Kind::play_motion;
     action.value = humans::builtin_motion(action.motion)->duration();

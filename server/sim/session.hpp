@@ -108,12 +108,9 @@ class Session {
   /// Places a movable object, at rest. Throws conflict while a gripper holds it.
   void place_object(int object, const Eigen::Isometry3d& pose);
 
-  /// What a human's body is doing now, and its solids (capsules between the skeleton's joints) in the
-  /// map frame: what contact, range sensors and cameras meet.
-  humans::Activity activity(int agent) const;
+  /// A human's solids (capsules between its skeleton's joints) in the map frame, posed by what it is
+  /// doing now: what contact, range sensors and cameras meet.
   humans::BodyCapsules human_body(int agent) const;
-  /// A human's skeleton (its body's dimensions from its type); null for robots.
-  const humans::Skeleton* skeleton(int agent) const { return skeletons_[agent] ? &*skeletons_[agent] : nullptr; }
 
   const State& state() const { return state_; }
   const scenario::Model& model() const { return *model_; }
@@ -147,6 +144,8 @@ class Session {
   bool slot_free(int space, int slot, int agent) const;
   bool idle(int agent) const;
   void locomotion();
+  /// What a human's body is doing now: the inputs of its pose.
+  humans::Activity activity(int agent) const;
   /// A human's gait, turn rate and motion primitive after it moved this step and turned by `turned`.
   void advance_body(AgentState& state, double turned) const;
   /// Robots with a model: their controllers pick a command (before the crowd moves).
