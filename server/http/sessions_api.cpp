@@ -59,13 +59,16 @@ struct Live {
   /// A fresh session of the same model (the lock held, or before anyone else has it).
   void start(std::shared_ptr<const scenario::Model> model) {
     session = std::make_unique<sim::Session>(std::move(model), static_cast<std::uint64_t>(seed));
+    try {
+      environment.emplace(*session);  // before recording: a task places its human at tick 0
+    } catch (const core::Error&) {
+      // No robot to observe, or none that can act: the session has no spaces. A task that cannot
+      // start its episode is the caller's error.
+      if (session->model().task) throw;
+      environment.reset();
+    }
     recorder.emplace(*session, kMaxLiveRecordedBodies);
     events_reported = 0;
-    try {
-      environment.emplace(*session);
-    } catch (const core::Error&) {
-      environment.reset();  // no robot to observe, or none that can act: the session has no spaces
-    }
     realtime_origin = Clock::now();
     realtime_origin_tick = 0;
   }
@@ -265,12 +268,16 @@ json number_or_infinity(double value) {
 }
 
 /// A Gymnasium space in gym-http-api's form: {"name": "Box", shape, low, high, dtype} or {"name": "Discrete", n}.
-json space_json(const tasks::Space& space) {
+/// low and high hold one value per element, or one for all of them. An image observation names its
+/// camera: the observation is that camera's frame, not in the step's JSON.
+json space_json(const tasks::Space& space, const std::optional<tasks::ImageObservation>& image = std::nullopt) {
   if (space.name == "Discrete") return {{"name", "Discrete"}, {"n", space.n}};
   json low = json::array(), high = json::array();
   for (const double value : space.low) low.push_back(number_or_infinity(value));
   for (const double value : space.high) high.push_back(number_or_infinity(value));
-  return {{"name", space.name}, {"shape", space.shape}, {"low", low}, {"high", high}, {"dtype", space.dtype}};
+  json doc = {{"name", space.name}, {"shape", space.shape}, {"low", low}, {"high", high}, {"dtype", space.dtype}};
+  if (image) doc["camera"] = {{"name", image->camera}, {"width", image->width}, {"height", image->height}};
+  return doc;
 }
 
 /// The optional "action" of a step: a list of numbers.
@@ -375,24 +382,34 @@ json give_commands(Live& live, const json& commands) {
   return {{"applied", apply.size()}, {"tick", session.state().tick}};
 }
 
-/// Advances up to `steps` steps (the session's lock held): the status, the events of those steps, and
-/// Gymnasium's terminated (the scenario's last step is done) and truncated (its time limit).
+/// Gymnasium's observation and info now: the observation null when it is a camera image (fetched as
+/// a binary camera frame), info the tick, time and the last step's reward terms.
+void add_observation(const Live& live, json& reply) {
+  const sim::Session& session = *live.session;
+  reply["observation"] = live.environment && !live.environment->image() ? json(live.environment->observe(session)) : json();
+  reply["info"] = {{"tick", session.state().tick}, {"time", session.time()}};
+  if (live.environment) reply["info"].update(live.environment->info());
+}
+
+/// Advances up to `steps` environment steps (the session's lock held; each the task's frame skip in
+/// ticks, one tick without a task): the status, the events of those steps, and Gymnasium's terminated
+/// (the task's ending, or the scenario's last step done) and truncated (its time limit).
 json step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action = std::nullopt) {
   sim::Session& session = *live.session;
-  if (action) {
-    if (!live.environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act", {{"pointer", "/action"}});
-    live.environment->act(session, *action);
-  }
+  if (action && !live.environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act", {{"pointer", "/action"}});
   double reward = 0.0;
   for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) {
-    live.step();
-    if (live.environment) reward += live.environment->reward(session);
+    if (!live.environment) {
+      live.step();
+      continue;
+    }
+    if (live.environment->terminated()) break;
+    reward += live.environment->step(session, i == 0 ? action : std::nullopt, [&live] { live.step(); });
   }
   json reply = status_of(live);
   // Gymnasium's step: observation, reward (summed over the steps), terminated, truncated, info.
-  reply["observation"] = live.environment ? json(live.environment->observe(session)) : json();
+  add_observation(live, reply);
   reply["reward"] = reward;
-  reply["info"] = {{"tick", session.state().tick}, {"time", session.time()}};
   // Each event is in exactly one step reply: those since the last reply, including what commands and
   // the session's start gave between steps. (Counted, not dated: a step stamps some events with the
   // tick it starts at.)
@@ -401,7 +418,7 @@ json step_session(Live& live, std::int64_t steps, const std::optional<std::vecto
   for (std::size_t e = live.events_reported; e < all.size(); ++e) events.push_back(event_json(all[e]));
   live.events_reported = all.size();
   reply["events"] = events;
-  reply["terminated"] = session.state().termination == "scenario_end";
+  reply["terminated"] = session.state().termination == "scenario_end" || (live.environment && live.environment->terminated());
   reply["truncated"] = session.state().termination == "timeout";
   return reply;
 }
@@ -949,8 +966,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     live->realtime_origin_tick = 0;
     // Gymnasium's reset: the first observation and info, with the session's status.
     json reply = status_of(*live);
-    reply["observation"] = live->environment ? json(live->environment->observe(*live->session)) : json();
-    reply["info"] = {{"tick", live->session->state().tick}, {"time", live->session->time()}};
+    add_observation(*live, reply);
     return Response::json(200, reply);
   });
 
@@ -1033,7 +1049,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     const auto live = registry->find(request.path_params.at("id"));
     std::lock_guard lock(live->mutex);
     if (!live->environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot to observe");
-    return Response::json(200, space_json(live->environment->observation_space()));
+    return Response::json(200, space_json(live->environment->observation_space(), live->environment->image()));
   });
 }
 

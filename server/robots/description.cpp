@@ -169,6 +169,15 @@ int RobotDescription::find_link(std::string_view name) const {
   return -1;
 }
 
+std::vector<int> RobotDescription::finger_links() const {
+  std::vector<int> fingers;
+  if (!gripper) return fingers;
+  for (const Joint& joint : joints) {
+    if (joint.name == gripper->joint || (joint.mimic && joint.mimic->joint == gripper->joint)) fingers.push_back(find_link(joint.child));
+  }
+  return fingers;
+}
+
 const Sensor* RobotDescription::find_sensor(std::string_view name) const {
   for (const Sensor& sensor : sensors) {
     if (sensor.name == name) return &sensor;

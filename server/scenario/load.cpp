@@ -80,6 +80,7 @@ class Loader {
     read_steps(*model);
     read_async(*model);
     check_task_cycles(*model);
+    read_task(*model);
     warn_about_social_force_goals(*model);
     return errors_.empty() ? model : nullptr;
   }
@@ -616,6 +617,114 @@ class Loader {
     }
   }
 
+  /// The benchmark task: its kind's defaults (seed 003 §5.3), then what the scenario overrides. A task's
+  /// episode lasts its max_episode_length ticks, so the scenario gives no time_limit of its own.
+  void read_task(Model& model) {
+    if (!doc_.contains("task")) return;
+    const json& entry = doc_["task"];
+    TaskSettings task;
+    task.name = entry["name"];
+    task.kind = *task_kind(task.name);  // the schema allows only the known names
+    const bool pick = task.kind == TaskKind::pick_and_place;
+    if (pick) task.frame_skip = kPickFrameSkip;
+    if (pick || task.kind == TaskKind::mirror_gesture) task.max_episode_length = kShortEpisodeLength;
+    task.frame_skip = entry.value("frame_skip", task.frame_skip);
+    task.gripper_frames = entry.value("gripper_frames", task.gripper_frames);
+    task.max_episode_length = entry.value("max_episode_length", task.max_episode_length);
+    if (pick && task.gripper_frames > task.frame_skip) {
+      error("/task/gripper_frames", "gripper_frames (" + std::to_string(task.gripper_frames) + ") is more than frame_skip (" +
+                                        std::to_string(task.frame_skip) + ")");
+    }
+    if (doc_.contains("time_limit")) {
+      error("/time_limit", "a scenario with a task ends after task.max_episode_length ticks: give no time_limit");
+    }
+    model.time_limit = task.max_episode_length * model.dt;
+
+    const auto agent_named = [&](const char* key, AgentKind kind) {
+      const std::string pointer = std::string("/task/") + key;
+      if (entry.contains(key)) {
+        const int agent = model.find_agent(entry[key]);
+        if (agent < 0 || model.agents[agent].kind != kind) {
+          error(pointer, "no " + std::string(kind == AgentKind::robot ? "robot" : "human") + " '" + entry[key].get<std::string>() + "'");
+          return -1;
+        }
+        return agent;
+      }
+      for (std::size_t a = 0; a < model.agents.size(); ++a) {
+        if (model.agents[a].kind == kind) return static_cast<int>(a);
+      }
+      error(pointer.substr(0, 5), "the task needs a " + std::string(kind == AgentKind::robot ? "robot" : "human"));
+      return -1;
+    };
+    task.robot = agent_named("robot", AgentKind::robot);
+    if (task.robot >= 0) {
+      const auto& robot_model = model.agents[task.robot].robot_model;
+      const bool navigation = task.kind != TaskKind::pick_and_place && task.kind != TaskKind::mirror_gesture;
+      // The arm tasks need the gripper: pick and place closes it, gesture mirroring points with its palm.
+      if (!robot_model || (navigation && !robot_model->drive) ||
+          (!navigation && (!robot_model->groups.contains("arm") || !robot_model->gripper))) {
+        error("/task/robot", "robot '" + model.agents[task.robot].id + "' needs a model with " +
+                                 (navigation ? "a drive" : "an arm group and a gripper") + " for " + task.name);
+      }
+    }
+    if (!pick) task.human = agent_named("human", AgentKind::human);
+
+    if (entry.contains("spawn")) {
+      task.spawn_min = read_point(entry["spawn"]["min"]);
+      task.spawn_max = read_point(entry["spawn"]["max"]);
+      if ((task.spawn_min.array() > task.spawn_max.array()).any()) error("/task/spawn", "min is above max");
+    }
+    task.reach_distance = entry.value("reach_distance", task.reach_distance);
+    task.collision_distance = entry.value("collision_distance", task.collision_distance);
+    task.collision_penalty = entry.value("collision_penalty", task.collision_penalty);
+    task.obstacle_penalty = entry.value("obstacle_penalty", task.obstacle_penalty);
+    const json penalised = entry.value("penalised", json::array());
+    for (std::size_t i = 0; i < penalised.size(); ++i) {
+      const std::string name = penalised[i];
+      const bool obstacle = std::any_of(model.obstacles.begin(), model.obstacles.end(), [&](const Obstacle& o) { return o.name == name; });
+      const bool object = std::any_of(model.objects.begin(), model.objects.end(), [&](const MovableObject& o) { return o.name == name; });
+      if (!obstacle && !object) error("/task/penalised/" + std::to_string(i), "no obstacle or object '" + name + "'");
+      task.penalised.push_back(name);
+    }
+    task.walking_styles = default_walking_styles();
+    if (entry.contains("walking_styles")) {
+      task.walking_styles.clear();
+      for (const auto& [name, speed] : entry["walking_styles"].items()) task.walking_styles.push_back({name, speed.get<double>()});
+      if (task.walking_styles.empty()) error("/task/walking_styles", "at least one walking style");
+    }
+    task.lead_distance = entry.value("lead_distance", task.lead_distance);
+    if (entry.contains("object")) {
+      const std::string name = entry["object"];
+      for (std::size_t o = 0; o < model.objects.size(); ++o) {
+        if (model.objects[o].name == name) task.object = static_cast<int>(o);
+      }
+      if (task.object < 0) error("/task/object", "no object '" + name + "'");
+    } else if (pick) {
+      error("/task", "pick_and_place needs the object to carry ('object')");
+    }
+    if (entry.contains("target")) {
+      const json& target = entry["target"];
+      task.target = {target["x"], target["y"], target.value("z", 0.0)};
+    } else if (pick) {
+      error("/task", "pick_and_place needs where to put the object ('target')");
+    }
+    task.reward_range = entry.value("reward_range", task.reward_range);
+    task.place_weight = entry.value("place_weight", task.place_weight);
+    task.human_distance = entry.value("human_distance", task.human_distance);
+    task.pointing_reach = entry.value("pointing_reach", task.pointing_reach);
+    task.camera = entry.value("camera", task.camera);
+    task.image_width = entry.value("image_width", task.image_width);
+    task.image_height = entry.value("image_height", task.image_height);
+    if (task.kind == TaskKind::mirror_gesture && task.robot >= 0 && model.agents[task.robot].robot_model) {
+      const auto& sensors = model.agents[task.robot].robot_model->sensors;
+      const bool found = std::any_of(sensors.begin(), sensors.end(), [&](const robots::Sensor& sensor) {
+        return sensor.name == task.camera && (sensor.type == "camera" || sensor.type == "rgbd_camera");
+      });
+      if (!found) error("/task/camera", "robot '" + model.agents[task.robot].id + "' has no camera '" + task.camera + "'");
+    }
+    model.task = std::move(task);
+  }
+
   void read_async(Model& model) {
     const json& async = member(doc_, "async");
     std::set<int> handled;
@@ -764,6 +873,32 @@ int Model::find_task(const std::string& task_name) const {
     if (tasks[i].name == task_name) return static_cast<int>(i);
   }
   return -1;
+}
+
+std::vector<WalkingStyle> default_walking_styles() { return {{"slow", 0.5}, {"normal", 1.0}, {"brisk", 1.4}}; }
+
+namespace {
+constexpr std::pair<TaskKind, const char*> kTaskNames[] = {
+    {TaskKind::approach_human, "approach_human"},
+    {TaskKind::follow_human, "follow_human"},
+    {TaskKind::approach_human_apartment, "approach_human_apartment"},
+    {TaskKind::pick_and_place, "pick_and_place"},
+    {TaskKind::mirror_gesture, "mirror_gesture"},
+};
+}  // namespace
+
+std::string task_name(TaskKind kind) {
+  for (const auto& [k, name] : kTaskNames) {
+    if (k == kind) return name;
+  }
+  return {};
+}
+
+std::optional<TaskKind> task_kind(std::string_view name) {
+  for (const auto& [kind, n] : kTaskNames) {
+    if (name == n) return kind;
+  }
+  return std::nullopt;
 }
 
 const core::JsonSchema& scenario_schema() {

@@ -199,6 +199,84 @@ struct Request {
   int robot = -1;
 };
 
+/// The benchmark tasks of seed 003 §4.4 (the HSR human–robot interaction benchmark).
+enum class TaskKind { approach_human, follow_human, approach_human_apartment, pick_and_place, mirror_gesture };
+
+// Episode settings of seed 003 §5.3 (Tables 5.2 and 5.3).
+/// Physics ticks per environment step of the navigation tasks and gesture mirroring.
+inline constexpr int kTaskFrameSkip = 10;
+/// Physics ticks per pick-and-place step (Table 5.3): a gripper step uses kPickGripperFrames of them,
+/// an arm step the rest.
+inline constexpr int kPickFrameSkip = 128;
+inline constexpr int kPickGripperFrames = 8;
+/// Ticks in an episode of the navigation tasks (256 × 6, Table 5.2).
+inline constexpr int kNavigationEpisodeLength = 1536;
+/// Ticks in an episode of pick and place (128 × 2, Table 5.3) and gesture mirroring (§5.3.5).
+inline constexpr int kShortEpisodeLength = 256;
+// Rewards and endings (seed 003 §4.4).
+/// approach_human: the human stands at a uniform random point of [−5, 5]², m.
+inline constexpr double kSpawnHalfWidth = 5.0;
+/// The episode is done when the robot is closer than this to the human, m (§4.4.1.4).
+inline constexpr double kReachDistance = 0.3;
+/// Closer than this, robot and human collide (−20, §4.4.1.6), m.
+inline constexpr double kHumanCollisionDistance = 0.1;
+inline constexpr double kHumanCollisionPenalty = 20.0;
+/// Each named obstacle or object the robot touches during a step costs this (§4.4.3.5, §4.4.4.4).
+inline constexpr double kObstacleCollisionPenalty = 0.5;
+/// Pick and place: the distance terms reward gripper–object and object–target distances below this, m.
+inline constexpr double kPickRewardRange = 0.5;
+/// Pick and place: weight of the object–target term.
+inline constexpr double kPlaceRewardWeight = 2.0;
+/// follow_human: the human starts this far ahead of the robot, m (the seed puts both at the origin).
+inline constexpr double kFollowLeadDistance = 1.0;
+/// Gesture mirroring: the human stands this far in front of the robot, facing it, m.
+inline constexpr double kMirrorHumanDistance = 2.0;
+/// Gesture mirroring: the robot points to a side when its hand is this far from its base's centre
+/// towards that side, m (the arm hanging down reaches 0.08 m; stretched sideways about 0.6 m).
+inline constexpr double kPointingReach = 0.3;
+/// Gesture mirroring: size of the camera image observed, pixels (§4.4.5.1).
+inline constexpr int kMirrorImageSize = 256;
+
+/// A walking style of follow_human's human: a name and a walking speed.
+struct WalkingStyle {
+  std::string name;
+  double speed = 0.0;  ///< m/s
+};
+
+/// A scenario's benchmark task: which one, its agents and its settings (defaults from seed 003).
+struct TaskSettings {
+  TaskKind kind = TaskKind::approach_human;
+  std::string name;
+  int robot = -1;  ///< agent index of the robot under test (an HSR-like robot with a drive)
+  int human = -1;  ///< agent index of the human (-1 for pick_and_place)
+  int frame_skip = kTaskFrameSkip;
+  int gripper_frames = kPickGripperFrames;
+  int max_episode_length = kNavigationEpisodeLength;
+  Vec2 spawn_min{-kSpawnHalfWidth, -kSpawnHalfWidth}, spawn_max{kSpawnHalfWidth, kSpawnHalfWidth};
+  double reach_distance = kReachDistance;
+  double collision_distance = kHumanCollisionDistance;
+  double collision_penalty = kHumanCollisionPenalty;
+  double obstacle_penalty = kObstacleCollisionPenalty;
+  /// Obstacles and movable objects whose contact with the robot costs obstacle_penalty, by name.
+  std::vector<std::string> penalised;
+  std::vector<WalkingStyle> walking_styles;
+  double lead_distance = kFollowLeadDistance;
+  int object = -1;         ///< pick_and_place: the movable object to carry
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< pick_and_place: where to put it (map frame)
+  double reward_range = kPickRewardRange;
+  double place_weight = kPlaceRewardWeight;
+  double human_distance = kMirrorHumanDistance;
+  double pointing_reach = kPointingReach;
+  std::string camera = "head_rgbd";  ///< mirror_gesture: the robot's camera observed
+  int image_width = kMirrorImageSize, image_height = kMirrorImageSize;
+};
+
+/// follow_human's walking styles (the seed draws one of its animation set's walking modes).
+std::vector<WalkingStyle> default_walking_styles();
+/// The task's name as written in a scenario; and the other way round (nullopt for an unknown name).
+std::string task_name(TaskKind kind);
+std::optional<TaskKind> task_kind(std::string_view name);
+
 struct Model {
   Model(world::OccupancyGrid grid_in) : grid(std::move(grid_in)), field(grid), planner(grid, field) {}
   Model(const Model&) = delete;
@@ -229,6 +307,8 @@ struct Model {
   std::vector<Step> steps;
   std::vector<int> async_tasks;  ///< tasks humans run when a robot requests them
   std::vector<Request> requests;  ///< scripted robot requests, by time
+
+  std::optional<TaskSettings> task;  ///< a benchmark task; the episode then ends by it or its length
 
   humans::OrcaParams orca;
   humans::SocialForceParams social_force;

@@ -490,7 +490,7 @@ void Session::update_choreography() {
     for (std::size_t a = 0; a < state_.agents.size(); ++a) advance_agent(static_cast<int>(a));
     const int step = state_.step;
     if (step >= static_cast<int>(model_->steps.size())) {
-      if (!state_.finished) {
+      if (!state_.finished && !model_->task) {  // a task's episode ends by the task or its length
         state_.finished = true;
         state_.termination = "scenario_end";
         emit("scenario_finished", model_->name);
@@ -1034,6 +1034,14 @@ void Session::place_agent(AgentId id, const Pose2& pose) {
   emit("placed", model_->agents[agent].id, {{"x", at.x()}, {"y", at.y()}, {"theta", state.heading}});
 }
 
+void Session::set_preferred_speed(AgentId human, double speed) {
+  const int agent = index_of(human);
+  if (model_->agents[agent].kind != AgentKind::human) {
+    throw core::Error(core::ErrorCode::conflict, "agent '" + model_->agents[agent].id + "' is not a human");
+  }
+  state_.agents[agent].preferred_speed = speed;
+}
+
 void Session::place_object(int object, const Eigen::Isometry3d& pose) {
   object_pose(object);  // checks the index
   const int body = object_bodies_[object];
@@ -1196,11 +1204,7 @@ void Session::step_physics() {
     if (runtime.held_object >= 0 || !runtime.robot.gripper_closed()) continue;
     const robots::Joint& motor = description.joints[description.find_joint(description.gripper->joint)];
     std::vector<int> fingers;
-    for (const robots::Joint& joint : description.joints) {
-      if (&joint == &motor || (joint.mimic && joint.mimic->joint == motor.name)) {
-        fingers.push_back(runtime.link_bodies[description.find_link(joint.child)]);
-      }
-    }
+    for (const int link : description.finger_links()) fingers.push_back(runtime.link_bodies[link]);
     const int palm = runtime.link_bodies[description.find_link(motor.parent)];
     for (std::size_t o = 0; o < object_bodies_.size() && palm >= 0; ++o) {
       if (physics_->holder(object_bodies_[o]) >= 0) continue;

@@ -105,6 +105,8 @@ class Session {
   /// was following is planned again from there, a standing agent stays there. Throws bad_request for
   /// a place off the floor.
   void place_agent(AgentId agent, const Pose2& pose);
+  /// A human's walking speed from now on, m/s (throws conflict for a robot).
+  void set_preferred_speed(AgentId human, double speed);
   /// Places a movable object, at rest. Throws conflict while a gripper holds it.
   void place_object(int object, const Eigen::Isometry3d& pose);
 

@@ -1,9 +1,11 @@
 """Python client for hrisim: REST helpers, a WebSocket lockstep Env with Gymnasium's API.
 
     import hrisim
-    with hrisim.make("elevator", seed=7) as env:
+    with hrisim.make("approach_human", url="http://127.0.0.1:8080", seed=7) as env:
         obs, info = env.reset()
         obs, reward, terminated, truncated, info = env.step([0.2, 0.0])
+
+With gymnasium installed, the tasks are also registered as ``hrisim/TASK-v0``.
 
 ``Client`` and ``HrisimError`` need only the standard library; ``make`` and ``Env`` need numpy
 (imported when first used).
@@ -13,10 +15,11 @@ from .client import Client, HrisimError
 
 __version__ = "0.1.0"
 
-__all__ = ["make", "Env", "Client", "HrisimError", "Box", "Discrete", "decode_camera_frame",
-           "__version__"]
+__all__ = ["make", "make_vec", "Env", "VectorEnv", "TASKS", "Client", "HrisimError", "Box",
+           "Discrete", "decode_camera_frame", "image_observation", "register_tasks", "__version__"]
 
-_ENV_NAMES = ("make", "Env", "Box", "Discrete", "decode_camera_frame")
+_ENV_NAMES = ("make", "make_vec", "Env", "VectorEnv", "TASKS", "Box", "Discrete",
+              "decode_camera_frame", "image_observation", "register_tasks")
 
 
 def __getattr__(name):
@@ -29,3 +32,11 @@ def __getattr__(name):
 
 def __dir__():
     return sorted(list(globals()) + list(_ENV_NAMES))
+
+
+try:  # with gymnasium installed, importing hrisim registers the tasks as hrisim/TASK-v0
+    import gymnasium as _gymnasium  # noqa: F401
+except ImportError:
+    _gymnasium = None
+if _gymnasium is not None:
+    from . import env as _env  # noqa: F401  (registers on import)

@@ -109,8 +109,11 @@ def space_from_json(doc):
     if name == "Box":
         dtype = np.dtype(doc.get("dtype", "float64"))
         shape = tuple(int(s) for s in doc["shape"])
-        low = np.array([_number(v) for v in doc["low"]], dtype=dtype).reshape(shape)
-        high = np.array([_number(v) for v in doc["high"]], dtype=dtype).reshape(shape)
+        # one bound per element, or one for all of them (an image's)
+        low = np.broadcast_to(np.array([_number(v) for v in doc["low"]], dtype=dtype), shape).copy() \
+            if len(doc["low"]) == 1 else np.array([_number(v) for v in doc["low"]], dtype=dtype).reshape(shape)
+        high = np.broadcast_to(np.array([_number(v) for v in doc["high"]], dtype=dtype), shape).copy() \
+            if len(doc["high"]) == 1 else np.array([_number(v) for v in doc["high"]], dtype=dtype).reshape(shape)
         if _gym_spaces is not None:
             return _gym_spaces.Box(low=low, high=high, shape=shape, dtype=dtype)
         return Box(low, high, shape, dtype)
@@ -169,6 +172,14 @@ def _observation(value):
     return np.asarray(value, dtype=np.float64)
 
 
+def image_observation(frame):
+    """A decoded camera frame → the image tasks' observation: float32 H×W×5 (R, G, B, A 0–255, depth m)."""
+    observation = np.empty((frame["height"], frame["width"], 5), dtype=np.float32)
+    observation[..., :4] = frame["rgba"]
+    observation[..., 4] = frame["depth"]
+    return observation
+
+
 class Env(_EnvBase):
     """A lockstep hrisim session with Gymnasium's API.
 
@@ -190,7 +201,10 @@ class Env(_EnvBase):
         self._closed = False
         try:
             self.action_space = space_from_json(client.action_space(self.session_id))
-            self.observation_space = space_from_json(client.observation_space(self.session_id))
+            observation_doc = client.observation_space(self.session_id)
+            self.observation_space = space_from_json(observation_doc)
+            # an image task: the observation is this camera's frame, asked for after each step
+            self.observation_camera = observation_doc.get("camera")
         except BaseException:
             self.close()
             raise
@@ -209,10 +223,19 @@ class Env(_EnvBase):
 
     def _ask(self, message):
         """Send a JSON message and return its answer (dict for text, bytes for binary)."""
-        ws = self.ws
+        self._send(message)
+        return self._receive()
+
+    def _send(self, message):
         try:
-            ws.send_json(message)
-            answer = ws.recv()
+            self.ws.send_json(message)
+        except (OSError, WebSocketError):
+            self._ws = None
+            raise
+
+    def _receive(self):
+        try:
+            answer = self.ws.recv()
         except (OSError, WebSocketError):
             self._ws = None
             raise
@@ -239,7 +262,13 @@ class Env(_EnvBase):
         info = dict(reply.get("info") or {})
         info.setdefault("tick", reply.get("tick"))
         info.setdefault("time", reply.get("time"))
-        return _observation(reply.get("observation")), info
+        return self._observe(reply), info
+
+    def _observe(self, reply):
+        if self.observation_camera is None:
+            return _observation(reply.get("observation"))
+        camera = self.observation_camera
+        return image_observation(self.camera(camera["name"], camera["width"], camera["height"]))
 
     def step(self, action, n=1):
         """Apply ``action`` and advance ``n`` steps (default 1) →
@@ -248,10 +277,17 @@ class Env(_EnvBase):
         ``info`` holds the server's info plus ``events`` (those since the previous step reply) and
         ``status`` (the session's status fields).
         """
+        self._send_step(action, n)
+        return self._step_result(self._receive())
+
+    # The two halves of a step, so that a VectorEnv can send to all its sessions before it reads.
+    def _send_step(self, action, n=1):
         message = {"type": "step", "n": int(n)}
         if action is not None:
             message["action"] = [float(a) for a in np.asarray(action, dtype=np.float64).ravel()]
-        reply = self._ask(message)
+        self._send(message)
+
+    def _step_result(self, reply):
         if isinstance(reply, bytes):
             raise HrisimError(None, "protocol", "binary answer to a step")
         self.last_status = reply
@@ -260,7 +296,7 @@ class Env(_EnvBase):
         info["status"] = {k: v for k, v in reply.items()
                           if k not in ("observation", "reward", "terminated", "truncated", "info",
                                        "events", "type")}
-        return (_observation(reply.get("observation")), float(reply.get("reward", 0.0)),
+        return (self._observe(reply), float(reply.get("reward", 0.0)),
                 bool(reply.get("terminated")), bool(reply.get("truncated")), info)
 
     def render(self):
@@ -330,12 +366,104 @@ class Env(_EnvBase):
         return self.client.cameras(self.session_id)
 
 
+#: The HSR benchmark's tasks (seed 003 §4.4); each is a bundled scenario of the same name.
+TASKS = ("approach_human", "follow_human", "approach_human_apartment", "pick_and_place",
+         "mirror_gesture")
+
+
 def make(scenario, url=DEFAULT_URL, seed=0, controller=None, token=None, client=None):
     """Create a lockstep session of ``scenario`` and return its ``Env``.
 
-    The benchmark tasks (``hrisim.make("approach_human")``) come with issue 9; until then
-    ``scenario`` is a scenario id (GET /api/v1/scenarios) and the spaces are the default view.
+    ``scenario`` is a scenario id (GET /api/v1/scenarios). The benchmark tasks (``TASKS``) are
+    bundled scenarios of their names: ``hrisim.make("approach_human", seed=3)`` gives that task's
+    spaces, frame skip, rewards and endings. Other scenarios give the default navigation view.
     """
     client = client or Client(url, token=token)
     session = client.create_session(scenario, seed=seed, controller=controller, mode="lockstep")
     return Env(client, session)
+
+
+class VectorEnv:
+    """Several sessions stepped together from one client: each step is sent to every session before
+    any answer is read, so the server works on all of them at once.
+
+    Batches are numpy arrays along a first axis of ``num_envs``. A session whose episode ends is
+    reset straight away (as Stable-Baselines3's vectorised environments do): its row of the
+    returned observation is then the new episode's first, and its info holds ``final_observation``
+    and ``final_info``.
+    """
+
+    def __init__(self, envs):
+        if not envs:
+            raise ValueError("a VectorEnv needs at least one environment")
+        self.envs = list(envs)
+        self.num_envs = len(self.envs)
+        self.observation_space = self.envs[0].observation_space
+        self.action_space = self.envs[0].action_space
+
+    def reset(self, *, seed=None, options=None):
+        """Resets every session (seed i + ``seed`` for the i-th when given) → ``(observations, infos)``."""
+        results = [env.reset(seed=None if seed is None else seed + i, options=options)
+                   for i, env in enumerate(self.envs)]
+        return np.stack([r[0] for r in results]), [r[1] for r in results]
+
+    def step(self, actions):
+        """``actions``: one row per session → ``(observations, rewards, terminated, truncated, infos)``."""
+        actions = np.asarray(actions, dtype=np.float64)
+        if actions.shape[0] != self.num_envs:
+            raise ValueError("%d actions for %d environments" % (actions.shape[0], self.num_envs))
+        for env, action in zip(self.envs, actions):
+            env._send_step(action)
+        results = [env._step_result(env._receive()) for env in self.envs]
+        observations, infos = [], []
+        for env, (observation, _, terminated, truncated, info) in zip(self.envs, results):
+            if terminated or truncated:
+                info = dict(info, final_observation=observation, final_info=info)
+                observation, _ = env.reset()
+            observations.append(observation)
+            infos.append(info)
+        return (np.stack(observations), np.array([r[1] for r in results]),
+                np.array([r[2] for r in results]), np.array([r[3] for r in results]), infos)
+
+    def close(self):
+        for env in self.envs:
+            env.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+
+def make_vec(scenario, num_envs, url=DEFAULT_URL, seed=0, token=None, client=None):
+    """``num_envs`` sessions of ``scenario`` (seeds ``seed``, ``seed + 1``, …) as one ``VectorEnv``."""
+    client = client or Client(url, token=token)
+    envs = []
+    try:
+        for i in range(num_envs):
+            envs.append(make(scenario, seed=seed + i, client=client))
+    except BaseException:
+        for env in envs:
+            env.close()
+        raise
+    return VectorEnv(envs)
+
+
+def register_tasks(gymnasium_module=None):
+    """Registers ``hrisim/TASK-v0`` for each of ``TASKS`` with Gymnasium (done on import when
+    gymnasium is installed): ``gymnasium.make("hrisim/approach_human-v0", url=..., seed=...)``."""
+    gym = gymnasium_module or _gym
+    if gym is None:
+        return []
+    ids = []
+    for task in TASKS:
+        env_id = "hrisim/%s-v0" % task
+        if env_id not in gym.registry:
+            gym.register(id=env_id, entry_point="hrisim.env:make", kwargs={"scenario": task})
+        ids.append(env_id)
+    return ids
+
+
+register_tasks()

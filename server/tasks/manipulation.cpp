@@ -1,0 +1,137 @@
+#include "tasks/manipulation.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "core/error.hpp"
+
+namespace hrisim::tasks {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+const char* side_name(Side side) { return side == Side::left ? "left" : side == Side::right ? "right" : "none"; }
+
+/// The map-frame pose of a robot's link.
+Eigen::Isometry3d link_pose(const sim::Session& session, int robot, int link) { return runtime_of(session, robot).robot.link_poses()[link]; }
+
+}  // namespace
+
+PickAndPlace::PickAndPlace(const sim::Session& session)
+    : task_(*session.model().task), touches_(task_), ticks_(task_.frame_skip - task_.gripper_frames) {
+  const scenario::AgentDef& robot = session.model().agents[task_.robot];
+  const robots::RobotDescription& description = *robot.robot_model;
+  std::vector<double> arm_low, arm_high;
+  arm_limits(robot, arm_low, arm_high);
+  const robots::Joint& gripper = description.joints[description.find_joint(description.gripper->joint)];
+  std::vector<double> low = arm_low, high = arm_high;
+  low.insert(low.end(), {gripper.limits.lower.value_or(-std::numbers::pi), 0, 0});
+  high.insert(high.end(), {gripper.limits.upper.value_or(std::numbers::pi), 1, 1});
+  low.insert(low.end(), 9, -kInfinity);
+  high.insert(high.end(), 9, kInfinity);
+  observation_space_ = box(std::move(low), std::move(high));
+  low = {-1, -1};
+  high = {1, 1};
+  low.insert(low.end(), arm_low.begin(), arm_low.end());
+  high.insert(high.end(), arm_high.begin(), arm_high.end());
+  action_space_ = box(std::move(low), std::move(high));
+}
+
+Eigen::Vector3d PickAndPlace::grasp_point(const sim::Session& session, int robot) {
+  const robots::RobotDescription& description = *session.model().agents[robot].robot_model;
+  const auto poses = runtime_of(session, robot).robot.link_poses();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  const std::vector<int> fingers = description.finger_links();
+  for (const int link : fingers) sum += (poses[link] * robots::to_isometry(description.links[link].collision_origin)).translation();
+  return sum / static_cast<double>(fingers.size());
+}
+
+void PickAndPlace::begin(sim::Session& session) { initial_height_ = session.object_pose(task_.object).translation().z(); }
+
+std::vector<double> PickAndPlace::observe(const sim::Session& session) const {
+  std::vector<double> observation = arm_positions(session, task_.robot);
+  const sim::RobotRuntime& runtime = runtime_of(session, task_.robot);
+  const robots::Robot& body = runtime.robot;
+  observation.push_back(body.joint_position(body.joint_index(body.description().gripper->joint)));
+  observation.push_back(body.gripper_closed() ? 1.0 : 0.0);
+  observation.push_back(runtime.held_object == task_.object ? 1.0 : 0.0);
+  for (const Eigen::Vector3d& point : {grasp_point(session, task_.robot), Eigen::Vector3d(session.object_pose(task_.object).translation()), task_.target}) {
+    observation.insert(observation.end(), {point.x(), point.y(), point.z()});
+  }
+  return observation;
+}
+
+int PickAndPlace::act(sim::Session& session, const std::vector<double>& action) {
+  if (action[0] >= 0.0) {
+    session.command_robot_gripper(session.agent_id(session.model().agents[task_.robot].id), action[1] >= 0.0);
+    ticks_ = task_.gripper_frames;
+  } else {
+    command_arm(session, task_.robot, action, 2, action_space_);
+    ticks_ = task_.frame_skip - task_.gripper_frames;
+  }
+  return ticks_;
+}
+
+void PickAndPlace::after_tick(const sim::Session& session) { touches_.after_tick(session); }
+
+double PickAndPlace::reward(const sim::Session& session) {
+  const Eigen::Vector3d object = session.object_pose(task_.object).translation();
+  const double to_object = (grasp_point(session, task_.robot) - object).norm();
+  const double to_target = (object - task_.target).norm();
+  const std::vector<std::string> touched = touches_.take();
+  const double grasp = proximity_reward(to_object, task_.reward_range);
+  const double place = task_.place_weight * proximity_reward(to_target, task_.reward_range);
+  const double lift = lift_reward(object.z(), initial_height_);
+  const double collisions = obstacle_collision_reward(static_cast<int>(touched.size()), task_.obstacle_penalty);
+  terms_ = {{"gripper_object_distance", to_object}, {"object_target_distance", to_target}, {"gripper_object", grasp}, {"object_target", place},
+            {"lifting", lift}, {"collision_obstacle", collisions}, {"touched", touched},
+            {"held", runtime_of(session, task_.robot).held_object == task_.object}};
+  return grasp + place + lift + collisions;
+}
+
+MirrorGesture::MirrorGesture(const sim::Session& session) : task_(*session.model().task), random_(session.state().random.stream("task")) {
+  const scenario::AgentDef& robot = session.model().agents[task_.robot];
+  std::vector<double> low, high;
+  arm_limits(robot, low, high);
+  action_space_ = box(std::move(low), std::move(high));
+  observation_space_.name = "Box";
+  observation_space_.shape = {task_.image_height, task_.image_width, 5};
+  observation_space_.low = {0.0};
+  observation_space_.high = {255.0};  // colour 0–255; depth in metres, below any camera's far plane
+  observation_space_.dtype = "float32";
+  image_ = ImageObservation{robot.id + "." + task_.camera, task_.image_width, task_.image_height};
+}
+
+void MirrorGesture::begin(sim::Session& session) {
+  const scenario::Model& model = session.model();
+  const sim::AgentState& robot = session.state().agents[task_.robot];
+  const core::Vec2 at = robot.position + core::heading_vector(robot.heading) * task_.human_distance;
+  const sim::AgentId human = session.agent_id(model.agents[task_.human].id);
+  session.place_agent(human, {at.x(), at.y(), core::wrap_angle(robot.heading + std::numbers::pi)});
+  side_ = random_.uniform() < 0.5 ? Side::left : Side::right;
+  // She holds the gesture's last pose for the rest of the episode.
+  session.command_human(human, std::string("motion point_") + side_name(side_) + " " + std::to_string(task_.max_episode_length * model.dt));
+}
+
+int MirrorGesture::act(sim::Session& session, const std::vector<double>& action) {
+  command_arm(session, task_.robot, action, 0, action_space_);
+  return task_.frame_skip;
+}
+
+Side MirrorGesture::pointing_side(const sim::Session& session, int robot, int human, double reach) {
+  const robots::RobotDescription& description = *session.model().agents[robot].robot_model;
+  const int palm = description.find_link(description.joints[description.find_joint(description.gripper->joint)].parent);
+  const Eigen::Vector3d hand = link_pose(session, robot, palm).translation();
+  const core::Vec2 offset = core::Vec2(hand.x(), hand.y()) - session.state().agents[robot].position;
+  const double towards_her_left = offset.dot(core::heading_vector(session.state().agents[human].heading + 0.5 * std::numbers::pi));
+  return towards_her_left >= reach ? Side::left : towards_her_left <= -reach ? Side::right : Side::none;
+}
+
+double MirrorGesture::reward(const sim::Session& session) {
+  const Side robot = pointing_side(session, task_.robot, task_.human, task_.pointing_reach);
+  terms_ = {{"human_points", side_name(side_)}, {"robot_points", side_name(robot)}};
+  return mirror_reward(robot, side_);
+}
+
+}  // namespace hrisim::tasks

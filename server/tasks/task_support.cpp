@@ -1,0 +1,93 @@
+#include "tasks/task_support.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/error.hpp"
+
+namespace hrisim::tasks {
+
+Space box(std::vector<double> low, std::vector<double> high) {
+  Space space;
+  space.name = "Box";
+  space.shape = {static_cast<int>(low.size())};
+  space.low = std::move(low);
+  space.high = std::move(high);
+  return space;
+}
+
+void check_action(const std::vector<double>& action, std::size_t size) {
+  if (action.size() != size) {
+    throw core::Error(core::ErrorCode::bad_request,
+                      "action: expected " + std::to_string(size) + " values, got " + std::to_string(action.size()), {{"pointer", "/action"}});
+  }
+  for (std::size_t i = 0; i < action.size(); ++i) {
+    if (!std::isfinite(action[i])) {
+      throw core::Error(core::ErrorCode::bad_request, "action: every value must be a finite number", {{"pointer", "/action/" + std::to_string(i)}});
+    }
+  }
+}
+
+core::Vec2 in_frame_of(const sim::AgentState& agent, const core::Vec2& v) {
+  const double c = std::cos(agent.heading), s = std::sin(agent.heading);
+  return {c * v.x() + s * v.y(), -s * v.x() + c * v.y()};
+}
+
+const sim::RobotRuntime& runtime_of(const sim::Session& session, int agent) {
+  const sim::RobotRuntime* runtime = session.robot_runtime(session.agent_id(session.model().agents[agent].id));
+  if (!runtime) throw core::Error(core::ErrorCode::conflict, "agent '" + session.model().agents[agent].id + "' is not a robot with a model");
+  return *runtime;
+}
+
+Space drive_action_space(const scenario::AgentDef& robot) {
+  const robots::DifferentialDriveParams& params = robot.robot_model->drive->params;
+  return box({-params.max_linear_speed, -params.max_angular_speed}, {params.max_linear_speed, params.max_angular_speed});
+}
+
+void drive(sim::Session& session, int robot, const std::vector<double>& action, const Space& space) {
+  const double v = std::clamp(action[0], space.low[0], space.high[0]);
+  const double w = std::clamp(action[1], space.low[1], space.high[1]);
+  session.command_robot_twist(session.agent_id(session.model().agents[robot].id), {v, w});
+}
+
+void arm_limits(const scenario::AgentDef& robot, std::vector<double>& low, std::vector<double>& high) {
+  const robots::RobotDescription& description = *robot.robot_model;
+  for (const std::string& name : description.groups.at("arm")) {
+    const robots::Joint& joint = description.joints[description.find_joint(name)];
+    low.push_back(joint.limits.lower.value_or(-std::numbers::pi));
+    high.push_back(joint.limits.upper.value_or(std::numbers::pi));
+  }
+}
+
+void command_arm(sim::Session& session, int robot, const std::vector<double>& action, std::size_t first, const Space& space) {
+  std::vector<double> targets;
+  for (std::size_t i = first; i < action.size(); ++i) targets.push_back(std::clamp(action[i], space.low[i], space.high[i]));
+  session.command_robot_joints(session.agent_id(session.model().agents[robot].id), "arm", targets);
+}
+
+std::vector<double> arm_positions(const sim::Session& session, int robot) {
+  const robots::Robot& body = runtime_of(session, robot).robot;
+  std::vector<double> positions;
+  for (const std::string& name : body.description().groups.at("arm")) positions.push_back(body.joint_position(body.joint_index(name)));
+  return positions;
+}
+
+TouchCounter::TouchCounter(const scenario::TaskSettings& task) : robot_(task.robot), penalised_(task.penalised) {
+  std::sort(penalised_.begin(), penalised_.end());
+}
+
+void TouchCounter::after_tick(const sim::Session& session) {
+  const scenario::Model& model = session.model();
+  for (const sim::Contact& contact : runtime_of(session, robot_).contacts) {
+    if (contact.agent >= 0) continue;
+    const std::string& name = contact.object >= 0 ? model.objects[contact.object].name : contact.part;
+    if (!std::binary_search(penalised_.begin(), penalised_.end(), name)) continue;
+    const auto at = std::lower_bound(touched_.begin(), touched_.end(), name);
+    if (at == touched_.end() || *at != name) touched_.insert(at, name);
+  }
+}
+
+std::vector<std::string> TouchCounter::take() { return std::exchange(touched_, {}); }
+
+}  // namespace hrisim::tasks

@@ -1,0 +1,46 @@
+#pragma once
+// What several tasks share: checking an action, the robot's frame, its drive and arm.
+#include <string>
+#include <vector>
+
+#include "tasks/task.hpp"
+
+namespace hrisim::tasks {
+
+/// Throws core::Error(bad_request) naming the value that is wrong (pointer "/action" or "/action/i")
+/// for a wrong length or a value that is not finite.
+void check_action(const std::vector<double>& action, std::size_t size);
+
+/// A map-frame vector in the frame of an agent (x ahead, y left).
+core::Vec2 in_frame_of(const sim::AgentState& agent, const core::Vec2& v);
+
+/// The robot's runtime (a robot with a model); throws core::Error(conflict) for another agent.
+const sim::RobotRuntime& runtime_of(const sim::Session& session, int agent);
+
+/// The wheel action of a robot with a drive: forward speed and yaw rate within its limits.
+Space drive_action_space(const scenario::AgentDef& robot);
+/// Commands the wheels: the action clipped to `space`.
+void drive(sim::Session& session, int robot, const std::vector<double>& action, const Space& space);
+
+/// Joint limits of the robot's "arm" group, in its order (±π for an unbounded revolute joint).
+void arm_limits(const scenario::AgentDef& robot, std::vector<double>& low, std::vector<double>& high);
+/// Arm position targets: `action[first..]` clipped to the limits.
+void command_arm(sim::Session& session, int robot, const std::vector<double>& action, std::size_t first, const Space& space);
+/// Positions of the arm group's joints now.
+std::vector<double> arm_positions(const sim::Session& session, int robot);
+
+/// Counts, over a step's ticks, the penalised obstacles and objects the robot touches.
+class TouchCounter {
+ public:
+  explicit TouchCounter(const scenario::TaskSettings& task);
+  void after_tick(const sim::Session& session);
+  /// The names touched since the last call, sorted; starts counting afresh.
+  std::vector<std::string> take();
+
+ private:
+  int robot_;
+  std::vector<std::string> penalised_;  ///< sorted
+  std::vector<std::string> touched_;    ///< sorted, this step
+};
+
+}  // namespace hrisim::tasks
