@@ -169,11 +169,11 @@ int RobotDescription::find_link(std::string_view name) const {
   return -1;
 }
 
-std::vector<int> RobotDescription::finger_links() const {
+std::vector<int> RobotDescription::finger_joints() const {
   std::vector<int> fingers;
   if (!gripper) return fingers;
-  for (const Joint& joint : joints) {
-    if (joint.name == gripper->joint || (joint.mimic && joint.mimic->joint == gripper->joint)) fingers.push_back(find_link(joint.child));
+  for (std::size_t j = 0; j < joints.size(); ++j) {
+    if (joints[j].name == gripper->joint || (joints[j].mimic && joints[j].mimic->joint == gripper->joint)) fingers.push_back(static_cast<int>(j));
   }
   return fingers;
 }

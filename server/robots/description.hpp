@@ -91,9 +91,8 @@ struct RobotDescription {
 
   int find_joint(std::string_view name) const;  ///< -1 when absent
   int find_link(std::string_view name) const;   ///< -1 when absent
-  /// The gripper's finger links (its joint's child and the children of joints mimicking it), by index;
-  /// empty without a gripper.
-  std::vector<int> finger_links() const;
+  /// The gripper's finger joints (its own and those mimicking it), by index; empty without a gripper.
+  std::vector<int> finger_joints() const;
   const Sensor* find_sensor(std::string_view name) const;
 };
 

@@ -899,10 +899,12 @@ void Session::locomotion() {
     crowd.position = state.position;
     crowd.radius = def.radius;
     crowd.avoidance = def.avoidance;
-    crowd.controlled = def.kind == AgentKind::robot;
+    crowd.controlled = def.kind == AgentKind::robot || state.rooted;
+    if (state.rooted) preferred = Vec2::Zero();
     crowd.preferred_velocity = preferred;
     crowd.max_speed = std::max(state.preferred_speed * humans::kMaxSpeedFactor, 1e-3);
     crowd.velocity = !crowd.controlled ? state.velocity
+                     : state.rooted ? Vec2::Zero()
                      : runtime_of_agent_[i] >= 0 ? state.velocity  // where its base is taking it
                      : state.navigating ? preferred : state.commanded_velocity;
   }
@@ -924,7 +926,7 @@ void Session::locomotion() {
     const std::size_t i = crowd_members_[k];
     if (runtime_of_agent_[i] >= 0) continue;  // a robot with a model moves by its own base
     AgentState& state = state_.agents[i];
-    state.velocity = velocities_[k];
+    state.velocity = state.rooted ? Vec2::Zero() : velocities_[k];
     state.position += state.velocity * model_->dt;
     const double heading_before = state.heading;
     std::optional<double> desired = watching_headings_[i] ? watching_headings_[i] : state.target_heading;
@@ -1033,6 +1035,8 @@ void Session::place_agent(AgentId id, const Pose2& pose) {
   if (const int runtime = runtime_of_agent_[agent]; runtime >= 0) robots_[runtime].robot.set_pose({at.x(), at.y(), state.heading});
   emit("placed", model_->agents[agent].id, {{"x", at.x()}, {"y", at.y()}, {"theta", state.heading}});
 }
+
+void Session::set_rooted(AgentId agent, bool rooted) { state_.agents[index_of(agent)].rooted = rooted; }
 
 void Session::set_preferred_speed(AgentId human, double speed) {
   const int agent = index_of(human);
@@ -1204,7 +1208,7 @@ void Session::step_physics() {
     if (runtime.held_object >= 0 || !runtime.robot.gripper_closed()) continue;
     const robots::Joint& motor = description.joints[description.find_joint(description.gripper->joint)];
     std::vector<int> fingers;
-    for (const int link : description.finger_links()) fingers.push_back(runtime.link_bodies[link]);
+    for (const int joint : description.finger_joints()) fingers.push_back(runtime.link_bodies[description.find_link(description.joints[joint].child)]);
     const int palm = runtime.link_bodies[description.find_link(motor.parent)];
     for (std::size_t o = 0; o < object_bodies_.size() && palm >= 0; ++o) {
       if (physics_->holder(object_bodies_[o]) >= 0) continue;

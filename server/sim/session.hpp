@@ -105,6 +105,9 @@ class Session {
   /// was following is planned again from there, a standing agent stays there. Throws bad_request for
   /// a place off the floor.
   void place_agent(AgentId agent, const Pose2& pose);
+  /// An agent that stands its ground (seed 003's idle human, an animation that never yields): it does
+  /// not move, not even aside for a robot; others still avoid it.
+  void set_rooted(AgentId agent, bool rooted);
   /// A human's walking speed from now on, m/s (throws conflict for a robot).
   void set_preferred_speed(AgentId human, double speed);
   /// Places a movable object, at rest. Throws conflict while a gripper holds it.

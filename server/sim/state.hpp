@@ -36,6 +36,7 @@ struct AgentState {
   Vec2 velocity = Vec2::Zero();
   double heading = 0.0;
   double preferred_speed = 0.0;
+  bool rooted = false;  ///< stands its ground: never moves, whoever comes (others still avoid it)
 
   std::deque<PendingAction> program;  ///< front is running (when started) or next
   bool action_started = false;

@@ -40,11 +40,18 @@ PickAndPlace::PickAndPlace(const sim::Session& session)
 
 Eigen::Vector3d PickAndPlace::grasp_point(const sim::Session& session, int robot) {
   const robots::RobotDescription& description = *session.model().agents[robot].robot_model;
-  const auto poses = runtime_of(session, robot).robot.link_poses();
+  const robots::Joint& gripper = description.joints[description.find_joint(description.gripper->joint)];
+  const Eigen::Isometry3d palm = runtime_of(session, robot).robot.link_poses()[description.find_link(gripper.parent)];
+  // Fixed in the palm: the fingertips' midpoint with the fingers straight (each finger's collision
+  // box, centred on its link's axis, reaches twice its centre's offset).
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  const std::vector<int> fingers = description.finger_links();
-  for (const int link : fingers) sum += (poses[link] * robots::to_isometry(description.links[link].collision_origin)).translation();
-  return sum / static_cast<double>(fingers.size());
+  const std::vector<int> fingers = description.finger_joints();
+  for (const int j : fingers) {
+    const robots::Joint& finger = description.joints[j];
+    const robots::Link& link = description.links[description.find_link(finger.child)];
+    sum += robots::to_isometry(finger.origin) * (2.0 * robots::to_isometry(link.collision_origin).translation());
+  }
+  return palm * (sum / static_cast<double>(fingers.size()));
 }
 
 void PickAndPlace::begin(sim::Session& session) { initial_height_ = session.object_pose(task_.object).translation().z(); }
@@ -109,6 +116,7 @@ void MirrorGesture::begin(sim::Session& session) {
   const core::Vec2 at = robot.position + core::heading_vector(robot.heading) * task_.human_distance;
   const sim::AgentId human = session.agent_id(model.agents[task_.human].id);
   session.place_agent(human, {at.x(), at.y(), core::wrap_angle(robot.heading + std::numbers::pi)});
+  session.set_rooted(human, true);
   side_ = random_.uniform() < 0.5 ? Side::left : Side::right;
   // She holds the gesture's last pose for the rest of the episode.
   session.command_human(human, std::string("motion point_") + side_name(side_) + " " + std::to_string(task_.max_episode_length * model.dt));

@@ -135,6 +135,7 @@ void NavigationTask::begin(sim::Session& session) {
   } else {
     const core::Vec2 at = free_place(session, robot.position, clearance);
     session.place_agent(human, {at.x(), at.y(), random_.uniform(-std::numbers::pi, std::numbers::pi)});
+    session.set_rooted(human, true);  // she stands idle (an animation), not stepping aside
   }
   distance_ = distance(session);
 }

@@ -135,6 +135,11 @@ class Client:
     def scenario(self, scenario_id):
         return self.get("/api/v1/scenarios/" + self._q(scenario_id))
 
+    def upload_scenario(self, document):
+        """Store a scenario (a dict in hrisim's JSON format) → its summary, whose ``id`` sessions and
+        runs name. A scenario that is not valid raises HrisimError with every error's pointer."""
+        return self.post("/api/v1/scenarios", document)["summary"]
+
     # -- sessions ----------------------------------------------------------------------------
     def create_session(self, scenario, seed=0, controller=None, mode="lockstep", realtime_factor=None):
         body = {"scenario": scenario, "seed": seed, "mode": mode}
