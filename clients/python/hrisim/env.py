@@ -197,6 +197,7 @@ class Env(_EnvBase):
         self.session_id = session["id"]
         self.scenario = session.get("scenario")
         self._own_session = own_session
+        self._next_seed = None  # the next episode's seed when reset() gets none; None: the session's own
         self._ws = None
         self._closed = False
         try:
@@ -250,14 +251,20 @@ class Env(_EnvBase):
     def reset(self, *, seed=None, options=None):
         """Start the session again from tick 0 → ``(observation, info)``.
 
-        ``seed`` None keeps the session's seed; ``options`` as POST .../reset's
-        (``{"poses": {"robot": {"x", "y", "yaw"}}}``).
+        Each episode has a seed: ``seed`` when given; without one, the session's own on the first
+        reset and afterwards one drawn from the previous episode's seed, so that successive episodes
+        differ (a task draws its human's place, gesture or walking style from it) and the sequence is
+        the same for the same first seed, as Gymnasium's reset continues its generator.
+        ``options`` as POST .../reset's (``{"poses": {"robot": {"x", "y", "yaw"}}}``).
         """
         if self._closed:
             raise HrisimError(None, "closed", "the environment is closed")
         if _gym is not None and seed is not None:
             _gym.Env.reset(self, seed=seed)
+        if seed is None:
+            seed = self._next_seed
         reply = self.client.reset_session(self.session_id, seed=seed, options=options)
+        self._next_seed = int(np.random.default_rng(int(reply["seed"])).integers(0, 2 ** 53))
         self.last_status = reply
         info = dict(reply.get("info") or {})
         info.setdefault("tick", reply.get("tick"))
