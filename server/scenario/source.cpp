@@ -75,7 +75,7 @@ nlohmann::json summarize(const Model& model) {
           {"description", model.description},
           {"humans", humans},
           {"robots", robots},
-          {"task", nullptr},
+          {"task", model.task ? nlohmann::json(model.task->name) : nlohmann::json()},
           {"duration", model.time_limit},
           {"steps", model.steps.size()},
           {"dt", model.dt}};

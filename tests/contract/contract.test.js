@@ -42,6 +42,7 @@ describe('hrisim contract', { timeout: SUITE_LIMIT_MS }, () => {
   require('./areas/sessions');
   require('./areas/session_socket');
   require('./areas/runs');
+  require('./areas/tasks');
 
   it('exercised every operation of both specs', () => {
     assert.deepEqual(unexercisedOperations(), [], 'operations no test has seen succeed');
