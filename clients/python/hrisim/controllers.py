@@ -28,10 +28,16 @@ TURN_ON_THE_SPOT = 0.8
 HEADING_GAIN = 2.5
 #: follow_human: the follower stops this close to the person, m (the task costs 20 below 0.1 m).
 FOLLOW_DISTANCE = 0.5
-#: Apartment planner: grid cell, m; clearance kept from furniture and walls, m; lookahead, m.
+#: Apartment planner: grid cell, m; cells nearer than ROBOT_RADIUS to furniture or walls are
+#: forbidden, those nearer than PLANNER_CLEARANCE cost NEAR_COST times as much; lookahead, m.
 PLANNER_RESOLUTION = 0.05
-PLANNER_CLEARANCE = 0.3
+ROBOT_RADIUS = 0.22
+PLANNER_CLEARANCE = 0.4
+NEAR_COST = 5.0
 LOOKAHEAD = 0.4
+#: The planner's goal: the point this close to the person that is farthest from the furniture, m
+#: (inside the task's 0.3 m, so that reaching it ends the episode).
+GOAL_OFFSET = 0.25
 
 
 def pursue(target_x, target_y, max_speed, max_turn, stop_at=0.0):
@@ -75,10 +81,22 @@ class PlannedPursuit(Pursuit):
         xs = self.x0 + (np.arange(self.width) + 0.5) * PLANNER_RESOLUTION
         ys = self.y0 + (np.arange(self.height) + 0.5) * PLANNER_RESOLUTION
         gx, gy = np.meshgrid(xs, ys)
+        self.polygons = [np.asarray(obstacle["polygon"], dtype=float) for obstacle in world["obstacles"]]
         self.blocked = np.zeros(gx.shape, dtype=bool)
-        for obstacle in world["obstacles"]:
-            self.blocked |= _near_polygon(gx, gy, np.asarray(obstacle["polygon"], dtype=float), PLANNER_CLEARANCE)
+        near = np.zeros(gx.shape, dtype=bool)
+        for polygon in self.polygons:
+            self.blocked |= _near_polygon(gx, gy, polygon, ROBOT_RADIUS)
+            near |= _near_polygon(gx, gy, polygon, PLANNER_CLEARANCE)
+        self.cost = np.where(near, NEAR_COST, 1.0)
         self.path = []
+
+    def goal_beside(self, human):
+        """Of the points GOAL_OFFSET from the person, the one with the most room around it."""
+        angles = np.linspace(-math.pi, math.pi, 32, endpoint=False)
+        xs, ys = human[0] + GOAL_OFFSET * np.cos(angles), human[1] + GOAL_OFFSET * np.sin(angles)
+        room = np.min([_distance_to_edges(xs, ys, polygon) for polygon in self.polygons], axis=0)
+        best = int(np.argmax(room))
+        return (float(xs[best]), float(ys[best]))
 
     def reset(self):
         self.path = []
@@ -91,30 +109,34 @@ class PlannedPursuit(Pursuit):
         return (self.x0 + (cell[1] + 0.5) * PLANNER_RESOLUTION, self.y0 + (cell[0] + 0.5) * PLANNER_RESOLUTION)
 
     def plan(self, start, goal):
-        """8-connected A* between two map points (their own cells count as free) → waypoints."""
+        """8-connected A* between two map points (their own cells count as free) → waypoints. When
+        the goal cannot be reached without touching something (a person among the armchairs), the
+        path goes to the reachable cell nearest to it, then straight on."""
         s, g = self._cell(*start), self._cell(*goal)
         frontier = [(0.0, s)]
         came = {s: None}
         cost = {s: 0.0}
+        nearest, nearest_distance = s, math.inf
         while frontier:
             _, cell = heapq.heappop(frontier)
             if cell == g:
                 break
+            to_goal = math.hypot(cell[0] - g[0], cell[1] - g[1])
+            if to_goal < nearest_distance:
+                nearest, nearest_distance = cell, to_goal
             for dr in (-1, 0, 1):
                 for dc in (-1, 0, 1):
                     nxt = (cell[0] + dr, cell[1] + dc)
                     if (dr == dc == 0 or not (0 <= nxt[0] < self.height and 0 <= nxt[1] < self.width)
                             or (self.blocked[nxt] and nxt != g)):
                         continue
-                    new = cost[cell] + math.hypot(dr, dc)
+                    new = cost[cell] + math.hypot(dr, dc) * self.cost[nxt]
                     if new < cost.get(nxt, math.inf):
                         cost[nxt] = new
                         came[nxt] = cell
                         heapq.heappush(frontier, (new + math.hypot(nxt[0] - g[0], nxt[1] - g[1]), nxt))
-        if g not in came:
-            return [goal]
         cells = []
-        cell = g
+        cell = g if g in came else nearest
         while cell is not None:
             cells.append(cell)
             cell = came[cell]
@@ -124,28 +146,34 @@ class PlannedPursuit(Pursuit):
         x, y, c, s = observation[_X], observation[_Y], observation[_COS], observation[_SIN]
         hx, hy = observation[_HUMAN_X], observation[_HUMAN_Y]
         human = (x + c * hx - s * hy, y + s * hx + c * hy)
-        if not self.path or math.dist(self.path[-1], human) > 0.2:
-            self.path = self.plan((x, y), human)
+        if not self.path:
+            self.path = self.plan((x, y), self.goal_beside(human))
         while len(self.path) > 1 and math.dist(self.path[0], (x, y)) < LOOKAHEAD:
             self.path.pop(0)
         tx, ty = self.path[0][0] - x, self.path[0][1] - y
         return pursue(c * tx + s * ty, -s * tx + c * ty, self.max_speed, self.max_turn)
 
 
+def _distance_to_edges(px, py, polygon):
+    """Distance of each point to the nearest edge of a polygon."""
+    distance = np.full(np.shape(px), np.inf)
+    for (ax, ay), (bx, by) in zip(polygon, np.roll(polygon, -1, axis=0)):
+        ex, ey = bx - ax, by - ay
+        length2 = ex * ex + ey * ey
+        t = np.clip(((px - ax) * ex + (py - ay) * ey) / length2, 0.0, 1.0) if length2 > 0 else 0.0
+        distance = np.minimum(distance, np.hypot(px - (ax + t * ex), py - (ay + t * ey)))
+    return distance
+
+
 def _near_polygon(gx, gy, polygon, clearance):
     """Grid points inside a polygon (even-odd rule) or within ``clearance`` of its edges."""
     inside = np.zeros(gx.shape, dtype=bool)
-    near = np.zeros(gx.shape, dtype=bool)
     for (ax, ay), (bx, by) in zip(polygon, np.roll(polygon, -1, axis=0)):
         crosses = (ay > gy) != (by > gy)
         with np.errstate(divide="ignore", invalid="ignore"):
             at_x = ax + (gy - ay) * (bx - ax) / (by - ay)
         inside ^= crosses & (gx < at_x)
-        ex, ey = bx - ax, by - ay
-        length2 = ex * ex + ey * ey
-        t = np.clip(((gx - ax) * ex + (gy - ay) * ey) / length2, 0.0, 1.0) if length2 > 0 else 0.0
-        near |= np.hypot(gx - (ax + t * ex), gy - (ay + t * ey)) <= clearance
-    return inside | near
+    return inside | (_distance_to_edges(gx, gy, polygon) <= clearance)
 
 
 # Arm targets [arm_lift m, arm_flex, arm_roll, wrist_flex, wrist_roll, base_roll rad] for the HSR in
