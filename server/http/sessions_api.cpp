@@ -120,6 +120,10 @@ json status_of(const Live& live) {
           {"status", state.finished ? "finished" : "running"},
           {"termination", state.finished ? json(state.termination) : json()},
           {"step", in_step ? json{{"index", state.step}, {"name", session.model().steps[state.step].name}} : json()},
+          {"task", session.model().task && live.environment ? json{{"name", session.model().task->name},
+                                                                     {"step_ticks", live.environment->step_ticks()},
+                                                                     {"terminated", live.environment->terminated()}}
+                                                              : json()},
           {"state_hash", [&] {
              std::ostringstream hex;
              hex << std::hex << std::setw(16) << std::setfill('0') << session.state_hash();

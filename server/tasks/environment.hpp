@@ -30,6 +30,8 @@ class Environment {
   /// Throws core::Error(bad_request) naming the value that is wrong (pointer "/action/i") for a wrong
   /// length or a value that is not finite; values out of bounds are clipped.
   double step(sim::Session& session, const std::optional<std::vector<double>>& action, const std::function<void()>& tick);
+  /// Ticks a step without a new action lasts: the frame skip (pick_and_place: its last step's).
+  int step_ticks() const { return task_->idle_ticks(); }
   /// The task's ending (e.g. the robot reached the human); the time limit truncates instead.
   bool terminated() const { return terminated_; }
   /// The last step's reward terms and measures.

@@ -14,7 +14,7 @@ inline double human_collision_reward(double distance, double collision_distance,
 }
 
 /// §4.4.3.5, §4.4.4.4: −penalty for each named obstacle or object the robot touched during the step.
-inline double obstacle_collision_reward(int touched, double penalty) { return -penalty * touched; }
+inline double obstacle_collision_reward(int touched, double penalty) { return touched > 0 ? -penalty * touched : 0.0; }
 
 /// §4.4.4.4: 1 − min(d / range, 1): 1 at the point, falling to 0 at `range` and beyond.
 inline double proximity_reward(double distance, double range) { return 1.0 - std::min(distance / range, 1.0); }

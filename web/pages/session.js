@@ -137,6 +137,8 @@ export async function render(root, { id }) {
   const canDrive = Boolean(robot && robot.model && actionSpace && actionSpace.shape?.[0] === 2);
   const dt = status.dt;
   const realtime = status.mode === 'realtime';
+  // A benchmark task's step is its frame skip in ticks (docs/benchmark.md); otherwise one tick.
+  const stepTicks = () => status.task?.step_ticks ?? 1;
 
   // ---- Page state ----
   let socket = null;
@@ -182,7 +184,8 @@ export async function render(root, { id }) {
 
   // Toolbar: playback, view, time and choreography.
   const playButton = h('button', { type: 'button', class: 'play', onclick: () => (playing ? pause() : play()), 'aria-pressed': 'false' }, 'Play');
-  const stepButton = h('button', { type: 'button', class: 'secondary', onclick: singleStep }, `Step 1 tick (${formatNumber(dt, 2)} s)`);
+  const stepButton = h('button', { type: 'button', class: 'secondary', onclick: singleStep },
+    status.task ? `Step 1 step (${stepTicks()} ticks)` : `Step 1 tick (${formatNumber(dt, 2)} s)`);
   const speedSelect = h('select', { onchange: () => { speed = Number(speedSelect.value); } },
     SPEEDS.map((value) => h('option', { value, selected: value === speed }, `${value}× real time`)));
   const actualSpeed = h('span', { class: 'muted actual-speed' });
@@ -233,9 +236,10 @@ export async function render(root, { id }) {
     h('h2', {}, 'Camera'), h('label', {}, 'Camera', cameraSelect), cameraCanvas, cameraCaption, cameraError);
 
   const teleopPanel = robot ? buildTeleop() : null;
+  const taskUi = status.task ? buildTask() : null;
   root.append(h('div', { class: 'session-main' },
     h('section', { class: 'panel scene-panel', 'aria-label': 'Scene' }, sceneBox, legend),
-    h('div', { class: 'session-side' }, cameraPanel, teleopPanel)));
+    h('div', { class: 'session-side' }, cameraPanel, taskUi?.panel, teleopPanel)));
 
   // Below: events, agents, commands.
   const eventList = h('ol', { class: 'event-list', 'aria-label': 'Events, newest first' });
@@ -351,9 +355,9 @@ export async function render(root, { id }) {
     const now = performance.now();
     debt = Math.min(debt + ((now - lastClock) / 1000) * speed, MAX_BACKLOG_S * speed);
     lastClock = now;
-    const n = Math.floor(debt / dt + 1e-6);
+    const n = Math.floor(debt / (dt * stepTicks()) + 1e-6);
     if (n >= 1 && !inFlight) {
-      debt -= n * dt;
+      debt -= n * dt * stepTicks();
       cycle(n).finally(() => {
         if (playing && !disposed) timer = setTimeout(loop, LOOP_INTERVAL_MS);
       });
@@ -414,6 +418,7 @@ export async function render(root, { id }) {
       work.push(socket.send({ type: 'step', n }).then((reply) => {
         showStatus(reply);
         addEvents(reply.events);
+        if (taskUi) taskUi.show(reply);
       }, (error) => {
         pause();
         message(playError, 'error', `Stepping failed: ${errorText(error)}`);
@@ -557,6 +562,36 @@ export async function render(root, { id }) {
   }
 
   // ---- Teleop ----
+
+  /** A benchmark task: the last step's reward and its terms, the episode's return so far, its end. */
+  function buildTask() {
+    let episodeReturn = 0;
+    let episodeTicks = status.tick;
+    const reward = h('dd', { class: 'number', 'data-field': 'reward' }, '—');
+    const total = h('dd', { class: 'number', 'data-field': 'return' }, '0');
+    const ending = h('dd', { 'data-field': 'ending' }, status.task.terminated ? 'terminated' : 'running');
+    const terms = h('dl', { class: 'facts task-terms', 'aria-label': 'The last step\'s reward terms' });
+    const panel = h('section', { class: 'panel task-panel', 'aria-label': 'Task' },
+      h('h2', {}, `Task: ${status.task.name}`),
+      h('p', { class: 'muted' }, `One step is ${stepTicks()} ticks; the rewards are seed 003's (`, h('code', {}, 'docs/benchmark.md'), ').'),
+      h('dl', { class: 'facts' }, h('dt', {}, 'Last reward'), reward, h('dt', {}, 'Return so far'), total, h('dt', {}, 'Episode'), ending),
+      terms);
+    return {
+      panel,
+      show(reply) {
+        if (reply.tick < episodeTicks) episodeReturn = 0;  // a reset started a new episode
+        episodeTicks = reply.tick;
+        episodeReturn += reply.reward;
+        reward.textContent = formatNumber(reply.reward, 3);
+        total.textContent = formatNumber(episodeReturn, 3);
+        ending.textContent = reply.terminated ? 'terminated' : reply.truncated ? 'truncated (episode length)' : 'running';
+        terms.replaceChildren(...Object.entries(reply.info ?? {}).filter(([key]) => key !== 'tick' && key !== 'time')
+          .flatMap(([key, value]) => [h('dt', {}, key.replaceAll('_', ' ')),
+            h('dd', { class: typeof value === 'number' ? 'number' : '' }, typeof value === 'number' ? formatNumber(value, 3)
+              : Array.isArray(value) ? (value.join(', ') || 'none') : String(value))]));
+      },
+    };
+  }
 
   function buildTeleop() {
     const [maxLinear, maxAngular] = canDrive ? actionSpace.high.map(Number) : [0, 0];

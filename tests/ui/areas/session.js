@@ -120,6 +120,28 @@ describe('session', () => {
     }
   });
 
+  it('a benchmark task session steps by its frame skip and shows the reward and its terms', async () => {
+    const id = await createSession({ scenario: 'approach_human', seed: 2 });
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open(`/sessions/${id}`);
+      await tab.page.waitForSelector('.task-panel');
+      assert.match(await tab.page.textContent('.task-panel h2'), /Task: approach_human/);
+      await tab.page.click('text=Step 1 step (10 ticks)');
+      await tab.page.waitForFunction(() => Number(document.querySelector('.session-toolbar .clock').dataset.tick) === 10);
+      await tab.page.waitForSelector('.task-terms dt');
+      const reward = Number(await tab.page.textContent('.task-panel [data-field=reward]'));
+      assert.ok(Number.isFinite(reward), `a reward: ${reward}`);
+      assert.match(await tab.page.textContent('.task-terms'), /distance reward/);
+      assert.equal(await tab.page.textContent('.task-panel [data-field=ending]'), 'running');
+      await screenshot(tab.page, 'session-task');
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+      await call('DELETE', `/api/v1/sessions/${id}`);
+    }
+  });
+
   it('drives the robot with the arrow keys under teleop, and ends the session', async () => {
     const id = await createSession({ scenario: 'elevator', controller: { type: 'teleop' } });
     const tab = await newPage(context.browser, context.server.port);
