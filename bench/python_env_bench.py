@@ -9,7 +9,6 @@ steps per second of REPEATS runs of STEPS steps each (zero actions; episodes tha
 in training, and the reset counts in the time).
 """
 
-import json
 import os
 import statistics
 import sys
@@ -21,15 +20,6 @@ sys.path.insert(0, os.path.join(REPO, "clients", "python"))
 import numpy as np  # noqa: E402
 
 import hrisim  # noqa: E402
-
-
-def scenario_with(client, task, **settings):
-    """The bundled task's scenario with other task settings, stored on the server → its id."""
-    with open(os.path.join(REPO, "scenarios", task + ".json")) as f:
-        document = json.load(f)
-    document["name"] = "%s (%s)" % (task, ", ".join("%s %s" % item for item in settings.items()))
-    document["task"].update(settings)
-    return client.upload_scenario(document)["id"]
 
 
 def rate(envs, steps):
@@ -51,7 +41,7 @@ def main():
     steps = int(sys.argv[2]) if len(sys.argv) > 2 else 3000
     repeats = int(sys.argv[3]) if len(sys.argv) > 3 else 5
     client = hrisim.Client(url)
-    approach_1 = scenario_with(client, "approach_human", frame_skip=1)
+    approach_1 = hrisim.with_task_settings(client, "approach_human", {"frame_skip": 1})
     cases = [
         ("approach_human, frame skip 1, 1 env", approach_1, 1, steps),
         ("approach_human, frame skip 10, 1 env", "approach_human", 1, steps),

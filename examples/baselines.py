@@ -9,7 +9,6 @@ deviation, mean episode length in steps, and each task's own measure of success.
 """
 
 import argparse
-import json
 import os
 import statistics
 import sys
@@ -67,12 +66,8 @@ def main(argv=None):
     # (label, task, scenario id)
     cases = [(task, task, task) for task in args.tasks]
     if "pick_and_place" in args.tasks:
-        with open(os.path.join(REPO, "scenarios", "pick_and_place.json")) as f:
-            long_pick = json.load(f)
-        long_pick["name"] = "pick_and_place_%d" % LONG_PICK_TICKS
-        long_pick["task"]["max_episode_length"] = LONG_PICK_TICKS
         cases.append(("pick_and_place, %d ticks" % LONG_PICK_TICKS, "pick_and_place",
-                      client.upload_scenario(long_pick)["id"]))
+                      hrisim.with_task_settings(client, "pick_and_place", {"max_episode_length": LONG_PICK_TICKS})))
     for label, task, scenario in cases:
         with hrisim.make(scenario, seed=0, client=client) as env:
             for name, controller in (("scripted", controllers.for_task(task, env)),

@@ -133,6 +133,22 @@ class TaskTest(unittest.TestCase):
         self.assertTrue(terminated)
         self.assertEqual(info["touched"], [])
 
+    def test_task_settings_can_be_changed_from_python(self):
+        env = hrisim.make("approach_human", url=SERVER.url, seed=1, task={"frame_skip": 1, "max_episode_length": 5})
+        self.addCleanup(env.close)
+        env.reset()
+        _, _, _, truncated, info = env.step([0.0, 0.0])
+        self.assertEqual(info["tick"], 1, "frame skip 1")
+        for _ in range(4):
+            _, _, _, truncated, info = env.step([0.0, 0.0])
+        self.assertTrue(truncated)
+        self.assertEqual(info["tick"], 5)
+        with self.assertRaises(ValueError):
+            hrisim.make("elevator", url=SERVER.url, task={"frame_skip": 1})
+        with self.assertRaises(hrisim.HrisimError) as raised:
+            hrisim.make("approach_human", url=SERVER.url, task={"frame_skip": 0})
+        self.assertIn("/task/frame_skip", str(raised.exception.details))
+
     def test_a_wrong_action_is_an_error_naming_it(self):
         env = self.make("pick_and_place")
         env.reset()

@@ -16,10 +16,11 @@ from .client import Client, HrisimError
 __version__ = "0.1.0"
 
 __all__ = ["make", "make_vec", "Env", "VectorEnv", "TASKS", "Client", "HrisimError", "Box",
-           "Discrete", "decode_camera_frame", "image_observation", "register_tasks", "__version__"]
+           "Discrete", "decode_camera_frame", "image_observation", "register_tasks", "with_task_settings",
+           "__version__"]
 
 _ENV_NAMES = ("make", "make_vec", "Env", "VectorEnv", "TASKS", "Box", "Discrete",
-              "decode_camera_frame", "image_observation", "register_tasks")
+              "decode_camera_frame", "image_observation", "register_tasks", "with_task_settings")
 
 
 def __getattr__(name):

@@ -378,16 +378,31 @@ TASKS = ("approach_human", "follow_human", "approach_human_apartment", "pick_and
          "mirror_gesture")
 
 
-def make(scenario, url=DEFAULT_URL, seed=0, controller=None, token=None, client=None):
+def make(scenario, url=DEFAULT_URL, seed=0, controller=None, token=None, client=None, task=None):
     """Create a lockstep session of ``scenario`` and return its ``Env``.
 
     ``scenario`` is a scenario id (GET /api/v1/scenarios). The benchmark tasks (``TASKS``) are
     bundled scenarios of their names: ``hrisim.make("approach_human", seed=3)`` gives that task's
     spaces, frame skip, rewards and endings. Other scenarios give the default navigation view.
+    ``task`` overrides settings of the scenario's task section (docs/benchmark.md), e.g.
+    ``{"frame_skip": 1, "max_episode_length": 600}``: a copy of the scenario with them is stored on
+    the server first.
     """
     client = client or Client(url, token=token)
+    if task:
+        scenario = with_task_settings(client, scenario, task)
     session = client.create_session(scenario, seed=seed, controller=controller, mode="lockstep")
     return Env(client, session)
+
+
+def with_task_settings(client, scenario, settings):
+    """Stores a copy of ``scenario`` whose task section has ``settings`` → the copy's id."""
+    document = client.scenario(scenario)
+    if "task" not in document:
+        raise ValueError("scenario %r has no task section to change" % scenario)
+    document["task"].update(settings)
+    document["name"] = "%s (%s)" % (document["name"], ", ".join("%s %s" % item for item in sorted(settings.items())))
+    return client.upload_scenario(document)["id"]
 
 
 class VectorEnv:
@@ -444,9 +459,12 @@ class VectorEnv:
         return False
 
 
-def make_vec(scenario, num_envs, url=DEFAULT_URL, seed=0, token=None, client=None):
-    """``num_envs`` sessions of ``scenario`` (seeds ``seed``, ``seed + 1``, …) as one ``VectorEnv``."""
+def make_vec(scenario, num_envs, url=DEFAULT_URL, seed=0, token=None, client=None, task=None):
+    """``num_envs`` sessions of ``scenario`` (seeds ``seed``, ``seed + 1``, …) as one ``VectorEnv``;
+    ``task`` as ``make``'s."""
     client = client or Client(url, token=token)
+    if task:
+        scenario = with_task_settings(client, scenario, task)
     envs = []
     try:
         for i in range(num_envs):
