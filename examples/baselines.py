@@ -38,15 +38,7 @@ def success(task, terminated, info):
 def run_episodes(env, task, controller, episodes):
     returns, lengths, successes = [], [], []
     for episode in range(episodes):
-        observation, _ = env.reset(seed=episode)
-        controller.reset()
-        total, steps = 0.0, 0
-        while True:
-            observation, reward, terminated, truncated, info = env.step(controller.act(observation))
-            total += reward
-            steps += 1
-            if terminated or truncated:
-                break
+        total, steps, terminated, _, info = controllers.run_episode(env, controller, seed=episode)
         returns.append(total)
         lengths.append(steps)
         successes.append(bool(success(task, terminated, info)))

@@ -52,6 +52,12 @@ inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y()
 /// Unit vector of heading theta.
 inline Vec2 heading_vector(double theta) { return {std::cos(theta), std::sin(theta)}; }
 
+/// A map-frame vector in the frame of something heading `theta` (x ahead, y left).
+inline Vec2 in_frame(double theta, const Vec2& v) {
+  const double c = std::cos(theta), s = std::sin(theta);
+  return {c * v.x() + s * v.y(), -s * v.x() + c * v.y()};
+}
+
 /// Closest point to p on segment [a, b].
 inline Vec2 closest_point_on_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 ab = b - a;

@@ -887,13 +887,6 @@ constexpr std::pair<TaskKind, const char*> kTaskNames[] = {
 };
 }  // namespace
 
-std::string task_name(TaskKind kind) {
-  for (const auto& [k, name] : kTaskNames) {
-    if (k == kind) return name;
-  }
-  return {};
-}
-
 std::optional<TaskKind> task_kind(std::string_view name) {
   for (const auto& [kind, n] : kTaskNames) {
     if (name == n) return kind;

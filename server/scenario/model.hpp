@@ -273,8 +273,7 @@ struct TaskSettings {
 
 /// follow_human's walking styles (the seed draws one of its animation set's walking modes).
 std::vector<WalkingStyle> default_walking_styles();
-/// The task's name as written in a scenario; and the other way round (nullopt for an unknown name).
-std::string task_name(TaskKind kind);
+/// The task a scenario's task section names (nullopt for an unknown name).
 std::optional<TaskKind> task_kind(std::string_view name);
 
 struct Model {

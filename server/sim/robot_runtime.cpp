@@ -87,8 +87,8 @@ robots::Twist pure_pursuit(const Pose2& pose, const std::vector<Vec2>& path, dou
   const Vec2 offset = target - position;
   if (offset.norm() < 1e-9) return {};
   // The target in the robot's frame; the arc through it has curvature 2y / L².
-  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
-  const double ahead = c * offset.x() + s * offset.y(), left = -s * offset.x() + c * offset.y();
+  const Vec2 local = core::in_frame(pose.theta, offset);
+  const double ahead = local.x(), left = local.y();
   const double bearing = core::polynomial_atan2(left, ahead);
   if (std::abs(bearing) > kTurnOnTheSpotAngle) return {0.0, kHeadingGain * bearing};
   const double linear = speed * std::clamp(remaining / kRobotArrivalSlowdown, 0.2, 1.0);

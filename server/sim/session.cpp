@@ -899,8 +899,7 @@ void Session::locomotion() {
     crowd.position = state.position;
     crowd.radius = def.radius;
     crowd.avoidance = def.avoidance;
-    crowd.controlled = def.kind == AgentKind::robot || state.rooted;
-    if (state.rooted) preferred = Vec2::Zero();
+    crowd.controlled = def.kind == AgentKind::robot || state.rooted;  // a controlled agent keeps its velocity
     crowd.preferred_velocity = preferred;
     crowd.max_speed = std::max(state.preferred_speed * humans::kMaxSpeedFactor, 1e-3);
     crowd.velocity = !crowd.controlled ? state.velocity
@@ -926,7 +925,7 @@ void Session::locomotion() {
     const std::size_t i = crowd_members_[k];
     if (runtime_of_agent_[i] >= 0) continue;  // a robot with a model moves by its own base
     AgentState& state = state_.agents[i];
-    state.velocity = state.rooted ? Vec2::Zero() : velocities_[k];
+    state.velocity = velocities_[k];
     state.position += state.velocity * model_->dt;
     const double heading_before = state.heading;
     std::optional<double> desired = watching_headings_[i] ? watching_headings_[i] : state.target_heading;
@@ -1368,6 +1367,7 @@ std::uint64_t Session::state_hash() const {
   hash.add(static_cast<std::int64_t>(state_.commanded.size()));
   for (std::uint64_t word : state_.random.state()) hash.add(word);
   for (const AgentState& agent : state_.agents) {
+    hash.add(agent.rooted);
     hash.add(agent.gait_distance);
     hash.add(agent.turn_rate);
     hash.add(agent.motion ? agent.motion->name() : std::string());

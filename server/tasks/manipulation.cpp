@@ -13,8 +13,12 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 const char* side_name(Side side) { return side == Side::left ? "left" : side == Side::right ? "right" : "none"; }
 
-/// The map-frame pose of a robot's link.
-Eigen::Isometry3d link_pose(const sim::Session& session, int robot, int link) { return runtime_of(session, robot).robot.link_poses()[link]; }
+/// The map-frame pose of the link the robot's gripper is mounted on: its palm.
+Eigen::Isometry3d palm_pose(const sim::Session& session, int robot) {
+  const robots::RobotDescription& description = *session.model().agents[robot].robot_model;
+  const int palm = description.find_link(description.joints[description.find_joint(description.gripper->joint)].parent);
+  return runtime_of(session, robot).robot.link_poses()[palm];
+}
 
 }  // namespace
 
@@ -22,26 +26,22 @@ PickAndPlace::PickAndPlace(const sim::Session& session)
     : task_(*session.model().task), touches_(task_), ticks_(task_.frame_skip - task_.gripper_frames) {
   const scenario::AgentDef& robot = session.model().agents[task_.robot];
   const robots::RobotDescription& description = *robot.robot_model;
-  std::vector<double> arm_low, arm_high;
-  arm_limits(robot, arm_low, arm_high);
   const robots::Joint& gripper = description.joints[description.find_joint(description.gripper->joint)];
-  std::vector<double> low = arm_low, high = arm_high;
+  std::vector<double> low, high;
+  add_arm_limits(robot, low, high);
   low.insert(low.end(), {gripper.limits.lower.value_or(-std::numbers::pi), 0, 0});
   high.insert(high.end(), {gripper.limits.upper.value_or(std::numbers::pi), 1, 1});
   low.insert(low.end(), 9, -kInfinity);
   high.insert(high.end(), 9, kInfinity);
   observation_space_ = box(std::move(low), std::move(high));
-  low = {-1, -1};
+  low = {-1, -1};  // mode, gripper
   high = {1, 1};
-  low.insert(low.end(), arm_low.begin(), arm_low.end());
-  high.insert(high.end(), arm_high.begin(), arm_high.end());
+  add_arm_limits(robot, low, high);
   action_space_ = box(std::move(low), std::move(high));
 }
 
 Eigen::Vector3d PickAndPlace::grasp_point(const sim::Session& session, int robot) {
   const robots::RobotDescription& description = *session.model().agents[robot].robot_model;
-  const robots::Joint& gripper = description.joints[description.find_joint(description.gripper->joint)];
-  const Eigen::Isometry3d palm = runtime_of(session, robot).robot.link_poses()[description.find_link(gripper.parent)];
   // Fixed in the palm: the fingertips' midpoint with the fingers straight (each finger's collision
   // box, centred on its link's axis, reaches twice its centre's offset).
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -51,7 +51,7 @@ Eigen::Vector3d PickAndPlace::grasp_point(const sim::Session& session, int robot
     const robots::Link& link = description.links[description.find_link(finger.child)];
     sum += robots::to_isometry(finger.origin) * (2.0 * robots::to_isometry(link.collision_origin).translation());
   }
-  return palm * (sum / static_cast<double>(fingers.size()));
+  return palm_pose(session, robot) * (sum / static_cast<double>(fingers.size()));
 }
 
 void PickAndPlace::begin(sim::Session& session) { initial_height_ = session.object_pose(task_.object).translation().z(); }
@@ -100,7 +100,7 @@ double PickAndPlace::reward(const sim::Session& session) {
 MirrorGesture::MirrorGesture(const sim::Session& session) : task_(*session.model().task), random_(session.state().random.stream("task")) {
   const scenario::AgentDef& robot = session.model().agents[task_.robot];
   std::vector<double> low, high;
-  arm_limits(robot, low, high);
+  add_arm_limits(robot, low, high);
   action_space_ = box(std::move(low), std::move(high));
   observation_space_.name = "Box";
   observation_space_.shape = {task_.image_height, task_.image_width, 5};
@@ -128,9 +128,7 @@ int MirrorGesture::act(sim::Session& session, const std::vector<double>& action)
 }
 
 Side MirrorGesture::pointing_side(const sim::Session& session, int robot, int human, double reach) {
-  const robots::RobotDescription& description = *session.model().agents[robot].robot_model;
-  const int palm = description.find_link(description.joints[description.find_joint(description.gripper->joint)].parent);
-  const Eigen::Vector3d hand = link_pose(session, robot, palm).translation();
+  const Eigen::Vector3d hand = palm_pose(session, robot).translation();
   const core::Vec2 offset = core::Vec2(hand.x(), hand.y()) - session.state().agents[robot].position;
   const double towards_her_left = offset.dot(core::heading_vector(session.state().agents[human].heading + 0.5 * std::numbers::pi));
   return towards_her_left >= reach ? Side::left : towards_her_left <= -reach ? Side::right : Side::none;

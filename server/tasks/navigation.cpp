@@ -30,15 +30,11 @@ DefaultView::DefaultView(const sim::Session& session) {
     throw core::Error(core::ErrorCode::conflict, "robot '" + robot.id + "' has no drive: it has no navigation action");
   }
 
-  const world::OccupancyGrid& grid = model.grid;
-  const double x0 = grid.origin().x(), y0 = grid.origin().y();
-  const double x1 = x0 + grid.width() * grid.resolution(), y1 = y0 + grid.height() * grid.resolution();
-  const double diagonal = std::hypot(x1 - x0, y1 - y0);
   action_space_ = drive_ ? drive_action_space(robot) : box({-kDiscRobotMaxSpeed, -kDiscRobotMaxSpeed}, {kDiscRobotMaxSpeed, kDiscRobotMaxSpeed});
-  const double max_speed = action_space_.high[0];
-  const double max_turn = drive_ ? action_space_.high[1] : kInfinity;
-  std::vector<double> low{x0, y0, -1, -1, -max_speed, -max_turn, -diagonal, -diagonal};
-  std::vector<double> high{x1, y1, 1, 1, max_speed, max_turn, diagonal, diagonal};
+  std::vector<double> low, high;
+  const double diagonal = add_robot_motion_bounds(model, action_space_.high[0], drive_ ? action_space_.high[1] : kInfinity, low, high);
+  low.insert(low.end(), {-diagonal, -diagonal});
+  high.insert(high.end(), {diagonal, diagonal});
   for (int p = 0; p < kObservedPeople; ++p) {
     low.insert(low.end(), {0, -kObservationRange, -kObservationRange, -kInfinity, -kInfinity});
     high.insert(high.end(), {1, kObservationRange, kObservationRange, kInfinity, kInfinity});
@@ -49,18 +45,10 @@ DefaultView::DefaultView(const sim::Session& session) {
 std::vector<double> DefaultView::observe(const sim::Session& session) const {
   const scenario::Model& model = session.model();
   const sim::AgentState& robot = session.state().agents[robot_];
-  double yaw_rate = 0.0;
-  if (const sim::RobotRuntime* runtime = session.robot_runtime(session.agent_id(model.agents[robot_].id))) {
-    yaw_rate = runtime->robot.twist().angular;
-  }
-  const double c = std::cos(robot.heading), s = std::sin(robot.heading);
-  std::vector<double> observation{robot.position.x(), robot.position.y(), c, s, robot.velocity.dot(core::Vec2(c, s)), yaw_rate, 0, 0};
+  std::vector<double> observation = robot_motion(session, robot_);
   const scenario::RobotController& controller = model.agents[robot_].controller;
-  if (controller.goal) {
-    const core::Vec2 goal = in_frame_of(robot, controller.goal->position() - robot.position);
-    observation[6] = goal.x();
-    observation[7] = goal.y();
-  }
+  const core::Vec2 goal = controller.goal ? core::in_frame(robot.heading, controller.goal->position() - robot.position) : core::Vec2::Zero();
+  observation.insert(observation.end(), {goal.x(), goal.y()});
   std::vector<std::pair<double, int>> people;
   for (std::size_t a = 0; a < model.agents.size(); ++a) {
     const sim::AgentState& agent = session.state().agents[a];
@@ -75,7 +63,7 @@ std::vector<double> DefaultView::observe(const sim::Session& session) const {
       continue;
     }
     const sim::AgentState& person = session.state().agents[people[p].second];
-    const core::Vec2 at = in_frame_of(robot, person.position - robot.position), moving = in_frame_of(robot, person.velocity);
+    const core::Vec2 at = core::in_frame(robot.heading, person.position - robot.position), moving = core::in_frame(robot.heading, person.velocity);
     observation.insert(observation.end(), {1.0, at.x(), at.y(), moving.x(), moving.y()});
   }
   return observation;
@@ -96,13 +84,11 @@ NavigationTask::NavigationTask(const sim::Session& session)
     : task_(*session.model().task), touches_(task_), random_(session.state().random.stream("task")) {
   const scenario::Model& model = session.model();
   action_space_ = drive_action_space(model.agents[task_.robot]);
-  const double v = action_space_.high[0], w = action_space_.high[1];
-  const double x0 = model.grid.origin().x(), y0 = model.grid.origin().y();
-  const double x1 = x0 + model.grid.width() * model.grid.resolution(), y1 = y0 + model.grid.height() * model.grid.resolution();
-  const double diagonal = std::hypot(x1 - x0, y1 - y0);
-  const double human_speed = kInfinity;
-  observation_space_ = box({x0, y0, -1, -1, -v, -w, -diagonal, -diagonal, -human_speed, -human_speed, 0},
-                           {x1, y1, 1, 1, v, w, diagonal, diagonal, human_speed, human_speed, diagonal});
+  std::vector<double> low, high;
+  const double diagonal = add_robot_motion_bounds(model, action_space_.high[0], action_space_.high[1], low, high);
+  low.insert(low.end(), {-diagonal, -diagonal, -kInfinity, -kInfinity, 0});
+  high.insert(high.end(), {diagonal, diagonal, kInfinity, kInfinity, diagonal});
+  observation_space_ = box(std::move(low), std::move(high));
 }
 
 core::Vec2 NavigationTask::free_place(const sim::Session& session, const core::Vec2& away_from, double clearance) {
@@ -154,10 +140,10 @@ double NavigationTask::distance(const sim::Session& session) const {
 std::vector<double> NavigationTask::observe(const sim::Session& session) const {
   const sim::AgentState& robot = session.state().agents[task_.robot];
   const sim::AgentState& human = session.state().agents[task_.human];
-  const double c = std::cos(robot.heading), s = std::sin(robot.heading);
-  const core::Vec2 at = in_frame_of(robot, human.position - robot.position), moving = in_frame_of(robot, human.velocity);
-  return {robot.position.x(), robot.position.y(), c, s, robot.velocity.dot(core::Vec2(c, s)),
-          runtime_of(session, task_.robot).robot.twist().angular, at.x(), at.y(), moving.x(), moving.y(), at.norm()};
+  const core::Vec2 at = core::in_frame(robot.heading, human.position - robot.position), moving = core::in_frame(robot.heading, human.velocity);
+  std::vector<double> observation = robot_motion(session, task_.robot);
+  observation.insert(observation.end(), {at.x(), at.y(), moving.x(), moving.y(), at.norm()});
+  return observation;
 }
 
 int NavigationTask::act(sim::Session& session, const std::vector<double>& action) {

@@ -29,15 +29,28 @@ void check_action(const std::vector<double>& action, std::size_t size) {
   }
 }
 
-core::Vec2 in_frame_of(const sim::AgentState& agent, const core::Vec2& v) {
-  const double c = std::cos(agent.heading), s = std::sin(agent.heading);
-  return {c * v.x() + s * v.y(), -s * v.x() + c * v.y()};
+std::vector<double> robot_motion(const sim::Session& session, int robot) {
+  const sim::AgentState& state = session.state().agents[robot];
+  const sim::RobotRuntime* runtime = session.robot_runtime(session.agent_id(session.model().agents[robot].id));
+  const core::Vec2 heading = core::heading_vector(state.heading);
+  return {state.position.x(), state.position.y(), heading.x(), heading.y(), state.velocity.dot(heading),
+          runtime ? runtime->robot.twist().angular : 0.0};
 }
 
 const sim::RobotRuntime& runtime_of(const sim::Session& session, int agent) {
   const sim::RobotRuntime* runtime = session.robot_runtime(session.agent_id(session.model().agents[agent].id));
   if (!runtime) throw core::Error(core::ErrorCode::conflict, "agent '" + session.model().agents[agent].id + "' is not a robot with a model");
   return *runtime;
+}
+
+double add_robot_motion_bounds(const scenario::Model& model, double max_speed, double max_turn, std::vector<double>& low,
+                               std::vector<double>& high) {
+  const world::OccupancyGrid& grid = model.grid;
+  const double x0 = grid.origin().x(), y0 = grid.origin().y();
+  const double x1 = x0 + grid.width() * grid.resolution(), y1 = y0 + grid.height() * grid.resolution();
+  low.insert(low.end(), {x0, y0, -1, -1, -max_speed, -max_turn});
+  high.insert(high.end(), {x1, y1, 1, 1, max_speed, max_turn});
+  return std::hypot(x1 - x0, y1 - y0);
 }
 
 Space drive_action_space(const scenario::AgentDef& robot) {
@@ -51,7 +64,7 @@ void drive(sim::Session& session, int robot, const std::vector<double>& action, 
   session.command_robot_twist(session.agent_id(session.model().agents[robot].id), {v, w});
 }
 
-void arm_limits(const scenario::AgentDef& robot, std::vector<double>& low, std::vector<double>& high) {
+void add_arm_limits(const scenario::AgentDef& robot, std::vector<double>& low, std::vector<double>& high) {
   const robots::RobotDescription& description = *robot.robot_model;
   for (const std::string& name : description.groups.at("arm")) {
     const robots::Joint& joint = description.joints[description.find_joint(name)];

@@ -11,8 +11,13 @@ namespace hrisim::tasks {
 /// for a wrong length or a value that is not finite.
 void check_action(const std::vector<double>& action, std::size_t size);
 
-/// A map-frame vector in the frame of an agent (x ahead, y left).
-core::Vec2 in_frame_of(const sim::AgentState& agent, const core::Vec2& v);
+/// The robot's motion as both navigation observations begin: x, y (map frame), cos θ, sin θ, forward
+/// speed, yaw rate (0 for a robot without a model).
+std::vector<double> robot_motion(const sim::Session& session, int robot);
+/// Appends the bounds of robot_motion's values (the map's extent, ±1, the speed and turn limits) to
+/// low and high; returns the map's diagonal, m.
+double add_robot_motion_bounds(const scenario::Model& model, double max_speed, double max_turn, std::vector<double>& low,
+                               std::vector<double>& high);
 
 /// The robot's runtime (a robot with a model); throws core::Error(conflict) for another agent.
 const sim::RobotRuntime& runtime_of(const sim::Session& session, int agent);
@@ -22,8 +27,8 @@ Space drive_action_space(const scenario::AgentDef& robot);
 /// Commands the wheels: the action clipped to `space`.
 void drive(sim::Session& session, int robot, const std::vector<double>& action, const Space& space);
 
-/// Joint limits of the robot's "arm" group, in its order (±π for an unbounded revolute joint).
-void arm_limits(const scenario::AgentDef& robot, std::vector<double>& low, std::vector<double>& high);
+/// Appends the joint limits of the robot's "arm" group, in its order (±π for an unbounded joint).
+void add_arm_limits(const scenario::AgentDef& robot, std::vector<double>& low, std::vector<double>& high);
 /// Arm position targets: `action[first..]` clipped to the limits.
 void command_arm(sim::Session& session, int robot, const std::vector<double>& action, std::size_t first, const Space& space);
 /// Positions of the arm group's joints now.

@@ -16,6 +16,7 @@ import numpy as np  # test_client has made sure numpy is there
 
 import hrisim  # noqa: E402
 from hrisim import controllers  # noqa: E402
+from hrisim.controllers import run_episode  # noqa: E402
 
 SERVER = None
 
@@ -39,19 +40,6 @@ def setUpModule():
 def tearDownModule():
     if SERVER is not None:
         SERVER.stop()
-
-
-def run_episode(env, controller, seed):
-    """One episode → (return, steps, terminated, last observation, last info)."""
-    observation, _ = env.reset(seed=seed)
-    controller.reset()
-    total, steps = 0.0, 0
-    while True:
-        observation, reward, terminated, truncated, info = env.step(controller.act(observation))
-        total += reward
-        steps += 1
-        if terminated or truncated:
-            return total, steps, terminated, observation, info
 
 
 class TaskTest(unittest.TestCase):

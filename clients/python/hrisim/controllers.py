@@ -1,15 +1,11 @@
 """Reference controllers for the HSR benchmark's tasks (docs/benchmark.md), and a random policy.
 
-Each has ``reset()`` (called at the start of an episode) and ``act(observation) -> action``:
+Each has ``reset()`` (called at the start of an episode) and ``act(observation) -> action``;
+``run_episode`` runs one episode with one:
 
     env = hrisim.make("approach_human", url=..., seed=0)
     controller = hrisim.controllers.for_task("approach_human", env)
-    obs, info = env.reset(seed=3)
-    controller.reset()
-    while True:
-        obs, reward, terminated, truncated, info = env.step(controller.act(obs))
-        if terminated or truncated:
-            break
+    episode_reward, steps, terminated, obs, info = hrisim.controllers.run_episode(env, controller, seed=3)
 
 They read only the observation, plus the scenario's map for the apartment's path planner.
 """
@@ -287,6 +283,20 @@ class RandomPolicy:
 
     def act(self, observation):
         return self.random.uniform(self.low, self.high)
+
+
+def run_episode(env, controller, seed=None):
+    """One episode of ``env`` driven by ``controller`` → (episode reward, steps, terminated, last
+    observation, last info)."""
+    observation, _ = env.reset(seed=seed)
+    controller.reset()
+    total, steps = 0.0, 0
+    while True:
+        observation, reward, terminated, truncated, info = env.step(controller.act(observation))
+        total += reward
+        steps += 1
+        if terminated or truncated:
+            return total, steps, terminated, observation, info
 
 
 def for_task(task, env):

@@ -109,11 +109,12 @@ def space_from_json(doc):
     if name == "Box":
         dtype = np.dtype(doc.get("dtype", "float64"))
         shape = tuple(int(s) for s in doc["shape"])
-        # one bound per element, or one for all of them (an image's)
-        low = np.broadcast_to(np.array([_number(v) for v in doc["low"]], dtype=dtype), shape).copy() \
-            if len(doc["low"]) == 1 else np.array([_number(v) for v in doc["low"]], dtype=dtype).reshape(shape)
-        high = np.broadcast_to(np.array([_number(v) for v in doc["high"]], dtype=dtype), shape).copy() \
-            if len(doc["high"]) == 1 else np.array([_number(v) for v in doc["high"]], dtype=dtype).reshape(shape)
+
+        def bounds(values):  # one per element, or one for all of them (an image's)
+            array = np.array([_number(v) for v in values], dtype=dtype)
+            return np.full(shape, array[0], dtype=dtype) if array.size == 1 else array.reshape(shape)
+
+        low, high = bounds(doc["low"]), bounds(doc["high"])
         if _gym_spaces is not None:
             return _gym_spaces.Box(low=low, high=high, shape=shape, dtype=dtype)
         return Box(low, high, shape, dtype)
@@ -274,8 +275,16 @@ class Env(_EnvBase):
     def _observe(self, reply):
         if self.observation_camera is None:
             return _observation(reply.get("observation"))
+        self._send_observation_request()
+        return self._receive_observation()
+
+    # An image observation's two halves, so that a VectorEnv can ask every session before it reads.
+    def _send_observation_request(self):
         camera = self.observation_camera
-        return image_observation(self.camera(camera["name"], camera["width"], camera["height"]))
+        self._send(_camera_message(camera["name"], camera["width"], camera["height"]))
+
+    def _receive_observation(self):
+        return image_observation(_camera_frame(self._receive()))
 
     def step(self, action, n=1):
         """Apply ``action`` and advance ``n`` steps (default 1) →
@@ -294,7 +303,8 @@ class Env(_EnvBase):
             message["action"] = [float(a) for a in np.asarray(action, dtype=np.float64).ravel()]
         self._send(message)
 
-    def _step_result(self, reply):
+    def _step_result(self, reply, observation=None):
+        """The step's answer as Gymnasium's tuple; ``observation`` when already fetched."""
         if isinstance(reply, bytes):
             raise HrisimError(None, "protocol", "binary answer to a step")
         self.last_status = reply
@@ -303,7 +313,9 @@ class Env(_EnvBase):
         info["status"] = {k: v for k, v in reply.items()
                           if k not in ("observation", "reward", "terminated", "truncated", "info",
                                        "events", "type")}
-        return (self._observe(reply), float(reply.get("reward", 0.0)),
+        if observation is None:
+            observation = self._observe(reply)
+        return (observation, float(reply.get("reward", 0.0)),
                 bool(reply.get("terminated")), bool(reply.get("truncated")), info)
 
     def render(self):
@@ -346,15 +358,7 @@ class Env(_EnvBase):
         ``rgba`` (uint8 H×W×4), ``depth`` (float32 H×W, m, 0 = nothing), ``ids`` (uint32 H×W or
         None), ``tick``, ``time``, ``width``, ``height``, ``fx``, ``fy``, ``cx``, ``cy``, ``near``,
         ``far`` and ``camera``."""
-        message = {"type": "camera", "camera": name, "ids": bool(ids)}
-        if width is not None:
-            message["width"] = int(width)
-        if height is not None:
-            message["height"] = int(height)
-        reply = self._ask(message)
-        if not isinstance(reply, bytes):
-            raise HrisimError(None, "protocol", "text answer %r to a camera request" % reply.get("type"))
-        return decode_camera_frame(reply)
+        return _camera_frame(self._ask(_camera_message(name, width, height, ids)))
 
     def state(self, events_since=0):
         """Every agent's pose and motion (the WebSocket's ``state``)."""
@@ -371,6 +375,21 @@ class Env(_EnvBase):
 
     def cameras(self):
         return self.client.cameras(self.session_id)
+
+
+def _camera_message(name, width=None, height=None, ids=False):
+    message = {"type": "camera", "camera": name, "ids": bool(ids)}
+    if width is not None:
+        message["width"] = int(width)
+    if height is not None:
+        message["height"] = int(height)
+    return message
+
+
+def _camera_frame(reply):
+    if not isinstance(reply, bytes):
+        raise HrisimError(None, "protocol", "text answer %r to a camera request" % reply.get("type"))
+    return decode_camera_frame(reply)
 
 
 #: The HSR benchmark's tasks (seed 003 §4.4); each is a bundled scenario of the same name.
@@ -436,7 +455,13 @@ class VectorEnv:
             raise ValueError("%d actions for %d environments" % (actions.shape[0], self.num_envs))
         for env, action in zip(self.envs, actions):
             env._send_step(action)
-        results = [env._step_result(env._receive()) for env in self.envs]
+        replies = [env._receive() for env in self.envs]
+        images = [None] * self.num_envs
+        if self.envs[0].observation_camera is not None:  # rendered by every session at once, too
+            for env in self.envs:
+                env._send_observation_request()
+            images = [env._receive_observation() for env in self.envs]
+        results = [env._step_result(reply, image) for env, reply, image in zip(self.envs, replies, images)]
         observations, infos = [], []
         for env, (observation, _, terminated, truncated, info) in zip(self.envs, results):
             if terminated or truncated:

@@ -98,6 +98,15 @@ TEST(TaskDefaults, AreTheSeedsSettings) {
   EXPECT_EQ(approach->task->spawn_min, core::Vec2(-5, -5));
   EXPECT_EQ(approach->task->spawn_max, core::Vec2(5, 5));
 
+  const auto follow = bundled("follow_human");
+  ASSERT_TRUE(follow && follow->task);
+  ASSERT_EQ(follow->task->walking_styles.size(), 3u);
+  EXPECT_EQ(follow->task->walking_styles[0].name, "slow");
+  EXPECT_DOUBLE_EQ(follow->task->walking_styles[0].speed, 0.5);
+  EXPECT_DOUBLE_EQ(follow->task->walking_styles[1].speed, 1.0);
+  EXPECT_DOUBLE_EQ(follow->task->walking_styles[2].speed, 1.4);
+  EXPECT_DOUBLE_EQ(follow->task->lead_distance, 1.0);
+
   const auto apartment = bundled("approach_human_apartment");
   ASSERT_TRUE(apartment && apartment->task);
   EXPECT_EQ(apartment->task->penalised.size(), 18u) << "table 4.1 has 18 rows";
@@ -116,6 +125,9 @@ TEST(TaskDefaults, AreTheSeedsSettings) {
   ASSERT_TRUE(mirror && mirror->task);
   EXPECT_EQ(mirror->task->frame_skip, 10);
   EXPECT_EQ(mirror->task->max_episode_length, 256);
+  EXPECT_DOUBLE_EQ(mirror->task->human_distance, 2.0);
+  EXPECT_DOUBLE_EQ(mirror->task->pointing_reach, 0.3);
+  EXPECT_EQ(mirror->task->camera, "head_rgbd");
   EXPECT_EQ(mirror->task->image_width, 256);
   EXPECT_EQ(mirror->task->image_height, 256);
 }
