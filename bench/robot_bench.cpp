@@ -20,7 +20,7 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 void measure(const std::string& label, const json& document, const std::string& scenarios, int repetitions) {
-  const auto loaded = hrisim::scenario::load_scenario(document, {{scenarios}});
+  const auto loaded = hrisim::scenario::load_scenario(document, {{scenarios}, {}});
   if (!loaded.model) {
     std::fprintf(stderr, "invalid scenario: %s %s\n", loaded.errors[0].pointer.c_str(), loaded.errors[0].message.c_str());
     std::exit(1);

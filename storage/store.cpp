@@ -2,13 +2,18 @@
 
 #include <sqlite3.h>
 
+#include <unistd.h>
+
 #include <bit>
+#include <fstream>
+#include <sstream>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
 #include "core/error.hpp"
 #include "core/sha256.hpp"
+#include "core/text.hpp"
 #include "storage/sqlite.hpp"
 
 namespace hrisim::storage {
@@ -23,15 +28,35 @@ bool is_terminal_run_status(const std::string& status) {
 }
 
 ScenarioRecord read_scenario(const Statement& row) {
-  return {row.text(0), row.text(1), row.text(2), row.text(3), row.text(4), row.text(5)};
+  return {row.text(0), row.text(1), row.text(2), row.text(3), row.text(4), row.text(5), row.optional_text(6).value_or(""), row.text(7)};
 }
 
-constexpr std::string_view kScenarioColumns = "id, name, format, source, sha256, created_at";
+constexpr std::string_view kScenarioColumns = "id, name, format, source, sha256, created_at, summary, owner";
+constexpr std::string_view kScenarioColumnsWithoutSource = "id, name, format, '', sha256, created_at, summary, owner";
 
-constexpr std::string_view kRunColumns = "id, scenario_id, controller, config, status, created_at, finished_at";
+constexpr std::string_view kRunColumns = "id, scenario_id, controller, config, status, created_at, finished_at, owner";
 
 RunRecord read_run(const Statement& row) {
-  return {row.text(0), row.text(1), row.text(2), nlohmann::json::parse(row.text(3)), row.text(4), row.text(5), row.optional_text(6)};
+  return {row.text(0), row.text(1), row.text(2), nlohmann::json::parse(row.text(3)), row.text(4), row.text(5), row.optional_text(6), row.text(7)};
+}
+
+/// What tells this process apart from any other, even one that later gets the same pid: the machine's
+/// boot id and the process's start time in clock ticks since boot (field 22 of /proc/PID/stat).
+std::string process_identity(long pid) {
+  std::ifstream boot("/proc/sys/kernel/random/boot_id");
+  std::string boot_id;
+  std::getline(boot, boot_id);
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return "";
+  // The command name (field 2) may hold spaces and parentheses: count fields after its last ')'.
+  std::istringstream fields(line.substr(line.rfind(')') + 2));
+  std::string state, field;
+  fields >> state;
+  if (state == "Z" || state == "X") return "";  // killed, not yet reaped by its parent: gone all the same
+  for (int index = 4; index <= 22 && fields >> field; ++index) {
+  }
+  return boot_id + "/" + field;
 }
 
 constexpr std::string_view kEpisodeColumns =
@@ -105,27 +130,32 @@ ScenarioRecord Store::put_scenario(ScenarioRecord scenario) {
   scenario.sha256 = core::sha256_hex(scenario.source);
   std::lock_guard lock(mutex_);
   Statement insert = db_->prepare(
-      "INSERT INTO scenarios (id, name, format, source, sha256) VALUES (?1, ?2, ?3, ?4, ?5) RETURNING created_at");
+      "INSERT INTO scenarios (id, name, format, source, sha256, summary, owner) VALUES (?1, ?2, ?3, ?4, ?5, nullif(?6, ''), ?7)"
+      " RETURNING created_at");
   insert.bind(1, scenario.id).bind(2, scenario.name).bind(3, scenario.format).bind(4, scenario.source);
-  insert.bind(5, scenario.sha256);
+  insert.bind(5, scenario.sha256).bind(6, scenario.summary).bind(7, scenario.owner);
   insert.step();
   scenario.created_at = insert.text(0);
   return scenario;
 }
 
-std::optional<ScenarioRecord> Store::scenario(const std::string& id) {
+std::optional<ScenarioRecord> Store::scenario(const std::string& id, bool with_source) {
   std::lock_guard lock(mutex_);
-  Statement select = db_->prepare("SELECT " + std::string(kScenarioColumns) + " FROM scenarios WHERE id = ?1");
+  Statement select = db_->prepare("SELECT " + std::string(with_source ? kScenarioColumns : kScenarioColumnsWithoutSource) +
+                                  " FROM scenarios WHERE id = ?1");
   select.bind(1, id);
   if (!select.step()) return std::nullopt;
   return read_scenario(select);
 }
 
-std::vector<ScenarioRecord> Store::scenarios(int limit, const std::string& after_id, const std::string& id_prefix) {
+std::vector<ScenarioRecord> Store::scenarios(int limit, const std::string& after_id, const std::string& id_prefix,
+                                             const std::optional<std::string>& owner) {
   std::lock_guard lock(mutex_);
-  Statement select = db_->prepare("SELECT " + std::string(kScenarioColumns) +
-                                  " FROM scenarios WHERE id > ?1 AND substr(id, 1, length(?3)) = ?3 ORDER BY id LIMIT ?2");
+  Statement select = db_->prepare("SELECT " + std::string(kScenarioColumnsWithoutSource) +
+                                  " FROM scenarios WHERE id > ?1 AND substr(id, 1, length(?3)) = ?3 AND (?4 IS NULL OR owner = ?4)"
+                                  " ORDER BY id LIMIT ?2");
   select.bind(1, after_id).bind(2, std::int64_t{limit}).bind(3, id_prefix);
+  if (owner) select.bind(4, *owner);
   std::vector<ScenarioRecord> result;
   while (select.step()) result.push_back(read_scenario(select));
   return result;
@@ -134,10 +164,10 @@ std::vector<ScenarioRecord> Store::scenarios(int limit, const std::string& after
 RunRecord Store::put_run(RunRecord run) {
   std::lock_guard lock(mutex_);
   Statement insert = db_->prepare(
-      "INSERT INTO runs (id, scenario_id, controller, config, status) VALUES (?1, ?2, ?3, ?4, ?5)"
-      " RETURNING created_at");
-  insert.bind(1, run.id).bind(2, run.scenario_id).bind(3, run.controller).bind(4, run.config.dump());
-  insert.bind(5, run.status);
+      "INSERT INTO runs (id, scenario_id, controller, config, status, owner, process_id, process_identity)"
+      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8) RETURNING created_at");
+  insert.bind(1, run.id).bind(2, run.scenario_id).bind(3, run.controller).bind(4, core::json_text(run.config));
+  insert.bind(5, run.status).bind(6, run.owner).bind(7, std::int64_t{getpid()}).bind(8, process_identity(getpid()));
   insert.step();
   run.created_at = insert.text(0);
   return run;
@@ -152,23 +182,46 @@ std::optional<RunRecord> Store::run(const std::string& id) {
 }
 
 std::vector<RunRecord> Store::runs(int limit, const std::string& after_id, const std::string& status,
-                                   const std::string& scenario_id) {
+                                   const std::string& scenario_id, const std::optional<std::string>& owner) {
   std::lock_guard lock(mutex_);
   Statement select = db_->prepare(
       "SELECT " + std::string(kRunColumns) + " FROM runs"
       " WHERE (?1 = '' OR rowid < (SELECT rowid FROM runs WHERE id = ?1)) AND (?2 = '' OR status = ?2)"
-      " AND (?3 = '' OR scenario_id = ?3 OR json_extract(config, '$.scenario') = ?3) ORDER BY rowid DESC LIMIT ?4");
+      " AND (?3 = '' OR scenario_id = ?3 OR json_extract(config, '$.scenario') = ?3) AND (?5 IS NULL OR owner = ?5)"
+      " ORDER BY rowid DESC LIMIT ?4");
   select.bind(1, after_id).bind(2, status).bind(3, scenario_id).bind(4, std::int64_t{limit});
+  if (owner) select.bind(5, *owner);
   std::vector<RunRecord> list;
   while (select.step()) list.push_back(read_run(select));
   return list;
 }
 
-int Store::interrupt_unfinished_runs() {
+int Store::interrupt_abandoned_runs() {
   std::lock_guard lock(mutex_);
-  db_->exec("UPDATE runs SET status = 'interrupted', finished_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now')"
-            " WHERE status IN ('queued', 'running')");
-  return static_cast<int>(db_->scalar_integer("SELECT changes()"));
+  std::vector<std::string> abandoned;
+  {
+    Statement select = db_->prepare("SELECT id, process_id, process_identity FROM runs WHERE status IN ('queued', 'running')");
+    while (select.step()) {
+      const auto pid = select.optional_text(1);
+      const auto identity = select.optional_text(2);
+      const bool alive = pid && identity && !identity->empty() && process_identity(std::stol(*pid)) == *identity;
+      if (!alive) abandoned.push_back(select.text(0));
+    }
+  }
+  for (const std::string& id : abandoned) {
+    Statement update = db_->prepare(
+        "UPDATE runs SET status = 'interrupted', finished_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE id = ?1");
+    update.bind(1, id);
+    update.run();
+  }
+  return static_cast<int>(abandoned.size());
+}
+
+void Store::set_scenario_summary(const std::string& id, const std::string& summary) {
+  std::lock_guard lock(mutex_);
+  Statement update = db_->prepare("UPDATE scenarios SET summary = ?2 WHERE id = ?1 AND summary IS NULL");
+  update.bind(1, id).bind(2, summary);
+  update.run();
 }
 
 void Store::set_run_status(const std::string& id, const std::string& status) {
@@ -215,7 +268,7 @@ void Store::write_episode(const EpisodeRecord& episode) {
   std::int64_t seq = 0;
   for (const EventRecord& event : episode.events) {
     insert_event.bind(1, episode.id).bind(2, seq++).bind(3, event.tick).bind(4, event.time).bind(5, event.kind);
-    insert_event.bind(6, event.subject).bind(7, event.data.dump());
+    insert_event.bind(6, event.subject).bind(7, core::json_text(event.data));
     insert_event.run();
   }
 

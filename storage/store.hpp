@@ -25,6 +25,8 @@ struct ScenarioRecord {
   std::string source;  ///< the uploaded text, byte for byte
   std::string sha256;  ///< filled by the store from source
   std::string created_at;  ///< RFC 3339 UTC, filled by the store
+  std::string summary;  ///< JSON of what a list shows of it; empty when not stored (older uploads)
+  std::string owner;    ///< name of the token that uploaded it; empty without owners
 };
 
 struct RunRecord {
@@ -35,6 +37,7 @@ struct RunRecord {
   std::string status;  ///< queued, running, finished, failed, cancelled, interrupted
   std::string created_at;
   std::optional<std::string> finished_at;
+  std::string owner;  ///< name of the token that started it; empty without owners
 };
 
 /// One metric of an episode: a finite value, or no value and the reason why.
@@ -109,10 +112,12 @@ class Store {
 
   /// Stores a scenario; computes its sha256 and created_at. Returns the stored record.
   ScenarioRecord put_scenario(ScenarioRecord scenario);
-  std::optional<ScenarioRecord> scenario(const std::string& id);
+  /// A scenario; its source left empty unless `with_source` (a source may be megabytes).
+  std::optional<ScenarioRecord> scenario(const std::string& id, bool with_source = true);
   /// Scenarios ordered by id, at most `limit`, starting after `after_id` (paging cursor), only ids
-  /// starting with `id_prefix` when given.
-  std::vector<ScenarioRecord> scenarios(int limit, const std::string& after_id = "", const std::string& id_prefix = "");
+  /// starting with `id_prefix` when given, only `owner`'s when given; without their sources.
+  std::vector<ScenarioRecord> scenarios(int limit, const std::string& after_id = "", const std::string& id_prefix = "",
+                                        const std::optional<std::string>& owner = std::nullopt);
 
   RunRecord put_run(RunRecord run);
   std::optional<RunRecord> run(const std::string& id);
@@ -122,10 +127,13 @@ class Store {
   /// id or the catalogue id in config.scenario); at most `limit`, after
   /// the run with id `after_id` (paging cursor).
   std::vector<RunRecord> runs(int limit, const std::string& after_id = "", const std::string& status = "",
-                              const std::string& scenario_id = "");
-  /// Marks every queued or running run 'interrupted' (at server start: their work died with the last
-  /// process); returns how many.
-  int interrupt_unfinished_runs();
+                              const std::string& scenario_id = "", const std::optional<std::string>& owner = std::nullopt);
+  /// Marks 'interrupted' every queued or running run whose process has ended (a server or `hrisim run`
+  /// that was killed): each run records the process that computes it, so runs of a process still
+  /// alive — another one sharing the file — are left alone. Returns how many.
+  int interrupt_abandoned_runs();
+  /// Stores the summary of a scenario stored without one.
+  void set_scenario_summary(const std::string& id, const std::string& summary);
 
   /// Writes the episode with all its metrics, events and trajectory in one transaction.
   void write_episode(const EpisodeRecord& episode);

@@ -29,8 +29,28 @@ std::uint64_t parse_unsigned(const std::string& where, const std::string& text, 
   return value;
 }
 
-/// Shortest bearer token accepted: guessing 16 random characters is out of reach.
-constexpr std::size_t kMinimumTokenLength = 16;
+/// A comma-separated list, each item checked by `check`.
+std::vector<std::string> comma_list(const std::string& text, const std::function<void(const std::string&)>& check) {
+  std::vector<std::string> items;
+  std::string_view rest(text);
+  while (!rest.empty()) {
+    const auto comma = rest.find(',');
+    items.emplace_back(rest.substr(0, comma));
+    check(items.back());
+    rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+  }
+  return items;
+}
+
+/// Rewords an error of a token as an error of the option it came from, without the token itself.
+template <class Read>
+auto token_option(const std::string& option, Read read) {
+  try {
+    return read();
+  } catch (const core::Error& e) {
+    throw core::Error(core::ErrorCode::bad_request, option + ": " + e.what(), {{"option", option}});
+  }
+}
 
 const std::vector<Flag>& flags() {
   static const std::vector<Flag> kFlags = {
@@ -50,10 +70,35 @@ const std::vector<Flag>& flags() {
        [](ServeOptions& o, const std::string& v) {
          o.server.threads = static_cast<unsigned>(parse_unsigned("--threads", v, 0, 256));
        }},
-      {"max-connections", "HRISIM_MAX_CONNECTIONS", "open connections beyond which clients get 503 (default 256)",
+      {"max-connections", "HRISIM_MAX_CONNECTIONS", "open connections, WebSockets included, beyond which clients get 503 (default 256)",
        [](ServeOptions& o, const std::string& v) {
          o.server.max_connections = parse_unsigned("--max-connections", v, 1, 1'000'000);
        }},
+      {"max-connections-per-client", "HRISIM_MAX_CONNECTIONS_PER_CLIENT",
+       "open connections, WebSockets included, one client address may hold (default 64)",
+       [](ServeOptions& o, const std::string& v) {
+         o.server.max_connections_per_client = parse_unsigned("--max-connections-per-client", v, 1, 1'000'000);
+       }},
+      {"max-queued-answers", "HRISIM_MAX_QUEUED_ANSWERS", "WebSocket answers a client may leave unread before it is closed with 1008 (default 64)",
+       [](ServeOptions& o, const std::string& v) { o.server.max_queued_answers = parse_unsigned("--max-queued-answers", v, 1, 1'000'000); }},
+      {"max-queued-answer-bytes", "HRISIM_MAX_QUEUED_ANSWER_BYTES",
+       "bytes of WebSocket answers a client may leave unread before it is closed with 1008 (default 67108864)",
+       [](ServeOptions& o, const std::string& v) {
+         o.server.max_queued_answer_bytes = parse_unsigned("--max-queued-answer-bytes", v, 1024, std::uint64_t{1} << 40);
+       }},
+      {"max-people", "HRISIM_MAX_PEOPLE", "humans and robots one scenario may hold (default 2000)",
+       [](ServeOptions& o, const std::string& v) { o.scenario_limits.max_people = static_cast<int>(parse_unsigned("--max-people", v, 1, 1'000'000)); }},
+      {"max-grid-cells", "HRISIM_MAX_GRID_CELLS", "cells of a scenario's grid map (default 16000000)",
+       [](ServeOptions& o, const std::string& v) {
+         o.scenario_limits.max_grid_cells = static_cast<std::int64_t>(parse_unsigned("--max-grid-cells", v, 1, std::uint64_t{1} << 40));
+       }},
+      {"max-episode-ticks", "HRISIM_MAX_EPISODE_TICKS",
+       "ticks a session or a run's episode may last: its time limit (or max_time) over dt (default 216000)",
+       [](ServeOptions& o, const std::string& v) {
+         o.scenario_limits.max_episode_ticks = static_cast<std::int64_t>(parse_unsigned("--max-episode-ticks", v, 1, std::uint64_t{1} << 40));
+       }},
+      {"scenario-cache-mb", "HRISIM_SCENARIO_CACHE_MB", "MiB of compiled uploaded scenarios kept in memory (default 256)",
+       [](ServeOptions& o, const std::string& v) { o.scenario_cache_bytes = parse_unsigned("--scenario-cache-mb", v, 1, 1 << 20) << 20; }},
       {"header-limit", "HRISIM_HEADER_LIMIT", "largest request header in bytes, else 431 (default 8192)",
        [](ServeOptions& o, const std::string& v) {
          o.server.header_limit = parse_unsigned("--header-limit", v, 1024, 1 << 20);
@@ -81,26 +126,28 @@ const std::vector<Flag>& flags() {
       {"allowed-origins", "HRISIM_ALLOWED_ORIGINS",
        "comma-separated browser origins (e.g. https://lab.example:8443) that may open WebSockets besides the server's own (default none)",
        [](ServeOptions& o, const std::string& v) {
-         o.allowed_origins.clear();
-         std::string_view rest(v);
-         while (!rest.empty()) {
-           const auto comma = rest.find(',');
-           const std::string_view origin = rest.substr(0, comma);
+         o.access.allowed_origins = comma_list(v, [](const std::string& origin) {
            if (!origin.starts_with("http://") && !origin.starts_with("https://")) {
-             throw core::Error(core::ErrorCode::bad_request, "--allowed-origins: an origin is scheme://host[:port], got '" + std::string(origin) + "'",
+             throw core::Error(core::ErrorCode::bad_request, "--allowed-origins: an origin is scheme://host[:port], got '" + origin + "'",
                                {{"option", "--allowed-origins"}});
            }
-           o.allowed_origins.emplace_back(origin);
-           rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
-         }
+         });
        }},
-      {"token", "HRISIM_TOKEN", "bearer token every /api/ route but version then requires (default none)",
+      {"allowed-hosts", "HRISIM_ALLOWED_HOSTS",
+       "comma-separated host names requests may name in Host besides IP addresses and localhost, * for any (default none)",
        [](ServeOptions& o, const std::string& v) {
-         if (v.size() < kMinimumTokenLength) {
-           throw core::Error(core::ErrorCode::bad_request, "--token: at least " + std::to_string(kMinimumTokenLength) + " characters",
-                             {{"option", "--token"}});
-         }
-         o.token = v;
+         o.access.allowed_hosts = comma_list(v, [](const std::string& host) {
+           if (host.empty() || host.find_first_of(" /:") != std::string::npos) {
+             throw core::Error(core::ErrorCode::bad_request, "--allowed-hosts: a host name without port, got '" + host + "'", {{"option", "--allowed-hosts"}});
+           }
+         });
+       }},
+      {"token", "HRISIM_TOKEN",
+       "a bearer token /api/ routes (but version) then require: SECRET (an admin without owner), or NAME:SECRET[:user|read|admin]; may be repeated",
+       [](ServeOptions& o, const std::string& v) { o.access.tokens.push_back(token_option("--token", [&] { return http::parse_token(v); })); }},
+      {"tokens", "HRISIM_TOKENS", "a file of tokens, one NAME:SECRET[:user|read|admin] per line (default none)",
+       [](ServeOptions& o, const std::string& v) {
+         for (http::Token& token : token_option("--tokens", [&] { return http::read_token_file(v); })) o.access.tokens.push_back(std::move(token));
        }},
   };
   return kFlags;
@@ -110,7 +157,7 @@ const std::vector<Flag>& flags() {
 
 ServeOptions parse_serve_options(const std::vector<std::string>& args, const EnvLookup& env) {
   ServeOptions options;
-  std::map<std::string, std::string> given;
+  std::map<std::string, std::vector<std::string>> given;  ///< every value of a flag, in order (--token repeats)
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
     if (!arg.starts_with("--")) {
@@ -129,11 +176,11 @@ ServeOptions parse_serve_options(const std::vector<std::string>& args, const Env
     } else {
       throw core::Error(core::ErrorCode::bad_request, "option --" + name + " needs a value", {{"option", name}});
     }
-    given[name] = value;
+    given[name].push_back(value);
   }
   for (const Flag& flag : flags()) {
     if (const auto found = given.find(flag.name); found != given.end()) {
-      flag.apply(options, found->second);
+      for (const std::string& value : found->second) flag.apply(options, value);
       given.erase(found);
     } else if (const auto value = env(flag.env)) {
       try {
@@ -149,7 +196,7 @@ ServeOptions parse_serve_options(const std::vector<std::string>& args, const Env
                       {{"option", given.begin()->first}});
   }
   if (const auto value = env("HRISIM_ALLOW_UNAUTHENTICATED")) options.allow_unauthenticated |= *value == "1";
-  if (options.token.empty() && !options.allow_unauthenticated && !is_loopback(options.server.host)) {
+  if (options.access.tokens.empty() && !options.allow_unauthenticated && !is_loopback(options.server.host)) {
     throw core::Error(core::ErrorCode::bad_request,
                       "refusing to listen on " + options.server.host +
                           " without a token: give --token (or HRISIM_TOKEN), or --allow-unauthenticated to serve anyone who can reach it",
@@ -164,10 +211,11 @@ std::string serve_usage() {
   std::string text = "usage: hrisim serve [options]\n\noptions (each also read from the variable named):\n";
   for (const Flag& flag : flags()) {
     text += "  --" + std::string(flag.name) + " VALUE";
-    text.append(std::max<std::size_t>(2, 22 - std::string(flag.name).size()), ' ');
+    const std::size_t name_width = std::string(flag.name).size();
+    text.append(name_width < 28 ? 30 - name_width : 2, ' ');
     text += std::string(flag.help) + "  [" + flag.env + "]\n";
   }
-  text += "  --allow-unauthenticated      listen beyond loopback without a token  [HRISIM_ALLOW_UNAUTHENTICATED=1]\n";
+  text += "  --allow-unauthenticated            listen beyond loopback without a token  [HRISIM_ALLOW_UNAUTHENTICATED=1]\n";
   return text;
 }
 

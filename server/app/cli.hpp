@@ -6,8 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "http/access.hpp"
+#include "http/scenario_catalogue.hpp"
 #include "http/server.hpp"
 #include "http/session_limits.hpp"
+#include "scenario/load.hpp"
 
 namespace hrisim::app {
 
@@ -22,8 +25,9 @@ struct ServeOptions {
   std::filesystem::path web_root = kDefaultWebRoot;
   http::SessionLimits sessions;
   unsigned run_jobs = 0;               ///< episodes of runs at once, 0 for one per core
-  std::string token;                   ///< bearer token every /api/ route but version requires
-  std::vector<std::string> allowed_origins;  ///< browser origins that may open WebSockets besides the server's own
+  http::AccessPolicy access;           ///< tokens (from --token and --tokens), allowed origins and hosts
+  scenario::ScenarioLimits scenario_limits;
+  std::size_t scenario_cache_bytes = http::kDefaultScenarioCacheBytes;
   bool allow_unauthenticated = false;  ///< listen beyond loopback without a token
 };
 

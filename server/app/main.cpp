@@ -58,15 +58,16 @@ int serve(const std::vector<std::string>& args) {
 
   hrisim::storage::Store store(options.database);
   // Runs that were under way when the last server stopped lost their episodes in flight.
-  if (const int interrupted = store.interrupt_unfinished_runs(); interrupted > 0) {
-    std::fprintf(stderr, "hrisim: %d run%s left unfinished by the last server marked interrupted\n", interrupted, interrupted == 1 ? "" : "s");
+  if (const int interrupted = store.interrupt_abandoned_runs(); interrupted > 0) {
+    std::fprintf(stderr, "hrisim: %d run%s whose process ended marked interrupted\n", interrupted, interrupted == 1 ? "" : "s");
   }
   hrisim::runs::Executor executor(store, options.run_jobs ? options.run_jobs : std::max(1u, std::thread::hardware_concurrency()));
-  if (options.token.empty() && !hrisim::app::is_loopback(options.server.host)) {
+  if (options.access.tokens.empty() && !hrisim::app::is_loopback(options.server.host)) {
     std::fprintf(stderr, "hrisim: warning: listening on %s without a token: anyone who can reach it controls the simulator\n",
                  options.server.host.c_str());
   }
-  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios, options.token, options.sessions, &executor, options.allowed_origins});
+  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios, options.access, options.sessions, &executor,
+                                                     options.scenario_limits, options.scenario_cache_bytes});
   hrisim::http::Server server(options.server, router);
   std::printf("hrisim %s listening on http://%s:%u (database %s, schema version %d)\n",
               hrisim::http::version_info()["version"].get<std::string>().c_str(), options.server.host.c_str(),

@@ -118,7 +118,8 @@ std::optional<scenario::ImportResult> import_file(const std::string& file, const
   const std::string format = source.format.empty() ? scenario::detect_xml_format(text.str()) : source.format;
   if (format != "imhus" && format != "pedsim") usage_error("--from: expected imhus or pedsim, got '" + format + "'");
   scenario::ImportOptions options{source.scenario, source.map, {bundled_scenarios_dir()},
-                                  std::filesystem::path(file).filename().string()};
+                                  std::filesystem::path(file).filename().string(), {}};
+  options.limits.confine_files = false;  // a user's own files, on their own machine
   scenario::ImportResult result = format == "imhus" ? scenario::import_imhus(text.str(), options)
                                                     : scenario::import_pedsim(text.str(), options);
   print_messages(file, "warning: ", result.warnings);
@@ -139,7 +140,8 @@ struct LoadedFile {
 
 LoadedFile load(const std::string& file, const SourceOptions& source = {}) {
   LoadedFile loaded;
-  loaded.load = {{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}};
+  loaded.load = {{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}, {}};
+  loaded.load.limits.confine_files = false;  // a user's own files, on their own machine
   std::ifstream in(file, std::ios::binary);
   if (!in) {
     loaded.result.errors = {{"", "cannot read the file"}};
@@ -378,12 +380,16 @@ int run_command(const std::vector<std::string>& args) {
     database = scratch.emplace().path;
   }
   storage::Store store(database);
+  // Runs of a process that was killed (this command's or a server's) are found out now.
+  if (const int interrupted = store.interrupt_abandoned_runs(); interrupted > 0) {
+    std::fprintf(stderr, "hrisim: %d run%s whose process ended marked interrupted\n", interrupted, interrupted == 1 ? "" : "s");
+  }
   runs::RunSpec stored_spec = spec;
   if (!store.scenario(stored_spec.scenario_id)) {
     const auto format = std::filesystem::path(file).extension() == ".xml"
                             ? std::string(scenario::to_string(scenario::detect_source_format(loaded.text)))
                             : std::string("json");
-    store.put_scenario({stored_spec.scenario_id, spec.model->name, format, loaded.text, "", ""});
+    store.put_scenario({stored_spec.scenario_id, spec.model->name, format, loaded.text, "", "", "", ""});
   }
   ProgressReport progress(seeds.size());
   runs::Executor executor(store, jobs, [&](const std::string&, const storage::EpisodeRecord& episode) { progress.episode_done(episode); });

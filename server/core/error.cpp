@@ -11,6 +11,7 @@ std::string_view to_string(ErrorCode code) {
     case ErrorCode::method_not_allowed: return "method_not_allowed";
     case ErrorCode::conflict: return "conflict";
     case ErrorCode::payload_too_large: return "payload_too_large";
+    case ErrorCode::unsupported_media_type: return "unsupported_media_type";
     case ErrorCode::headers_too_large: return "headers_too_large";
     case ErrorCode::unavailable: return "unavailable";
     case ErrorCode::storage: return "storage";
@@ -28,6 +29,7 @@ int http_status(ErrorCode code) {
     case ErrorCode::method_not_allowed: return 405;
     case ErrorCode::conflict: return 409;
     case ErrorCode::payload_too_large: return 413;
+    case ErrorCode::unsupported_media_type: return 415;
     case ErrorCode::headers_too_large: return 431;
     case ErrorCode::unavailable: return 503;
     case ErrorCode::storage: return 500;

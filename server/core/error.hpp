@@ -17,6 +17,7 @@ enum class ErrorCode {
   method_not_allowed, ///< path exists, method does not (405)
   conflict,           ///< state does not allow the operation (409)
   payload_too_large,  ///< body over the limit (413)
+  unsupported_media_type,  ///< a body of a type the route does not take (415)
   headers_too_large,  ///< request header fields over the limit (431)
   unavailable,        ///< temporarily unable to serve, e.g. too many connections (503)
   storage,            ///< database failure (500)

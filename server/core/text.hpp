@@ -1,5 +1,8 @@
 #pragma once
-// Small text helpers for messages.
+// Small text helpers: lists for messages, UTF-8 checks and JSON text that never throws.
+#include <cstddef>
+#include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -15,5 +18,13 @@ std::string join(const Range& items, std::string_view separator = ", ") {
   }
   return text;
 }
+
+/// Offset of the first byte that does not belong to well-formed UTF-8 (RFC 3629: no overlong forms,
+/// no surrogates, nothing above U+10FFFF), or nullopt when all of `text` is UTF-8.
+std::optional<std::size_t> invalid_utf8_offset(std::string_view text);
+
+/// JSON text of a value; bytes of its strings that are not UTF-8 become U+FFFD instead of throwing,
+/// so text a client sent (a path, a header) can always be quoted back in an error.
+std::string json_text(const nlohmann::json& value, int indent = -1);
 
 }  // namespace hrisim::core

@@ -93,33 +93,7 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
   });
 
   auto tickets = std::make_shared<TicketBook>();
-  if (!context.token.empty()) {
-    router->set_guard([token = context.token, tickets](const Request& request) -> std::optional<Response> {
-      const bool open = !request.path.starts_with("/api/") || request.path == "/api/v1/version";
-      if (open) return std::nullopt;
-      // A browser opens a session's WebSocket with a ticket from an authenticated POST instead.
-      constexpr std::string_view kSessions = "/api/v1/sessions/", kSocket = "/ws";
-      if (const auto ticket = query_value(request.query, "ticket");
-          ticket && request.path.starts_with(kSessions) && request.path.ends_with(kSocket) && request.path.size() > kSessions.size() + kSocket.size()) {
-        const std::string session = request.path.substr(kSessions.size(), request.path.size() - kSessions.size() - kSocket.size());
-        if (tickets->redeem(*ticket, session)) return std::nullopt;
-      }
-      const auto header = request.headers.find("authorization");
-      const std::string given = header == request.headers.end() ? "" : header->second;
-      const std::string expected = "Bearer " + token;
-      // Compared in time independent of where they differ, so the token cannot be guessed byte by byte.
-      unsigned char difference = given.size() == expected.size() ? 0 : 1;
-      for (std::size_t i = 0; i < expected.size(); ++i) {
-        difference |= static_cast<unsigned char>(expected[i] ^ (i < given.size() ? given[i] : 0));
-      }
-      if (difference == 0) return std::nullopt;
-      Response response = Response::error(core::Error(core::ErrorCode::unauthorized,
-                                                      header == request.headers.end() ? "this route needs Authorization: Bearer <token>"
-                                                                                      : "the bearer token is wrong"));
-      response.headers.emplace_back("WWW-Authenticate", "Bearer realm=\"hrisim\"");
-      return response;
-    });
-  }
+  router->set_guard(make_guard(context.access, tickets));
 
   const nlohmann::json version = version_info();
   router->add("GET", "/api/v1/version", [version](const Request&) { return Response::json(200, version); });
@@ -146,9 +120,9 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
     return Response::json(200, {{"summary", robot_summary(*robot)}, {"description", robots::builtin_robot_document(name)}});
   });
 
-  auto catalogue = std::make_shared<ScenarioCatalogue>(store, context.scenarios_dir);
+  auto catalogue = std::make_shared<ScenarioCatalogue>(store, context.scenarios_dir, context.scenario_limits, context.scenario_cache_bytes);
   add_scenario_routes(*router, catalogue);
-  add_session_routes(*router, catalogue, context.sessions, {tickets, context.allowed_origins});
+  add_session_routes(*router, catalogue, context.sessions, tickets);
   add_run_routes(*router, catalogue, store, context.executor);
 
   auto files = std::make_shared<StaticFiles>(context.web_root);

@@ -5,8 +5,11 @@
 #include <string>
 #include <vector>
 
+#include "http/access.hpp"
 #include "http/router.hpp"
+#include "http/scenario_catalogue.hpp"
 #include "http/session_limits.hpp"
+#include "scenario/load.hpp"
 
 namespace hrisim::storage {
 class Store;
@@ -21,10 +24,11 @@ struct ApiContext {
   storage::Store* store = nullptr;       ///< must outlive the router
   std::filesystem::path web_root;        ///< browser UI served at /
   std::filesystem::path scenarios_dir;   ///< bundled scenarios
-  std::string token;                     ///< when set, /api/ routes but version need "Bearer <token>"
+  AccessPolicy access;                   ///< tokens, allowed origins and hosts
   SessionLimits sessions;                ///< how many live sessions, how long they may idle
   runs::Executor* executor = nullptr;    ///< runs the episodes of runs; must outlive the router
-  std::vector<std::string> allowed_origins;  ///< browser origins that may open WebSockets besides the server's own
+  scenario::ScenarioLimits scenario_limits;  ///< what one scenario may ask for
+  std::size_t scenario_cache_bytes = kDefaultScenarioCacheBytes;  ///< compiled uploads kept in memory
 };
 
 /// Build and library versions, as served at /api/v1/version.

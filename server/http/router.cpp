@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <optional>
 
+#include "core/text.hpp"
+
 namespace hrisim::http {
 namespace {
 
@@ -43,7 +45,7 @@ int hex_value(char c) {
 }  // namespace
 
 Response Response::json(int status, const nlohmann::json& value) {
-  return Response{status, "application/json", value.dump(), {}, {}};
+  return Response{status, "application/json", core::json_text(value), {}, {}};
 }
 
 Response Response::error(const core::Error& error) { return json(core::http_status(error.code()), error.to_json()); }
@@ -135,6 +137,9 @@ std::string percent_decode(std::string_view text) {
     if (c == '\0') throw core::Error(core::ErrorCode::bad_request, "encoded NUL in request path", {{"offset", i}});
     decoded += c;
     i += 2;
+  }
+  if (const auto bad = core::invalid_utf8_offset(decoded)) {
+    throw core::Error(core::ErrorCode::bad_request, "request path is not UTF-8 once decoded", {{"offset", *bad}});
   }
   return decoded;
 }

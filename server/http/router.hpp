@@ -14,7 +14,15 @@
 
 namespace hrisim::http {
 
+/// Who sends a request, as the token guard found out.
+struct Caller {
+  std::string owner;       ///< namespace of what they create and see; empty on a server without owners
+  bool sees_all = true;    ///< an admin (or a server without owners): everyone's sessions, runs and uploads
+  bool read_only = false;  ///< may look, not change anything
+};
+
 struct Request {
+  Caller caller;
   std::string method;  ///< upper case, e.g. "GET"
   std::string path;    ///< percent-decoded path without the query
   std::string query;   ///< raw query string, without '?'
@@ -64,6 +72,9 @@ class WebSocketPeer {
     (void)dropped;
     return {};
   }
+  /// Non-empty when the socket should end (what it served is gone): the server closes it with this
+  /// reason. Read after every answer and about once a second.
+  virtual std::string close_reason() const { return {}; }
 };
 
 /// Makes the peer for an upgrade request (throws core::Error to refuse it: 404, 401, …).
@@ -73,8 +84,9 @@ class Router {
  public:
   /// Registers a handler; pattern segments written {name} match any one segment and land in path_params.
   void add(std::string method, std::string pattern, Handler handler);
-  /// Runs before every request: a response from it is the answer (e.g. 401), nothing lets the request on.
-  void set_guard(std::function<std::optional<Response>(const Request&)> guard) { guard_ = std::move(guard); }
+  /// Runs before every request: a response from it is the answer (e.g. 401), nothing lets the request
+  /// on; it may fill in the request's caller.
+  void set_guard(std::function<std::optional<Response>(Request&)> guard) { guard_ = std::move(guard); }
   /// Answers requests no pattern matches (static files); without it they get 404.
   void set_fallback(Handler handler) { fallback_ = std::move(handler); }
 
@@ -101,8 +113,11 @@ class Router {
   };
   std::vector<WebSocketRoute> websockets_;
   Handler fallback_;
-  std::function<std::optional<Response>(const Request&)> guard_;
+  std::function<std::optional<Response>(Request&)> guard_;
 };
+
+/// Whether `caller` may see something `owner` made.
+inline bool visible_to(const Caller& caller, const std::string& owner) { return caller.sees_all || caller.owner == owner; }
 
 /// Decodes %XX escapes; throws core::Error(bad_request) on a malformed escape or an encoded NUL.
 std::string percent_decode(std::string_view text);

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/sha256.hpp"
+#include "core/text.hpp"
 #include "http/request_helpers.hpp"
 #include "http/session_limits.hpp"
 #include "metrics/definitions.hpp"
@@ -47,11 +48,11 @@ std::vector<std::uint64_t> seeds_of(const json& body) {
   return seeds;
 }
 
-runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue) {
+runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue, const Caller& caller) {
   refuse_unknown_keys(body, {"scenario", "seeds", "count", "first_seed", "controller", "max_time", "gates", "requests", "baseline_without_robot"});
   if (!body.contains("scenario") || !body["scenario"].is_string()) bad("/scenario", "scenario: the id of a scenario is required");
   const std::string id = body["scenario"];
-  const auto* entry = catalogue.find(id);
+  const auto entry = catalogue.find(id, caller);
   if (!entry || !entry->source.model) {
     throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"pointer", "/scenario"}, {"id", id}});
   }
@@ -59,7 +60,7 @@ runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue) {
   request.scenario_id = id;
   request.document = entry->source.document;
   request.load = catalogue.options().load;
-  request.scenario_sha256 = entry->sha256.empty() ? core::sha256_hex(entry->source.document.dump()) : entry->sha256;
+  request.scenario_sha256 = entry->sha256.empty() ? core::sha256_hex(core::json_text(entry->source.document)) : entry->sha256;
   request.seeds = seeds_of(body);
   if (body.contains("controller") && !body["controller"].is_null()) request.controller = body["controller"];
   if (body.contains("baseline_without_robot")) {
@@ -100,13 +101,14 @@ std::string stored_scenario_id(storage::Store& store, const std::string& id, con
                                const std::string& sha256) {
   if (entry.origin == "uploaded") return id;
   const std::string snapshot = "b" + sha256.substr(0, 32);
-  if (!store.scenario(snapshot)) store.put_scenario({snapshot, entry.source.model->name, "json", entry.source.document.dump(2), "", ""});
+  if (!store.scenario(snapshot)) store.put_scenario({snapshot, entry.source.model->name, "json", core::json_text(entry.source.document, 2), "", "", "", ""});
   return snapshot;
 }
 
-storage::RunRecord find_run(storage::Store& store, const std::string& id) {
+/// The run as `caller` may see it: another owner's is absent (404), as an unknown one.
+storage::RunRecord find_run(storage::Store& store, const std::string& id, const Caller& caller) {
   auto run = store.run(id);
-  if (!run) throw core::Error(core::ErrorCode::not_found, "no run '" + id + "'", {{"id", id}});
+  if (!run || !visible_to(caller, run->owner)) throw core::Error(core::ErrorCode::not_found, "no run '" + id + "'", {{"id", id}});
   return *run;
 }
 
@@ -130,9 +132,13 @@ json episode_json(const storage::EpisodeRecord& episode) {
           {"metrics", metrics}};
 }
 
-storage::EpisodeRecord find_episode(storage::Store& store, const std::string& id) {
+/// The episode as `caller` may see it: one of another owner's run is absent (404).
+storage::EpisodeRecord find_episode(storage::Store& store, const std::string& id, const Caller& caller) {
   auto episode = store.episode(id);
-  if (!episode) throw core::Error(core::ErrorCode::not_found, "no episode '" + id + "'", {{"id", id}});
+  const auto run = episode && episode->run_id ? store.run(*episode->run_id) : std::nullopt;
+  if (!episode || !visible_to(caller, run ? run->owner : "")) {
+    throw core::Error(core::ErrorCode::not_found, "no episode '" + id + "'", {{"id", id}});
+  }
   return std::move(*episode);
 }
 
@@ -158,11 +164,12 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
 
   router.add("POST", "/api/v1/runs", [catalogue, store, executor](const Request& request) {
     const json body = json_object_body(request);
-    const runs::RunRequest asked = run_request(body, *catalogue);
+    const runs::RunRequest asked = run_request(body, *catalogue, request.caller);
     runs::RunSpec spec = runs::make_run_spec(asked);
+    spec.owner = request.caller.owner;
     spec.scenario_id = stored_scenario_id(*store, asked.scenario_id, *catalogue->find(asked.scenario_id), asked.scenario_sha256);
     const storage::RunRecord run = executor->submit(std::move(spec));
-    Response response = Response::json(201, report_of(*store, *executor, find_run(*store, run.id)));
+    Response response = Response::json(201, report_of(*store, *executor, find_run(*store, run.id, request.caller)));
     response.headers.emplace_back("Location", "/api/v1/runs/" + run.id);
     return response;
   });
@@ -181,7 +188,7 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
       throw core::Error(core::ErrorCode::bad_request, "cursor: no run '" + cursor + "'", {{"parameter", "cursor"}});
     }
     json items = json::array();
-    const auto page = store->runs(limit, cursor, status, scenario);
+    const auto page = store->runs(limit, cursor, status, scenario, request.caller.sees_all ? std::nullopt : std::optional(request.caller.owner));
     for (const storage::RunRecord& run : page) {
       const json report = report_of(*store, *executor, run);
       items.push_back({{"id", report["id"]},
@@ -206,37 +213,37 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
     if (!a || a->empty() || !b || b->empty()) {
       throw core::Error(core::ErrorCode::bad_request, "give the two runs as ?a=ID&b=ID", {{"parameter", a && !a->empty() ? "b" : "a"}});
     }
-    const storage::RunRecord run_a = find_run(*store, *a), run_b = find_run(*store, *b);
+    const storage::RunRecord run_a = find_run(*store, *a, request.caller), run_b = find_run(*store, *b, request.caller);
     return Response::json(200, runs::compare_runs(run_a, store->episodes_of_run(run_a.id), run_b, store->episodes_of_run(run_b.id)));
   });
 
   router.add("GET", "/api/v1/runs/{id}", [store, executor](const Request& request) {
-    return Response::json(200, report_of(*store, *executor, find_run(*store, request.path_params.at("id"))));
+    return Response::json(200, report_of(*store, *executor, find_run(*store, request.path_params.at("id"), request.caller)));
   });
 
   router.add("POST", "/api/v1/runs/{id}/cancel", [store, executor](const Request& request) {
-    const storage::RunRecord run = find_run(*store, request.path_params.at("id"));
+    const storage::RunRecord run = find_run(*store, request.path_params.at("id"), request.caller);
     if (!executor->cancel(run.id)) {
       throw core::Error(core::ErrorCode::conflict, "run '" + run.id + "' is " + run.status + " and cannot be cancelled",
                         {{"id", run.id}, {"status", run.status}});
     }
-    return Response::json(202, report_of(*store, *executor, find_run(*store, run.id)));
+    return Response::json(202, report_of(*store, *executor, find_run(*store, run.id, request.caller)));
   });
 
   router.add("GET", "/api/v1/runs/{id}/episodes", [store](const Request& request) {
-    const storage::RunRecord run = find_run(*store, request.path_params.at("id"));
+    const storage::RunRecord run = find_run(*store, request.path_params.at("id"), request.caller);
     json items = json::array();
     for (const storage::EpisodeRecord& episode : store->episodes_of_run(run.id)) items.push_back(episode_json(episode));
     return Response::json(200, {{"items", items}});
   });
 
   router.add("GET", "/api/v1/runs/{id}/junit", [store, executor](const Request& request) {
-    const json report = report_of(*store, *executor, find_run(*store, request.path_params.at("id")));
+    const json report = report_of(*store, *executor, find_run(*store, request.path_params.at("id"), request.caller));
     return Response{200, "application/xml", runs::junit_xml(report), {}, {}};
   });
 
   router.add("GET", "/api/v1/episodes/{id}", [store](const Request& request) {
-    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"));
+    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"), request.caller);
     json reply = episode_json(episode);
     json events = json::array();
     for (const storage::EventRecord& event : episode.events) {
@@ -267,7 +274,7 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
       throw core::Error(core::ErrorCode::bad_request, "name: no series '" + name + "' (GET /api/v1/metrics lists them)", {{"parameter", "name"}});
     }
     if (format == "csv" && name.empty()) throw core::Error(core::ErrorCode::bad_request, "format=csv needs a series name", {{"parameter", "name"}});
-    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"));
+    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"), request.caller);
     const double dt = episode.ticks > 0 ? episode.sim_time / static_cast<double>(episode.ticks) : 0.0;
     const std::vector<storage::SeriesRecord> stored = store->series(episode.id, name);
     if (format == "csv") {
@@ -308,7 +315,7 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
     if (format != "json" && format != "csv") {
       throw core::Error(core::ErrorCode::bad_request, "format must be json or csv", {{"parameter", "format"}});
     }
-    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"));
+    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"), request.caller);
     const double dt = episode.ticks > 0 ? episode.sim_time / static_cast<double>(episode.ticks) : 0.0;
     if (format == "csv") {
       std::ostringstream csv;

@@ -46,39 +46,45 @@ json issues(const std::vector<scenario::SourceIssue>& list) {
 
 void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue) {
 
+  // Everything that may compile a scenario (an upload not in the cache, a new one) runs on the worker
+  // pool: compiling a large map or crowd must not hold an I/O thread.
   router.add("GET", "/api/v1/scenarios", [catalogue](const Request& request) {
     const int limit = static_cast<int>(integer_query(request, "limit", 1, kMaxPageSize, kDefaultPageSize));
     const std::string cursor = query_value(request.query, "cursor").value_or("");
-    const auto ids = catalogue->page(cursor, limit + 1);
-    json items = json::array();
-    for (std::size_t i = 0; i < ids.size() && static_cast<int>(i) < limit; ++i) {
-      if (const auto* entry = catalogue->find(ids[i])) items.push_back(catalogue->summary(ids[i], *entry));
-    }
-    json page{{"items", items}, {"next_cursor", nullptr}};
-    if (static_cast<int>(ids.size()) > limit) page["next_cursor"] = ids[static_cast<std::size_t>(limit) - 1];
-    return Response::json(200, page);
+    return Response::later([catalogue, limit, cursor, caller = request.caller] {
+      const auto ids = catalogue->page(cursor, limit + 1, caller);
+      json items = json::array();
+      for (std::size_t i = 0; i < ids.size() && static_cast<int>(i) < limit; ++i) {
+        if (json summary = catalogue->summary(ids[i]); !summary.is_null()) items.push_back(std::move(summary));
+      }
+      json page{{"items", items}, {"next_cursor", nullptr}};
+      if (static_cast<int>(ids.size()) > limit) page["next_cursor"] = ids[static_cast<std::size_t>(limit) - 1];
+      return Response::json(200, page);
+    });
   });
 
   router.add("GET", "/api/v1/scenarios/{id}", [catalogue](const Request& request) {
-    const std::string& id = request.path_params.at("id");
-    const auto* entry = catalogue->find(id);
-    if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
-    return Response::json(200, entry->source.document);
+    return Response::later([catalogue, id = request.path_params.at("id"), caller = request.caller] {
+      const auto entry = catalogue->find(id, caller);
+      if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
+      return Response::json(200, entry->source.document);
+    });
   });
 
   router.add("GET", "/api/v1/scenarios/{id}/world", [catalogue](const Request& request) {
-    const std::string& id = request.path_params.at("id");
-    const auto* entry = catalogue->find(id);
-    if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
-    if (!entry->source.model) throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' does not load", {{"id", id}});
-    nlohmann::json world = scenario::world_geometry(*entry->source.model);
-    world["id"] = id;
-    return Response::json(200, world);
+    return Response::later([catalogue, id = request.path_params.at("id"), caller = request.caller] {
+      const auto entry = catalogue->find(id, caller);
+      if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
+      if (!entry->source.model) throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' does not load", {{"id", id}});
+      nlohmann::json world = scenario::world_geometry(*entry->source.model);
+      world["id"] = id;
+      return Response::json(200, world);
+    });
   });
 
   router.add("GET", "/api/v1/scenarios/{id}/thumbnail", [catalogue](const Request& request) {
     const std::string& id = request.path_params.at("id");
-    const auto* entry = catalogue->find(id);
+    const auto entry = catalogue->find(id, request.caller);
     if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
     if (!entry->source.model) throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' does not load", {{"id", id}});
     // A size given alone keeps the default's 4:3.
@@ -97,26 +103,30 @@ void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> cata
   });
 
   router.add("POST", "/api/v1/scenarios/validate", [catalogue](const Request& request) {
-    const auto compiled = compile_body(request, *catalogue);
-    json reply{{"valid", compiled.errors.empty()},
-               {"format", scenario::to_string(compiled.format)},
-               {"errors", issues(compiled.errors)},
-               {"warnings", issues(compiled.warnings)}};
-    if (compiled.model) reply["summary"] = scenario::summarize(*compiled.model);
-    return Response::json(200, reply);
+    return Response::later([catalogue, request] {
+      const auto compiled = compile_body(request, *catalogue);
+      json reply{{"valid", compiled.errors.empty()},
+                 {"format", scenario::to_string(compiled.format)},
+                 {"errors", issues(compiled.errors)},
+                 {"warnings", issues(compiled.warnings)}};
+      if (compiled.model) reply["summary"] = scenario::summarize(*compiled.model);
+      return Response::json(200, reply);
+    });
   });
 
   router.add("POST", "/api/v1/scenarios", [catalogue](const Request& request) {
-    auto compiled = compile_body(request, *catalogue);
-    if (!compiled.errors.empty()) {
-      throw core::Error(core::ErrorCode::bad_request, "the scenario is not valid: nothing was stored",
-                        {{"format", scenario::to_string(compiled.format)}, {"errors", issues(compiled.errors)}});
-    }
-    const json warnings = issues(compiled.warnings);
-    const std::string id = catalogue->store(request.body, std::move(compiled));
-    Response response = Response::json(201, {{"summary", catalogue->summary(id, *catalogue->find(id))}, {"warnings", warnings}});
-    response.headers.emplace_back("Location", "/api/v1/scenarios/" + id);
-    return response;
+    return Response::later([catalogue, request] {
+      auto compiled = compile_body(request, *catalogue);
+      if (!compiled.errors.empty()) {
+        throw core::Error(core::ErrorCode::bad_request, "the scenario is not valid: nothing was stored",
+                          {{"format", scenario::to_string(compiled.format)}, {"errors", issues(compiled.errors)}});
+      }
+      const json warnings = issues(compiled.warnings);
+      const std::string id = catalogue->store(request.body, std::move(compiled), request.caller.owner);
+      Response response = Response::json(201, {{"summary", catalogue->summary(id)}, {"warnings", warnings}});
+      response.headers.emplace_back("Location", "/api/v1/scenarios/" + id);
+      return response;
+    });
   });
 }
 

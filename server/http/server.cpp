@@ -24,6 +24,7 @@
 #include <mutex>
 #include <set>
 #include <optional>
+#include <variant>
 #include <thread>
 #include <unordered_map>
 #include <vector>
@@ -51,6 +52,17 @@ constexpr std::size_t kMaxWebSocketMessage = 1 << 20;
 /// oldest is dropped for a newer one.
 constexpr std::size_t kMaxQueuedFrames = 4;
 
+/// How long the listener waits before accepting again after a failed accept (no descriptors left).
+constexpr std::chrono::milliseconds kAcceptRetryDelay{100};
+/// A failed accept is logged at most this often.
+constexpr std::chrono::seconds kAcceptErrorLogInterval{10};
+/// How often a WebSocket asks its peer whether it should end.
+constexpr std::chrono::seconds kWebSocketWatchInterval{1};
+/// After a close frame the server sent, the socket is cut this long later if the close has not completed
+/// (shorter when the server shuts down: it waits for every socket).
+constexpr std::chrono::seconds kWebSocketCloseGrace{5};
+constexpr std::chrono::milliseconds kWebSocketShutdownGrace{500};
+
 /// State shared by the listener and every connection.
 struct Shared {
   ServerOptions options;
@@ -60,12 +72,48 @@ struct Shared {
   std::mutex mutex;
   std::unordered_map<const Connection*, std::weak_ptr<Connection>> connections;
   std::unordered_map<const WebSocketSession*, std::weak_ptr<WebSocketSession>> websockets;
+  std::size_t open = 0;  ///< admitted connections, HTTP and WebSocket
+  std::unordered_map<std::string, std::size_t> open_per_client;  ///< by client address
+};
+
+/// An admitted connection's place in the limits (all connections, and per client address), given back
+/// when the connection — HTTP, then perhaps WebSocket — ends.
+class Slot {
+ public:
+  /// Takes a place, or explains why there is none.
+  static std::variant<std::unique_ptr<Slot>, std::string> take(const std::shared_ptr<Shared>& shared, const std::string& client) {
+    std::lock_guard lock(shared->mutex);
+    if (shared->open >= shared->options.max_connections) return std::string("too many connections; retry later");
+    std::size_t& mine = shared->open_per_client[client];
+    if (mine >= shared->options.max_connections_per_client) {
+      if (mine == 0) shared->open_per_client.erase(client);
+      return "too many connections from " + client + " (at most " + std::to_string(shared->options.max_connections_per_client) + "); retry later";
+    }
+    ++mine;
+    ++shared->open;
+    return std::unique_ptr<Slot>(new Slot(shared, client));
+  }
+  ~Slot() {
+    std::lock_guard lock(shared_->mutex);
+    --shared_->open;
+    if (--shared_->open_per_client[client_] == 0) shared_->open_per_client.erase(client_);
+  }
+  Slot(const Slot&) = delete;
+  Slot& operator=(const Slot&) = delete;
+
+ private:
+  Slot(std::shared_ptr<Shared> shared, std::string client) : shared_(std::move(shared)), client_(std::move(client)) {}
+  std::shared_ptr<Shared> shared_;
+  std::string client_;
 };
 
 /// Runs deferred work on a worker: a core::Error becomes its JSON error, anything else a logged 500.
 Response run_deferred(const std::function<Response()>& work, const std::string& where) {
   try {
-    return work();
+    Response response = work();
+    // Work may hand on to more work (a frame drawn after the state it shows was copied).
+    while (response.deferred) response = response.deferred();
+    return response;
   } catch (const core::Error& e) {
     return Response::error(e);
   } catch (const std::exception& e) {
@@ -81,8 +129,8 @@ Response run_deferred(const std::function<Response()>& work, const std::string& 
 /// dead ones.
 class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
  public:
-  WebSocketSession(tcp::socket&& socket, std::shared_ptr<WebSocketPeer> peer, std::shared_ptr<Shared> shared)
-      : ws_(std::move(socket)), peer_(std::move(peer)), shared_(std::move(shared)) {}
+  WebSocketSession(tcp::socket&& socket, std::shared_ptr<WebSocketPeer> peer, std::shared_ptr<Shared> shared, std::unique_ptr<Slot> slot)
+      : ws_(std::move(socket)), peer_(std::move(peer)), shared_(std::move(shared)), slot_(std::move(slot)) {}
 
   ~WebSocketSession() {
     std::lock_guard lock(shared_->mutex);
@@ -98,20 +146,21 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     ws_.read_message_max(kMaxWebSocketMessage);
     ws_.text(true);
     ws_.async_accept(upgrade, [self = shared_from_this()](beast::error_code ec) {
-      if (!ec) self->read();
+      if (ec) return;
+      self->read();
+      self->watch();
     });
   }
 
   /// On shutdown: a normal close.
   void close() {
-    net::dispatch(ws_.get_executor(), [self = shared_from_this()] {
-      self->push_timer_.cancel();
-      self->ws_.async_close(beast::websocket::close_code::going_away, [self](beast::error_code) {});
-    });
+    net::dispatch(ws_.get_executor(), [self = shared_from_this()] { self->end(beast::websocket::close_code::going_away, ""); });
   }
 
  private:
   void read() {
+    if (closing_) return;
+    if (const std::string reason = peer_->close_reason(); !reason.empty()) return end(beast::websocket::close_code::normal, reason);
     ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) return;  // closed, timed out or too big: Beast has told the peer
       std::string text = beast::buffers_to_string(self->buffer_.data());
@@ -126,6 +175,9 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
       response = peer_->on_message(text);
     } catch (const core::Error& e) {
       response = Response::error(e);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "hrisim: internal error on a WebSocket message: %s\n", e.what());
+      response = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
     }
     if (!response.deferred) {
       send({std::move(response.body), response.content_type == kBinaryContentType, false});
@@ -151,6 +203,12 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   };
 
   void send(Outgoing message) {
+    if (closing_) return;
+    if (!message.droppable && over_answer_limit(message.data.size())) {
+      return end(beast::websocket::close_code::policy_error,
+                 "more than " + std::to_string(shared_->options.max_queued_answers) + " answers or " +
+                     std::to_string(shared_->options.max_queued_answer_bytes) + " bytes unread");
+    }
     if (message.droppable && (outbox_.empty() || outbox_.back().group != message.group)) {
       // The first message may be in flight; of the rest, the oldest push makes room, all its frames
       // at once — but not one whose first frame is being written.
@@ -174,19 +232,75 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     if (outbox_.size() == 1) write_next();
   }
 
+  /// True when one more answer of `bytes` would pass the limits of what a client may leave unread.
+  bool over_answer_limit(std::size_t bytes) const {
+    std::size_t answers = 1;
+    for (const Outgoing& queued : outbox_) {
+      if (queued.droppable) continue;
+      ++answers;
+      bytes += queued.data.size();
+    }
+    return answers > shared_->options.max_queued_answers || bytes > shared_->options.max_queued_answer_bytes;
+  }
+
   void write_next() {
     ws_.binary(outbox_.front().binary);
     ws_.async_write(net::buffer(outbox_.front().data), [self = shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) return;
       self->outbox_.pop_front();
-      if (!self->outbox_.empty()) self->write_next();
+      if (self->outbox_.empty()) {
+        if (self->closing_) self->send_close();
+        return;
+      }
+      self->write_next();
+    });
+  }
+
+  /// Ends the socket: what waits behind the write in flight is dropped, a close frame with `code` and
+  /// `reason` follows that write, and the connection is cut if the peer has not completed the close
+  /// kWebSocketCloseGrace later (a client that reads nothing never will).
+  void end(beast::websocket::close_code code, const std::string& reason) {
+    if (closing_) return;
+    closing_ = true;
+    close_reason_ = {code, beast::websocket::reason_string(reason.substr(0, 120))};
+    push_timer_.cancel();
+    watch_timer_.cancel();
+    if (outbox_.size() > 1) outbox_.erase(outbox_.begin() + 1, outbox_.end());
+    if (outbox_.empty()) send_close();
+    if (shared_->stopping) {
+      watch_timer_.expires_after(kWebSocketShutdownGrace);
+    } else {
+      watch_timer_.expires_after(kWebSocketCloseGrace);
+    }
+    watch_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
+      if (ec) return;
+      beast::error_code ignored;
+      beast::get_lowest_layer(self->ws_).socket().close(ignored);
+    });
+  }
+
+  void send_close() {
+    if (!ws_.is_open()) return;
+    ws_.async_close(close_reason_, [self = shared_from_this()](beast::error_code) { self->watch_timer_.cancel(); });
+  }
+
+  /// Asks the peer about once a second whether the socket should end, so a socket that sends nothing
+  /// learns that its session was deleted.
+  void watch() {
+    watch_timer_.expires_after(kWebSocketWatchInterval);
+    watch_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
+      if (ec || self->closing_ || !self->ws_.is_open()) return;
+      if (const std::string reason = self->peer_->close_reason(); !reason.empty()) {
+        return self->end(beast::websocket::close_code::normal, reason);
+      }
+      self->watch();
     });
   }
 
   /// Starts pushing frames when the peer wants them and no timer runs yet.
   void schedule_push() {
     const double rate = peer_->push_rate();
-    if (rate <= 0.0 || pushing_) return;
+    if (rate <= 0.0 || pushing_ || closing_) return;
     pushing_ = true;
     push_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate)));
     push_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
@@ -230,7 +344,11 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   beast::websocket::stream<beast::tcp_stream> ws_;
   std::shared_ptr<WebSocketPeer> peer_;
   std::shared_ptr<Shared> shared_;
+  std::unique_ptr<Slot> slot_;
   beast::flat_buffer buffer_;
+  net::steady_timer watch_timer_{ws_.get_executor()};  ///< asks the peer whether to end; then the close's grace
+  bool closing_ = false;
+  beast::websocket::close_reason close_reason_;
   std::deque<Outgoing> outbox_;  ///< waiting to be written, the first one being written
   net::steady_timer push_timer_{ws_.get_executor()};
   bool pushing_ = false;       ///< the push timer runs, or pushed frames are being made
@@ -249,8 +367,8 @@ std::string utc_timestamp() {
 
 class Connection : public std::enable_shared_from_this<Connection> {
  public:
-  Connection(tcp::socket&& socket, std::shared_ptr<Shared> shared)
-      : stream_(std::move(socket)), shared_(std::move(shared)) {}
+  Connection(tcp::socket&& socket, std::shared_ptr<Shared> shared, std::unique_ptr<Slot> slot)
+      : stream_(std::move(socket)), shared_(std::move(shared)), slot_(std::move(slot)) {}
 
   ~Connection() {
     std::lock_guard lock(shared_->mutex);
@@ -262,11 +380,12 @@ class Connection : public std::enable_shared_from_this<Connection> {
   }
 
   /// Answers 503 (too many connections) and closes.
-  void reject_busy() {
-    net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
+  void reject_busy(const std::string& why) {
+    net::dispatch(stream_.get_executor(), [self = shared_from_this(), why] {
       self->busy_ = true;
-      self->send(Response::error(core::Error(core::ErrorCode::unavailable, "too many connections; retry later")),
-                 11, false, false);
+      Response response = Response::error(core::Error(core::ErrorCode::unavailable, why));
+      response.headers.emplace_back("Retry-After", "1");
+      self->send(std::move(response), 11, false, false);
     });
   }
 
@@ -364,8 +483,11 @@ class Connection : public std::enable_shared_from_this<Connection> {
       request.path = percent_decode(target.substr(0, query_start));
       response = shared_->router->dispatch(std::move(request));
     } catch (const core::Error& e) {
-      request.path = std::string(target.substr(0, query_start));
       response = Response::error(e);
+    } catch (const std::exception& e) {
+      // The router catches what handlers throw; this is the last line before the process would end.
+      std::fprintf(stderr, "hrisim: internal error on a request: %s\n", e.what());
+      response = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
     }
     Answered answered{std::string(message.method_string()), std::string(target), started, message.version(), keep_alive, head};
     if (!response.deferred) return finish(std::move(response), answered);
@@ -389,7 +511,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
     auto outcome = shared_->router->upgrade(std::move(request));
     if (auto* refused = std::get_if<Response>(&outcome)) return send(std::move(*refused), message.version(), false, false);
     stream_.expires_never();
-    std::make_shared<WebSocketSession>(stream_.release_socket(), std::get<std::shared_ptr<WebSocketPeer>>(outcome), shared_)
+    std::make_shared<WebSocketSession>(stream_.release_socket(), std::get<std::shared_ptr<WebSocketPeer>>(outcome), shared_, std::move(slot_))
         ->start(std::move(message));
   }
 
@@ -462,6 +584,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
 
   beast::tcp_stream stream_;
   std::shared_ptr<Shared> shared_;
+  std::unique_ptr<Slot> slot_;  ///< null for a connection turned away; moves on to its WebSocket
   beast::flat_buffer buffer_;
   std::optional<bhttp::request_parser<bhttp::string_body>> parser_;
   std::array<char, 4096> discard_{};
@@ -495,6 +618,7 @@ class Listener : public std::enable_shared_from_this<Listener> {
     net::dispatch(acceptor_.get_executor(), [self = shared_from_this()] {
       beast::error_code ignored;
       self->acceptor_.close(ignored);
+      self->retry_timer_.cancel();
     });
   }
 
@@ -502,27 +626,37 @@ class Listener : public std::enable_shared_from_this<Listener> {
   void on_accept(beast::error_code ec, tcp::socket socket) {
     if (ec == net::error::operation_aborted || !acceptor_.is_open()) return;
     if (ec) {
-      std::fprintf(stderr, "hrisim: accept failed: %s\n", ec.message().c_str());
-      return accept();
+      // Out of descriptors, typically: accepting again at once would fail again at once, so wait a
+      // little (connections close meanwhile) and say so now and then, not at every attempt.
+      ++failed_accepts_;
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last_accept_error_log_ >= kAcceptErrorLogInterval) {
+        std::fprintf(stderr, "hrisim: accept failed: %s (%llu failed accepts so far; retrying every %lld ms)\n", ec.message().c_str(),
+                     static_cast<unsigned long long>(failed_accepts_), static_cast<long long>(kAcceptRetryDelay.count()));
+        last_accept_error_log_ = now;
+      }
+      retry_timer_.expires_after(kAcceptRetryDelay);
+      retry_timer_.async_wait([self = shared_from_this()](beast::error_code timer_ec) {
+        if (!timer_ec) self->accept();
+      });
+      return;
     }
     if (shared_->stopping) return;
     // Answers go out at once: with Nagle's algorithm the tail of a large answer (an image) waits for
     // the client's delayed acknowledgement, 40 ms on Linux.
     beast::error_code ignored;
     socket.set_option(tcp::no_delay(true), ignored);
-    auto connection = std::make_shared<Connection>(std::move(socket), shared_);
-    bool admitted = false;
-    {
-      std::lock_guard lock(shared_->mutex);
-      if (shared_->connections.size() < shared_->options.max_connections) {
-        shared_->connections.emplace(connection.get(), connection);
-        admitted = true;
-      }
-    }
-    if (admitted) {
-      connection->start();
+    const auto remote = socket.remote_endpoint(ignored);
+    auto slot = Slot::take(shared_, ignored ? std::string("unknown") : remote.address().to_string());
+    if (auto* why = std::get_if<std::string>(&slot)) {
+      std::make_shared<Connection>(std::move(socket), shared_, nullptr)->reject_busy(*why);
     } else {
-      connection->reject_busy();
+      auto connection = std::make_shared<Connection>(std::move(socket), shared_, std::move(std::get<std::unique_ptr<Slot>>(slot)));
+      {
+        std::lock_guard lock(shared_->mutex);
+        shared_->connections.emplace(connection.get(), connection);
+      }
+      connection->start();
     }
     accept();
   }
@@ -530,6 +664,9 @@ class Listener : public std::enable_shared_from_this<Listener> {
   net::io_context& io_;
   tcp::acceptor acceptor_;
   std::shared_ptr<Shared> shared_;
+  net::steady_timer retry_timer_{acceptor_.get_executor()};
+  std::uint64_t failed_accepts_ = 0;
+  std::chrono::steady_clock::time_point last_accept_error_log_{};
 };
 
 }  // namespace

@@ -19,8 +19,14 @@ inline constexpr std::size_t kDefaultBodyLimit = 4 * 1024 * 1024;
 inline constexpr std::chrono::seconds kDefaultReadTimeout{30};
 /// Time allowed to send one response.
 inline constexpr std::chrono::seconds kDefaultWriteTimeout{30};
-/// Connections beyond this are answered 503 and closed.
+/// Connections (WebSockets included) beyond this are answered 503 and closed.
 inline constexpr std::size_t kDefaultMaxConnections = 256;
+/// Connections (WebSockets included) one client address may hold; more are answered 503.
+inline constexpr std::size_t kDefaultMaxConnectionsPerClient = 64;
+/// Answers a WebSocket client may leave unread, by count and by bytes; past either the server closes
+/// the socket with 1008 (policy violation).
+inline constexpr std::size_t kDefaultMaxQueuedAnswers = 64;
+inline constexpr std::size_t kDefaultMaxQueuedAnswerBytes = 64u << 20;
 inline constexpr std::uint16_t kDefaultPort = 8080;
 
 struct ServerOptions {
@@ -31,6 +37,9 @@ struct ServerOptions {
   std::chrono::milliseconds read_timeout = kDefaultReadTimeout;
   std::chrono::milliseconds write_timeout = kDefaultWriteTimeout;
   std::size_t max_connections = kDefaultMaxConnections;
+  std::size_t max_connections_per_client = kDefaultMaxConnectionsPerClient;
+  std::size_t max_queued_answers = kDefaultMaxQueuedAnswers;
+  std::size_t max_queued_answer_bytes = kDefaultMaxQueuedAnswerBytes;
   unsigned threads = 0;  ///< 0 = one per core
   unsigned workers = 0;  ///< threads for deferred answers (simulation work); 0 = one per core
   bool log_requests = true;

@@ -40,6 +40,7 @@ constexpr std::size_t kMaxLiveRecordedBodies = 2'000'000;
 
 struct Live {
   std::string id, scenario;
+  std::string owner;  ///< who created it (the token's name); empty without owners
   std::int64_t seed = 0;
   std::string mode = "lockstep";  ///< lockstep: clients step it; realtime: the server does, by the wall clock
   double realtime_factor = 1.0;   ///< realtime: simulated seconds per wall-clock second
@@ -51,7 +52,8 @@ struct Live {
   std::size_t events_reported = 0;  ///< events before this index were in a step reply already
   std::uint64_t generation = 0;     ///< counts resets, so that viewers notice a fresh start
   Clock::time_point last_used;
-  std::atomic<int> clients{0};  ///< WebSockets open on it
+  /// WebSockets open on it; shared with them, as they hold no reference to the session.
+  std::shared_ptr<std::atomic<int>> clients = std::make_shared<std::atomic<int>>(0);
   // Realtime: the wall-clock time and tick it was last (re)started from.
   Clock::time_point realtime_origin;
   std::int64_t realtime_origin_tick = 0;
@@ -113,7 +115,7 @@ json status_of(const Live& live) {
           {"mode", live.mode},
           {"realtime_factor", live.mode == "realtime" ? json(live.realtime_factor) : json()},
           {"controller", live.controller ? *live.controller : json()},
-          {"connected_clients", live.clients.load()},
+          {"connected_clients", live.clients->load()},
           {"tick", state.tick},
           {"time", session.time()},
           {"dt", session.model().dt},
@@ -427,6 +429,16 @@ json step_session(Live& live, std::int64_t steps, const std::optional<std::vecto
   return reply;
 }
 
+/// Answers with the session's lock held: at once when it is free, else on the worker pool, so that an
+/// I/O thread never waits behind a long step (health checks and other sessions stay answered).
+Response locked(std::shared_ptr<Live> live, std::function<Response(Live&)> work) {
+  if (std::unique_lock lock(live->mutex, std::try_to_lock); lock) return work(*live);
+  return Response::later([live = std::move(live), work = std::move(work)] {
+    std::lock_guard lock(live->mutex);
+    return work(*live);
+  });
+}
+
 class Registry {
  public:
   explicit Registry(SessionLimits limits) : limits_(limits), ticker_([this](std::stop_token stop) { step_realtime(stop); }) {}
@@ -436,7 +448,7 @@ class Registry {
   }
 
   std::shared_ptr<Live> create(const std::string& scenario, std::shared_ptr<const scenario::Model> model, std::int64_t seed,
-                               const std::string& mode, double realtime_factor, std::optional<json> controller) {
+                               const std::string& mode, double realtime_factor, std::optional<json> controller, const std::string& owner) {
     std::lock_guard lock(mutex_);
     expire_idle();
     if (static_cast<int>(sessions_.size()) >= limits_.max_sessions) {
@@ -451,39 +463,59 @@ class Registry {
     live->mode = mode;
     live->realtime_factor = realtime_factor;
     live->controller = std::move(controller);
+    live->owner = owner;
     live->start(std::move(model));
     live->last_used = Clock::now();
     sessions_.emplace(live->id, live);
     return live;
   }
 
-  std::shared_ptr<Live> find(const std::string& id) {
+  /// The session as `caller` may see it: another owner's is absent (404), as an unknown one.
+  std::shared_ptr<Live> find(const std::string& id, const Caller& caller) {
     std::lock_guard lock(mutex_);
     expire_idle();
     const auto found = sessions_.find(id);
-    if (found == sessions_.end()) throw core::Error(core::ErrorCode::not_found, "no session '" + id + "'", {{"id", id}});
+    if (found == sessions_.end() || !visible_to(caller, found->second->owner)) {
+      throw core::Error(core::ErrorCode::not_found, "no session '" + id + "'", {{"id", id}});
+    }
     found->second->last_used = Clock::now();
     return found->second;
   }
 
-  void remove(const std::string& id) {
+  /// The session if it is still there, or null (for its WebSockets, which hold no reference to it).
+  std::shared_ptr<Live> find_if_live(const std::string& id) {
     std::lock_guard lock(mutex_);
-    if (sessions_.erase(id) == 0) throw core::Error(core::ErrorCode::not_found, "no session '" + id + "'", {{"id", id}});
+    const auto found = sessions_.find(id);
+    if (found == sessions_.end()) return nullptr;
+    found->second->last_used = Clock::now();
+    return found->second;
   }
 
-  std::vector<std::shared_ptr<Live>> all() {
+  void remove(const std::string& id, const Caller& caller) {
+    std::lock_guard lock(mutex_);
+    const auto found = sessions_.find(id);
+    if (found == sessions_.end() || !visible_to(caller, found->second->owner)) {
+      throw core::Error(core::ErrorCode::not_found, "no session '" + id + "'", {{"id", id}});
+    }
+    sessions_.erase(found);
+  }
+
+  std::vector<std::shared_ptr<Live>> all(const Caller& caller) {
     std::lock_guard lock(mutex_);
     expire_idle();
     std::vector<std::shared_ptr<Live>> list;
-    for (const auto& [id, live] : sessions_) list.push_back(live);
+    for (const auto& [id, live] : sessions_) {
+      if (visible_to(caller, live->owner)) list.push_back(live);
+    }
     return list;
   }
 
  private:
-  /// Idle sessions go (checked whenever the registry is used; the wall clock never enters a session).
+  /// Idle sessions go (checked whenever the registry is used; the wall clock never enters a session);
+  /// one with a WebSocket open is in use, even when its client is silent.
   void expire_idle() {
     const auto now = Clock::now();
-    std::erase_if(sessions_, [&](const auto& entry) { return now - entry.second->last_used > limits_.idle_timeout; });
+    std::erase_if(sessions_, [&](const auto& entry) { return *entry.second->clients == 0 && now - entry.second->last_used > limits_.idle_timeout; });
   }
 
   /// Steps every realtime session to where the wall clock says it should be, kRealtimeTick apart. A
@@ -608,11 +640,14 @@ Response camera_frame(const sim::Session& session, const std::string& name, int 
 /// A wrong message gets {"type": "error", "error": {code, message, details}} and the socket stays open.
 class SessionSocket : public WebSocketPeer {
  public:
-  SessionSocket(std::shared_ptr<Registry> registry, std::shared_ptr<Live> live)
-      : registry_(std::move(registry)), id_(live->id), live_(std::move(live)) {
-    ++live_->clients;
+  /// Holds no reference to the session: a deleted one is freed, and the socket then closes.
+  SessionSocket(std::shared_ptr<Registry> registry, const std::shared_ptr<Live>& live, Caller caller)
+      : registry_(std::move(registry)), id_(live->id), clients_(live->clients), caller_(std::move(caller)) {
+    ++*clients_;
   }
-  ~SessionSocket() override { --live_->clients; }
+  ~SessionSocket() override { --*clients_; }
+
+  std::string close_reason() const override { return registry_->find_if_live(id_) ? "" : "session " + id_ + " ended"; }
 
   Response on_message(const std::string& text) override {
     try {
@@ -621,7 +656,10 @@ class SessionSocket : public WebSocketPeer {
       json body = json_object_body(message);
       const std::string type = body.value("type", "");
       body.erase("type");
-      const auto live = registry_->find(id_);  // also keeps it from expiring while in use
+      const auto live = registry_->find(id_, caller_);
+      if (caller_.read_only && (type == "step" || type == "commands")) {
+        throw core::Error(core::ErrorCode::forbidden, "this socket's token may only read", {{"pointer", "/type"}});
+      }
       if (type == "step") {
         refuse_unknown_keys(body, {"n", "action"});
         const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
@@ -641,16 +679,14 @@ class SessionSocket : public WebSocketPeer {
         if (!body.contains("commands") || !body["commands"].is_array()) {
           throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
         }
-        std::lock_guard lock(live->mutex);
-        return reply("commands", give_commands(*live, body["commands"]));
+        return answer_locked(live, [commands = body["commands"]](Live& session) { return reply("commands", give_commands(session, commands)); });
       }
       if (type == "sensors") {
         refuse_unknown_keys(body, {"robot"});
         if (!body.contains("robot") || !body["robot"].is_string()) {
           throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
         }
-        std::lock_guard lock(live->mutex);
-        return reply("sensors", sensors_of(*live->session, body["robot"]));
+        return answer_locked(live, [robot = body["robot"].get<std::string>()](Live& session) { return reply("sensors", sensors_of(*session.session, robot)); });
       }
       if (type == "laser") {
         refuse_unknown_keys(body, {"robot", "sensor"});
@@ -660,8 +696,9 @@ class SessionSocket : public WebSocketPeer {
         if (body.contains("sensor") && !body["sensor"].is_string()) {
           throw core::Error(core::ErrorCode::bad_request, "sensor: a laser's name", {{"pointer", "/sensor"}});
         }
-        std::lock_guard lock(live->mutex);
-        return Response{200, kBinaryContentType, laser_of(*live->session, body["robot"], body.value("sensor", "")), {}, {}};
+        return answer_locked(live, [robot = body["robot"].get<std::string>(), sensor = body.value("sensor", "")](Live& session) {
+          return Response{200, kBinaryContentType, laser_of(*session.session, robot, sensor), {}, {}};
+        });
       }
       if (type == "camera") {
         refuse_unknown_keys(body, {"camera", "width", "height", "ids"});
@@ -671,8 +708,9 @@ class SessionSocket : public WebSocketPeer {
         const auto width = static_cast<int>(integer_field(body, "width", 16, kMaxFrameSize, 0));
         const auto height = static_cast<int>(integer_field(body, "height", 16, kMaxFrameSize, 0));
         if (body.contains("ids") && !body["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/ids"}});
-        std::lock_guard lock(live->mutex);
-        return camera_frame(*live->session, body["camera"], width, height, body.value("ids", false));
+        return answer_locked(live, [camera = body["camera"].get<std::string>(), width, height, ids = body.value("ids", false)](Live& session) {
+          return camera_frame(*session.session, camera, width, height, ids);
+        });
       }
       if (type == "subscribe") {
         refuse_unknown_keys(body, {"rate", "camera"});
@@ -692,8 +730,8 @@ class SessionSocket : public WebSocketPeer {
                                       static_cast<int>(integer_field(asked, "height", 16, kMaxFrameSize, 0, "/camera")), false};
           if (asked.contains("ids") && !asked["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/camera/ids"}});
           camera->ids = asked.value("ids", false);
-          std::lock_guard lock(live->mutex);
-          sim::camera_of(*live->session, camera->name, camera->width, camera->height);  // refuses an unknown camera now
+          // An unknown camera is refused now, unless the session is busy (then the first push drops it).
+          if (std::unique_lock lock(live->mutex, std::try_to_lock); lock) sim::camera_of(*live->session, camera->name, camera->width, camera->height);
         }
         rate_ = body["rate"].get<double>();
         camera_ = rate_ > 0.0 ? camera : std::nullopt;  // rate 0 stops both kinds of frame
@@ -704,8 +742,7 @@ class SessionSocket : public WebSocketPeer {
       if (type == "state") {
         refuse_unknown_keys(body, {"events_since"});
         const auto since = integer_field(body, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
-        std::lock_guard lock(live->mutex);
-        return reply("state", state_of(*live, since));
+        return answer_locked(live, [since](Live& session) { return reply("state", state_of(session, since)); });
       }
       throw core::Error(core::ErrorCode::bad_request, "type must be step, commands, state, sensors, laser, camera or subscribe", {{"pointer", "/type"}});
     } catch (const core::Error& e) {
@@ -716,10 +753,8 @@ class SessionSocket : public WebSocketPeer {
   double push_rate() const override { return rate_; }
 
   std::vector<Response> push_frames(std::uint64_t dropped) override {
-    std::shared_ptr<Live> live;
-    try {
-      live = registry_->find(id_);
-    } catch (const core::Error&) {
+    const std::shared_ptr<Live> live = registry_->find_if_live(id_);
+    if (!live) {
       rate_ = 0.0;  // the session is gone
       return {};
     }
@@ -753,6 +788,17 @@ class SessionSocket : public WebSocketPeer {
   }
 
  private:
+  /// locked(), with errors answered as WebSocket error messages wherever the work runs.
+  static Response answer_locked(std::shared_ptr<Live> live, std::function<Response(Live&)> work) {
+    return locked(std::move(live), [work = std::move(work)](Live& session) {
+      try {
+        return work(session);
+      } catch (const core::Error& e) {
+        return failure(e);
+      }
+    });
+  }
+
   static Response reply(const char* type, json body) {
     body["type"] = type;
     return Response::json(200, body);
@@ -765,7 +811,8 @@ class SessionSocket : public WebSocketPeer {
 
   std::shared_ptr<Registry> registry_;
   std::string id_;
-  std::shared_ptr<Live> live_;  ///< for the count of connected clients; messages look it up by id
+  std::shared_ptr<std::atomic<int>> clients_;  ///< the session's count of connected clients, shared with it
+  Caller caller_;
   // Touched on the connection's strand only.
   double rate_ = 0.0;              ///< state frames per second subscribed to
   struct CameraSubscription {
@@ -813,21 +860,9 @@ Response refused(const core::Error& error) {
   return response;
 }
 
-/// A browser's Origin may open a WebSocket when it is the server's own (same host and port) or listed.
-/// Clients that are not browsers send no Origin.
-bool origin_allowed(const Request& request, const std::vector<std::string>& allowed) {
-  const auto origin = request.headers.find("origin");
-  if (origin == request.headers.end()) return true;
-  const auto host = request.headers.find("host");
-  const std::string& value = origin->second;
-  const auto scheme_end = value.find("://");
-  if (host != request.headers.end() && scheme_end != std::string::npos && value.substr(scheme_end + 3) == host->second) return true;
-  return std::find(allowed.begin(), allowed.end(), value) != allowed.end();
-}
-
 }  // namespace
 
-void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, WebSocketAccess access) {
+void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, std::shared_ptr<TicketBook> tickets) {
   auto registry = std::make_shared<Registry>(limits);
 
   router.add("POST", "/api/v1/sessions", [catalogue, registry](const Request& request) {
@@ -853,96 +888,93 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       }
       factor = value.get<double>();
     }
-    const auto* entry = catalogue->find(scenario);
-    if (!entry || !entry->source.model) {
-      throw core::Error(core::ErrorCode::not_found, "no scenario '" + scenario + "'", {{"pointer", "/scenario"}, {"id", scenario}});
-    }
-    std::shared_ptr<const scenario::Model> model = entry->source.model;
-    std::optional<json> controller;
-    if (body.contains("controller") && !body["controller"].is_null()) {
-      json errors = json::array();
-      model = runs::with_controller(entry->source.document, body["controller"], catalogue->options().load, errors).model;
-      runs::throw_if_problems(errors);
-      controller = body["controller"];
-    }
-    try {
-      const auto live = registry->create(scenario, model, seed, mode, factor, controller);
-      std::lock_guard lock(live->mutex);
-      Response response = Response::json(201, status_of(*live));
-      response.headers.emplace_back("Location", "/api/v1/sessions/" + live->id);
-      return response;
-    } catch (const core::Error& error) {
-      return refused(error);
-    }
+    // Compiling an upload and building the session's world (physics, sensors) are work for the pool.
+    return Response::later([catalogue, registry, body, scenario, seed, mode, factor, caller = request.caller] {
+      const auto entry = catalogue->find(scenario, caller);
+      if (!entry || !entry->source.model) {
+        throw core::Error(core::ErrorCode::not_found, "no scenario '" + scenario + "'", {{"pointer", "/scenario"}, {"id", scenario}});
+      }
+      std::shared_ptr<const scenario::Model> model = entry->source.model;
+      std::optional<json> controller;
+      if (body.contains("controller") && !body["controller"].is_null()) {
+        json errors = json::array();
+        model = runs::with_controller(entry->source.document, body["controller"], catalogue->options().load, errors).model;
+        runs::throw_if_problems(errors);
+        controller = body["controller"];
+      }
+      try {
+        const auto live = registry->create(scenario, model, seed, mode, factor, controller, caller.owner);
+        std::lock_guard lock(live->mutex);
+        Response response = Response::json(201, status_of(*live));
+        response.headers.emplace_back("Location", "/api/v1/sessions/" + live->id);
+        return response;
+      } catch (const core::Error& error) {
+        return refused(error);
+      }
+    });
   });
 
-  router.add("GET", "/api/v1/sessions", [registry](const Request&) {
-    json items = json::array();
-    for (const auto& live : registry->all()) {
-      std::lock_guard lock(live->mutex);
-      items.push_back(status_of(*live));
-    }
-    return Response::json(200, {{"items", items}});
+  router.add("GET", "/api/v1/sessions", [registry](const Request& request) {
+    // Each session's lock is taken: on the pool, where waiting behind a long step holds no I/O thread.
+    return Response::later([registry, caller = request.caller] {
+      json items = json::array();
+      for (const auto& live : registry->all(caller)) {
+        std::lock_guard lock(live->mutex);
+        items.push_back(status_of(*live));
+      }
+      return Response::json(200, {{"items", items}});
+    });
   });
 
-  router.add_websocket("/api/v1/sessions/{id}/ws", [registry, allowed = access.allowed_origins](const Request& request) -> std::shared_ptr<WebSocketPeer> {
+  router.add_websocket("/api/v1/sessions/{id}/ws", [registry](const Request& request) -> std::shared_ptr<WebSocketPeer> {
+    // 404 for an unknown session, before the upgrade; the Origin was checked by the guard.
+    return std::make_shared<SessionSocket>(registry, registry->find(request.path_params.at("id"), request.caller), request.caller);
+  });
+
+  router.add("POST", "/api/v1/sessions/{id}/ws-ticket", [registry, tickets](const Request& request) {
     const std::string& id = request.path_params.at("id");
-    if (!origin_allowed(request, allowed)) {
-      throw core::Error(core::ErrorCode::forbidden, "WebSocket from origin " + request.headers.at("origin") + " refused (see --allowed-origins)",
-                        {{"origin", request.headers.at("origin")}});
-    }
-    return std::make_shared<SessionSocket>(registry, registry->find(id));  // 404 for an unknown session, before the upgrade
-  });
-
-  router.add("POST", "/api/v1/sessions/{id}/ws-ticket", [registry, tickets = access.tickets](const Request& request) {
-    const std::string& id = request.path_params.at("id");
-    registry->find(id);
-    const std::string ticket = tickets->issue(id);
+    registry->find(id, request.caller);
+    const std::string ticket = tickets->issue(id, request.caller);
     return Response::json(201, {{"ticket", ticket},
                                 {"expires_in", kTicketLifetime.count()},
                                 {"url", "/api/v1/sessions/" + id + "/ws?ticket=" + ticket}});
   });
 
   router.add("GET", "/api/v1/sessions/{id}", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
-    std::lock_guard lock(live->mutex);
-    return Response::json(200, status_of(*live));
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) { return Response::json(200, status_of(live)); });
   });
 
   router.add("DELETE", "/api/v1/sessions/{id}", [registry](const Request& request) {
-    registry->remove(request.path_params.at("id"));
+    registry->remove(request.path_params.at("id"), request.caller);
     return Response{204, "application/json", "", {}, {}};
   });
 
   router.add("GET", "/api/v1/sessions/{id}/state", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
     const auto since = integer_query(request, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
-    std::lock_guard lock(live->mutex);
-    return Response::json(200, state_of(*live, since));
+    return locked(live, [since](Live& session) { return Response::json(200, state_of(session, since)); });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/robots/{robot}/sensors", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
-    std::lock_guard lock(live->mutex);
-    return Response::json(200, sensors_of(*live->session, request.path_params.at("robot")));
+    return locked(registry->find(request.path_params.at("id"), request.caller), [robot = request.path_params.at("robot")](Live& live) {
+      return Response::json(200, sensors_of(*live.session, robot));
+    });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/poses", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
-    std::lock_guard lock(live->mutex);
-    return Response::json(200, poses_of(*live->session));
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) { return Response::json(200, poses_of(*live.session)); });
   });
 
   router.add("PUT", "/api/v1/sessions/{id}/poses/{name}", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
-    const json body = json_object_body(request);
-    std::lock_guard lock(live->mutex);
-    place(*live->session, request.path_params.at("name"), body, "");
-    return Response::json(200, poses_of(*live->session));
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
+    return locked(live, [body = json_object_body(request), name = request.path_params.at("name")](Live& session) {
+      place(*session.session, name, body, "");
+      return Response::json(200, poses_of(*session.session));
+    });
   });
 
   router.add("POST", "/api/v1/sessions/{id}/reset", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
     const json body = json_object_body(request);
     refuse_unknown_keys(body, {"seed", "options"});
     const json options = body.value("options", json::object());
@@ -952,41 +984,43 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     }
     const json poses = options.value("poses", json::object());
     if (!poses.is_object()) throw core::Error(core::ErrorCode::bad_request, "options.poses: {name: pose}", {{"pointer", "/options/poses"}});
-    std::lock_guard lock(live->mutex);
-    const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, live->seed);
-    // A fresh session of the same scenario: everything starts again from tick 0, then the poses given
-    // are set (all or none: a bad one leaves the old session as it was).
-    auto fresh = std::make_unique<Live>();
-    fresh->seed = seed;
-    fresh->start(live->session->shared_model());
-    for (const auto& [name, pose] : poses.items()) place(*fresh->session, name, pose, "/options/poses/" + core::pointer_token(name));
-    live->seed = seed;
-    ++live->generation;
-    live->session = std::move(fresh->session);
-    live->environment = std::move(fresh->environment);
-    live->recorder = std::move(fresh->recorder);
-    live->events_reported = 0;
-    live->realtime_origin = fresh->realtime_origin;
-    live->realtime_origin_tick = 0;
-    // Gymnasium's reset: the first observation and info, with the session's status.
-    json reply = status_of(*live);
-    add_observation(*live, reply);
-    return Response::json(200, reply);
+    // A fresh session is built: work for the pool.
+    return Response::later([live, body, poses] {
+      std::lock_guard lock(live->mutex);
+      const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, live->seed);
+      // A fresh session of the same scenario: everything starts again from tick 0, then the poses given
+      // are set (all or none: a bad one leaves the old session as it was).
+      auto fresh = std::make_unique<Live>();
+      fresh->seed = seed;
+      fresh->start(live->session->shared_model());
+      for (const auto& [name, pose] : poses.items()) place(*fresh->session, name, pose, "/options/poses/" + core::pointer_token(name));
+      live->seed = seed;
+      ++live->generation;
+      live->session = std::move(fresh->session);
+      live->environment = std::move(fresh->environment);
+      live->recorder = std::move(fresh->recorder);
+      live->events_reported = 0;
+      live->realtime_origin = fresh->realtime_origin;
+      live->realtime_origin_tick = 0;
+      // Gymnasium's reset: the first observation and info, with the session's status.
+      json reply = status_of(*live);
+      add_observation(*live, reply);
+      return Response::json(200, reply);
+    });
   });
 
   router.add("POST", "/api/v1/sessions/{id}/commands", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
     const json body = json_object_body(request);
     refuse_unknown_keys(body, {"commands"});
     if (!body.contains("commands") || !body["commands"].is_array()) {
       throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
     }
-    std::lock_guard lock(live->mutex);
-    return Response::json(200, give_commands(*live, body["commands"]));
+    return locked(live, [commands = body["commands"]](Live& session) { return Response::json(200, give_commands(session, commands)); });
   });
 
   router.add("POST", "/api/v1/sessions/{id}/step", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
     const json body = json_object_body(request);
     refuse_unknown_keys(body, {"n", "action"});
     const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
@@ -1000,7 +1034,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   });
 
   router.add("GET", "/api/v1/sessions/{id}/metrics", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
     // Computed from every step so far, on the worker pool: a long session has many.
     return Response::later([live] {
       std::lock_guard lock(live->mutex);
@@ -1019,41 +1053,38 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   });
 
   router.add("GET", "/api/v1/sessions/{id}/frames/{camera}", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
     const FrameRequest asked = frame_request(request);
     // The scene is copied under the session's lock; drawing happens after, on the worker pool.
-    render::Scene scene;
-    render::Camera camera;
-    {
-      std::lock_guard lock(live->mutex);
-      const sim::CameraInfo info = sim::camera_of(*live->session, request.path_params.at("camera"), asked.width, asked.height);
-      camera = info.camera;
-      scene = sim::scene_for(*live->session, info);
-    }
-    return Response::later([scene = std::move(scene), camera, asked] { return encode_frame(render::render_on_this_thread(scene, camera), asked); });
+    return locked(live, [asked, name = request.path_params.at("camera")](Live& session) {
+      const sim::CameraInfo info = sim::camera_of(*session.session, name, asked.width, asked.height);
+      return Response::later([scene = sim::scene_for(*session.session, info), camera = info.camera, asked] {
+        return encode_frame(render::render_on_this_thread(scene, camera), asked);
+      });
+    });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/cameras", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
-    std::lock_guard lock(live->mutex);
-    json cameras = json::array();
-    for (const sim::CameraInfo& info : sim::cameras_of(*live->session)) cameras.push_back(camera_json(info));
-    return Response::json(200, {{"id", live->id}, {"tick", live->session->state().tick}, {"cameras", cameras},
-                                {"segmentation", sim::segmentation_legend(*live->session)}});
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) {
+      json cameras = json::array();
+      for (const sim::CameraInfo& info : sim::cameras_of(*live.session)) cameras.push_back(camera_json(info));
+      return Response::json(200, {{"id", live.id}, {"tick", live.session->state().tick}, {"cameras", cameras},
+                                  {"segmentation", sim::segmentation_legend(*live.session)}});
+    });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/action_space", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
-    std::lock_guard lock(live->mutex);
-    if (!live->environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act");
-    return Response::json(200, space_json(live->environment->action_space()));
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) {
+      if (!live.environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act");
+      return Response::json(200, space_json(live.environment->action_space()));
+    });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/observation_space", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"));
-    std::lock_guard lock(live->mutex);
-    if (!live->environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot to observe");
-    return Response::json(200, space_json(live->environment->observation_space(), live->environment->image()));
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) {
+      if (!live.environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot to observe");
+      return Response::json(200, space_json(live.environment->observation_space(), live.environment->image()));
+    });
   });
 }
 

@@ -13,12 +13,7 @@
 
 namespace hrisim::http {
 
-/// Who may open a session's WebSocket besides a client with the bearer token.
-struct WebSocketAccess {
-  std::shared_ptr<TicketBook> tickets;       ///< tickets issued by POST …/ws-ticket
-  std::vector<std::string> allowed_origins;  ///< browser origins besides the server's own
-};
-
-void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, WebSocketAccess access);
+/// `tickets`: issued by POST …/ws-ticket, for browsers that cannot send a token on an upgrade.
+void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, std::shared_ptr<TicketBook> tickets);
 
 }  // namespace hrisim::http

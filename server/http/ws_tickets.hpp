@@ -4,7 +4,10 @@
 #include <chrono>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
+
+#include "http/router.hpp"
 
 namespace hrisim::http {
 
@@ -13,14 +16,15 @@ inline constexpr std::chrono::seconds kTicketLifetime{30};
 
 class TicketBook {
  public:
-  /// A new ticket for the WebSocket of session `session_id`.
-  std::string issue(const std::string& session_id);
-  /// True, once, for an unexpired ticket issued for this session.
-  bool redeem(const std::string& ticket, const std::string& session_id);
+  /// A new ticket for `caller` to open the WebSocket of session `session_id`.
+  std::string issue(const std::string& session_id, const Caller& caller);
+  /// The caller it was issued to, once, for an unexpired ticket issued for this session.
+  std::optional<Caller> redeem(const std::string& ticket, const std::string& session_id);
 
  private:
   struct Ticket {
     std::string session_id;
+    Caller caller;
     std::chrono::steady_clock::time_point expires;
   };
   std::mutex mutex_;

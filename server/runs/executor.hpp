@@ -32,6 +32,7 @@ struct RunSpec {
   std::optional<double> max_time;
   std::vector<std::pair<double, std::string>> requests;  ///< scripted robot requests (time, task)
   bool baseline_without_robot = false;                    ///< see EpisodeOptions
+  std::string owner;  ///< who started it (a token's name); empty without owners
 };
 
 class Executor {

@@ -76,6 +76,13 @@ RunSpec make_run_spec(const RunRequest& request) {
     loaded = scenario::load_scenario(request.document, request.load);
     for (const core::ValidationError& error : loaded.errors) problem("/scenario" + error.pointer, error.message);
   }
+  if (loaded.model && request.max_time && *request.max_time > 0.0) {
+    try {
+      scenario::check_episode_ticks(*request.max_time, loaded.model->dt, request.load.limits.max_episode_ticks, "max_time");
+    } catch (const core::Error& e) {
+      problem("/max_time", e.what());
+    }
+  }
   for (std::size_t i = 0; loaded.model && i < request.requests.size(); ++i) {
     if (loaded.model->find_task(request.requests[i].second) < 0) {
       problem("/requests/" + std::to_string(i), "the scenario has no task '" + request.requests[i].second + "'");

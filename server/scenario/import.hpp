@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "scenario/load.hpp"
+
 namespace hrisim::scenario {
 
 struct ImportMessage {
@@ -27,6 +29,7 @@ struct ImportOptions {
   std::optional<std::filesystem::path> map;           ///< a ROS map YAML or a world JSON replacing the file's map
   std::vector<std::filesystem::path> map_search_path;  ///< where IMHuS map names are looked up (maps/<name>.world.json)
   std::string source_name;                            ///< file name, for the description
+  ScenarioLimits limits;                              ///< people and files, as for loading
 };
 
 ImportResult import_imhus(std::string_view xml, const ImportOptions& options);

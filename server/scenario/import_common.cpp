@@ -1,10 +1,13 @@
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
+#include "core/files.hpp"
+#include "core/text.hpp"
 #include "scenario/import.hpp"
 #include "scenario/xml_reader.hpp"
 
@@ -56,6 +59,13 @@ std::optional<double> XmlReader::number(const tinyxml2::XMLElement* element, con
 }
 
 bool parse_xml(std::string_view xml, tinyxml2::XMLDocument& document, ImportResult& result) {
+  // XML without an encoding declaration is UTF-8; tinyxml2 does not check it, and names read from it
+  // end up in JSON.
+  if (const auto bad = core::invalid_utf8_offset(xml)) {
+    const auto line = 1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(*bad), '\n');
+    result.errors.push_back({static_cast<int>(line), "the document is not UTF-8 (byte " + std::to_string(*bad) + ")"});
+    return false;
+  }
   if (document.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
     result.errors.push_back({document.ErrorLineNum(), std::string("malformed XML: ") + document.ErrorStr()});
     return false;
@@ -82,11 +92,8 @@ std::optional<nlohmann::ordered_json> world_from_file(const std::filesystem::pat
   if (file.extension() == ".yaml" || file.extension() == ".yml") {
     return nlohmann::ordered_json{{"map", std::filesystem::absolute(file).string()}};
   }
-  std::ifstream in(file);
-  std::ostringstream text;
-  text << in.rdbuf();
   try {
-    auto world = nlohmann::ordered_json::parse(text.str());
+    auto world = nlohmann::ordered_json::parse(core::read_file(file));
     if (!world.is_object()) throw std::runtime_error("not a JSON object");
     return world;
   } catch (const std::exception& e) {

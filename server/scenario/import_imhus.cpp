@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/math.hpp"
+#include "core/files.hpp"
 #include "scenario/import.hpp"
 #include "scenario/xml_reader.hpp"
 
@@ -378,13 +379,8 @@ class ImhusImporter {
       reader_.fail(nullptr, "no <map_name name=...>: give the map with --map");
     } else {
       const std::string map = map_name->Attribute("name");
-      std::optional<std::filesystem::path> found;
-      for (const auto& folder : options_.map_search_path) {
-        if (std::filesystem::exists(folder / "maps" / (map + ".world.json"))) {
-          found = folder / "maps" / (map + ".world.json");
-          break;
-        }
-      }
+      const auto found = core::find_file(options_.map_search_path, std::filesystem::path("maps") / (map + ".world.json"),
+                                         options_.limits.confine_files);
       if (!found) {
         reader_.fail(map_name, "unknown map '" + map + "': no maps/" + map + ".world.json among the bundled scenarios (use --map FILE)");
       } else if (auto world = world_from_file(*found, error)) {

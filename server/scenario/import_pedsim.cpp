@@ -103,9 +103,15 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
       reader.fail(cluster, "type must be 0 (adult), 1 (child), 2 (robot) or 3 (elder)");
       continue;
     }
-    if (n < 0 || n != std::floor(n) || n > 100000) {
+    if (n < 0 || n != std::floor(n)) {
       reader.fail(cluster, "n must be a whole number of agents");
       continue;
+    }
+    // Checked before any agent is made: a few bytes of XML may ask for millions.
+    if (counter + n > options.limits.max_people) {
+      reader.fail(cluster, "with this cluster's agents the file has more than the " + std::to_string(options.limits.max_people) +
+                               " people a scenario may hold (--max-people)");
+      break;
     }
     if (std::string(cluster->Name()) == "source") {
       reader.warn(cluster, "a source spawns its agents once; Pedsim's respawning is not modelled");

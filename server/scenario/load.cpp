@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "humans/motion.hpp"
+#include "core/files.hpp"
 #include "world/ros_map.hpp"
 
 namespace hrisim::scenario {
@@ -81,6 +82,12 @@ class Loader {
     read_async(*model);
     check_task_cycles(*model);
     read_task(*model);
+    try {
+      check_episode_ticks(model->time_limit, model->dt, options_.limits.max_episode_ticks,
+                          model->task ? "task.max_episode_length" : "time_limit");
+    } catch (const core::Error& e) {
+      error(model->task ? "/task/max_episode_length" : "/time_limit", e.what());
+    }
     warn_about_social_force_goals(*model);
     return errors_.empty() ? model : nullptr;
   }
@@ -88,27 +95,20 @@ class Loader {
  private:
   void error(const std::string& pointer, const std::string& message) { errors_.push_back({pointer, message}); }
 
-  std::optional<std::filesystem::path> find_map(const std::string& name) const {
-    const std::filesystem::path path(name);
-    if (path.is_absolute()) return std::filesystem::exists(path) ? std::optional(path) : std::nullopt;
-    for (const auto& folder : options_.map_search_path) {
-      if (std::filesystem::exists(folder / path)) return folder / path;
-    }
-    return std::nullopt;
-  }
-
   std::shared_ptr<Model> build_world() {
     const json& world = doc_.at("world");
     std::optional<world::OccupancyGrid> grid;
     if (world.contains("map")) {
       const std::string name = world["map"];
-      const auto path = find_map(name);
+      const auto path = core::find_file(options_.map_search_path, name, options_.limits.confine_files);
       if (!path) {
-        error("/world/map", "map '" + name + "' not found (looked next to the scenario and in the bundled scenarios)");
+        error("/world/map", "map '" + name + "' not found (a relative path, looked up next to the scenario and among the bundled scenarios)");
         return nullptr;
       }
       try {
-        grid = world::load_ros_map(*path);
+        world::RosMapLimits limits{std::nullopt, options_.limits.max_grid_cells};
+        if (options_.limits.confine_files) limits.folder = path->parent_path();
+        grid = world::load_ros_map(*path, limits);
       } catch (const core::Error& e) {
         error("/world/map", e.what());
         return nullptr;
@@ -118,6 +118,12 @@ class Loader {
       const double resolution = world.value("resolution", world::kDefaultGridResolution);
       if (!(high.x() > low.x() && high.y() > low.y())) {
         error("/world/bounds", "max must be greater than min in x and y");
+        return nullptr;
+      }
+      const double cells = std::ceil((high.x() - low.x()) / resolution) * std::ceil((high.y() - low.y()) / resolution);
+      if (!(cells <= static_cast<double>(options_.limits.max_grid_cells))) {
+        error("/world/resolution", "the bounds at this resolution make " + std::to_string(static_cast<long double>(cells)) + " cells; at most " +
+                                       std::to_string(options_.limits.max_grid_cells) + " (--max-grid-cells)");
         return nullptr;
       }
       try {
@@ -300,6 +306,12 @@ class Loader {
   }
 
   void read_agents(Model& model) {
+    const std::size_t people = doc_.value("humans", json::array()).size() + doc_.value("robots", json::array()).size();
+    if (people > static_cast<std::size_t>(options_.limits.max_people)) {
+      error("/humans", std::to_string(people) + " humans and robots: at most " + std::to_string(options_.limits.max_people) +
+                           " in a scenario (--max-people)");
+      return;
+    }
     for (const char* section : {"humans", "robots"}) {
       const json list = doc_.value(section, json::array());
       const bool is_human = std::string(section) == "humans";
@@ -921,6 +933,15 @@ LoadResult load_scenario(const json& document, const LoadOptions& options) {
   return result;
 }
 
+void check_episode_ticks(double time_limit, double dt, std::int64_t max_ticks, const std::string& what) {
+  const double ticks = std::ceil(time_limit / dt);
+  if (ticks <= static_cast<double>(max_ticks)) return;
+  std::ostringstream message;
+  message << what << " " << time_limit << " s at dt " << dt << " s is " << ticks << " ticks; an episode may last at most " << max_ticks
+          << " (--max-episode-ticks)";
+  throw core::Error(core::ErrorCode::bad_request, message.str(), {{"max_episode_ticks", max_ticks}});
+}
+
 LoadResult load_scenario_text(std::string_view text, const LoadOptions& options) {
   try {
     return load_scenario(json::parse(text), options);
@@ -936,12 +957,14 @@ LoadResult load_scenario_text(std::string_view text, const LoadOptions& options)
 }
 
 LoadResult load_scenario_file(const std::filesystem::path& file, LoadOptions options) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return {nullptr, {{"", "cannot read " + file.string()}}, {}};
-  std::ostringstream text;
-  text << in.rdbuf();
+  std::string text;
+  try {
+    text = core::read_file(file);
+  } catch (const core::Error& e) {
+    return {nullptr, {{"", e.what()}}, {}};
+  }
   options.map_search_path.insert(options.map_search_path.begin(), file.parent_path().empty() ? "." : file.parent_path());
-  return load_scenario_text(text.str(), options);
+  return load_scenario_text(text, options);
 }
 
 }  // namespace hrisim::scenario

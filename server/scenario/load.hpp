@@ -10,6 +10,7 @@
 
 #include "core/json_schema.hpp"
 #include "scenario/model.hpp"
+#include "world/occupancy_grid.hpp"
 
 namespace hrisim::scenario {
 
@@ -24,10 +25,32 @@ struct LoadResult {
 /// radius alone when the drive always wins.
 double social_force_standoff(const humans::SocialForceParams& params, double radius, double speed);
 
+/// Most people (humans and robots) one scenario may hold; `--max-people`.
+inline constexpr int kDefaultMaxPeople = 2000;
+/// Most ticks one episode may last (its time limit over dt; a run's max_time likewise): an hour at
+/// 60 Hz. Bounds the simulated time, the work and the recording of a session or a run's episode;
+/// `--max-episode-ticks`.
+inline constexpr std::int64_t kDefaultMaxEpisodeTicks = 216'000;
+
+/// What one scenario may ask of whoever compiles it: the server's flags set these (docs/limits.md).
+struct ScenarioLimits {
+  int max_people = kDefaultMaxPeople;
+  std::int64_t max_episode_ticks = kDefaultMaxEpisodeTicks;
+  std::int64_t max_grid_cells = world::kDefaultMaxGridCells;
+  /// Files (maps) only inside the search path's folders; the command line turns this off for a
+  /// user's own files.
+  bool confine_files = true;
+};
+
 struct LoadOptions {
   /// Folders where a relative `world.map` is looked up, in order (the scenario file's folder first).
   std::vector<std::filesystem::path> map_search_path;
+  ScenarioLimits limits;
 };
+
+/// Ticks an episode of `time_limit` seconds lasts at `dt`; an error naming `flag` when that is more
+/// than `max_ticks` (`what` says whose time limit it is).
+void check_episode_ticks(double time_limit, double dt, std::int64_t max_ticks, const std::string& what);
 
 /// The scenario JSON Schema shipped with this binary.
 const core::JsonSchema& scenario_schema();

@@ -16,6 +16,8 @@ enum class Cell : std::uint8_t { free = 0, occupied = 1, unknown = 2 };
 
 /// Cell size of grids rasterised from scenario geometry, in metres.
 inline constexpr double kDefaultGridResolution = 0.05;
+/// Most cells a scenario's grid may have (4000 × 4000: a 200 m building at 5 cm); `--max-grid-cells`.
+inline constexpr std::int64_t kDefaultMaxGridCells = 16'000'000;
 
 struct CellIndex {
   int x = 0;

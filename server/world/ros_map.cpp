@@ -1,5 +1,6 @@
 #include "world/ros_map.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cstdlib>
@@ -7,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/files.hpp"
 
 namespace hrisim::world {
 namespace {
@@ -35,11 +37,21 @@ double parse_number(const std::filesystem::path& file, int line, const std::stri
   return value;
 }
 
+/// A map's YAML is a dozen lines.
+constexpr std::size_t kMaxMapYamlBytes = 64 * 1024;
+
+std::string read_text(const std::filesystem::path& file, std::size_t max_bytes) {
+  try {
+    return core::read_file(file, max_bytes);
+  } catch (const core::Error& e) {
+    fail(file, 0, e.what());
+  }
+}
+
 }  // namespace
 
 RosMapInfo read_ros_map_yaml(const std::filesystem::path& yaml_file) {
-  std::ifstream in(yaml_file);
-  if (!in) fail(yaml_file, 0, "cannot read the map file");
+  std::istringstream in(read_text(yaml_file, kMaxMapYamlBytes));
   RosMapInfo info;
   bool has_image = false, has_resolution = false, has_origin = false;
   std::string text;
@@ -93,10 +105,10 @@ RosMapInfo read_ros_map_yaml(const std::filesystem::path& yaml_file) {
   return info;
 }
 
-OccupancyGrid load_ros_map(const std::filesystem::path& yaml_file) {
+OccupancyGrid load_ros_map(const std::filesystem::path& yaml_file, const RosMapLimits& limits) {
   const RosMapInfo info = read_ros_map_yaml(yaml_file);
-  std::ifstream in(info.image, std::ios::binary);
-  if (!in) fail(info.image, 0, "cannot read the map image");
+  if (limits.folder && !core::inside_folder(info.image, *limits.folder)) fail(yaml_file, 0, "image: no such file among the scenario files");
+  std::istringstream in(read_text(info.image, core::kMaxScenarioFileBytes));
   // PGM header: magic, width, height, maxval, separated by white space and '#' comments.
   auto next_token = [&]() {
     std::string token;
@@ -115,11 +127,22 @@ OccupancyGrid load_ros_map(const std::filesystem::path& yaml_file) {
   };
   const std::string magic = next_token();
   if (magic != "P5" && magic != "P2") fail(info.image, 0, "not a PGM image (magic '" + magic + "'); use P5 or P2");
-  const int width = std::atoi(next_token().c_str());
-  const int height = std::atoi(next_token().c_str());
-  const int max_value = std::atoi(next_token().c_str());
+  // A header number, or -1 for anything but a whole number below a million.
+  auto next_number = [&]() {
+    const std::string token = next_token();
+    int value = -1;
+    const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    return ec == std::errc() && end == token.data() + token.size() && value < 1'000'000 ? value : -1;
+  };
+  const int width = next_number();
+  const int height = next_number();
+  const int max_value = next_number();
   if (width <= 0 || height <= 0 || max_value <= 0 || max_value > 255) {
     fail(info.image, 0, "unsupported PGM size or depth (8-bit grey images only)");
+  }
+  if (static_cast<std::int64_t>(width) * height > limits.max_cells) {
+    fail(info.image, 0, std::to_string(width) + " × " + std::to_string(height) + " cells: more than the " + std::to_string(limits.max_cells) +
+                            " a map may have (--max-grid-cells)");
   }
   std::vector<unsigned char> pixels(static_cast<std::size_t>(width) * height);
   if (magic == "P5") {
@@ -129,7 +152,7 @@ OccupancyGrid load_ros_map(const std::filesystem::path& yaml_file) {
     for (auto& pixel : pixels) {
       const std::string token = next_token();
       if (token.empty()) fail(info.image, 0, "image data is truncated");
-      pixel = static_cast<unsigned char>(std::atoi(token.c_str()));
+      pixel = static_cast<unsigned char>(std::clamp(std::atoi(token.c_str()), 0, max_value));
     }
   }
 

@@ -115,7 +115,7 @@ TEST_F(ServerApi, WrongMethodIs405WithAllow) {
 TEST_F(ServerApi, OversizedBodyIs413BeforeItIsRead) {
   RawConnection connection(port());
   const std::size_t announced = 5u * 1024 * 1024;
-  connection.send("POST /api/v1/version HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: " +
+  connection.send("POST /api/v1/version HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: " +
                   std::to_string(announced) + "\r\n\r\n" + std::string(64 * 1024, 'x'));
   const HttpReply reply = connection.read_reply();
   EXPECT_EQ(reply.status, 413);
@@ -141,7 +141,7 @@ TEST_F(ServerApi, PathTraversalIsRefused) {
 
 TEST_F(ServerApi, ExpectContinueGetsAnInterimReply) {
   RawConnection connection(port());
-  connection.send("POST /api/v1/version HTTP/1.1\r\nHost: x\r\nExpect: 100-continue\r\nContent-Length: 2\r\n\r\n");
+  connection.send("POST /api/v1/version HTTP/1.1\r\nHost: 127.0.0.1\r\nExpect: 100-continue\r\nContent-Length: 2\r\n\r\n");
   EXPECT_EQ(connection.read_reply().status, 100);
   connection.send("{}");
   EXPECT_EQ(connection.read_reply().status, 405);
@@ -158,7 +158,7 @@ TEST_F(ServerApi, MalformedRequestIs400) {
 TEST_F(ServerApi, KeepAliveServesSeveralRequests) {
   RawConnection connection(port());
   for (int i = 0; i < 3; ++i) {
-    ASSERT_TRUE(connection.send("GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n"));
+    ASSERT_TRUE(connection.send("GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"));
     EXPECT_EQ(connection.read_reply().status, 200);
   }
 }
@@ -189,8 +189,8 @@ TEST(ServerLimits, ConnectionsBeyondTheMaximumGet503) {
   TestServer server({"--max-connections", "2"});
   RawConnection first(server.port()), second(server.port());
   // Make sure both are admitted before the third arrives.
-  first.send("GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n");
-  second.send("GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n");
+  first.send("GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
+  second.send("GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
   ASSERT_EQ(first.read_reply().status, 200);
   ASSERT_EQ(second.read_reply().status, 200);
   RawConnection third(server.port());
@@ -202,7 +202,7 @@ TEST(ServerLimits, ConnectionsBeyondTheMaximumGet503) {
 TEST(ServerLifecycle, SigtermClosesIdleConnectionsAndTheDatabaseCleanly) {
   TestServer server;
   RawConnection idle(server.port());
-  idle.send("GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n");
+  idle.send("GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
   ASSERT_EQ(idle.read_reply().status, 200);  // kept alive, now idle
   // Without the graceful close of idle connections this would wait for the 30 s read timeout.
   EXPECT_EQ(server.terminate(std::chrono::seconds(10)), 0);

@@ -232,53 +232,10 @@ TEST(SessionPoses, AgentsAndObjectsArePlacedAndResetStartsAgain) {
 }  // namespace
 }  // namespace hrisim::testing
 
-#include <boost/asio/connect.hpp>
-#include <boost/asio/ip/tcp.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/http.hpp>
-#include <boost/beast/websocket.hpp>
+#include "websocket_client.hpp"
 
 namespace hrisim::testing {
 namespace {
-
-namespace net = boost::asio;
-namespace beast = boost::beast;
-
-/// A blocking WebSocket client on loopback.
-class WebSocketClient {
- public:
-  /// Connects and upgrades; `status` is the HTTP status of a refused upgrade (0 when accepted).
-  WebSocketClient(std::uint16_t port, const std::string& target, const std::string& authorization = "") {
-    net::ip::tcp::endpoint endpoint(net::ip::make_address("127.0.0.1"), port);
-    ws_.next_layer().connect(endpoint);
-    ws_.set_option(beast::websocket::stream_base::decorator([authorization](beast::websocket::request_type& request) {
-      if (!authorization.empty()) request.set(beast::http::field::authorization, authorization);
-    }));
-    beast::websocket::response_type response;
-    beast::error_code ec;
-    ws_.handshake(response, "127.0.0.1", target, ec);
-    if (ec) status = static_cast<int>(response.result_int());
-  }
-
-  json exchange(const json& message) {
-    send(message);
-    return json::parse(next());
-  }
-  void send(const json& message) { ws_.write(net::buffer(message.dump())); }
-  /// The next message from the server, as bytes; `binary` says whether it came as a binary message.
-  std::string next(bool* binary = nullptr) {
-    beast::flat_buffer buffer;
-    ws_.read(buffer);
-    if (binary) *binary = ws_.got_binary();
-    return beast::buffers_to_string(buffer.data());
-  }
-
-  int status = 0;
-
- private:
-  net::io_context io_;
-  beast::websocket::stream<net::ip::tcp::socket> ws_{io_};
-};
 
 TEST(SessionWebSocket, LockstepStepsCommandsAndStateInOrder) {
   TestServer server;
@@ -308,14 +265,6 @@ TEST(SessionWebSocket, LockstepStepsCommandsAndStateInOrder) {
   http(port, "POST", "/api/v1/sessions/" + rest_session + "/commands", R"({"commands": [{"human": "dev", "command": "wait 2"}]})");
   http(port, "POST", "/api/v1/sessions/" + rest_session + "/step", R"({"n": 200})");
   EXPECT_EQ(json_of(http(port, "GET", "/api/v1/sessions/" + rest_session))["state_hash"], state["state_hash"]);
-}
-
-/// The HTTP answer to a WebSocket upgrade request, written by hand.
-HttpReply upgrade(std::uint16_t port, const std::string& target, const std::string& extra_headers = "") {
-  RawConnection connection(port);
-  connection.send("GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: Upgrade\r\nUpgrade: websocket\r\n"
-                  "Sec-WebSocket-Version: 13\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n" + extra_headers + "\r\n");
-  return connection.read_reply();
 }
 
 TEST(SessionWebSocket, UpgradesAreRefusedForUnknownSessionsAndWithoutTheToken) {

@@ -8,6 +8,7 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -27,7 +28,7 @@ std::string lower(std::string text) {
 
 }  // namespace
 
-TestServer::TestServer(std::vector<std::string> extra_args) : database_(dir_ / "var/hrisim.db") {
+TestServer::TestServer(std::vector<std::string> extra_args, int max_open_files) : database_(dir_ / "var/hrisim.db") {
   std::vector<std::string> args = {HRISIM_BINARY, "serve", "--port", "0", "--db", database_.string(),
                                    "--scenarios", std::string(HRISIM_SOURCE_DIR) + "/scenarios",
                                    "--web", std::string(HRISIM_SOURCE_DIR) + "/web", "--log-requests", "0"};
@@ -36,6 +37,10 @@ TestServer::TestServer(std::vector<std::string> extra_args) : database_(dir_ / "
   if (pipe(out) != 0) throw std::runtime_error("pipe failed");
   pid_ = fork();
   if (pid_ == 0) {
+    if (max_open_files > 0) {
+      const rlimit limit{static_cast<rlim_t>(max_open_files), static_cast<rlim_t>(max_open_files)};
+      setrlimit(RLIMIT_NOFILE, &limit);
+    }
     dup2(out[1], STDOUT_FILENO);
     close(out[0]);
     close(out[1]);
@@ -109,11 +114,19 @@ std::string TestServer::output() {
   return output_;
 }
 
-RawConnection::RawConnection(std::uint16_t port, std::chrono::milliseconds receive_timeout) {
+RawConnection::RawConnection(std::uint16_t port, std::chrono::milliseconds receive_timeout, const std::string& source) {
   fd_ = socket(AF_INET, SOCK_STREAM, 0);
   timeval tv{static_cast<time_t>(receive_timeout.count() / 1000),
              static_cast<suseconds_t>(receive_timeout.count() % 1000 * 1000)};
   setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  if (!source.empty()) {
+    sockaddr_in local{};
+    local.sin_family = AF_INET;
+    if (inet_pton(AF_INET, source.c_str(), &local.sin_addr) != 1 ||
+        bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local) != 0) {
+      throw std::runtime_error("cannot bind a client socket to " + source);
+    }
+  }
   sockaddr_in address{};
   address.sin_family = AF_INET;
   address.sin_port = htons(port);

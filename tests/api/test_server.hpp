@@ -23,14 +23,15 @@ struct HttpReply {
 class TestServer {
  public:
   /// Starts `hrisim serve --port 0` with a database in a temporary folder plus `extra_args`, and waits
-  /// until it prints the port it listens on.
-  explicit TestServer(std::vector<std::string> extra_args = {});
+  /// until it prints the port it listens on; `max_open_files` > 0 lowers its descriptor limit.
+  explicit TestServer(std::vector<std::string> extra_args = {}, int max_open_files = 0);
   /// Sends SIGTERM and waits for the process.
   ~TestServer();
   TestServer(const TestServer&) = delete;
   TestServer& operator=(const TestServer&) = delete;
 
   std::uint16_t port() const { return port_; }
+  pid_t pid() const { return pid_; }
   const std::filesystem::path& database() const { return database_; }
   const TempDir& dir() const { return dir_; }
 
@@ -53,7 +54,9 @@ class TestServer {
 /// A blocking loopback client connection with a receive time-out.
 class RawConnection {
  public:
-  explicit RawConnection(std::uint16_t port, std::chrono::milliseconds receive_timeout = std::chrono::seconds(10));
+  /// Connects to 127.0.0.1:port from `source` (another loopback address stands for another client).
+  explicit RawConnection(std::uint16_t port, std::chrono::milliseconds receive_timeout = std::chrono::seconds(10),
+                         const std::string& source = "");
   ~RawConnection();
   RawConnection(const RawConnection&) = delete;
   RawConnection& operator=(const RawConnection&) = delete;

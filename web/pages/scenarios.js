@@ -234,7 +234,7 @@ function uploadForm() {
     upload.disabled = validate.disabled = true;
     const wait = loading(result, path.endsWith('validate') ? 'Validating' : 'Uploading');
     try {
-      return { text, json, reply: await api.post(path + query, text, { 'content-type': json ? 'application/json' : 'text/plain' }) };
+      return { text, json, reply: await api.post(path + query, text, { 'content-type': json ? 'application/json' : 'application/xml' }) };
     } catch (error) {
       const errors = error.details?.errors;
       if (error.status === 400 && Array.isArray(errors)) {

@@ -89,7 +89,10 @@ class Client:
             data = json.dumps(body).encode("utf-8")
             headers["Content-Type"] = "application/json"
         elif method in ("POST", "PUT"):
+            # Without a token, the server takes state-changing requests only as JSON (a foreign web
+            # page cannot send that without asking); urllib would call an empty body a form.
             data = b""
+            headers["Content-Type"] = "application/json"
         req = urllib.request.Request(url, data=data, headers=headers, method=method)
         try:
             with urllib.request.urlopen(req, timeout=timeout or self.timeout) as response:

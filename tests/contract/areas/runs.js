@@ -628,7 +628,7 @@ describe('a run the server dies under', () => {
       second = await startServer([], { dir });
       client.connect(second.port);
       // Said on stderr before the port on stdout; the two pipes may be read in either order.
-      const said = /1 run left unfinished by the last server marked interrupted/;
+      const said = /1 run whose process ended marked interrupted/;
       for (let wait = 0; wait < 20 && !said.test(second.output()); wait++) await sleep(50);
       assert.match(second.output(), said);
       const report = (await client.get(`/api/v1/runs/${run.id}`)).json;

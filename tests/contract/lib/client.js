@@ -46,6 +46,8 @@ class Client {
     if (token !== undefined) headers.authorization = `Bearer ${token}`;
     if (json !== undefined) body = JSON.stringify(json);
     if (body !== undefined) headers['content-type'] = contentType ?? 'application/json';
+    // A server without tokens takes POST and PUT only as JSON (or XML), a body or not.
+    else if (method === 'POST' || method === 'PUT') headers['content-type'] = contentType ?? 'application/json';
     const reply = await exchange(this.port, method, target, headers, body);
     checkHttpExchange({ method, target, json }, reply);
     reply.json = (reply.headers['content-type'] ?? '').startsWith('application/json') && reply.body !== '' ? JSON.parse(reply.body) : undefined;

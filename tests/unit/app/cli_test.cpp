@@ -70,19 +70,28 @@ TEST(ServeOptions, BadValuesSayWhichOptionAndWhy) {
 
 TEST(ServeOptions, BeyondLoopbackOnlyWithATokenOrWhenToldSo) {
   expect_error_mentions({"--host", "0.0.0.0"}, {}, "without a token");
-  EXPECT_EQ(parse_serve_options({"--host", "0.0.0.0", "--token", "0123456789abcdef"}, env_of({})).token, "0123456789abcdef");
+  EXPECT_EQ(parse_serve_options({"--host", "0.0.0.0", "--token", "0123456789abcdef"}, env_of({})).access.tokens.at(0).secret, "0123456789abcdef");
   EXPECT_TRUE(parse_serve_options({"--host", "0.0.0.0", "--allow-unauthenticated"}, env_of({})).allow_unauthenticated);
   EXPECT_TRUE(parse_serve_options({"--host", "10.0.0.5"}, env_of({{"HRISIM_ALLOW_UNAUTHENTICATED", "1"}})).allow_unauthenticated);
   for (const char* loopback : {"127.0.0.1", "127.0.1.1", "::1", "localhost"}) {
     EXPECT_NO_THROW(parse_serve_options({"--host", loopback}, env_of({}))) << loopback;
   }
-  expect_error_mentions({"--token", "short"}, {}, "--token: at least 16");
+  expect_error_mentions({"--token", "short"}, {}, "--token: a token's secret needs at least 16");
+  expect_error_mentions({"--token", "alice:0123456789abcdef:owner"}, {}, "role is user, read or admin");
+  expect_error_mentions({"--token", "a b:0123456789abcdef"}, {}, "a token's name");
+  const ServeOptions named = parse_serve_options({"--token", "alice:0123456789abcdef", "--token", "dash:fedcba9876543210:read"}, env_of({}));
+  ASSERT_EQ(named.access.tokens.size(), 2u) << "--token repeats";
+  EXPECT_EQ(named.access.tokens[0].name, "alice");
+  EXPECT_EQ(named.access.tokens[0].role, http::Role::user);
+  EXPECT_EQ(named.access.tokens[1].role, http::Role::read);
   expect_error_mentions({}, {{"HRISIM_TOKEN", "short"}}, "HRISIM_TOKEN");
 }
 
 TEST(ServeOptions, UsageListsEveryVariable) {
   const std::string usage = serve_usage();
   for (const char* variable : {"HRISIM_HOST", "HRISIM_PORT", "HRISIM_DB", "HRISIM_SCENARIOS", "HRISIM_WEB_ROOT", "HRISIM_TOKEN",
+                               "HRISIM_TOKENS", "HRISIM_ALLOWED_HOSTS", "HRISIM_MAX_CONNECTIONS_PER_CLIENT", "HRISIM_MAX_QUEUED_ANSWERS",
+                               "HRISIM_MAX_PEOPLE", "HRISIM_MAX_GRID_CELLS", "HRISIM_MAX_EPISODE_TICKS", "HRISIM_SCENARIO_CACHE_MB",
                                "HRISIM_ALLOW_UNAUTHENTICATED"}) {
     EXPECT_NE(usage.find(variable), std::string::npos) << variable;
   }

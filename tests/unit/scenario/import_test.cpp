@@ -24,7 +24,7 @@ const std::filesystem::path kFixtures = std::filesystem::path(HRISIM_SOURCE_DIR)
 const std::filesystem::path kShared = HRISIM_SHARED_DIR;
 
 ImportOptions bundled(std::string scenario = "") {
-  return {std::move(scenario), std::nullopt, {std::filesystem::path(HRISIM_SOURCE_DIR) / "scenarios"}, "test.xml"};
+  return {std::move(scenario), std::nullopt, {std::filesystem::path(HRISIM_SOURCE_DIR) / "scenarios"}, "test.xml", {}};
 }
 
 std::shared_ptr<const Model> load_imported(const ImportResult& imported) {

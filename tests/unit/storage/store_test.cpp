@@ -129,7 +129,7 @@ TEST(Store, DataSurvivesReopen) {
   {
     Store store(dir / "db");
     store.put_scenario(make_scenario("s"));
-    store.put_run({"run-1", "s", "teleop", {{"seeds", {1, 2}}}, "running", "", std::nullopt});
+    store.put_run({"run-1", "s", "teleop", {{"seeds", {1, 2}}}, "running", "", std::nullopt, ""});
     EpisodeRecord episode = make_episode("s", 1);
     episode.run_id = "run-1";
     store.write_episode(episode);
@@ -203,7 +203,7 @@ TEST(Store, InvalidRunStatusIsRefusedByTheSchema) {
   TempDir dir;
   Store store(dir / "db");
   store.put_scenario(make_scenario("s"));
-  EXPECT_THROW(store.put_run({"r", "s", "teleop", {}, "exploded", "", std::nullopt}), core::Error);
+  EXPECT_THROW(store.put_run({"r", "s", "teleop", {}, "exploded", "", std::nullopt, ""}), core::Error);
 }
 
 // Migration from an older schema: a file made by the first migrations keeps its data when a newer

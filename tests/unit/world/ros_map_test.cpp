@@ -65,7 +65,7 @@ TEST(RosMap, ErrorsNameTheLineAndKey) {
   expect_error("image: m.pgm\nresolution: 0.1\norigin: [0, 0]\n", "m.yaml:3: origin");
   expect_error("image: m.pgm\norigin: [0, 0, 0]\n", "missing key 'resolution'");
   expect_error("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\ncolour: red\n", "m.yaml:4: unknown key 'colour'");
-  expect_error("image: nope.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n", "cannot read the map image");
+  expect_error("image: nope.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n", "nope.pgm is not a regular file");
   expect_error("image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nfree_thresh: 0.9\n", "thresholds");
 }
 
