@@ -113,6 +113,13 @@ std::string Store::integrity_check() {
 void Store::ping() {
   std::lock_guard lock(mutex_);
   db_->scalar_integer("SELECT count(*) FROM sqlite_schema");
+  if (!write_failure_.empty()) throw core::Error(core::ErrorCode::storage, "writes fail: " + write_failure_);
+}
+
+void Store::limit_size(std::uint64_t bytes) {
+  std::lock_guard lock(mutex_);
+  const auto page = static_cast<std::uint64_t>(db_->scalar_integer("PRAGMA page_size"));
+  db_->exec("PRAGMA max_page_count = " + std::to_string(std::max<std::uint64_t>(1, bytes / page)));
 }
 
 StoreCounts Store::counts() {
@@ -239,6 +246,16 @@ void Store::set_run_status(const std::string& id, const std::string& status) {
 
 void Store::write_episode(const EpisodeRecord& episode) {
   std::lock_guard lock(mutex_);
+  try {
+    write_episode_locked(episode);
+    write_failure_.clear();
+  } catch (const core::Error& e) {
+    write_failure_ = e.what();
+    throw;
+  }
+}
+
+void Store::write_episode_locked(const EpisodeRecord& episode) {
   Transaction transaction(*db_);
   Statement insert_episode = db_->prepare(
       "INSERT INTO episodes (id, run_id, scenario_id, seed, controller, status, termination_reason, ticks, sim_time)"

@@ -106,8 +106,11 @@ class Store {
   int schema_version();
   /// Result of PRAGMA integrity_check: "ok" when the file is sound.
   std::string integrity_check();
-  /// Cheap liveness probe of the connection; throws core::Error when the database does not answer.
+  /// Cheap liveness probe of the connection; throws core::Error when the database does not answer, or
+  /// when the last episode could not be written (a full disk or database) and none has been since.
   void ping();
+  /// Caps the file at about `bytes` (SQLite's max_page_count): writes beyond fail as on a full disk.
+  void limit_size(std::uint64_t bytes);
   StoreCounts counts();
 
   /// Stores a scenario; computes its sha256 and created_at. Returns the stored record.
@@ -153,6 +156,8 @@ class Store {
  private:
   std::mutex mutex_;
   std::unique_ptr<Database> db_;
+  std::string write_failure_;  ///< why the last episode could not be written; empty once one has been
+  void write_episode_locked(const EpisodeRecord& episode);
 };
 
 }  // namespace hrisim::storage

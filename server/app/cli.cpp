@@ -97,6 +97,8 @@ const std::vector<Flag>& flags() {
        [](ServeOptions& o, const std::string& v) {
          o.scenario_limits.max_episode_ticks = static_cast<std::int64_t>(parse_unsigned("--max-episode-ticks", v, 1, std::uint64_t{1} << 40));
        }},
+      {"max-database-mb", "HRISIM_MAX_DATABASE_MB", "MiB the database file may grow to, 0 for as much as the disk holds (default 0)",
+       [](ServeOptions& o, const std::string& v) { o.max_database_bytes = parse_unsigned("--max-database-mb", v, 0, 1 << 30) << 20; }},
       {"scenario-cache-mb", "HRISIM_SCENARIO_CACHE_MB", "MiB of compiled uploaded scenarios kept in memory (default 256)",
        [](ServeOptions& o, const std::string& v) { o.scenario_cache_bytes = parse_unsigned("--scenario-cache-mb", v, 1, 1 << 20) << 20; }},
       {"header-limit", "HRISIM_HEADER_LIMIT", "largest request header in bytes, else 431 (default 8192)",

@@ -21,6 +21,7 @@ inline constexpr const char* kDefaultWebRoot = "web";
 struct ServeOptions {
   http::ServerOptions server;
   std::filesystem::path database = kDefaultDatabase;
+  std::uint64_t max_database_bytes = 0;  ///< 0: as large as the disk allows
   std::filesystem::path scenarios = kDefaultScenarios;
   std::filesystem::path web_root = kDefaultWebRoot;
   http::SessionLimits sessions;

@@ -57,6 +57,7 @@ int serve(const std::vector<std::string>& args) {
   }
 
   hrisim::storage::Store store(options.database);
+  if (options.max_database_bytes > 0) store.limit_size(options.max_database_bytes);
   // Runs that were under way when the last server stopped lost their episodes in flight.
   if (const int interrupted = store.interrupt_abandoned_runs(); interrupted > 0) {
     std::fprintf(stderr, "hrisim: %d run%s whose process ended marked interrupted\n", interrupted, interrupted == 1 ? "" : "s");

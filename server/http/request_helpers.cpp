@@ -75,7 +75,8 @@ nlohmann::json json_object_body(const Request& request) {
 }
 
 void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const char*> known, const std::string& at) {
-  for (const auto& [key, unused] : body.items()) {
+  for (const auto& item : body.items()) {
+    const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture one
     if (std::none_of(known.begin(), known.end(), [&](const char* name) { return key == name; })) {
       throw core::Error(core::ErrorCode::bad_request, "unknown field '" + key + "' (known: " + core::join(known) + ")", {{"pointer", at + "/" + key}});
     }

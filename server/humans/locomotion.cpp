@@ -146,7 +146,12 @@ OrcaLine orca_line(const Vec2& position, const Vec2& velocity, double radius, co
 /// it) for each pair given as columns; zero for agents at the same spot. Cloned for wider vector
 /// units: each lane does the same IEEE operations in the same order, so every clone gives the same bits.
 /// (GCC 12 vectorises this loop only while the columns are read by index, not into locals first.)
-[[gnu::target_clones("avx512f", "avx2", "default"), gnu::noinline]]
+#if defined(__clang__)  // clang (the fuzz preset) refuses clones that are noinline; one version serves there
+#define HRISIM_VECTOR_CLONES
+#else
+#define HRISIM_VECTOR_CLONES [[gnu::target_clones("avx512f", "avx2", "default"), gnu::noinline]]
+#endif
+HRISIM_VECTOR_CLONES
 void interaction_forces(const SocialForceParams& p, std::size_t count, const float* dx, const float* dy,
                         const float* dvx, const float* dvy, float* fx, float* fy) {
   const auto lambda = static_cast<float>(p.lambda), gamma = static_cast<float>(p.gamma);  // not aliased by fx, fy

@@ -76,8 +76,10 @@ json run_report(const storage::RunRecord& run, const std::vector<storage::Episod
   std::map<std::uint64_t, const storage::EpisodeRecord*> by_seed;
   for (const storage::EpisodeRecord& episode : episodes) by_seed[episode.seed] = &episode;
 
-  // Seeds not stored and not live never ran: the run was cancelled or the server stopped.
-  const std::string not_run = run.status == "cancelled" ? "cancelled" : run.status == "interrupted" ? "interrupted" : "queued";
+  // Seeds not stored and not live: the run was cancelled, the server stopped, or — once the run has
+  // ended otherwise — their episodes ran but could not be stored (a full disk): an error.
+  const std::string not_run = run.status == "cancelled" ? "cancelled" : run.status == "interrupted" ? "interrupted"
+                              : run.status == "failed" || run.status == "finished" ? "error" : "queued";
   std::map<std::string, int> counts{{"queued", 0}, {"running", 0}, {"finished", 0}, {"error", 0}, {"cancelled", 0}, {"interrupted", 0}};
   json list = json::array();
   const json seeds = run.config.value("seeds", json::array());

@@ -404,6 +404,28 @@ TEST(Hardening, APlainGetDoesNotSpendAWebSocketTicket) {
   EXPECT_EQ(browser.status, 0) << "the ticket still opens the socket";
 }
 
+TEST(Hardening, AFullDatabaseFailsTheRunAndTheHealthCheck) {
+  // On a full disk a failed run listed its unstored episodes as `queued`, and /healthz said ok.
+  TestServer server({"--max-database-mb", "1", "--run-jobs", "1"});
+  const HttpReply started = http(server.port(), "POST", "/api/v1/runs", R"({"scenario": "elevator", "count": 6})");
+  ASSERT_EQ(started.status, 201) << started.body;
+  const std::string id = json_of(started)["id"];
+  nlohmann::json run;
+  for (int i = 0; i < 1200; ++i) {
+    run = json_of(http(server.port(), "GET", "/api/v1/runs/" + id));
+    if (run["status"] != "queued" && run["status"] != "running") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_EQ(run["status"], "failed") << run.dump().substr(0, 400);
+  EXPECT_EQ(run["progress"]["queued"], 0) << "every seed ran";
+  EXPECT_GT(run["progress"]["error"].get<int>(), 0) << "the unstored episodes are errors";
+  const HttpReply health = http(server.port(), "GET", "/healthz");
+  EXPECT_EQ(health.status, 503);
+  EXPECT_NE(json_of(health)["database"].get<std::string>().find("writes fail"), std::string::npos) << health.body;
+  ASSERT_EQ(server.terminate(std::chrono::seconds(20)), 0);
+  EXPECT_EQ(storage::Store(server.database()).integrity_check(), "ok");
+}
+
 /// Starts `hrisim run` in the background; its pid.
 pid_t start_cli_run(const std::string& arguments) {
   const CommandResult started = run_command("(" + std::string(HRISIM_BINARY) + " run " + arguments + " >/dev/null 2>&1 & echo $!)", false);
