@@ -181,7 +181,8 @@ std::function<std::optional<Response>(Request&)> make_guard(AccessPolicy policy,
     // RFC 7235: the scheme is case-insensitive; one or more spaces follow it.
     const auto space = authorization.find(' ');
     const std::string scheme = lower(authorization.substr(0, space));
-    const std::string given = space == std::string::npos ? "" : authorization.substr(authorization.find_first_not_of(' ', space));
+    const auto secret = space == std::string::npos ? std::string::npos : authorization.find_first_not_of(' ', space);
+    const std::string given = secret == std::string::npos ? "" : authorization.substr(secret);
     const Token* matched = nullptr;
     for (const Token& token : policy.tokens) {
       if (same_secret(given, token.secret) && scheme == "bearer") matched = &token;  // every token compared: no early exit

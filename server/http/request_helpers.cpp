@@ -69,6 +69,8 @@ nlohmann::json json_object_body(const Request& request) {
     const auto [line, column] = core::line_and_column(request.body, e.byte > 0 ? e.byte - 1 : 0);
     throw core::Error(core::ErrorCode::bad_request, "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column),
                       {{"line", line}, {"column", column}});
+  } catch (const nlohmann::json::out_of_range&) {
+    throw core::Error(core::ErrorCode::bad_request, "invalid JSON: a number is too large for a double");
   }
   if (!body.is_object()) throw core::Error(core::ErrorCode::bad_request, "the body must be a JSON object", {{"pointer", ""}});
   return body;

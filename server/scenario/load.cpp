@@ -953,6 +953,8 @@ LoadResult load_scenario_text(std::string_view text, const LoadOptions& options)
     return {nullptr, {{"", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
                                (reason == std::string::npos ? "" : ": " + message.substr(reason + 2))}},
             {}};
+  } catch (const json::out_of_range&) {
+    return {nullptr, {{"", "invalid JSON: a number is too large for a double"}}, {}};
   }
 }
 

@@ -426,6 +426,28 @@ TEST(Hardening, AFullDatabaseFailsTheRunAndTheHealthCheck) {
   EXPECT_EQ(storage::Store(server.database()).integrity_check(), "ok");
 }
 
+// Found by fuzzing (fuzz/corpus/*/found-*): each was an internal error (500) or, on a WebSocket and on
+// the command line, an uncaught exception.
+
+TEST(Hardening, FuzzFindingsAreClearRefusals) {
+  TestServer server({"--token", "s3cret-token-0123456789"});
+  const std::string auth = "Authorization: Bearer s3cret-token-0123456789\r\n";
+  // An Authorization header whose scheme is followed by spaces only.
+  EXPECT_EQ(http(server.port(), "GET", "/api/v1/runs", "", "Authorization: bi//x   \r\n").status, 401);
+  // A number beyond a double's range, in a request body and in an uploaded scenario.
+  const HttpReply session = http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "queue", "seed": 2e1000})", auth);
+  EXPECT_EQ(session.status, 400) << session.body;
+  const HttpReply upload = http(server.port(), "POST", "/api/v1/scenarios", R"({"name": "x", "time_limit": 1e999})", auth);
+  EXPECT_EQ(upload.status, 400) << upload.body;
+  EXPECT_NE(upload.body.find("too large"), std::string::npos) << upload.body;
+  const std::string id = json_of(http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "queue"})", auth))["id"];
+  WebSocketClient client(server.port(), "/api/v1/sessions/" + id + "/ws", "Bearer s3cret-token-0123456789");
+  const nlohmann::json answer = nlohmann::json::parse(client.exchange_text(R"({"type": "step", "n": 444444000000000000000002e1000})"));
+  EXPECT_EQ(answer["type"], "error");
+  EXPECT_EQ(answer["error"]["code"], "bad_request");
+  EXPECT_TRUE(alive(server));
+}
+
 /// Starts `hrisim run` in the background; its pid.
 pid_t start_cli_run(const std::string& arguments) {
   const CommandResult started = run_command("(" + std::string(HRISIM_BINARY) + " run " + arguments + " >/dev/null 2>&1 & echo $!)", false);

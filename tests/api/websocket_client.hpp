@@ -45,6 +45,11 @@ class WebSocketClient {
     return nlohmann::json::parse(next());
   }
   void send(const nlohmann::json& message) { ws_.write(boost::asio::buffer(message.dump())); }
+  /// Sends text as it is (not necessarily JSON) and reads the answer.
+  std::string exchange_text(const std::string& text) {
+    ws_.write(boost::asio::buffer(text));
+    return next();
+  }
   /// The next message from the server, as bytes; `binary` says whether it came as a binary message.
   /// Throws boost::system::system_error when the socket closes (see close_code()).
   std::string next(bool* binary = nullptr) {
