@@ -119,6 +119,20 @@ Response Router::dispatch(Request request) const {
   }
 }
 
+Response complete(Response response, const std::string& where) {
+  try {
+    while (response.deferred) response = response.deferred();
+    return response;
+  } catch (const core::Error& e) {
+    return Response::error(e);
+  } catch (const nlohmann::json::exception& e) {
+    return Response::error(core::Error(core::ErrorCode::bad_request, std::string("invalid JSON: ") + e.what()));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hrisim: internal error on %s: %s\n", where.c_str(), e.what());
+    return Response::error(core::Error(core::ErrorCode::internal, "internal error"));
+  }
+}
+
 std::string percent_decode(std::string_view text) {
   std::string decoded;
   decoded.reserve(text.size());

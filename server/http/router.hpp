@@ -116,6 +116,11 @@ class Router {
   std::function<std::optional<Response>(Request&)> guard_;
 };
 
+/// Runs a response's deferred work (and any work it hands on) until the answer is there, on the calling
+/// thread: a core::Error becomes its JSON error, a JSON type error a 400, anything else a 500 logged
+/// with `where`.
+Response complete(Response response, const std::string& where);
+
 /// Whether `caller` may see something `owner` made.
 inline bool visible_to(const Caller& caller, const std::string& owner) { return caller.sees_all || caller.owner == owner; }
 

@@ -107,20 +107,8 @@ class Slot {
   std::string client_;
 };
 
-/// Runs deferred work on a worker: a core::Error becomes its JSON error, anything else a logged 500.
-Response run_deferred(const std::function<Response()>& work, const std::string& where) {
-  try {
-    Response response = work();
-    // Work may hand on to more work (a frame drawn after the state it shows was copied).
-    while (response.deferred) response = response.deferred();
-    return response;
-  } catch (const core::Error& e) {
-    return Response::error(e);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "hrisim: internal error on %s: %s\n", where.c_str(), e.what());
-    return Response::error(core::Error(core::ErrorCode::internal, "internal error"));
-  }
-}
+/// Runs deferred work on a worker (see complete()).
+Response run_deferred(std::function<Response()> work, const std::string& where) { return complete(Response::later(std::move(work)), where); }
 
 /// A WebSocket connection: one message read, answered (on the worker pool when deferred), its
 /// answer queued, then the next read — so answers come in the order of the messages. Writes go out one

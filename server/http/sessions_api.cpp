@@ -654,6 +654,9 @@ class SessionSocket : public WebSocketPeer {
       Request message;
       message.body = text;
       json body = json_object_body(message);
+      if (body.contains("type") && !body["type"].is_string()) {
+        throw core::Error(core::ErrorCode::bad_request, "type: a string", {{"pointer", "/type"}});
+      }
       const std::string type = body.value("type", "");
       body.erase("type");
       const auto live = registry_->find(id_, caller_);
@@ -747,6 +750,8 @@ class SessionSocket : public WebSocketPeer {
       throw core::Error(core::ErrorCode::bad_request, "type must be step, commands, state, sensors, laser, camera or subscribe", {{"pointer", "/type"}});
     } catch (const core::Error& e) {
       return failure(e);
+    } catch (const json::exception& e) {
+      return failure(wrong_type(e));
     }
   }
 
@@ -795,8 +800,15 @@ class SessionSocket : public WebSocketPeer {
         return work(session);
       } catch (const core::Error& e) {
         return failure(e);
+      } catch (const json::exception& e) {
+        return failure(wrong_type(e));
       }
     });
+  }
+
+  /// A value of the wrong JSON type somewhere in a message (the router says the same of a REST body).
+  static core::Error wrong_type(const json::exception& e) {
+    return core::Error(core::ErrorCode::bad_request, std::string("invalid message: ") + e.what());
   }
 
   static Response reply(const char* type, json body) {

@@ -445,6 +445,10 @@ TEST(Hardening, FuzzFindingsAreClearRefusals) {
   const nlohmann::json answer = nlohmann::json::parse(client.exchange_text(R"({"type": "step", "n": 444444000000000000000002e1000})"));
   EXPECT_EQ(answer["type"], "error");
   EXPECT_EQ(answer["error"]["code"], "bad_request");
+  // A message whose type is not a string.
+  const nlohmann::json typed = client.exchange({{"type", 999999999999999}});
+  EXPECT_EQ(typed["error"]["code"], "bad_request");
+  EXPECT_EQ(typed["error"]["details"]["pointer"], "/type");
   EXPECT_TRUE(alive(server));
 }
 
