@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "core/text.hpp"
 #include "http/api.hpp"
 #include "runs/executor.hpp"
 #include "storage/store.hpp"
@@ -139,8 +140,7 @@ http::Request parse_request(std::string_view text) {
     if (line.ends_with('\r')) line.remove_suffix(1);
     if (line.empty()) break;
     const auto colon = line.find(':');
-    std::string name(line.substr(0, colon));
-    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string name = core::lower_case(std::string(line.substr(0, colon)));
     std::string_view value = colon == std::string_view::npos ? std::string_view() : line.substr(colon + 1);
     while (value.starts_with(' ')) value.remove_prefix(1);
     request.headers[name] = std::string(value);

@@ -1,8 +1,14 @@
 #include "core/text.hpp"
 
+#include <cctype>
 #include <nlohmann/json.hpp>
 
 namespace hrisim::core {
+
+std::string lower_case(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
 
 std::optional<std::size_t> invalid_utf8_offset(std::string_view text) {
   const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };

@@ -19,6 +19,9 @@ std::string join(const Range& items, std::string_view separator = ", ") {
   return text;
 }
 
+/// The text with ASCII letters in lower case (HTTP header names, schemes, host names).
+std::string lower_case(std::string text);
+
 /// Offset of the first byte that does not belong to well-formed UTF-8 (RFC 3629: no overlong forms,
 /// no surrogates, nothing above U+10FFFF), or nullopt when all of `text` is UTF-8.
 std::optional<std::size_t> invalid_utf8_offset(std::string_view text);

@@ -6,15 +6,11 @@
 #include <cctype>
 #include <fstream>
 
+#include "core/text.hpp"
 #include "http/request_helpers.hpp"
 
 namespace hrisim::http {
 namespace {
-
-std::string lower(std::string text) {
-  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return text;
-}
 
 std::string header(const Request& request, const std::string& name) {
   const auto found = request.headers.find(name);
@@ -32,7 +28,7 @@ std::string host_name(const std::string& host) {
     const auto end = host.find(']');
     return end == std::string::npos ? host : host.substr(1, end - 1);
   }
-  return lower(host.substr(0, host.rfind(':')));
+  return core::lower_case(host.substr(0, host.rfind(':')));
 }
 
 /// A DNS-rebinding page reaches the server under a name the attacker controls; IP addresses,
@@ -42,7 +38,7 @@ bool host_allowed(const Request& request, const std::vector<std::string>& allowe
   if (host.empty()) return true;  // HTTP/1.0; no browser sends a request without Host
   const std::string name = host_name(host);
   if (name == "localhost" || is_ip_address(name)) return true;
-  return std::any_of(allowed.begin(), allowed.end(), [&](const std::string& entry) { return entry == "*" || lower(entry) == name; });
+  return std::any_of(allowed.begin(), allowed.end(), [&](const std::string& entry) { return entry == "*" || core::lower_case(entry) == name; });
 }
 
 /// A browser's Origin is fine when it is the server's own — the same scheme, host and port — or
@@ -54,14 +50,14 @@ bool origin_allowed(const Request& request, const std::vector<std::string>& allo
   return std::find(allowed.begin(), allowed.end(), origin) != allowed.end();
 }
 
-bool is_upgrade(const Request& request) { return lower(header(request, "upgrade")) == "websocket"; }
+bool is_upgrade(const Request& request) { return core::lower_case(header(request, "upgrade")) == "websocket"; }
 
 bool changes_state(const Request& request) { return request.method != "GET" && request.method != "HEAD" && request.method != "OPTIONS"; }
 
 /// Media types a page on another site cannot send without the browser asking first (CORS): JSON and
 /// XML. text/plain, forms and no type at all it can.
 bool safe_content_type(const Request& request) {
-  std::string type = lower(header(request, "content-type"));
+  std::string type = core::lower_case(header(request, "content-type"));
   type = type.substr(0, type.find(';'));
   type.erase(std::remove_if(type.begin(), type.end(), [](unsigned char c) { return std::isspace(c); }), type.end());
   return type == "application/json" || type == "application/xml" || type == "text/xml" ||
@@ -180,7 +176,7 @@ std::function<std::optional<Response>(Request&)> make_guard(AccessPolicy policy,
     const std::string authorization = header(request, "authorization");
     // RFC 7235: the scheme is case-insensitive; one or more spaces follow it.
     const auto space = authorization.find(' ');
-    const std::string scheme = lower(authorization.substr(0, space));
+    const std::string scheme = core::lower_case(authorization.substr(0, space));
     const auto secret = space == std::string::npos ? std::string::npos : authorization.find_first_not_of(' ', space);
     const std::string given = secret == std::string::npos ? "" : authorization.substr(secret);
     const Token* matched = nullptr;

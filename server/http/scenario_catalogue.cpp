@@ -62,7 +62,7 @@ std::shared_ptr<const ScenarioCatalogue::Entry> ScenarioCatalogue::find(const st
   const auto format = scenario::source_format(record->format).value_or(scenario::SourceFormat::json);
   auto entry = std::make_shared<const Entry>(Entry{"uploaded", scenario::compile_source(record->source, format, options()), record->sha256, record->owner});
   std::lock_guard lock(mutex_);
-  remember(id, entry);
+  remember(id, entry, record->source.size());
   return entry;
 }
 
@@ -72,13 +72,13 @@ std::shared_ptr<const ScenarioCatalogue::Entry> ScenarioCatalogue::find(const st
   return entry;
 }
 
-void ScenarioCatalogue::remember(const std::string& id, std::shared_ptr<const Entry> entry) {
+void ScenarioCatalogue::remember(const std::string& id, std::shared_ptr<const Entry> entry, std::size_t source_bytes) {
   if (const auto found = uploaded_.find(id); found != uploaded_.end()) {
     held_bytes_ -= found->second.bytes;
     uses_.erase(found->second.use);
     uploaded_.erase(found);
   }
-  const std::size_t bytes = approximate_bytes(entry->source, entry->source.document.is_null() ? 0 : core::json_text(entry->source.document).size());
+  const std::size_t bytes = approximate_bytes(entry->source, source_bytes);
   uses_.push_front(id);
   uploaded_.emplace(id, Cached{std::move(entry), bytes, uses_.begin()});
   held_bytes_ += bytes;
@@ -146,7 +146,7 @@ std::string ScenarioCatalogue::store(const std::string& text, scenario::Compiled
   record.owner = owner;
   record = store_->put_scenario(std::move(record));
   std::lock_guard lock(mutex_);
-  remember(record.id, std::make_shared<const Entry>(Entry{"uploaded", std::move(compiled), record.sha256, owner}));
+  remember(record.id, std::make_shared<const Entry>(Entry{"uploaded", std::move(compiled), record.sha256, owner}), text.size());
   return record.id;
 }
 

@@ -59,7 +59,7 @@ class ScenarioCatalogue {
   nlohmann::json summary_of(const std::string& id, const Entry& entry) const;
   /// Keeps an upload in the cache as the most recently used, dropping the least recently used ones
   /// beyond the cache's size (the mutex held).
-  void remember(const std::string& id, std::shared_ptr<const Entry> entry);
+  void remember(const std::string& id, std::shared_ptr<const Entry> entry, std::size_t source_bytes);
 
   storage::Store* store_;
   std::filesystem::path dir_;

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "core/build_info.hpp"
+#include "core/text.hpp"
 
 namespace hrisim::http {
 namespace {
@@ -446,9 +447,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
     const std::size_t query_start = target.find('?');
     request.query = query_start == std::string_view::npos ? "" : std::string(target.substr(query_start + 1));
     for (const auto& field : message) {
-      std::string name(field.name_string());
-      for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      request.headers[name] = std::string(field.value());
+      request.headers[core::lower_case(std::string(field.name_string()))] = std::string(field.value());
     }
     return request;
   }

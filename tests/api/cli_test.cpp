@@ -276,9 +276,9 @@ TEST(Cli, BadSeedListsExitWithTwo) {
 namespace hrisim::testing {
 namespace {
 
-/// The shell block after `<!-- ci-job -->` in the README, exactly as a user would copy it.
+/// The shell block after `<!-- ci-job -->` in docs/runs.md, exactly as a user would copy it.
 std::string readme_ci_job() {
-  std::ifstream in(std::string(HRISIM_SOURCE_DIR) + "/README.md");
+  std::ifstream in(std::string(HRISIM_SOURCE_DIR) + "/docs/runs.md");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const auto marker = text.find("<!-- ci-job -->");
   const auto begin = text.find("```bash\n", marker);
@@ -289,7 +289,7 @@ std::string readme_ci_job() {
 
 TEST(ReadmeCiJob, PassesWithPassingGatesAndFailsOnAFailingOne) {
   const std::string job = readme_ci_job();
-  ASSERT_FALSE(job.empty()) << "README.md has no <!-- ci-job --> block";
+  ASSERT_FALSE(job.empty()) << "docs/runs.md has no <!-- ci-job --> block";
   TempDir dir;
   const std::filesystem::path script = dir.path() / "ci-job.sh";
   std::ofstream(script) << job;
