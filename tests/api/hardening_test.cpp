@@ -251,9 +251,19 @@ TEST(Hardening, WebSocketsCountAsConnections) {
   // 3,500 WebSockets were admitted with --max-connections 256.
   TestServer server({"--max-connections", "3"});
   const std::string id = json_of(http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "queue"})"))["id"];
-  auto first = std::make_unique<WebSocketClient>(server.port(), "/api/v1/sessions/" + id + "/ws");
-  WebSocketClient second(server.port(), "/api/v1/sessions/" + id + "/ws"), third(server.port(), "/api/v1/sessions/" + id + "/ws");
-  ASSERT_EQ(third.exchange({{"type", "state"}})["type"], "state");
+  // The creation's connection holds its place until the server has seen it close: retry until the
+  // socket is admitted.
+  const auto open = [&] {
+    for (int attempt = 0;; ++attempt) {
+      auto client = std::make_unique<WebSocketClient>(server.port(), "/api/v1/sessions/" + id + "/ws");
+      if (client->status == 0 || attempt == 50) return client;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  };
+  auto first = open();
+  const auto second = open(), third = open();
+  ASSERT_EQ(third->status, 0);
+  ASSERT_EQ(third->exchange({{"type", "state"}})["type"], "state");
   const HttpReply refused = http(server.port(), "GET", "/healthz");
   EXPECT_EQ(refused.status, 503);
   EXPECT_EQ(refused.headers.count("retry-after"), 1u);
