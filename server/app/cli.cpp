@@ -101,6 +101,9 @@ const std::vector<Flag>& flags() {
        [](ServeOptions& o, const std::string& v) { o.max_database_bytes = parse_unsigned("--max-database-mb", v, 0, 1 << 30) << 20; }},
       {"scenario-cache-mb", "HRISIM_SCENARIO_CACHE_MB", "MiB of compiled uploaded scenarios kept in memory (default 256)",
        [](ServeOptions& o, const std::string& v) { o.scenario_cache_bytes = parse_unsigned("--scenario-cache-mb", v, 1, 1 << 20) << 20; }},
+      {"max-recording-mb", "HRISIM_MAX_RECORDING_MB",
+       "MiB the recordings of all live sessions and of the runs' episodes in flight may hold together (default 1024)",
+       [](ServeOptions& o, const std::string& v) { o.max_recording_bytes = parse_unsigned("--max-recording-mb", v, 1, 1 << 24) << 20; }},
       {"header-limit", "HRISIM_HEADER_LIMIT", "largest request header in bytes, else 431 (default 8192)",
        [](ServeOptions& o, const std::string& v) {
          o.server.header_limit = parse_unsigned("--header-limit", v, 1024, 1 << 20);

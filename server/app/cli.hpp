@@ -29,6 +29,7 @@ struct ServeOptions {
   http::AccessPolicy access;           ///< tokens (from --token and --tokens), allowed origins and hosts
   scenario::ScenarioLimits scenario_limits;
   std::size_t scenario_cache_bytes = http::kDefaultScenarioCacheBytes;
+  std::size_t max_recording_bytes = http::kDefaultMaxRecordingBytes;  ///< every session's and run's recording together
   bool allow_unauthenticated = false;  ///< listen beyond loopback without a token
 };
 

@@ -8,6 +8,7 @@
 #include "app/cli.hpp"
 #include "app/scenario_commands.hpp"
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
 #include "http/api.hpp"
 #include "metrics/definitions.hpp"
 #include "runs/executor.hpp"
@@ -62,12 +63,17 @@ int serve(const std::vector<std::string>& args) {
   if (const int interrupted = store.interrupt_abandoned_runs(); interrupted > 0) {
     std::fprintf(stderr, "hrisim: %d run%s whose process ended marked interrupted\n", interrupted, interrupted == 1 ? "" : "s");
   }
-  hrisim::runs::Executor executor(store, options.run_jobs ? options.run_jobs : std::max(1u, std::thread::hardware_concurrency()));
+  // One budget for every recording: live sessions and the runs' episodes in flight.
+  hrisim::core::MemoryBudget recording_memory(options.max_recording_bytes);
+  hrisim::runs::Executor executor(store, options.run_jobs ? options.run_jobs : std::max(1u, std::thread::hardware_concurrency()), nullptr,
+                                  &recording_memory);
+  hrisim::http::SessionLimits session_limits = options.sessions;
+  session_limits.recording_memory = &recording_memory;
   if (options.access.tokens.empty() && !hrisim::app::is_loopback(options.server.host)) {
     std::fprintf(stderr, "hrisim: warning: listening on %s without a token: anyone who can reach it controls the simulator\n",
                  options.server.host.c_str());
   }
-  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios, options.access, options.sessions, &executor,
+  const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios, options.access, session_limits, &executor,
                                                      options.scenario_limits, options.scenario_cache_bytes});
   hrisim::http::Server server(options.server, router);
   std::printf("hrisim %s listening on http://%s:%u (database %s, schema version %d)\n",

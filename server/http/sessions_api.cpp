@@ -49,6 +49,7 @@ struct Live {
   std::unique_ptr<sim::Session> session;
   std::optional<tasks::Environment> environment;  ///< the Gymnasium view; none without a robot that can act
   std::optional<sim::EpisodeRecorder> recorder;   ///< every step so far, for the metrics on demand
+  core::MemoryBudget* recording_memory = nullptr;  ///< shared by every recording of the server
   std::size_t events_reported = 0;  ///< events before this index were in a step reply already
   std::uint64_t generation = 0;     ///< counts resets, so that viewers notice a fresh start
   Clock::time_point last_used;
@@ -69,7 +70,7 @@ struct Live {
       if (session->model().task) throw;
       environment.reset();
     }
-    recorder.emplace(*session, kMaxLiveRecordedBodies);
+    recorder.emplace(*session, sim::RecorderLimits{kMaxLiveRecordedBodies, recording_memory});
     events_reported = 0;
     realtime_origin = Clock::now();
     realtime_origin_tick = 0;
@@ -464,6 +465,7 @@ class Registry {
     live->realtime_factor = realtime_factor;
     live->controller = std::move(controller);
     live->owner = owner;
+    live->recording_memory = limits_.recording_memory;
     live->start(std::move(model));
     live->last_used = Clock::now();
     sessions_.emplace(live->id, live);
@@ -1004,6 +1006,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       // are set (all or none: a bad one leaves the old session as it was).
       auto fresh = std::make_unique<Live>();
       fresh->seed = seed;
+      fresh->recording_memory = live->recording_memory;
       fresh->start(live->session->shared_model());
       for (const auto& [name, pose] : poses.items()) place(*fresh->session, name, pose, "/options/poses/" + core::pointer_token(name));
       live->seed = seed;
@@ -1058,6 +1061,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       return Response::json(200, {{"id", live->id},
                                   {"tick", live->session->state().tick},
                                   {"recorded_until_tick", live->recorder->recorded_until()},
+                                  {"recording_stopped", live->recorder->stopped().empty() ? json() : json(live->recorder->stopped())},
                                   {"time", live->session->time()},
                                   {"metrics", metrics},
                                   {"null_reasons", null_reasons}});

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
 #include "metrics/episode_metrics.hpp"
 #include "sim/episode_recorder.hpp"
 #include "sim/session.hpp"
@@ -33,6 +34,16 @@ json steps_json(const sim::Session& session) {
                      {"duration", step.finished_tick < 0 ? json() : at(step.finished_tick - step.started_tick)}});
   }
   return steps;
+}
+
+/// An episode whose recording stopped short ends in error: its metrics would describe part of it.
+[[noreturn]] void stop_short(std::int64_t tick, const std::string& why) {
+  throw core::Error(core::ErrorCode::unavailable, "the episode was stopped at tick " + std::to_string(tick) + ": " + why +
+                                                      " (--max-recording-mb); run fewer episodes at once or raise the limit");
+}
+
+void check_recording(const sim::EpisodeRecorder& recorder) {
+  if (!recorder.stopped().empty()) stop_short(recorder.recorded_until(), recorder.stopped());
 }
 
 /// Steps the session to its end, calling `after_step` after each step; false when cancelled first.
@@ -65,7 +76,8 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
 
   EpisodeResult result;
   storage::EpisodeRecord& record = result.record;
-  sim::EpisodeRecorder recorder(session);
+  sim::EpisodeRecorder recorder(session, {std::nullopt, options.recording_memory});
+  core::MemoryBudget::Lease trajectory_memory(options.recording_memory);
   const std::int64_t sample_every = trajectory_stride(model.dt);
   const auto sample_trajectory = [&] {
     const sim::State& state = session.state();
@@ -73,6 +85,9 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
     for (const sim::AgentId id : session.agent_ids()) {
       const int index = session.index_of(id);
       const sim::AgentState& agent = state.agents[index];
+      if (!trajectory_memory.grow(sizeof(storage::TrajectorySample) + model.agents[index].id.size())) {
+        stop_short(state.tick, sim::recording_memory_spent(*trajectory_memory.budget()));
+      }
       record.trajectory.push_back({model.agents[index].id, state.tick, agent.position.x(), agent.position.y(), agent.heading});
     }
   };
@@ -80,6 +95,7 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
   if (options.observe) options.observe(session);
   const bool ended = run_to_end(session, options.cancel, [&] {
     recorder.record(session);
+    check_recording(recorder);
     sample_trajectory();
     if (options.observe) options.observe(session);
   });
@@ -102,8 +118,11 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
     for (const sim::AgentId id : baseline.agent_ids()) {
       if (model.agents[baseline.index_of(id)].kind == scenario::AgentKind::robot) baseline.remove_agent(id);
     }
-    sim::EpisodeRecorder without(baseline);
-    if (!run_to_end(baseline, options.cancel, [&] { without.record(baseline); })) {
+    sim::EpisodeRecorder without(baseline, {std::nullopt, options.recording_memory});
+    if (!run_to_end(baseline, options.cancel, [&] {
+          without.record(baseline);
+          check_recording(without);
+        })) {
       result.cancelled = true;
       return result;
     }

@@ -13,6 +13,9 @@
 
 #include "storage/store.hpp"
 
+namespace hrisim::core {
+class MemoryBudget;
+}
 namespace hrisim::scenario {
 struct Model;
 }
@@ -35,6 +38,9 @@ struct EpisodeOptions {
   const std::atomic<bool>* cancel = nullptr;             ///< stops the episode at its next step when set
   /// Also runs the seed without the robots to measure human_path_deviation (twice the work).
   bool baseline_without_robot = false;
+  /// Shared with every recording of the process; an episode whose recording (or trajectory) would pass
+  /// it ends in error. None: unbounded.
+  core::MemoryBudget* recording_memory = nullptr;
 };
 
 struct EpisodeResult {
@@ -44,7 +50,8 @@ struct EpisodeResult {
   storage::EpisodeRecord record;
 };
 
-/// Runs one episode; throws core::Error(bad_request) for a scripted request the scenario cannot make.
+/// Runs one episode; throws core::Error(bad_request) for a scripted request the scenario cannot make,
+/// core::Error(unavailable) when the recording memory is spent.
 EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& model, std::uint64_t seed, const EpisodeOptions& options);
 
 }  // namespace hrisim::runs

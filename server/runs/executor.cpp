@@ -18,8 +18,8 @@ struct Executor::ActiveRun {
   bool any_error = false;
 };
 
-Executor::Executor(storage::Store& store, unsigned threads, EpisodeListener listener)
-    : store_(store), listener_(std::move(listener)) {
+Executor::Executor(storage::Store& store, unsigned threads, EpisodeListener listener, core::MemoryBudget* recording_memory)
+    : store_(store), listener_(std::move(listener)), recording_memory_(recording_memory) {
   for (unsigned i = 0; i < std::max(1u, threads); ++i) workers_.emplace_back([this] { work(); });
 }
 
@@ -123,6 +123,7 @@ void Executor::run_job(const Job& job) {
     options.requests = run.spec.requests;
     options.baseline_without_robot = run.spec.baseline_without_robot;
     options.cancel = &run.cancelled;
+    options.recording_memory = recording_memory_;
     EpisodeResult result = run_episode(run.spec.model, job.seed, options);
     store = !result.cancelled;
     record = std::move(result.record);

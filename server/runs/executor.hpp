@@ -40,7 +40,9 @@ class Executor {
   /// Called on a worker thread after an episode is stored (or, for an error, after it is recorded).
   using EpisodeListener = std::function<void(const std::string& run_id, const storage::EpisodeRecord& episode)>;
 
-  Executor(storage::Store& store, unsigned threads, EpisodeListener listener = nullptr);
+  /// `recording_memory` bounds the recordings of the episodes in flight, together with whatever else
+  /// shares it (see EpisodeOptions); none: unbounded.
+  Executor(storage::Store& store, unsigned threads, EpisodeListener listener = nullptr, core::MemoryBudget* recording_memory = nullptr);
   /// Stops the workers; episodes in flight are abandoned, unstored, and their runs stay as they are.
   ~Executor();
   Executor(const Executor&) = delete;
@@ -70,6 +72,7 @@ class Executor {
 
   storage::Store& store_;
   EpisodeListener listener_;
+  core::MemoryBudget* recording_memory_;
   mutable std::mutex mutex_;
   std::condition_variable wake_, done_;
   std::deque<Job> queue_;

@@ -6,7 +6,24 @@
 
 namespace hrisim::sim {
 
-EpisodeRecorder::EpisodeRecorder(const Session& session, std::optional<std::size_t> max_bodies) : max_bodies_(max_bodies) {
+namespace {
+
+/// Bytes a sample takes in memory, near enough to bound many recordings together.
+std::size_t sample_bytes(const metrics::Sample& sample) {
+  std::size_t bytes = sizeof(metrics::Sample) + sample.humans.capacity() * sizeof(metrics::Body);
+  for (const std::vector<int>& group : sample.groups) bytes += sizeof(group) + group.capacity() * sizeof(int);
+  for (const std::string& name : sample.touched_obstacles) bytes += sizeof(name) + name.capacity();
+  return bytes;
+}
+
+}  // namespace
+
+std::string recording_memory_spent(const core::MemoryBudget& memory) {
+  return "the recordings of all sessions and runs hold their maximum of " + std::to_string(memory.limit() >> 20) + " MiB";
+}
+
+EpisodeRecorder::EpisodeRecorder(const Session& session, RecorderLimits limits)
+    : max_bodies_(limits.max_bodies), memory_(limits.memory) {
   const scenario::Model& model = session.model();
   for (std::size_t a = 0; a < model.agents.size() && robot_ < 0; ++a) {
     if (model.agents[a].kind == scenario::AgentKind::robot) robot_ = static_cast<int>(a);
@@ -37,7 +54,11 @@ EpisodeRecorder::EpisodeRecorder(const Session& session, std::optional<std::size
 void EpisodeRecorder::record(const Session& session) {
   const State& state = session.state();
   if (!recording_.samples.empty() && recording_.samples.back().tick == state.tick) return;
-  if (max_bodies_ && bodies_ >= *max_bodies_) return;
+  if (!stopped_.empty()) return;
+  if (max_bodies_ && bodies_ >= *max_bodies_) {
+    stopped_ = "the session's recording holds its maximum of " + std::to_string(*max_bodies_) + " bodies";
+    return;
+  }
   metrics::Sample sample;
   sample.tick = state.tick;
   const scenario::Model& model = session.model();
@@ -72,6 +93,11 @@ void EpisodeRecorder::record(const Session& session) {
       if (found != sample.humans.end()) present.push_back(static_cast<int>(found - sample.humans.begin()));
     }
     if (present.size() >= 2) sample.groups.push_back(std::move(present));
+  }
+  const std::size_t bytes = sample_bytes(sample);
+  if (!memory_.grow(bytes) && !recording_.samples.empty()) {
+    stopped_ = recording_memory_spent(*memory_.budget());
+    return;
   }
   bodies_ += sample.humans.size() + 1;
   recording_.samples.push_back(std::move(sample));

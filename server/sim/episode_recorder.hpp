@@ -3,22 +3,34 @@
 // the events — as a metrics::Recording. The robot under test is the scenario's first robot.
 #include <cstddef>
 #include <optional>
+#include <string>
 
+#include "core/memory_budget.hpp"
 #include "metrics/recording.hpp"
 #include "sim/session.hpp"
 
 namespace hrisim::sim {
 
+/// How much one recording may hold; recording stops at the first limit reached, so a session that runs
+/// for hours keeps bounded memory, and its metrics cover the steps up to recorded_until().
+struct RecorderLimits {
+  std::optional<std::size_t> max_bodies;  ///< bodies (people plus robot) summed over the samples
+  core::MemoryBudget* memory = nullptr;   ///< shared with other recordings; its bytes are estimated per sample
+};
+
+/// Why a recording stopped when `memory` was spent.
+std::string recording_memory_spent(const core::MemoryBudget& memory);
+
 class EpisodeRecorder {
  public:
-  /// Records the session's current state as the first sample. With `max_bodies`, recording stops
-  /// once the samples hold that many bodies (people plus robot), so a session that runs for hours
-  /// keeps bounded memory; its metrics then cover the steps up to recorded_until().
-  explicit EpisodeRecorder(const Session& session, std::optional<std::size_t> max_bodies = std::nullopt);
+  /// Records the session's current state as the first sample (even beyond the limits: there is always one).
+  explicit EpisodeRecorder(const Session& session, RecorderLimits limits = {});
   /// Adds a sample of the session's state after a step (a tick already recorded is skipped).
   void record(const Session& session);
   /// The last tick recorded.
   std::int64_t recorded_until() const { return recording_.samples.back().tick; }
+  /// Why recording stopped before the session's last tick; empty while it goes on.
+  const std::string& stopped() const { return stopped_; }
   /// The recording with the session's events, completion and `termination` (the session's own when empty).
   metrics::Recording finish(const Session& session, std::string termination = "") const;
 
@@ -26,6 +38,8 @@ class EpisodeRecorder {
   int robot_ = -1;  ///< agent index of the robot under test, -1 without one
   std::optional<std::size_t> max_bodies_;
   std::size_t bodies_ = 0;  ///< in the samples so far
+  core::MemoryBudget::Lease memory_;
+  std::string stopped_;
   metrics::Recording recording_;
 };
 

@@ -178,6 +178,44 @@ TEST(Hardening, EpisodesLongerThanTheLimitAreRefused) {
   EXPECT_EQ(json_of(http(server.port(), "GET", "/api/v1/runs"))["items"].size(), 0u) << "nothing stored";
 }
 
+TEST(Hardening, RecordingsOfSessionsAndRunsShareOneBoundedBudget) {
+  // Every live session and every run's episode in flight records each tick (~0.8 KB on the elevator);
+  // eight sessions of an hour and a run's long episodes together had no ceiling.
+  TestServer server({"--max-recording-mb", "1", "--run-jobs", "1"});
+  const HttpReply created = http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 1})");
+  ASSERT_EQ(created.status, 201) << created.body;
+  const std::string session = json_of(created)["id"];
+  ASSERT_EQ(http(server.port(), "POST", "/api/v1/sessions/" + session + "/step", R"({"n": 4000})").status, 200);
+  const nlohmann::json metrics = json_of(http(server.port(), "GET", "/api/v1/sessions/" + session + "/metrics"));
+  EXPECT_LT(metrics["recorded_until_tick"].get<std::int64_t>(), metrics["tick"].get<std::int64_t>()) << metrics.dump().substr(0, 300);
+  EXPECT_EQ(metrics["recording_stopped"], "the recordings of all sessions and runs hold their maximum of 1 MiB");
+
+  // The session holds the MiB: a run's episode cannot record and ends in error, saying why.
+  const HttpReply started = http(server.port(), "POST", "/api/v1/runs", R"({"scenario": "elevator", "count": 1})");
+  ASSERT_EQ(started.status, 201) << started.body;
+  const std::string run_id = json_of(started)["id"];
+  nlohmann::json run;
+  for (int i = 0; i < 600; ++i) {
+    run = json_of(http(server.port(), "GET", "/api/v1/runs/" + run_id));
+    if (run["status"] != "queued" && run["status"] != "running") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_EQ(run["status"], "failed") << run.dump().substr(0, 400);
+  const nlohmann::json episodes = json_of(http(server.port(), "GET", "/api/v1/runs/" + run_id + "/episodes"));
+  ASSERT_EQ(episodes["items"].size(), 1u) << episodes.dump().substr(0, 400);
+  const nlohmann::json episode = json_of(http(server.port(), "GET", "/api/v1/episodes/" + episodes["items"][0]["id"].get<std::string>()));
+  EXPECT_EQ(episode["status"], "error");
+  EXPECT_NE(episode.dump().find("--max-recording-mb"), std::string::npos) << episode.dump().substr(0, 600);
+
+  // Deleting the session gives its MiB back: a new session records again.
+  ASSERT_EQ(http(server.port(), "DELETE", "/api/v1/sessions/" + session).status, 204);
+  const std::string fresh = json_of(http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 2})"))["id"];
+  ASSERT_EQ(http(server.port(), "POST", "/api/v1/sessions/" + fresh + "/step", R"({"n": 100})").status, 200);
+  const nlohmann::json again = json_of(http(server.port(), "GET", "/api/v1/sessions/" + fresh + "/metrics"));
+  EXPECT_EQ(again["recorded_until_tick"], again["tick"]);
+  EXPECT_TRUE(again["recording_stopped"].is_null()) << again["recording_stopped"];
+}
+
 // Defect 4: answers queued without limit for a WebSocket client that does not read.
 
 TEST(Hardening, AWebSocketClientThatDoesNotReadIsClosedWith1008) {

@@ -29,6 +29,9 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, Bundled,
 }  // namespace
 }  // namespace hrisim::sim
 
+#include <cstdlib>
+#include <optional>
+
 #include "sim/episode_recorder.hpp"
 
 namespace hrisim::sim {
@@ -39,7 +42,7 @@ TEST(EpisodeRecorder, StopsAtItsBodyLimitAndKeepsTheEventsUpToThere) {
   ASSERT_TRUE(loaded.model);
   Session session(loaded.model, 1);
   const std::size_t bodies = session.model().agents.size();  // every person present, and the robot
-  EpisodeRecorder capped(session, 10 * bodies), full(session);
+  EpisodeRecorder capped(session, {10 * bodies}), full(session);
   for (int i = 0; i < 600; ++i) {
     session.step();
     capped.record(session);
@@ -51,6 +54,42 @@ TEST(EpisodeRecorder, StopsAtItsBodyLimitAndKeepsTheEventsUpToThere) {
   ASSERT_EQ(recording.samples.size(), 10u);
   for (const metrics::RecordedEvent& event : recording.events) EXPECT_LE(event.tick, 9) << event.kind;
   EXPECT_GT(full.finish(session).events.size(), recording.events.size());
+  EXPECT_NE(capped.stopped().find(std::to_string(10 * bodies) + " bodies"), std::string::npos) << capped.stopped();
+  EXPECT_EQ(full.stopped(), "");
+}
+
+TEST(EpisodeRecorder, RecordingsSharingAMemoryBudgetStopWhenItIsSpentAndGiveItBackWhenTheyEnd) {
+  const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/queue.json");
+  ASSERT_TRUE(loaded.model);
+  Session session(loaded.model, 1);
+  core::MemoryBudget memory(std::size_t{1} << 20);
+  std::optional<EpisodeRecorder> first(std::in_place, session, RecorderLimits{std::nullopt, &memory});
+  EpisodeRecorder second(session, {std::nullopt, &memory});
+  std::int64_t ticks = 0;
+  while (first->stopped().empty() && ticks < 100000) {
+    session.step();
+    ++ticks;
+    first->record(session);
+    second.record(session);
+  }
+  ASSERT_FALSE(first->stopped().empty()) << "a MiB holds no 100,000 ticks of a queue";
+  EXPECT_EQ(first->stopped(), "the recordings of all sessions and runs hold their maximum of 1 MiB");
+  EXPECT_LE(memory.used(), memory.limit());
+  EXPECT_GT(memory.used(), memory.limit() - 4096) << "stopped at the ceiling, not before";
+  EXPECT_LT(first->recorded_until(), session.state().tick);
+  // Both recorded alternately: they share the MiB, neither was given all of it.
+  EXPECT_LT(std::abs(first->recorded_until() - second.recorded_until()), 2);
+  const std::size_t before = memory.used();
+  first.reset();
+  EXPECT_LT(memory.used(), before / 2 + 4096) << "the ended recording gave its half back";
+  session.step();
+  second.record(session);
+  EXPECT_LT(second.recorded_until(), session.state().tick) << "a stopped recording stays stopped: a gap would misstate its metrics";
+  EpisodeRecorder third(session, {std::nullopt, &memory});
+  session.step();
+  third.record(session);
+  EXPECT_EQ(third.recorded_until(), session.state().tick) << "a new one records in the room given back";
+  EXPECT_EQ(third.stopped(), "");
 }
 
 }  // namespace
