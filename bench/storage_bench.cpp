@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
   for (int r = 0; r < repetitions; ++r) {
     std::filesystem::remove_all(dir);
     hrisim::storage::Store store(dir / "bench.db");
-    store.put_scenario({"bench", "bench", "json", "{}", "", "", "", ""});
+    store.put_scenario({"bench", "bench", "json", "{}", "", "", "", "", {}});
     std::vector<hrisim::storage::EpisodeRecord> batch;
     for (int i = 0; i < episodes; ++i) batch.push_back(make_episode(i, agents, samples));
 

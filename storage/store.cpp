@@ -28,7 +28,7 @@ bool is_terminal_run_status(const std::string& status) {
 }
 
 ScenarioRecord read_scenario(const Statement& row) {
-  return {row.text(0), row.text(1), row.text(2), row.text(3), row.text(4), row.text(5), row.optional_text(6).value_or(""), row.text(7)};
+  return {row.text(0), row.text(1), row.text(2), row.text(3), row.text(4), row.text(5), row.optional_text(6).value_or(""), row.text(7), {}};
 }
 
 constexpr std::string_view kScenarioColumns = "id, name, format, source, sha256, created_at, summary, owner";
@@ -133,16 +133,39 @@ StoreCounts Store::counts() {
           statement.integer(3), statement.integer(4), statement.integer(5)};
 }
 
+std::string scenario_sha256(const std::string& source, const std::map<std::string, std::string>& files) {
+  if (files.empty()) return core::sha256_hex(source);
+  std::string content = source;
+  for (const auto& [path, bytes] : files) {
+    content.push_back('\0');
+    content += path;
+    content.push_back('\0');
+    content += std::to_string(bytes.size());
+    content.push_back('\0');
+    content += bytes;
+  }
+  return core::sha256_hex(content);
+}
+
 ScenarioRecord Store::put_scenario(ScenarioRecord scenario) {
-  scenario.sha256 = core::sha256_hex(scenario.source);
+  scenario.sha256 = scenario_sha256(scenario.source, scenario.files);
   std::lock_guard lock(mutex_);
-  Statement insert = db_->prepare(
-      "INSERT INTO scenarios (id, name, format, source, sha256, summary, owner) VALUES (?1, ?2, ?3, ?4, ?5, nullif(?6, ''), ?7)"
-      " RETURNING created_at");
-  insert.bind(1, scenario.id).bind(2, scenario.name).bind(3, scenario.format).bind(4, scenario.source);
-  insert.bind(5, scenario.sha256).bind(6, scenario.summary).bind(7, scenario.owner);
-  insert.step();
-  scenario.created_at = insert.text(0);
+  Transaction transaction(*db_);
+  {
+    Statement insert = db_->prepare(
+        "INSERT INTO scenarios (id, name, format, source, sha256, summary, owner) VALUES (?1, ?2, ?3, ?4, ?5, nullif(?6, ''), ?7)"
+        " RETURNING created_at");
+    insert.bind(1, scenario.id).bind(2, scenario.name).bind(3, scenario.format).bind(4, scenario.source);
+    insert.bind(5, scenario.sha256).bind(6, scenario.summary).bind(7, scenario.owner);
+    insert.step();
+    scenario.created_at = insert.text(0);
+  }  // finished before the transaction commits
+  for (const auto& [path, bytes] : scenario.files) {
+    Statement file = db_->prepare("INSERT INTO scenario_files (scenario_id, path, content) VALUES (?1, ?2, ?3)");
+    file.bind(1, scenario.id).bind(2, path).bind_blob(3, bytes);
+    file.step();
+  }
+  transaction.commit();
   return scenario;
 }
 
@@ -152,7 +175,13 @@ std::optional<ScenarioRecord> Store::scenario(const std::string& id, bool with_s
                                   " FROM scenarios WHERE id = ?1");
   select.bind(1, id);
   if (!select.step()) return std::nullopt;
-  return read_scenario(select);
+  ScenarioRecord record = read_scenario(select);
+  if (with_source) {
+    Statement files = db_->prepare("SELECT path, content FROM scenario_files WHERE scenario_id = ?1");
+    files.bind(1, id);
+    while (files.step()) record.files.emplace(files.text(0), files.blob(1));
+  }
+  return record;
 }
 
 std::vector<ScenarioRecord> Store::scenarios(int limit, const std::string& after_id, const std::string& id_prefix,

@@ -4,6 +4,7 @@
 // loses at most the episodes in flight, never a committed one.
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -27,7 +28,13 @@ struct ScenarioRecord {
   std::string created_at;  ///< RFC 3339 UTC, filled by the store
   std::string summary;  ///< JSON of what a list shows of it; empty when not stored (older uploads)
   std::string owner;    ///< name of the token that uploaded it; empty without owners
+  /// Files uploaded alongside it, by path relative to the scenario; read only with its source.
+  std::map<std::string, std::string> files;
 };
+
+/// The sha256 that names a scenario's content: of its source alone when it has no files, else of the
+/// source followed by each file (in path order) as its path, its size and its bytes, NUL-separated.
+std::string scenario_sha256(const std::string& source, const std::map<std::string, std::string>& files);
 
 struct RunRecord {
   std::string id;
@@ -113,9 +120,10 @@ class Store {
   void limit_size(std::uint64_t bytes);
   StoreCounts counts();
 
-  /// Stores a scenario; computes its sha256 and created_at. Returns the stored record.
+  /// Stores a scenario and its files; computes its sha256 (of the source, and of the files when there
+  /// are any: see scenario_sha256) and created_at. Returns the stored record.
   ScenarioRecord put_scenario(ScenarioRecord scenario);
-  /// A scenario; its source left empty unless `with_source` (a source may be megabytes).
+  /// A scenario; its source and files left empty unless `with_source` (they may be megabytes).
   std::optional<ScenarioRecord> scenario(const std::string& id, bool with_source = true);
   /// Scenarios ordered by id, at most `limit`, starting after `after_id` (paging cursor), only ids
   /// starting with `id_prefix` when given, only `owner`'s when given; without their sources.

@@ -389,7 +389,7 @@ int run_command(const std::vector<std::string>& args) {
     const auto format = std::filesystem::path(file).extension() == ".xml"
                             ? std::string(scenario::to_string(scenario::detect_source_format(loaded.text)))
                             : std::string("json");
-    store.put_scenario({stored_spec.scenario_id, spec.model->name, format, loaded.text, "", "", "", ""});
+    store.put_scenario({stored_spec.scenario_id, spec.model->name, format, loaded.text, "", "", "", "", {}});
   }
   ProgressReport progress(seeds.size());
   runs::Executor executor(store, jobs, [&](const std::string&, const storage::EpisodeRecord& episode) { progress.episode_done(episode); });

@@ -1,6 +1,7 @@
 #include "core/text.hpp"
 
 #include <cctype>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 
 namespace hrisim::core {
@@ -47,6 +48,34 @@ std::optional<std::size_t> invalid_utf8_offset(std::string_view text) {
 
 std::string json_text(const nlohmann::json& value, int indent) {
   return value.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::optional<std::string> base64_decode(std::string_view text) {
+  if (text.size() % 4 != 0) return std::nullopt;
+  const auto value = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    if (c == '+') return 62;
+    if (c == '/') return 63;
+    return -1;
+  };
+  std::string bytes;
+  bytes.reserve(text.size() / 4 * 3);
+  for (std::size_t i = 0; i < text.size(); i += 4) {
+    const bool last = i + 4 == text.size();
+    const int padding = last ? (text[i + 3] == '=') + (text[i + 2] == '=' && text[i + 3] == '=') : 0;
+    std::uint32_t group = 0;
+    for (int k = 0; k < 4; ++k) {
+      const int v = k >= 4 - padding ? 0 : value(text[i + static_cast<std::size_t>(k)]);
+      if (v < 0) return std::nullopt;
+      group = group << 6 | static_cast<std::uint32_t>(v);
+    }
+    bytes.push_back(static_cast<char>(group >> 16));
+    if (padding < 2) bytes.push_back(static_cast<char>(group >> 8 & 0xff));
+    if (padding < 1) bytes.push_back(static_cast<char>(group & 0xff));
+  }
+  return bytes;
 }
 
 }  // namespace hrisim::core

@@ -26,6 +26,9 @@ std::string lower_case(std::string text);
 /// no surrogates, nothing above U+10FFFF), or nullopt when all of `text` is UTF-8.
 std::optional<std::size_t> invalid_utf8_offset(std::string_view text);
 
+/// The bytes of standard base64 text (RFC 4648 §4, padded; no whitespace), or nullopt when it is not.
+std::optional<std::string> base64_decode(std::string_view text);
+
 /// JSON text of a value; bytes of its strings that are not UTF-8 become U+FFFD instead of throwing,
 /// so text a client sent (a path, a header) can always be quoted back in an error.
 std::string json_text(const nlohmann::json& value, int indent = -1);

@@ -59,7 +59,7 @@ runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue, con
   runs::RunRequest request;
   request.scenario_id = id;
   request.document = entry->source.document;
-  request.load = catalogue.options().load;
+  request.load = catalogue.options(*entry).load;
   request.scenario_sha256 = entry->sha256.empty() ? core::sha256_hex(core::json_text(entry->source.document)) : entry->sha256;
   request.seeds = seeds_of(body);
   if (body.contains("controller") && !body["controller"].is_null()) request.controller = body["controller"];
@@ -101,7 +101,7 @@ std::string stored_scenario_id(storage::Store& store, const std::string& id, con
                                const std::string& sha256) {
   if (entry.origin == "uploaded") return id;
   const std::string snapshot = "b" + sha256.substr(0, 32);
-  if (!store.scenario(snapshot)) store.put_scenario({snapshot, entry.source.model->name, "json", core::json_text(entry.source.document, 2), "", "", "", ""});
+  if (!store.scenario(snapshot)) store.put_scenario({snapshot, entry.source.model->name, "json", core::json_text(entry.source.document, 2), "", "", "", "", {}});
   return snapshot;
 }
 

@@ -1,6 +1,10 @@
 #include "http/scenario_catalogue.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cctype>
+#include <fstream>
 
 #include "core/files.hpp"
 #include "core/random.hpp"
@@ -19,7 +23,34 @@ std::size_t approximate_bytes(const scenario::CompiledSource& compiled, std::siz
   return cells * kBytesPerCell + source_bytes * kDocumentBytesPerSourceByte + kFixed;
 }
 
+/// `text` without any mention of `folder` (a private path of this process), so that messages name files
+/// as the upload did.
+std::string without_folder(std::string text, const std::filesystem::path& folder) {
+  const std::string prefix = folder.string() + "/";
+  for (std::size_t at = text.find(prefix); at != std::string::npos; at = text.find(prefix, at)) text.erase(at, prefix.size());
+  return text;
+}
+
 }  // namespace
+
+std::string upload_file_path_problem(const std::string& path) {
+  if (path.empty() || path.size() > 255) return "a file's path is 1 to 255 bytes";
+  std::size_t start = 0;
+  while (start <= path.size()) {
+    const std::size_t end = std::min(path.find('/', start), path.size());
+    const std::string_view segment(path.data() + start, end - start);
+    if (segment.empty() || segment == "." || segment == "..") {
+      return "a file's path is relative, without empty, '.' or '..' segments: it names a file next to the scenario or below it";
+    }
+    for (const char c : segment) {
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-') {
+        return "a file's path is made of letters, digits, '.', '_', '-' and '/'";
+      }
+    }
+    start = end + 1;
+  }
+  return "";
+}
 
 ScenarioCatalogue::ScenarioCatalogue(storage::Store* store, std::filesystem::path scenarios_dir, scenario::ScenarioLimits limits,
                                      std::size_t cache_bytes)
@@ -33,18 +64,104 @@ ScenarioCatalogue::ScenarioCatalogue(storage::Store* store, std::filesystem::pat
     } catch (const core::Error&) {
       continue;
     }
-    auto compiled = std::make_shared<Entry>(Entry{"bundled", scenario::compile_source(text, scenario::SourceFormat::json, options()), "", ""});
+    auto compiled = std::make_shared<Entry>(Entry{"bundled", scenario::compile_source(text, scenario::SourceFormat::json, options_with({})), "", "", {}});
     if (compiled->source.model) bundled_.emplace(entry.path().stem().string(), std::move(compiled));
   }
 }
 
-scenario::SourceOptions ScenarioCatalogue::options() const {
+ScenarioCatalogue::~ScenarioCatalogue() {
+  std::error_code ignored;
+  if (!files_root_.empty()) std::filesystem::remove_all(files_root_, ignored);
+}
+
+scenario::SourceOptions ScenarioCatalogue::options_with(const std::filesystem::path& files) const {
   scenario::SourceOptions options;
   options.import.map_search_path = {dir_};
-  options.import.limits = limits_;
   options.load.map_search_path = {dir_};
+  if (!files.empty()) {
+    options.import.map_search_path.insert(options.import.map_search_path.begin(), files);
+    options.load.map_search_path.insert(options.load.map_search_path.begin(), files);
+  }
+  options.import.limits = limits_;
   options.load.limits = limits_;
   return options;
+}
+
+scenario::SourceOptions ScenarioCatalogue::options(const Entry& entry) const { return options_with(entry.files); }
+
+std::filesystem::path ScenarioCatalogue::write_files(const std::string& name, const std::map<std::string, std::string>& files) {
+  if (files.empty()) return {};
+  namespace fs = std::filesystem;
+  fs::path root;
+  {
+    std::lock_guard lock(mutex_);
+    if (files_root_.empty()) {
+      fs::path made = fs::temp_directory_path() / ("hrisim-files-" + std::to_string(getpid()) + "-" + core::unguessable_id('f'));
+      fs::create_directory(made);
+      fs::permissions(made, fs::perms::owner_all, fs::perm_options::replace);
+      files_root_ = std::move(made);
+    }
+    root = files_root_;
+  }
+  const fs::path folder = root / name;
+  if (fs::is_directory(folder)) return folder;
+  // Written aside, then renamed into place: two requests compiling the same upload see whole folders.
+  const fs::path partial = root / (name + ".partial-" + core::unguessable_id('f'));
+  for (const auto& [path, bytes] : files) {
+    const fs::path file = partial / path;
+    fs::create_directories(file.parent_path());
+    std::ofstream out(file, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out.flush()) {
+      std::error_code ignored;
+      fs::remove_all(partial, ignored);
+      throw core::Error(core::ErrorCode::internal, "the files uploaded with the scenario could not be written to " + root.string());
+    }
+  }
+  std::error_code exists;
+  fs::rename(partial, folder, exists);
+  if (exists) fs::remove_all(partial, exists);
+  return folder;
+}
+
+scenario::CompiledSource ScenarioCatalogue::compile(const Upload& upload, const std::filesystem::path& files) {
+  scenario::CompiledSource compiled = scenario::compile_source(upload.text, upload.format, options_with(files));
+  if (!files.empty()) {
+    for (auto* issues : {&compiled.errors, &compiled.warnings}) {
+      for (scenario::SourceIssue& issue : *issues) issue.message = without_folder(std::move(issue.message), files);
+    }
+  }
+  return compiled;
+}
+
+scenario::CompiledSource ScenarioCatalogue::check(const Upload& upload) {
+  const std::filesystem::path files = write_files("check-" + core::unguessable_id('f'), upload.files);
+  scenario::CompiledSource compiled = compile(upload, files);
+  std::error_code ignored;
+  if (!files.empty()) std::filesystem::remove_all(files, ignored);
+  return compiled;
+}
+
+std::string ScenarioCatalogue::add(const Upload& upload, const std::string& owner, scenario::CompiledSource& compiled) {
+  storage::ScenarioRecord record;
+  record.id = core::unguessable_id(kUploadedPrefix);
+  const std::filesystem::path files = write_files(record.id, upload.files);
+  compiled = compile(upload, files);
+  if (!compiled.errors.empty()) {
+    std::error_code ignored;
+    if (!files.empty()) std::filesystem::remove_all(files, ignored);
+    return "";
+  }
+  record.name = compiled.model->name;
+  record.format = std::string(scenario::to_string(compiled.format));
+  record.source = upload.text;
+  record.summary = core::json_text(scenario::summarize(*compiled.model));
+  record.owner = owner;
+  record.files = upload.files;
+  record = store_->put_scenario(std::move(record));
+  std::lock_guard lock(mutex_);
+  remember(record.id, std::make_shared<const Entry>(Entry{"uploaded", compiled, record.sha256, owner, files}), upload.text.size());
+  return record.id;
 }
 
 std::shared_ptr<const ScenarioCatalogue::Entry> ScenarioCatalogue::find(const std::string& id) {
@@ -59,8 +176,9 @@ std::shared_ptr<const ScenarioCatalogue::Entry> ScenarioCatalogue::find(const st
   const auto record = store_->scenario(id);
   if (!record) return nullptr;
   // Compiled without the lock: two requests may both compile it; the cache keeps one.
-  const auto format = scenario::source_format(record->format).value_or(scenario::SourceFormat::json);
-  auto entry = std::make_shared<const Entry>(Entry{"uploaded", scenario::compile_source(record->source, format, options()), record->sha256, record->owner});
+  const Upload upload{record->source, scenario::source_format(record->format).value_or(scenario::SourceFormat::json), record->files};
+  const std::filesystem::path files = write_files(id, upload.files);
+  auto entry = std::make_shared<const Entry>(Entry{"uploaded", compile(upload, files), record->sha256, record->owner, files});
   std::lock_guard lock(mutex_);
   remember(id, entry, record->source.size());
   return entry;
@@ -134,20 +252,6 @@ std::vector<std::string> ScenarioCatalogue::page(const std::string& cursor, int 
   std::sort(ids.begin(), ids.end());
   if (static_cast<int>(ids.size()) > limit) ids.resize(static_cast<std::size_t>(limit));
   return ids;
-}
-
-std::string ScenarioCatalogue::store(const std::string& text, scenario::CompiledSource compiled, const std::string& owner) {
-  storage::ScenarioRecord record;
-  record.id = core::unguessable_id(kUploadedPrefix);
-  record.name = compiled.model->name;
-  record.format = std::string(scenario::to_string(compiled.format));
-  record.source = text;
-  record.summary = core::json_text(scenario::summarize(*compiled.model));
-  record.owner = owner;
-  record = store_->put_scenario(std::move(record));
-  std::lock_guard lock(mutex_);
-  remember(record.id, std::make_shared<const Entry>(Entry{"uploaded", std::move(compiled), record.sha256, owner}), text.size());
-  return record.id;
 }
 
 }  // namespace hrisim::http

@@ -1,7 +1,10 @@
 #pragma once
 // The scenarios the server knows: the bundled files (id = file stem), compiled once at start, and
 // uploaded ones (id = "u" and 128 random bits in hex), stored with their source and summary and
-// compiled when used, kept in a cache of bounded size (least recently used first out). Thread-safe.
+// compiled when used, kept in a cache of bounded size (least recently used first out). An upload may
+// bring files along (its ROS map and image, an IMHuS world): they are stored with it and, while the
+// server runs, written to a private folder of this process that the upload's references are looked up
+// in before the bundled scenarios' folder. Thread-safe.
 #include <cstddef>
 #include <filesystem>
 #include <list>
@@ -27,20 +30,46 @@ inline constexpr char kUploadedPrefix = 'u';
 /// `--scenario-cache-mb`.
 inline constexpr std::size_t kDefaultScenarioCacheBytes = 256u << 20;
 
+/// Most files one upload may bring along.
+inline constexpr std::size_t kMaxUploadFiles = 64;
+
+/// A scenario as a client hands it in: its text in its format, and the files it names, by their path
+/// relative to it (checked: see upload_file_path_problem).
+struct Upload {
+  std::string text;
+  scenario::SourceFormat format = scenario::SourceFormat::json;
+  std::map<std::string, std::string> files;
+};
+
+/// What is wrong with a path an upload names one of its files by, or empty when it is fine: relative,
+/// at most 255 bytes, of segments made of letters, digits, '.', '_' and '-', none of them "." or "..".
+std::string upload_file_path_problem(const std::string& path);
+
 class ScenarioCatalogue {
  public:
   ScenarioCatalogue(storage::Store* store, std::filesystem::path scenarios_dir, scenario::ScenarioLimits limits = {},
                     std::size_t cache_bytes = kDefaultScenarioCacheBytes);
+  /// Removes the folder the uploads' files were written to.
+  ~ScenarioCatalogue();
+  ScenarioCatalogue(const ScenarioCatalogue&) = delete;
+  ScenarioCatalogue& operator=(const ScenarioCatalogue&) = delete;
 
   struct Entry {
     std::string origin;  ///< "bundled" or "uploaded"
     scenario::CompiledSource source;
-    std::string sha256;  ///< of an uploaded source
+    std::string sha256;  ///< of an uploaded source and its files
     std::string owner;   ///< who uploaded it; empty for bundled ones and without owners
+    std::filesystem::path files;  ///< where the files uploaded with it are; empty without any
   };
 
-  /// How sources are compiled here (maps looked up among the bundled scenarios, within the limits).
-  scenario::SourceOptions options() const;
+  /// How the scenario of `entry` is compiled here (again, e.g. with another controller): its files
+  /// first, then the bundled scenarios' folder, within the limits.
+  scenario::SourceOptions options(const Entry& entry) const;
+  /// Compiles an upload without keeping it (validation).
+  scenario::CompiledSource check(const Upload& upload);
+  /// Compiles an upload and, when it is valid, stores it for `owner`: its new id, or empty (nothing
+  /// stored) with the errors in `compiled`.
+  std::string add(const Upload& upload, const std::string& owner, scenario::CompiledSource& compiled);
   /// The scenario with this id, or null; an upload not in the cache is compiled first.
   std::shared_ptr<const Entry> find(const std::string& id);
   /// The same as `caller` may see it: null also for another owner's upload.
@@ -50,19 +79,25 @@ class ScenarioCatalogue {
   nlohmann::json summary(const std::string& id);
   /// Up to `limit` ids after `cursor`, bundled and uploaded (those `caller` may see) merged in id order.
   std::vector<std::string> page(const std::string& cursor, int limit, const Caller& caller);
-  /// Stores a compiled, valid source; returns its new id.
-  std::string store(const std::string& text, scenario::CompiledSource compiled, const std::string& owner = "");
   /// Estimated bytes of the compiled uploads held now.
   std::size_t cached_bytes() const;
 
  private:
   nlohmann::json summary_of(const std::string& id, const Entry& entry) const;
+  /// Options with `files` (empty: none) looked up before the bundled scenarios.
+  scenario::SourceOptions options_with(const std::filesystem::path& files) const;
+  /// Writes an upload's files to the folder `name` of this process's files folder (once: a folder
+  /// already there is kept, as uploads never change); empty without files.
+  std::filesystem::path write_files(const std::string& name, const std::map<std::string, std::string>& files);
+  /// Compiles `upload` with its files written to folder `name`.
+  scenario::CompiledSource compile(const Upload& upload, const std::filesystem::path& files);
   /// Keeps an upload in the cache as the most recently used, dropping the least recently used ones
   /// beyond the cache's size (the mutex held).
   void remember(const std::string& id, std::shared_ptr<const Entry> entry, std::size_t source_bytes);
 
   storage::Store* store_;
   std::filesystem::path dir_;
+  std::filesystem::path files_root_;  ///< this process's folder of uploaded files, made when first needed
   scenario::ScenarioLimits limits_;
   std::size_t cache_bytes_;
   std::map<std::string, std::shared_ptr<const Entry>> bundled_;

@@ -1,7 +1,10 @@
 #include "http/scenarios_api.hpp"
 
 #include <algorithm>
+#include <map>
 
+#include "core/json_schema.hpp"
+#include "core/text.hpp"
 #include "http/request_helpers.hpp"
 #include "render/image_codec.hpp"
 #include "render/scene_renderer.hpp"
@@ -29,11 +32,57 @@ scenario::SourceFormat body_format(const Request& request) {
   return scenario::detect_source_format(request.body);
 }
 
-/// The body compiled as the format it is in.
-scenario::CompiledSource compile_body(const Request& request, const ScenarioCatalogue& catalogue) {
+[[noreturn]] void bad_upload(const std::string& pointer, const std::string& message) {
+  throw core::Error(core::ErrorCode::bad_request, message, {{"pointer", pointer}});
+}
+
+/// The files of a bundle: {path: its text, or {"base64": its bytes}}.
+std::map<std::string, std::string> upload_files(const json& files) {
+  if (!files.is_object()) bad_upload("/files", "files: an object of {path relative to the scenario: text, or {\"base64\": bytes}}");
+  if (files.size() > kMaxUploadFiles) bad_upload("/files", "at most " + std::to_string(kMaxUploadFiles) + " files may come with a scenario");
+  std::map<std::string, std::string> result;
+  for (const auto& [path, content] : files.items()) {
+    const std::string pointer = "/files/" + core::pointer_token(path);
+    if (const std::string problem = upload_file_path_problem(path); !problem.empty()) bad_upload(pointer, problem);
+    if (content.is_string()) {
+      result.emplace(path, content.get<std::string>());
+    } else if (content.is_object() && content.size() == 1 && content.contains("base64") && content["base64"].is_string()) {
+      auto bytes = core::base64_decode(content["base64"].get<std::string>());
+      if (!bytes) bad_upload(pointer + "/base64", "not base64 (RFC 4648, padded, without line breaks)");
+      result.emplace(path, std::move(*bytes));
+    } else {
+      bad_upload(pointer, "a file is its text, or {\"base64\": its bytes}");
+    }
+  }
+  return result;
+}
+
+/// What the body uploads: a scenario alone (JSON or XML, see body_format), or a bundle — a JSON
+/// object {"scenario": the native document or any format's text, "files": …} — of a scenario and the
+/// files it names.
+Upload upload_of(const Request& request) {
   const scenario::SourceFormat format = body_format(request);
-  if (format == scenario::SourceFormat::json) check_json_nesting(request.body);
-  return scenario::compile_source(request.body, format, catalogue.options());
+  if (format != scenario::SourceFormat::json) return {request.body, format, {}};
+  check_json_nesting(request.body);
+  // Not JSON: the compiler says where.
+  const json body = json::parse(request.body, nullptr, false);
+  if (!body.is_object() || !body.contains("files")) return {request.body, format, {}};
+  for (const auto& [key, unused] : body.items()) {
+    if (key != "scenario" && key != "files") bad_upload("/" + core::pointer_token(key), "a bundle has \"scenario\" and \"files\" only, not '" + key + "'");
+  }
+  if (!body.contains("scenario")) bad_upload("/scenario", "a bundle's scenario is missing");
+  Upload upload{"", format, upload_files(body["files"])};
+  const json& scenario = body["scenario"];
+  if (scenario.is_object()) {
+    upload.text = core::json_text(scenario, 2);
+  } else if (scenario.is_string()) {
+    upload.text = scenario.get<std::string>();
+    const auto named = query_value(request.query, "format");
+    upload.format = named ? body_format(request) : scenario::detect_source_format(upload.text);
+  } else {
+    bad_upload("/scenario", "a bundle's scenario is the native document (an object) or the text of a scenario file");
+  }
+  return upload;
 }
 
 json issues(const std::vector<scenario::SourceIssue>& list) {
@@ -104,7 +153,7 @@ void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> cata
 
   router.add("POST", "/api/v1/scenarios/validate", [catalogue](const Request& request) {
     return Response::later([catalogue, request] {
-      const auto compiled = compile_body(request, *catalogue);
+      const auto compiled = catalogue->check(upload_of(request));
       json reply{{"valid", compiled.errors.empty()},
                  {"format", scenario::to_string(compiled.format)},
                  {"errors", issues(compiled.errors)},
@@ -116,13 +165,13 @@ void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> cata
 
   router.add("POST", "/api/v1/scenarios", [catalogue](const Request& request) {
     return Response::later([catalogue, request] {
-      auto compiled = compile_body(request, *catalogue);
-      if (!compiled.errors.empty()) {
+      scenario::CompiledSource compiled;
+      const std::string id = catalogue->add(upload_of(request), request.caller.owner, compiled);
+      if (id.empty()) {
         throw core::Error(core::ErrorCode::bad_request, "the scenario is not valid: nothing was stored",
                           {{"format", scenario::to_string(compiled.format)}, {"errors", issues(compiled.errors)}});
       }
       const json warnings = issues(compiled.warnings);
-      const std::string id = catalogue->store(request.body, std::move(compiled), request.caller.owner);
       Response response = Response::json(201, {{"summary", catalogue->summary(id)}, {"warnings", warnings}});
       response.headers.emplace_back("Location", "/api/v1/scenarios/" + id);
       return response;

@@ -912,7 +912,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       std::optional<json> controller;
       if (body.contains("controller") && !body["controller"].is_null()) {
         json errors = json::array();
-        model = runs::with_controller(entry->source.document, body["controller"], catalogue->options().load, errors).model;
+        model = runs::with_controller(entry->source.document, body["controller"], catalogue->options(*entry).load, errors).model;
         runs::throw_if_problems(errors);
         controller = body["controller"];
       }

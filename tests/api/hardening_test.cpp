@@ -130,6 +130,96 @@ TEST(Hardening, UploadedMapsCannotNameFilesOutsideTheScenarios) {
   EXPECT_TRUE(alive(server));
 }
 
+std::string base64(const std::string& bytes) {
+  static const char* const kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string text;
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+    std::uint32_t group = 0;
+    for (std::size_t k = 0; k < 3; ++k) group = group << 8 | (k < n ? static_cast<std::uint8_t>(bytes[i + k]) : 0u);
+    for (std::size_t k = 0; k < 4; ++k) text.push_back(k <= n ? kAlphabet[group >> (18 - 6 * k) & 63] : '=');
+  }
+  return text;
+}
+
+/// A scenario bundled with its ROS map: 4 m × 3 m at 0.1 m, free but for a wall along y = 1.5 m from
+/// x = 0 to 2 m; a robot that drives to the east.
+nlohmann::json scenario_bundle() {
+  std::string pgm = "P5\n40 30\n255\n";
+  for (int row = 0; row < 30; ++row) {
+    for (int column = 0; column < 40; ++column) pgm.push_back(static_cast<char>(row == 15 && column < 20 ? 0 : 254));
+  }
+  nlohmann::json scenario = nlohmann::json::parse(scenario_with_map("maps/lab.yaml"));
+  scenario["robots"] = {{{"id", "robot"}, {"model", "hsr"}, {"start", {{"x", 0.5}, {"y", 0.5}, {"theta", 0.0}}}}};
+  return {{"scenario", scenario},
+          {"files", {{"maps/lab.yaml", "image: lab.pgm\nresolution: 0.1\norigin: [0.0, 0.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"},
+                     {"maps/lab.pgm", {{"base64", base64(pgm)}}}}}};
+}
+
+TEST(Hardening, AScenarioBringsItsMapAlongAndNothingElseCanBeNamed) {
+  // A scenario may reference maps only inside the scenarios folder or uploaded alongside it.
+  TempDir data;
+  const std::string database = (data / "hrisim.db").string();
+  const nlohmann::json bundle = scenario_bundle();
+  std::string id;
+  {
+    TestServer server({"--db", database});
+    const nlohmann::json alone = json_of(http(server.port(), "POST", "/api/v1/scenarios/validate", bundle["scenario"].dump()));
+    EXPECT_FALSE(alone["valid"].get<bool>()) << "without its files the map is not found";
+    const nlohmann::json checked = json_of(http(server.port(), "POST", "/api/v1/scenarios/validate", bundle.dump()));
+    EXPECT_TRUE(checked["valid"].get<bool>()) << checked.dump();
+    const HttpReply stored = http(server.port(), "POST", "/api/v1/scenarios", bundle.dump());
+    ASSERT_EQ(stored.status, 201) << stored.body;
+    id = json_of(stored)["summary"]["id"];
+    const nlohmann::json world = json_of(http(server.port(), "GET", "/api/v1/scenarios/" + id + "/world"));
+    EXPECT_EQ(world.dump().find("hrisim-files"), std::string::npos) << "the private folder is never named";
+    // Compiled again with another controller (a session's and a run's): the files are still found.
+    const nlohmann::json kGoal = {{"type", "goal"}, {"goal", {{"pose", {{"x", 3.5}, {"y", 0.5}, {"theta", 0.0}}}}}};
+    const HttpReply session = http(server.port(), "POST", "/api/v1/sessions",
+                                   nlohmann::json{{"scenario", id}, {"controller", kGoal}}.dump());
+    EXPECT_EQ(session.status, 201) << session.body;
+    const HttpReply run = http(server.port(), "POST", "/api/v1/runs",
+                               nlohmann::json{{"scenario", id}, {"count", 1}, {"max_time", 2}, {"controller", kGoal}}.dump());
+    EXPECT_EQ(run.status, 201) << run.body;
+
+    // The files' own paths and contents are checked; nothing is stored for a refused upload.
+    const auto refused = [&](nlohmann::json changed, const std::string& pointer) {
+      const HttpReply reply = http(server.port(), "POST", "/api/v1/scenarios", changed.dump());
+      EXPECT_EQ(reply.status, 400) << pointer << ": " << reply.body;
+      EXPECT_EQ(json_of(reply)["error"]["details"]["pointer"], pointer) << reply.body;
+    };
+    for (const std::string path : {"../lab.yaml", "/etc/passwd", "maps//lab.yaml", "maps/./lab.yaml", "maps/lab yaml", ""}) {
+      nlohmann::json changed = bundle;
+      changed["files"][path] = "x";
+      std::string token;
+      for (const char c : path) token += c == '/' ? "~1" : std::string(1, c);
+      refused(changed, "/files/" + token);
+    }
+    nlohmann::json bad_base64 = bundle;
+    bad_base64["files"]["maps/lab.pgm"]["base64"] = "P5 not base64";
+    refused(bad_base64, "/files/maps~1lab.pgm/base64");
+    nlohmann::json extra = bundle;
+    extra["notes"] = "x";
+    refused(extra, "/notes");
+    // A bundled map's image may not lead out of the bundle either: same words as a missing file.
+    nlohmann::json escape = bundle;
+    escape["files"]["maps/lab.yaml"] = "image: ../../../../../../etc/passwd\nresolution: 0.1\norigin: [0, 0, 0]\n";
+    const HttpReply escaped = http(server.port(), "POST", "/api/v1/scenarios", escape.dump());
+    EXPECT_EQ(escaped.status, 400);
+    EXPECT_EQ(escaped.body.find("root"), std::string::npos) << escaped.body;
+    EXPECT_EQ(escaped.body.find("hrisim-files"), std::string::npos) << escaped.body;
+    std::size_t uploads = 0;
+    const nlohmann::json listed = json_of(http(server.port(), "GET", "/api/v1/scenarios?limit=200"));
+    for (const auto& item : listed["items"]) uploads += item["origin"] == "uploaded";
+    EXPECT_EQ(uploads, 1u) << "only the valid bundle was stored";
+  }
+  // A new server compiles the upload from the database, its files with it.
+  TestServer restarted({"--db", database});
+  const HttpReply world = http(restarted.port(), "GET", "/api/v1/scenarios/" + id + "/world");
+  ASSERT_EQ(world.status, 200) << world.body;
+  EXPECT_NEAR(json_of(world)["bounds"]["max"][0].get<double>(), 4.0, 1e-9) << world.body.substr(0, 300);
+}
+
 TEST(Hardening, ALargeMapIsRefusedBeforeItsPixelsAreRead) {
   // A 20000 × 20000 PGM header (4e8 cells) inside the scenarios folder.
   TempDir scenarios;

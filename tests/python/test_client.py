@@ -202,6 +202,17 @@ class ClientTest(unittest.TestCase):
         self.assertEqual(caught.exception.status, 404)
         self.assertEqual(caught.exception.code, "not_found")
 
+    def test_a_scenario_uploaded_with_its_map(self):
+        pgm = b"P5\n20 10\n255\n" + bytes([254] * 200)
+        document = {"name": "mapped", "world": {"map": "lab.yaml"},
+                    "humans": [{"id": "ana", "start": {"x": 1.0, "y": 0.5, "theta": 0.0}}], "steps": []}
+        yaml = "image: lab.pgm\nresolution: 0.1\norigin: [0.0, 0.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+        summary = self.client.upload_scenario(document, files={"lab.yaml": yaml, "lab.pgm": pgm})
+        self.assertEqual(summary["origin"], "uploaded")
+        with self.assertRaises(hrisim.HrisimError) as caught:
+            self.client.upload_scenario(document)
+        self.assertEqual(caught.exception.status, 400, "without its files the map is not found")
+
     def test_unknown_scenario_for_a_session(self):
         with self.assertRaises(hrisim.HrisimError) as caught:
             hrisim.make("no_such_scenario", url=SERVER.url)

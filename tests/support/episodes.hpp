@@ -7,7 +7,7 @@
 namespace hrisim::testing {
 
 inline storage::ScenarioRecord make_scenario(const std::string& id) {
-  return {id, "Scenario " + id, "json", R"({"name":")" + id + R"(","humans":[]})", "", "", "", ""};
+  return {id, "Scenario " + id, "json", R"({"name":")" + id + R"(","humans":[]})", "", "", "", "", {}};
 }
 
 /// An episode with `metrics` metric values (the last one null with a reason), `events` events and

@@ -1,5 +1,6 @@
 """REST client for hrisim's HTTP API (api/openapi.yaml), standard library only."""
 
+import base64
 import json
 import time
 import urllib.error
@@ -138,10 +139,19 @@ class Client:
     def scenario(self, scenario_id):
         return self.get("/api/v1/scenarios/" + self._q(scenario_id))
 
-    def upload_scenario(self, document):
-        """Store a scenario (a dict in hrisim's JSON format) → its summary, whose ``id`` sessions and
-        runs name. A scenario that is not valid raises HrisimError with every error's pointer."""
-        return self.post("/api/v1/scenarios", document)["summary"]
+    def upload_scenario(self, document, files=None):
+        """Store a scenario (a dict in hrisim's JSON format, or the text of an IMHuS or Pedsim file) →
+        its summary, whose ``id`` sessions and runs name. ``files`` maps paths relative to the scenario
+        (``"maps/lab.yaml"``) to the text or bytes of the files it names, uploaded alongside it. A
+        scenario that is not valid raises HrisimError with every error's pointer."""
+        if files is None and isinstance(document, dict):
+            return self.post("/api/v1/scenarios", document)["summary"]
+        bundle = {"scenario": document, "files": {}}
+        for path, content in (files or {}).items():
+            if isinstance(content, bytes):
+                content = {"base64": base64.b64encode(content).decode("ascii")}
+            bundle["files"][path] = content
+        return self.post("/api/v1/scenarios", bundle)["summary"]
 
     # -- sessions ----------------------------------------------------------------------------
     def create_session(self, scenario, seed=0, controller=None, mode="lockstep", realtime_factor=None):

@@ -65,6 +65,24 @@ TEST(Store, ScenarioRoundTripWithHash) {
   EXPECT_FALSE(store.scenario("missing"));
 }
 
+TEST(Store, FilesUploadedWithAScenarioAreKeptByteForByteAndNamedByItsHash) {
+  TempDir dir;
+  Store store(dir / "db");
+  ScenarioRecord with_files = make_scenario("mapped");
+  with_files.files = {{"maps/lab.yaml", "image: lab.pgm\n"}, {"maps/lab.pgm", std::string("P5\n2 1\n255\n\x00\xfe", 13)}};
+  const ScenarioRecord stored = store.put_scenario(with_files);
+  EXPECT_NE(stored.sha256, store.put_scenario(make_scenario("alone")).sha256) << "the files are part of what the hash names";
+  EXPECT_EQ(stored.sha256, scenario_sha256(with_files.source, with_files.files));
+  with_files.files["maps/lab.pgm"].back() = '\xfd';
+  EXPECT_NE(stored.sha256, scenario_sha256(with_files.source, with_files.files)) << "one byte of a file changes it";
+  const auto loaded = store.scenario("mapped");
+  ASSERT_TRUE(loaded);
+  ASSERT_EQ(loaded->files.size(), 2u);
+  EXPECT_EQ(loaded->files.at("maps/lab.pgm"), std::string("P5\n2 1\n255\n\x00\xfe", 13)) << "bytes, NUL included";
+  EXPECT_TRUE(store.scenario("mapped", false)->files.empty()) << "read only with the source";
+  EXPECT_EQ(scenario_sha256("x", {}), store.put_scenario({"plain", "p", "json", "x", "", "", "", "", {}}).sha256) << "without files: of the source alone";
+}
+
 TEST(Store, DuplicateScenarioIsAConflict) {
   TempDir dir;
   Store store(dir / "db");
