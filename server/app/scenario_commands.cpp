@@ -345,7 +345,7 @@ int run_command(const std::vector<std::string>& args) {
       trajectory << "time,tick,agent,x,y,theta,vx,vy\n";
       trajectory.precision(17);
       const std::int64_t stride = runs::trajectory_stride(spec.model->dt);
-      options.observe = [&](const sim::Session& session) {
+      options.observe = [&trajectory, stride](const sim::Session& session) {
         if (session.state().tick % stride != 0) return;
         for (const sim::AgentId id : session.agent_ids()) {
           const int index = session.index_of(id);
