@@ -19,9 +19,23 @@ OccupancyGrid::OccupancyGrid(double resolution, Vec2 origin, int width, int heig
   cells_.assign(static_cast<std::size_t>(width) * height, fill);
 }
 
+namespace {
+
+/// Index along one axis of the cell `offset` cells from the origin. A point beyond int's range (a pose
+/// at 1e82 m) or not a number is given an index that is still outside every grid instead of an
+/// undefined conversion.
+int cell_coordinate(double offset) {
+  constexpr double kFarOutside = 1e9;  // grids have at most 1e8 cells
+  const double cell = std::floor(offset);
+  if (!(cell > -kFarOutside)) return -static_cast<int>(kFarOutside);
+  if (cell > kFarOutside) return static_cast<int>(kFarOutside);
+  return static_cast<int>(cell);
+}
+
+}  // namespace
+
 CellIndex OccupancyGrid::cell_of(const Vec2& p) const {
-  return {static_cast<int>(std::floor((p.x() - origin_.x()) / resolution_)),
-          static_cast<int>(std::floor((p.y() - origin_.y()) / resolution_))};
+  return {cell_coordinate((p.x() - origin_.x()) / resolution_), cell_coordinate((p.y() - origin_.y()) / resolution_)};
 }
 
 Vec2 OccupancyGrid::center_of(CellIndex c) const {

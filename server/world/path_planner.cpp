@@ -36,6 +36,8 @@ bool PathPlanner::traversable(std::size_t cell, double radius, const std::vector
 
 bool PathPlanner::line_of_sight(const Vec2& a, const Vec2& b, double radius,
                                 const std::vector<std::size_t>& blocked_cells) const {
+  // A segment that leaves the map is not clear; checked first, so that its length stays within the map's.
+  if (!grid_.in_bounds(grid_.cell_of(a)) || !grid_.in_bounds(grid_.cell_of(b))) return false;
   const double length = (b - a).norm();
   const int samples = std::max(1, static_cast<int>(std::ceil(length / (0.5 * grid_.resolution()))));
   for (int i = 0; i <= samples; ++i) {

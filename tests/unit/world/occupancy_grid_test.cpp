@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "core/error.hpp"
 
 namespace hrisim::world {
@@ -14,6 +16,16 @@ TEST(OccupancyGrid, CellsAndCentres) {
   EXPECT_TRUE(grid.center_of({3, 3}).isApprox(Vec2(0.75, -0.25)));
   EXPECT_FALSE(grid.in_bounds(grid.cell_of({-1.01, 0.0})));
   EXPECT_TRUE(grid.blocked(Vec2(100.0, 0.0))) << "outside the map is blocked";
+}
+
+TEST(OccupancyGrid, PointsFarBeyondTheMapAreOutsideNotUndefined) {
+  // Found by fuzzing scenario JSON: a goto pose at y = 1.1e82 was converted to an int cell index.
+  const OccupancyGrid grid(0.5, {-1.0, -2.0}, 8, 4);
+  for (const Vec2& far : {Vec2(20.0, 1.1e82), Vec2(-1e300, 0.0), Vec2(0.0, -std::numeric_limits<double>::infinity()),
+                          Vec2(std::numeric_limits<double>::quiet_NaN(), 0.0)}) {
+    EXPECT_FALSE(grid.in_bounds(grid.cell_of(far))) << far.transpose();
+    EXPECT_TRUE(grid.blocked(far));
+  }
 }
 
 TEST(OccupancyGrid, ImpossibleSizeIsRefused) {
