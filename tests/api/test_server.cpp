@@ -8,6 +8,7 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -37,6 +38,8 @@ TestServer::TestServer(std::vector<std::string> extra_args, int max_open_files) 
   if (pipe(out) != 0) throw std::runtime_error("pipe failed");
   pid_ = fork();
   if (pid_ == 0) {
+    // A test killed by ctest's timeout must not leave its server running.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (max_open_files > 0) {
       const rlimit limit{static_cast<rlim_t>(max_open_files), static_cast<rlim_t>(max_open_files)};
       setrlimit(RLIMIT_NOFILE, &limit);
