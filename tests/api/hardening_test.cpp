@@ -285,12 +285,7 @@ TEST(Hardening, RecordingsOfSessionsAndRunsShareOneBoundedBudget) {
   const HttpReply started = http(server.port(), "POST", "/api/v1/runs", R"({"scenario": "elevator", "count": 1})");
   ASSERT_EQ(started.status, 201) << started.body;
   const std::string run_id = json_of(started)["id"];
-  nlohmann::json run;
-  for (int i = 0; i < 600; ++i) {
-    run = json_of(http(server.port(), "GET", "/api/v1/runs/" + run_id));
-    if (run["status"] != "queued" && run["status"] != "running") break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  const nlohmann::json run = wait_for_run(server.port(), run_id);
   EXPECT_EQ(run["status"], "failed") << run.dump().substr(0, 400);
   const nlohmann::json episodes = json_of(http(server.port(), "GET", "/api/v1/runs/" + run_id + "/episodes"));
   ASSERT_EQ(episodes["items"].size(), 1u) << episodes.dump().substr(0, 400);
@@ -553,13 +548,7 @@ TEST(Hardening, AFullDatabaseFailsTheRunAndTheHealthCheck) {
   TestServer server({"--max-database-mb", "1", "--run-jobs", "1"});
   const HttpReply started = http(server.port(), "POST", "/api/v1/runs", R"({"scenario": "elevator", "count": 6})");
   ASSERT_EQ(started.status, 201) << started.body;
-  const std::string id = json_of(started)["id"];
-  nlohmann::json run;
-  for (int i = 0; i < 1200; ++i) {
-    run = json_of(http(server.port(), "GET", "/api/v1/runs/" + id));
-    if (run["status"] != "queued" && run["status"] != "running") break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  const nlohmann::json run = wait_for_run(server.port(), json_of(started)["id"]);
   EXPECT_EQ(run["status"], "failed") << run.dump().substr(0, 400);
   EXPECT_EQ(run["progress"]["queued"], 0) << "every seed ran";
   EXPECT_GT(run["progress"]["error"].get<int>(), 0) << "the unstored episodes are errors";

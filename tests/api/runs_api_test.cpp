@@ -17,17 +17,6 @@ using nlohmann::json;
 
 json json_of(const HttpReply& reply) { return json::parse(reply.body); }
 
-/// Polls a run until it is no longer queued or running.
-json wait_for_run(std::uint16_t port, const std::string& id, std::chrono::seconds limit = std::chrono::seconds(120)) {
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  for (;;) {
-    json run = json_of(http(port, "GET", "/api/v1/runs/" + id));
-    if (run["status"] != "queued" && run["status"] != "running") return run;
-    if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error("run " + id + " did not end: " + run.dump());
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-}
-
 class RunsApi : public ::testing::Test {
  protected:
   static void SetUpTestSuite() { server_ = new TestServer({"--run-jobs", "2"}); }

@@ -225,4 +225,14 @@ HttpReply http(std::uint16_t port, const std::string& method, const std::string&
   return connection.read_reply(method == "HEAD");
 }
 
+nlohmann::json wait_for_run(std::uint16_t port, const std::string& id, std::chrono::seconds limit) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  for (;;) {
+    nlohmann::json run = nlohmann::json::parse(http(port, "GET", "/api/v1/runs/" + id).body);
+    if (run["status"] != "queued" && run["status"] != "running") return run;
+    if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error("run " + id + " did not end: " + run.dump());
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
 }  // namespace hrisim::testing

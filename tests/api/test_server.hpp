@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -85,5 +86,8 @@ CommandResult run_command(const std::string& command, bool with_stderr = true);
 /// One request on a fresh connection with "Connection: close".
 HttpReply http(std::uint16_t port, const std::string& method, const std::string& target, const std::string& body = "",
                const std::string& extra_headers = "");
+
+/// Polls a run until it is no longer queued or running; its last reply. Throws after `limit`.
+nlohmann::json wait_for_run(std::uint16_t port, const std::string& id, std::chrono::seconds limit = std::chrono::seconds(120));
 
 }  // namespace hrisim::testing
