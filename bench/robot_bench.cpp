@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "episode/episode.hpp"
 #include "scenario/load.hpp"
-#include "sim/session.hpp"
 
 namespace {
 
@@ -29,9 +29,10 @@ void measure(const std::string& label, const json& document, const std::string& 
   std::int64_t ticks = 0;
   std::string termination;
   for (int r = 0; r < repetitions; ++r) {
-    hrisim::sim::Session session(loaded.model, 1);
+    hrisim::episode::Episode episode(loaded.model, 1, {std::nullopt, {}, false, {}});
+    const hrisim::sim::Session& session = episode.session();
     const auto start = Clock::now();
-    session.run();
+    episode.run();
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     ticks = session.state().tick;
     termination = session.state().termination;

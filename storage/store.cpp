@@ -60,7 +60,7 @@ std::string process_identity(long pid) {
 }
 
 constexpr std::string_view kEpisodeColumns =
-    "id, run_id, scenario_id, seed, controller, status, termination_reason, ticks, sim_time, created_at";
+    "id, run_id, scenario_id, seed, controller, status, termination_reason, ticks, sim_time, created_at, state_hash";
 
 EpisodeRecord read_episode(const Statement& row) {
   EpisodeRecord episode;
@@ -74,6 +74,7 @@ EpisodeRecord read_episode(const Statement& row) {
   episode.ticks = row.integer(7);
   episode.sim_time = row.real(8);
   episode.created_at = row.text(9);
+  episode.state_hash = row.optional_text(10).value_or("");
   return episode;
 }
 
@@ -287,11 +288,12 @@ void Store::write_episode(const EpisodeRecord& episode) {
 void Store::write_episode_locked(const EpisodeRecord& episode) {
   Transaction transaction(*db_);
   Statement insert_episode = db_->prepare(
-      "INSERT INTO episodes (id, run_id, scenario_id, seed, controller, status, termination_reason, ticks, sim_time)"
-      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)");
+      "INSERT INTO episodes (id, run_id, scenario_id, seed, controller, status, termination_reason, ticks, sim_time, state_hash)"
+      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)");
   insert_episode.bind(1, episode.id).bind(2, episode.run_id).bind(3, episode.scenario_id);
   insert_episode.bind(4, seed_to_column(episode.seed)).bind(5, episode.controller).bind(6, episode.status);
   insert_episode.bind(7, episode.termination_reason).bind(8, episode.ticks).bind(9, episode.sim_time);
+  insert_episode.bind(10, episode.state_hash.empty() ? std::nullopt : std::optional<std::string>(episode.state_hash));
   insert_episode.run();
 
   for (const MetricValue& metric : episode.metrics) {

@@ -89,6 +89,8 @@ struct EpisodeRecord {
   std::int64_t ticks = 0;
   double sim_time = 0.0;
   std::string created_at;
+  /// The final state's hash (sim::Session::state_hash, 16 hex digits); empty when not known.
+  std::string state_hash;
   std::vector<MetricValue> metrics;
   std::vector<EventRecord> events;  ///< in order of occurrence
   std::vector<TrajectorySample> trajectory;

@@ -469,11 +469,15 @@ int render_command(const std::vector<std::string>& args) {
   const runs::EpisodeResult replay = runs::run_episode(spec.model, episode->seed, options);
   if (!video) throw core::Error(core::ErrorCode::internal, "the episode has no frame to write");
   video->close();
-  const bool same = replay.record.ticks == episode->ticks && replay.record.termination_reason == episode->termination_reason;
+  // Episodes stored before the final state's hash was kept are compared by their end alone.
+  const bool same = replay.record.ticks == episode->ticks && replay.record.termination_reason == episode->termination_reason &&
+                    (episode->state_hash.empty() || replay.record.state_hash == episode->state_hash);
   if (!same) {
-    std::fprintf(stderr, "hrisim: warning: the replay ended at tick %lld (%s), the stored episode at %lld (%s): another hrisim version ran it\n",
-                 static_cast<long long>(replay.record.ticks), replay.record.termination_reason.c_str(), static_cast<long long>(episode->ticks),
-                 episode->termination_reason.c_str());
+    std::fprintf(stderr,
+                 "hrisim: warning: the replay ended at tick %lld (%s, state %s), the stored episode at %lld (%s, state %s): another hrisim "
+                 "version ran it\n",
+                 static_cast<long long>(replay.record.ticks), replay.record.termination_reason.c_str(), replay.record.state_hash.c_str(),
+                 static_cast<long long>(episode->ticks), episode->termination_reason.c_str(), episode->state_hash.c_str());
   }
   const nlohmann::json summary = {{"episode", parsed.file}, {"out", *out},       {"camera", camera_name},
                                   {"frames", video->frames()}, {"fps", video_fps}, {"ticks", replay.record.ticks},

@@ -129,6 +129,7 @@ json episode_json(const storage::EpisodeRecord& episode) {
           {"ticks", episode.ticks},
           {"sim_time", episode.sim_time},
           {"created_at", episode.created_at},
+          {"state_hash", episode.state_hash.empty() ? json() : json(episode.state_hash)},
           {"metrics", metrics}};
 }
 

@@ -6,11 +6,9 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
-#include <iomanip>
 #include <limits>
 #include <map>
 #include <mutex>
-#include <sstream>
 #include <thread>
 
 #include "core/error.hpp"
@@ -21,10 +19,9 @@
 #include "metrics/episode_metrics.hpp"
 #include "render/image_codec.hpp"
 #include "runs/spec.hpp"
-#include "sim/episode_recorder.hpp"
 #include "sim/scene_view.hpp"
 #include "sim/session.hpp"
-#include "tasks/environment.hpp"
+#include "episode/episode.hpp"
 
 namespace hrisim::http {
 namespace {
@@ -46,9 +43,7 @@ struct Live {
   double realtime_factor = 1.0;   ///< realtime: simulated seconds per wall-clock second
   std::optional<json> controller;  ///< replaced the robot under test's, when given
   std::mutex mutex;  ///< one request at a time works on the session
-  std::unique_ptr<sim::Session> session;
-  std::optional<tasks::Environment> environment;  ///< the Gymnasium view; none without a robot that can act
-  std::optional<sim::EpisodeRecorder> recorder;   ///< every step so far, for the metrics on demand
+  std::unique_ptr<episode::Episode> episode;
   core::MemoryBudget* recording_memory = nullptr;  ///< shared by every recording of the server
   std::size_t events_reported = 0;  ///< events before this index were in a step reply already
   std::uint64_t generation = 0;     ///< counts resets, so that viewers notice a fresh start
@@ -59,27 +54,19 @@ struct Live {
   Clock::time_point realtime_origin;
   std::int64_t realtime_origin_tick = 0;
 
-  /// A fresh session of the same model (the lock held, or before anyone else has it).
+  sim::Session& session() { return episode->session(); }
+  const sim::Session& session() const { return episode->session(); }
+  /// The Gymnasium environment; null without a robot that can act.
+  const tasks::Environment* environment() const { return episode->environment(); }
+
+  /// A fresh episode of the same model (the lock held, or before anyone else has it).
   void start(std::shared_ptr<const scenario::Model> model) {
-    session = std::make_unique<sim::Session>(std::move(model), static_cast<std::uint64_t>(seed));
-    try {
-      environment.emplace(*session);  // before recording: a task places its human at tick 0
-    } catch (const core::Error&) {
-      // No robot to observe, or none that can act: the session has no spaces. A task that cannot
-      // start its episode is the caller's error.
-      if (session->model().task) throw;
-      environment.reset();
-    }
-    recorder.emplace(*session, sim::RecorderLimits{kMaxLiveRecordedBodies, recording_memory});
+    episode = std::make_unique<episode::Episode>(
+        std::move(model), static_cast<std::uint64_t>(seed),
+        episode::Settings{std::nullopt, {}, true, sim::RecorderLimits{kMaxLiveRecordedBodies, recording_memory}});
     events_reported = 0;
     realtime_origin = Clock::now();
     realtime_origin_tick = 0;
-  }
-
-  /// One step, recorded.
-  void step() {
-    session->step();
-    recorder->record(*session);
   }
 };
 
@@ -107,7 +94,7 @@ json events_since(const sim::Session& session, std::int64_t first) {
 
 /// Status of a session (its lock held).
 json status_of(const Live& live) {
-  const sim::Session& session = *live.session;
+  const sim::Session& session = live.session();
   const sim::State& state = session.state();
   const bool in_step = state.step < static_cast<int>(session.model().steps.size());
   return {{"id", live.id},
@@ -123,15 +110,11 @@ json status_of(const Live& live) {
           {"status", state.finished ? "finished" : "running"},
           {"termination", state.finished ? json(state.termination) : json()},
           {"step", in_step ? json{{"index", state.step}, {"name", session.model().steps[state.step].name}} : json()},
-          {"task", session.model().task && live.environment ? json{{"name", session.model().task->name},
-                                                                     {"step_ticks", live.environment->step_ticks()},
-                                                                     {"terminated", live.environment->terminated()}}
+          {"task", session.model().task && live.environment() ? json{{"name", session.model().task->name},
+                                                                     {"step_ticks", live.environment()->step_ticks()},
+                                                                     {"terminated", live.environment()->terminated()}}
                                                               : json()},
-          {"state_hash", [&] {
-             std::ostringstream hex;
-             hex << std::hex << std::setw(16) << std::setfill('0') << session.state_hash();
-             return hex.str();
-           }()}};
+          {"state_hash", session.state_hash_hex()}};
 }
 
 /// Every agent's pose and motion, requests waiting for an answer, and the events since a tick.
@@ -145,7 +128,7 @@ json path_ahead(const sim::AgentState& agent) {
 }
 
 json state_of(const Live& live, std::int64_t events_since_tick) {
-  const sim::Session& session = *live.session;
+  const sim::Session& session = live.session();
   const sim::State& state = session.state();
   json agents = json::array();
   for (std::size_t i = 0; i < state.agents.size(); ++i) {
@@ -372,7 +355,7 @@ json poses_of(const sim::Session& session) {
 
 /// Gives a list of commands, each checked before any is given (the session's lock held).
 json give_commands(Live& live, const json& commands) {
-  sim::Session& session = *live.session;
+  sim::Session& session = live.session();
   std::vector<std::function<void()>> apply;
   for (std::size_t i = 0; i < commands.size(); ++i) {
     const std::string at = "/commands/" + std::to_string(i);
@@ -392,27 +375,19 @@ json give_commands(Live& live, const json& commands) {
 /// Gymnasium's observation and info now: the observation null when it is a camera image (fetched as
 /// a binary camera frame), info the tick, time and the last step's reward terms.
 void add_observation(const Live& live, json& reply) {
-  const sim::Session& session = *live.session;
-  reply["observation"] = live.environment && !live.environment->image() ? json(live.environment->observe(session)) : json();
+  const sim::Session& session = live.session();
+  reply["observation"] = live.environment() && !live.environment()->image() ? json(live.environment()->observe(session)) : json();
   reply["info"] = {{"tick", session.state().tick}, {"time", session.time()}};
-  if (live.environment) reply["info"].update(live.environment->info());
+  if (live.environment()) reply["info"].update(live.environment()->info());
 }
 
 /// Advances up to `steps` environment steps (the session's lock held; each the task's frame skip in
 /// ticks, one tick without a task): the status, the events of those steps, and Gymnasium's terminated
 /// (the task's ending, or the scenario's last step done) and truncated (its time limit).
 json step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action = std::nullopt) {
-  sim::Session& session = *live.session;
-  if (action && !live.environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act", {{"pointer", "/action"}});
-  double reward = 0.0;
-  for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) {
-    if (!live.environment) {
-      live.step();
-      continue;
-    }
-    if (live.environment->terminated()) break;
-    reward += live.environment->step(session, i == 0 ? action : std::nullopt, [&live] { live.step(); });
-  }
+  const sim::Session& session = live.session();
+  if (action && !live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act", {{"pointer", "/action"}});
+  const double reward = live.episode->step(action, steps);
   json reply = status_of(live);
   // Gymnasium's step: observation, reward (summed over the steps), terminated, truncated, info.
   add_observation(live, reply);
@@ -425,7 +400,7 @@ json step_session(Live& live, std::int64_t steps, const std::optional<std::vecto
   for (std::size_t e = live.events_reported; e < all.size(); ++e) events.push_back(event_json(all[e]));
   live.events_reported = all.size();
   reply["events"] = events;
-  reply["terminated"] = session.state().termination == "scenario_end" || (live.environment && live.environment->terminated());
+  reply["terminated"] = session.state().termination == "scenario_end" || session.state().termination == "goal";
   reply["truncated"] = session.state().termination == "timeout";
   return reply;
 }
@@ -539,7 +514,7 @@ class Registry {
       for (const auto& live : realtime) {
         std::unique_lock lock(live->mutex, std::try_to_lock);
         if (!lock) continue;
-        sim::Session& session = *live->session;
+        const sim::Session& session = live->session();
         const double dt = session.model().dt;
         const double elapsed = std::chrono::duration<double>(now - live->realtime_origin).count() * live->realtime_factor;
         const auto due = live->realtime_origin_tick + static_cast<std::int64_t>(elapsed / dt);
@@ -552,7 +527,7 @@ class Registry {
           live->realtime_origin = now;
           live->realtime_origin_tick = session.state().tick + most;
         }
-        for (std::int64_t i = 0; i < steps && !session.state().finished; ++i) live->step();
+        for (std::int64_t i = 0; i < steps && !live->episode->over(); ++i) live->episode->tick();
       }
     }
   }
@@ -691,7 +666,7 @@ class SessionSocket : public WebSocketPeer {
         if (!body.contains("robot") || !body["robot"].is_string()) {
           throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
         }
-        return answer_locked(live, [robot = body["robot"].get<std::string>()](Live& session) { return reply("sensors", sensors_of(*session.session, robot)); });
+        return answer_locked(live, [robot = body["robot"].get<std::string>()](Live& session) { return reply("sensors", sensors_of(session.session(), robot)); });
       }
       if (type == "laser") {
         refuse_unknown_keys(body, {"robot", "sensor"});
@@ -702,7 +677,7 @@ class SessionSocket : public WebSocketPeer {
           throw core::Error(core::ErrorCode::bad_request, "sensor: a laser's name", {{"pointer", "/sensor"}});
         }
         return answer_locked(live, [robot = body["robot"].get<std::string>(), sensor = body.value("sensor", "")](Live& session) {
-          return Response{200, kBinaryContentType, laser_of(*session.session, robot, sensor), {}, {}};
+          return Response{200, kBinaryContentType, laser_of(session.session(), robot, sensor), {}, {}};
         });
       }
       if (type == "camera") {
@@ -714,7 +689,7 @@ class SessionSocket : public WebSocketPeer {
         const auto height = static_cast<int>(integer_field(body, "height", 16, kMaxFrameSize, 0));
         if (body.contains("ids") && !body["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/ids"}});
         return answer_locked(live, [camera = body["camera"].get<std::string>(), width, height, ids = body.value("ids", false)](Live& session) {
-          return camera_frame(*session.session, camera, width, height, ids);
+          return camera_frame(session.session(), camera, width, height, ids);
         });
       }
       if (type == "subscribe") {
@@ -736,7 +711,7 @@ class SessionSocket : public WebSocketPeer {
           if (asked.contains("ids") && !asked["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/camera/ids"}});
           camera->ids = asked.value("ids", false);
           // An unknown camera is refused now, unless the session is busy (then the first push drops it).
-          if (std::unique_lock lock(live->mutex, std::try_to_lock); lock) sim::camera_of(*live->session, camera->name, camera->width, camera->height);
+          if (std::unique_lock lock(live->mutex, std::try_to_lock); lock) sim::camera_of(live->session(), camera->name, camera->width, camera->height);
         }
         rate_ = body["rate"].get<double>();
         camera_ = rate_ > 0.0 ? camera : std::nullopt;  // rate 0 stops both kinds of frame
@@ -767,13 +742,13 @@ class SessionSocket : public WebSocketPeer {
     }
     std::unique_lock lock(live->mutex, std::try_to_lock);
     if (!lock) return {};  // stepping: the next frame will show it
-    const auto& events = live->session->state().events;
+    const auto& events = live->session().state().events;
     const bool reset = live->generation != pushed_generation_;
     if (reset) {
       events_pushed_ = 0;
       pushed_generation_ = live->generation;
     }
-    const std::int64_t tick = live->session->state().tick;
+    const std::int64_t tick = live->session().state().tick;
     if (!reset && tick == pushed_tick_ && events_pushed_ == events.size()) return {};  // nothing new
     json frame = state_of(*live, std::numeric_limits<std::int64_t>::max());
     json fresh = json::array();
@@ -786,7 +761,7 @@ class SessionSocket : public WebSocketPeer {
     std::vector<Response> frames{Response::json(200, frame)};
     if (camera_) {
       try {
-        frames.push_back(camera_frame(*live->session, camera_->name, camera_->width, camera_->height, camera_->ids));
+        frames.push_back(camera_frame(live->session(), camera_->name, camera_->width, camera_->height, camera_->ids));
       } catch (const core::Error&) {
         camera_.reset();  // the robot carrying it left the session
       }
@@ -971,19 +946,19 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
 
   router.add("GET", "/api/v1/sessions/{id}/robots/{robot}/sensors", [registry](const Request& request) {
     return locked(registry->find(request.path_params.at("id"), request.caller), [robot = request.path_params.at("robot")](Live& live) {
-      return Response::json(200, sensors_of(*live.session, robot));
+      return Response::json(200, sensors_of(live.session(), robot));
     });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/poses", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) { return Response::json(200, poses_of(*live.session)); });
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) { return Response::json(200, poses_of(live.session())); });
   });
 
   router.add("PUT", "/api/v1/sessions/{id}/poses/{name}", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
     return locked(live, [body = json_object_body(request), name = request.path_params.at("name")](Live& session) {
-      place(*session.session, name, body, "");
-      return Response::json(200, poses_of(*session.session));
+      place(session.session(), name, body, "");
+      return Response::json(200, poses_of(session.session()));
     });
   });
 
@@ -1007,13 +982,11 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       auto fresh = std::make_unique<Live>();
       fresh->seed = seed;
       fresh->recording_memory = live->recording_memory;
-      fresh->start(live->session->shared_model());
-      for (const auto& [name, pose] : poses.items()) place(*fresh->session, name, pose, "/options/poses/" + core::pointer_token(name));
+      fresh->start(live->session().shared_model());
+      for (const auto& [name, pose] : poses.items()) place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name));
       live->seed = seed;
       ++live->generation;
-      live->session = std::move(fresh->session);
-      live->environment = std::move(fresh->environment);
-      live->recorder = std::move(fresh->recorder);
+      live->episode = std::move(fresh->episode);
       live->events_reported = 0;
       live->realtime_origin = fresh->realtime_origin;
       live->realtime_origin_tick = 0;
@@ -1054,15 +1027,15 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     return Response::later([live] {
       std::lock_guard lock(live->mutex);
       json metrics = json::object(), null_reasons = json::object();
-      for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(live->recorder->finish(*live->session, live->session->state().finished ? "" : "running"))) {
+      for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(live->episode->recording(live->session().state().finished ? "" : "running"))) {
         metrics[metric.key] = metric.value ? json(*metric.value) : json();
         if (!metric.value) null_reasons[metric.key] = metric.null_reason;
       }
       return Response::json(200, {{"id", live->id},
-                                  {"tick", live->session->state().tick},
-                                  {"recorded_until_tick", live->recorder->recorded_until()},
-                                  {"recording_stopped", live->recorder->stopped().empty() ? json() : json(live->recorder->stopped())},
-                                  {"time", live->session->time()},
+                                  {"tick", live->session().state().tick},
+                                  {"recorded_until_tick", live->episode->recorder()->recorded_until()},
+                                  {"recording_stopped", live->episode->recorder()->stopped().empty() ? json() : json(live->episode->recorder()->stopped())},
+                                  {"time", live->session().time()},
                                   {"metrics", metrics},
                                   {"null_reasons", null_reasons}});
     });
@@ -1073,8 +1046,8 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     const FrameRequest asked = frame_request(request);
     // The scene is copied under the session's lock; drawing happens after, on the worker pool.
     return locked(live, [asked, name = request.path_params.at("camera")](Live& session) {
-      const sim::CameraInfo info = sim::camera_of(*session.session, name, asked.width, asked.height);
-      return Response::later([scene = sim::scene_for(*session.session, info), camera = info.camera, asked] {
+      const sim::CameraInfo info = sim::camera_of(session.session(), name, asked.width, asked.height);
+      return Response::later([scene = sim::scene_for(session.session(), info), camera = info.camera, asked] {
         return encode_frame(render::render_on_this_thread(scene, camera), asked);
       });
     });
@@ -1083,23 +1056,23 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   router.add("GET", "/api/v1/sessions/{id}/cameras", [registry](const Request& request) {
     return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) {
       json cameras = json::array();
-      for (const sim::CameraInfo& info : sim::cameras_of(*live.session)) cameras.push_back(camera_json(info));
-      return Response::json(200, {{"id", live.id}, {"tick", live.session->state().tick}, {"cameras", cameras},
-                                  {"segmentation", sim::segmentation_legend(*live.session)}});
+      for (const sim::CameraInfo& info : sim::cameras_of(live.session())) cameras.push_back(camera_json(info));
+      return Response::json(200, {{"id", live.id}, {"tick", live.session().state().tick}, {"cameras", cameras},
+                                  {"segmentation", sim::segmentation_legend(live.session())}});
     });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/action_space", [registry](const Request& request) {
     return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) {
-      if (!live.environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act");
-      return Response::json(200, space_json(live.environment->action_space()));
+      if (!live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act");
+      return Response::json(200, space_json(live.environment()->action_space()));
     });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/observation_space", [registry](const Request& request) {
     return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) {
-      if (!live.environment) throw core::Error(core::ErrorCode::conflict, "this session has no robot to observe");
-      return Response::json(200, space_json(live.environment->observation_space(), live.environment->image()));
+      if (!live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot to observe");
+      return Response::json(200, space_json(live.environment()->observation_space(), live.environment()->image()));
     });
   });
 }

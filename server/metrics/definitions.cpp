@@ -125,6 +125,22 @@ constexpr std::array kDefinitions{
     Definition{"episode_reward", "reward", kRewards, Better::higher,
                "sum of the benchmark task's per-step rewards; null for a scenario without a benchmark task", "Gymnasium"},
     Definition{"episode_length", "steps", kRewards, Better::none, "number of simulation steps of the episode", "Gymnasium"},
+    Definition{"reward_distance", "reward", kRewards, Better::higher,
+               "navigation tasks: sum over the env steps of the previous minus the current robot–person distance", "seed 003 §4.4.1"},
+    Definition{"reward_collision_human", "reward", kRewards, Better::higher,
+               "navigation tasks: sum of the penalties for ending an env step closer to the person than the collision distance",
+               "seed 003 §4.4.1"},
+    Definition{"reward_collision_obstacle", "reward", kRewards, Better::higher,
+               "approach_human_apartment, pick_and_place: sum of the penalties for the listed obstacles and objects touched",
+               "seed 003 §4.4.3"},
+    Definition{"reward_gripper_object", "reward", kRewards, Better::higher,
+               "pick_and_place: sum of the gripper's proximity to the object", "seed 003 §4.4.4"},
+    Definition{"reward_object_target", "reward", kRewards, Better::higher,
+               "pick_and_place: sum of the object's proximity to the target, weighted", "seed 003 §4.4.4"},
+    Definition{"reward_lifting", "reward", kRewards, Better::higher, "pick_and_place: sum of the object's height above its start",
+               "seed 003 §4.4.4"},
+    Definition{"reward_mirror", "reward", kRewards, Better::higher,
+               "mirror_gesture: env steps at whose end the robot pointed to the side the person points to", "seed 003 §4.4.5"},
 };
 
 constexpr std::array kSeries{
@@ -135,6 +151,8 @@ constexpr std::array kSeries{
                      "soonest time at which the robot and a person, at their current velocities, would touch; none if never"},
     SeriesDefinition{"robot_speed", "m/s", "the robot's speed"},
     SeriesDefinition{"social_force_on_robot", "N/kg", "magnitude of the people's summed social force on the robot"},
+    SeriesDefinition{"episode_reward", "reward",
+                     "the benchmark task's rewards of the env steps ended so far, summed; none without a benchmark task"},
 };
 
 }  // namespace

@@ -396,8 +396,11 @@ std::vector<Series> compute_series(const Recording& recording) {
   const std::vector<std::optional<double>> closest = closest_distances(recording);
   for (std::size_t t = 0; t < recording.samples.size(); ++t) {
     const Sample& sample = recording.samples[t];
+    // The reward is the task's, robot under test or not; the other series are the robot's.
+    constexpr std::size_t kRewardSeries = 5;
+    list[kRewardSeries].values.push_back(recording.episode_reward ? std::optional(sample.reward) : std::nullopt);
     if (!recording.has_robot) {
-      for (Series& series : list) series.values.emplace_back();
+      for (std::size_t s = 0; s < kRewardSeries; ++s) list[s].values.emplace_back();
       continue;
     }
     std::optional<double> zone;
@@ -425,6 +428,17 @@ std::vector<MetricValue> compute_episode_metrics(const Recording& recording) {
   Values values;
   set(values, "episode_length", static_cast<double>(recording.samples.back().tick - recording.samples.front().tick));
   set_optional(values, "episode_reward", recording.episode_reward, "the scenario defines no benchmark task");
+  for (const Definition& definition : definitions()) {
+    const std::string key(definition.key);
+    if (!key.starts_with("reward_")) continue;
+    const auto term = std::find_if(recording.reward_terms.begin(), recording.reward_terms.end(),
+                                   [&](const auto& t) { return "reward_" + t.first == key; });
+    if (term != recording.reward_terms.end()) {
+      set(values, key, term->second);
+    } else {
+      set_null(values, key, recording.episode_reward ? "the benchmark task's reward has no such term" : "the scenario defines no benchmark task");
+    }
+  }
   interaction_metrics(recording, values);
   if (recording.has_robot) {
     path_metrics(recording, values);

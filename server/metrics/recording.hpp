@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/math.hpp"
@@ -32,6 +33,8 @@ struct Sample {
   std::vector<std::string> touched_obstacles;
   /// Agents of each group of two or more people at this step (indices into humans).
   std::vector<std::vector<int>> groups;
+  /// The benchmark task's rewards of the env steps ended by this tick, summed (0 without a task).
+  double reward = 0.0;
 };
 
 struct RecordedEvent {
@@ -54,6 +57,8 @@ struct Recording {
   std::string termination;  ///< goal, collision, timeout, scenario_end, cancelled, error
   /// The benchmark task's summed reward; empty for a scenario without a benchmark task.
   std::optional<double> episode_reward;
+  /// Each term of the task's reward (tasks::Reward), summed over the env steps; metric `reward_<name>`.
+  std::vector<std::pair<std::string, double>> reward_terms;
   std::vector<Sample> samples;  ///< one per simulation step, the initial state first
   std::vector<RecordedEvent> events;
 };

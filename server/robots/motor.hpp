@@ -1,7 +1,7 @@
 #pragma once
 // Joint actuators as SimVis3D models them (seed 000 §2.1): a DC motor behind a velocity controller
 // (transmission, controller gain error and noise, dead time, velocity and acceleration limits), and a
-// servo with an internal position controller (a delay only). Both take the same commands — a
+// servo with an internal position controller (its speed limited, no noise). Both take the same commands — a
 // position or a velocity target — so a controller does not know which motor sits behind a joint.
 // Deterministic: time advances in whole ticks, noise comes from the caller's seeded generator.
 #include <cstdint>
@@ -15,7 +15,7 @@ namespace hrisim::robots {
 
 enum class MotorKind { dc, servo };
 
-/// Named defaults of the motor models (documented in docs/robots.md).
+/// Named defaults of the motor models (documented in docs/robots/motors.md).
 inline constexpr double kDefaultTransmission = 1.0;       ///< motor rad per joint unit
 inline constexpr double kDefaultMaxAcceleration = 10.0;   ///< joint units/s²
 inline constexpr double kDefaultPositionGain = 4.0;       ///< 1/s: a DC joint's position loop

@@ -1,26 +1,17 @@
 #include "runs/episode.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <map>
 
 #include "core/error.hpp"
 #include "core/memory_budget.hpp"
 #include "metrics/episode_metrics.hpp"
-#include "sim/episode_recorder.hpp"
-#include "sim/session.hpp"
+#include "episode/episode.hpp"
 
 namespace hrisim::runs {
 namespace {
 
 using nlohmann::json;
-
-int robot_under_test(const scenario::Model& model) {
-  for (std::size_t a = 0; a < model.agents.size(); ++a) {
-    if (model.agents[a].kind == scenario::AgentKind::robot) return static_cast<int>(a);
-  }
-  return -1;
-}
 
 json steps_json(const sim::Session& session) {
   const scenario::Model& model = session.model();
@@ -46,37 +37,17 @@ void check_recording(const sim::EpisodeRecorder& recorder) {
   if (!recorder.stopped().empty()) stop_short(recorder.recorded_until(), recorder.stopped());
 }
 
-/// Steps the session to its end, calling `after_step` after each step; false when cancelled first.
-bool run_to_end(sim::Session& session, const std::atomic<bool>* cancel, const std::function<void()>& after_step) {
-  while (!session.state().finished) {
-    if (cancel && cancel->load(std::memory_order_relaxed)) return false;
-    const std::int64_t before = session.state().tick;
-    session.step();
-    if (session.state().tick == before) break;  // the step found the episode over and left the tick as it was
-    after_step();
-  }
-  return true;
-}
-
 }  // namespace
 
 std::int64_t trajectory_stride(double dt) { return std::max<std::int64_t>(1, std::llround(1.0 / (kTrajectoryRate * dt))); }
 
 EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, std::uint64_t seed, const EpisodeOptions& options) {
   const scenario::Model& model = *shared;
-  sim::Session session(shared, seed);
-  if (options.max_time) session.set_time_limit(*options.max_time);
-  for (const auto& [time, task_name] : options.requests) {
-    const int task = model.find_task(task_name);
-    if (task < 0) throw core::Error(core::ErrorCode::bad_request, "the scenario has no task '" + task_name + "' to request");
-    const int robot = robot_under_test(model);
-    if (robot < 0) throw core::Error(core::ErrorCode::bad_request, "the scenario has no robot to make the request");
-    session.schedule_request(time, session.agent_id(model.agents[robot].id), task);
-  }
+  episode::Episode episode(shared, seed, {options.max_time, options.requests, true, {std::nullopt, options.recording_memory}});
+  const sim::Session& session = episode.session();
 
   EpisodeResult result;
   storage::EpisodeRecord& record = result.record;
-  sim::EpisodeRecorder recorder(session, {std::nullopt, options.recording_memory});
   core::MemoryBudget::Lease trajectory_memory(options.recording_memory);
   const std::int64_t sample_every = trajectory_stride(model.dt);
   const auto sample_trajectory = [&] {
@@ -93,19 +64,17 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
   };
   sample_trajectory();
   if (options.observe) options.observe(session);
-  const bool ended = run_to_end(session, options.cancel, [&] {
-    recorder.record(session);
-    check_recording(recorder);
-    sample_trajectory();
-    if (options.observe) options.observe(session);
-  });
-  if (!ended) {
+  if (!episode.run(options.cancel, [&](const episode::Episode&) {
+        check_recording(*episode.recorder());
+        sample_trajectory();
+        if (options.observe) options.observe(session);
+      })) {
     result.cancelled = true;
     return result;
   }
 
   const sim::State& state = session.state();
-  const metrics::Recording recording = recorder.finish(session);
+  const metrics::Recording recording = episode.recording();
   for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(recording)) {
     record.metrics.push_back({metric.key, metric.value,
                               metric.value ? std::nullopt : std::optional<std::string>(metric.null_reason)});
@@ -113,20 +82,15 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
   if (options.baseline_without_robot) {
     // The same seed once more with the robots taken out at the start: how much further did the
     // people walk because of the robot?
-    sim::Session baseline(shared, seed);
-    if (options.max_time) baseline.set_time_limit(*options.max_time);
-    for (const sim::AgentId id : baseline.agent_ids()) {
-      if (model.agents[baseline.index_of(id)].kind == scenario::AgentKind::robot) baseline.remove_agent(id);
+    episode::Episode baseline(shared, seed, {options.max_time, {}, true, {std::nullopt, options.recording_memory}});
+    for (const sim::AgentId id : baseline.session().agent_ids()) {
+      if (model.agents[baseline.session().index_of(id)].kind == scenario::AgentKind::robot) baseline.session().remove_agent(id);
     }
-    sim::EpisodeRecorder without(baseline, {std::nullopt, options.recording_memory});
-    if (!run_to_end(baseline, options.cancel, [&] {
-          without.record(baseline);
-          check_recording(without);
-        })) {
+    if (!baseline.run(options.cancel, [](const episode::Episode& ticked) { check_recording(*ticked.recorder()); })) {
       result.cancelled = true;
       return result;
     }
-    const auto deviation = metrics::human_path_deviation(recording, without.finish(baseline));
+    const auto deviation = metrics::human_path_deviation(recording, baseline.recording());
     for (storage::MetricValue& metric : record.metrics) {
       if (metric.key != "human_path_deviation") continue;
       metric.value = deviation;
@@ -149,6 +113,7 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
   record.termination_reason = state.termination;
   record.ticks = state.tick;
   record.sim_time = session.time();
+  record.state_hash = session.state_hash_hex();
 
   json agents = json::array();
   for (std::size_t a = 0; a < model.agents.size(); ++a) {
@@ -160,8 +125,6 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
                       {"busy", !agent.program.empty()}});
   }
   const bool in_step = state.step < static_cast<int>(model.steps.size());
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(session.state_hash()));
   json metric_values = json::object();
   for (const storage::MetricValue& metric : record.metrics) metric_values[metric.key] = metric.value ? json(*metric.value) : json();
   result.summary = {{"scenario", model.name},
@@ -176,7 +139,7 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
                     {"events", counts},
                     {"agents", agents},
                     {"metrics", metric_values},
-                    {"state_hash", hash}};
+                    {"state_hash", record.state_hash}};
   return result;
 }
 

@@ -51,7 +51,7 @@ EpisodeRecorder::EpisodeRecorder(const Session& session, RecorderLimits limits)
   record(session);
 }
 
-void EpisodeRecorder::record(const Session& session) {
+void EpisodeRecorder::record(const Session& session, double reward) {
   const State& state = session.state();
   if (!recording_.samples.empty() && recording_.samples.back().tick == state.tick) return;
   if (!stopped_.empty()) return;
@@ -61,6 +61,7 @@ void EpisodeRecorder::record(const Session& session) {
   }
   metrics::Sample sample;
   sample.tick = state.tick;
+  sample.reward = reward;
   const scenario::Model& model = session.model();
   std::vector<Contact> touching;
   if (robot_ >= 0) {

@@ -25,8 +25,9 @@ class EpisodeRecorder {
  public:
   /// Records the session's current state as the first sample (even beyond the limits: there is always one).
   explicit EpisodeRecorder(const Session& session, RecorderLimits limits = {});
-  /// Adds a sample of the session's state after a step (a tick already recorded is skipped).
-  void record(const Session& session);
+  /// Adds a sample of the session's state after a tick (a tick already recorded is skipped), with the
+  /// benchmark task's rewards summed so far.
+  void record(const Session& session, double reward = 0.0);
   /// The last tick recorded.
   std::int64_t recorded_until() const { return recording_.samples.back().tick; }
   /// Why recording stopped before the session's last tick; empty while it goes on.

@@ -22,7 +22,7 @@ namespace hrisim::sim {
 using core::Pose2;
 using core::Vec2;
 
-// Built-in controllers (named defaults, docs/robots.md).
+// Built-in controllers (named defaults, docs/robots/controllers.md).
 /// Pure pursuit looks this far ahead along the path, m.
 inline constexpr double kPurePursuitLookahead = 0.6;
 /// A target further to the side than this is first faced by turning on the spot, rad.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <sstream>
 
@@ -243,12 +244,11 @@ void Session::step() {
   }
 }
 
-void Session::run(std::optional<double> max_time, const std::function<void(const Session&)>& observe) {
-  if (max_time) set_time_limit(*max_time);
-  while (!state_.finished) {
-    step();
-    if (observe) observe(*this);
-  }
+void Session::end_by_task() {
+  if (state_.finished) return;
+  state_.finished = true;
+  state_.termination = "goal";
+  emit("task_ended", model_->task ? model_->task->name : "");
 }
 
 void Session::request(AgentId robot, int task) { make_request(index_of(robot), task); }
@@ -1340,6 +1340,12 @@ void Session::sense() {
     }
     runtime.contacts = std::move(contacts);
   }
+}
+
+std::string Session::state_hash_hex() const {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(state_hash()));
+  return text;
 }
 
 std::uint64_t Session::state_hash() const {

@@ -2,7 +2,6 @@
 // A session runs one scenario model: fixed time step, seeded randomness owned by the session, no wall
 // clock. step() advances one tick in a fixed order: inputs → choreography decides → locomotion computes
 // all new velocities → commit → observers. Same model, seed and inputs give bit-identical states.
-#include <functional>
 #include <memory>
 #include <string>
 
@@ -59,11 +58,9 @@ class Session {
 
   /// Advances one tick; does nothing once finished.
   void step();
-  /// Runs until finished or `max_time` of simulation time (the model's limit when absent), calling
-  /// `observe` after every step (read-only observers: recorders, printers).
-  void run(std::optional<double> max_time = std::nullopt,
-           const std::function<void(const Session&)>& observe = nullptr);
-
+  /// The benchmark task's ending held (e.g. the robot reached the person): the episode is over, for
+  /// reason "goal".
+  void end_by_task();
   /// Ends the episode at this much simulation time instead of the model's limit.
   void set_time_limit(double seconds) { time_limit_ = seconds; }
 
@@ -123,6 +120,8 @@ class Session {
   double time() const { return static_cast<double>(state_.tick) * model_->dt; }
   /// Hash of everything that changes, bit for bit.
   std::uint64_t state_hash() const;
+  /// The same as 16 lower-case hex digits, as the API and stored episodes give it.
+  std::string state_hash_hex() const;
 
  private:
   /// Whole ticks in a duration of simulation time.

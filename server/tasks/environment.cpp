@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "tasks/manipulation.hpp"
 #include "tasks/navigation.hpp"
+#include "tasks/task_support.hpp"
 
 namespace hrisim::tasks {
 
@@ -27,19 +28,19 @@ Environment::Environment(sim::Session& session) : task_(make_task(session)) {
   terminated_ = task_->terminated(session);
 }
 
-double Environment::step(sim::Session& session, const std::optional<std::vector<double>>& action, const std::function<void()>& tick) {
-  if (terminated_) return 0.0;
-  int ticks = task_->idle_ticks();
-  if (action) {
-    check_action(*action, static_cast<std::size_t>(action_space().shape.at(0)));
-    ticks = task_->act(session, *action);
+int Environment::begin_step(sim::Session& session, const std::optional<std::vector<double>>& action) {
+  if (!action) {
+    task_->before_step(session);
+    return task_->idle_ticks();
   }
+  check_action(*action, static_cast<std::size_t>(action_space().shape.at(0)));
+  const int ticks = task_->act(session, *action);
   task_->before_step(session);
-  for (int t = 0; t < ticks && !session.state().finished; ++t) {
-    tick();
-    task_->after_tick(session);
-  }
-  const double reward = task_->reward(session);
+  return ticks;
+}
+
+Reward Environment::end_step(const sim::Session& session) {
+  Reward reward = task_->reward(session);
   terminated_ = task_->terminated(session);
   return reward;
 }

@@ -2,8 +2,8 @@
 // The Gymnasium view of a session for learning code: the scenario's benchmark task (seed 003 §4.4:
 // approach_human, follow_human, approach_human_apartment, pick_and_place, mirror_gesture) or, without
 // one, the default navigation view of its first robot (tasks/navigation.hpp). A step gives an action,
-// runs the task's ticks (its frame skip) and then measures the reward, as seed 003 §5.3 does.
-#include <functional>
+// lasts the task's ticks (its frame skip) and then measures the reward, as seed 003 §5.3 does. The
+// episode (episode/episode.hpp) runs the ticks; the environment gives actions and measures.
 #include <memory>
 #include <optional>
 #include <vector>
@@ -25,11 +25,14 @@ class Environment {
   const std::optional<ImageObservation>& image() const { return task_->image(); }
   std::vector<double> observe(const sim::Session& session) const { return task_->observe(session); }
 
-  /// One step: gives `action` (when there is one) and runs the step's ticks through `tick`, which
-  /// advances the session by one tick. Returns the step's reward; nothing happens once terminated.
-  /// Throws core::Error(bad_request) naming the value that is wrong (pointer "/action/i") for a wrong
-  /// length or a value that is not finite; values out of bounds are clipped.
-  double step(sim::Session& session, const std::optional<std::vector<double>>& action, const std::function<void()>& tick);
+  /// Starts an env step: gives `action` (when there is one) and returns the ticks the step lasts (the
+  /// task's frame skip). Throws core::Error(bad_request) naming the value that is wrong (pointer
+  /// "/action/i") for a wrong length or a value that is not finite; values out of bounds are clipped.
+  int begin_step(sim::Session& session, const std::optional<std::vector<double>>& action);
+  /// After every tick of a step (e.g. counting the obstacles touched).
+  void after_tick(const sim::Session& session) { task_->after_tick(session); }
+  /// Ends a step once its ticks are done (or the session finished): its reward, and the task's ending.
+  Reward end_step(const sim::Session& session);
   /// Ticks a step without a new action lasts: the frame skip (pick_and_place: its last step's).
   int step_ticks() const { return task_->idle_ticks(); }
   /// The task's ending (e.g. the robot reached the human); the time limit truncates instead.

@@ -82,7 +82,7 @@ int PickAndPlace::act(sim::Session& session, const std::vector<double>& action) 
 
 void PickAndPlace::after_tick(const sim::Session& session) { touches_.after_tick(session); }
 
-double PickAndPlace::reward(const sim::Session& session) {
+Reward PickAndPlace::reward(const sim::Session& session) {
   const Eigen::Vector3d object = session.object_pose(task_.object).translation();
   const double to_object = (grasp_point(session, task_.robot) - object).norm();
   const double to_target = (object - task_.target).norm();
@@ -94,7 +94,7 @@ double PickAndPlace::reward(const sim::Session& session) {
   terms_ = {{"gripper_object_distance", to_object}, {"object_target_distance", to_target}, {"gripper_object", grasp}, {"object_target", place},
             {"lifting", lift}, {"collision_obstacle", collisions}, {"touched", touched},
             {"held", runtime_of(session, task_.robot).held_object == task_.object}};
-  return grasp + place + lift + collisions;
+  return sum_of({{"gripper_object", grasp}, {"object_target", place}, {"lifting", lift}, {"collision_obstacle", collisions}});
 }
 
 MirrorGesture::MirrorGesture(const sim::Session& session) : task_(*session.model().task), random_(session.state().random.stream("task")) {
@@ -134,10 +134,10 @@ Side MirrorGesture::pointing_side(const sim::Session& session, int robot, int hu
   return towards_her_left >= reach ? Side::left : towards_her_left <= -reach ? Side::right : Side::none;
 }
 
-double MirrorGesture::reward(const sim::Session& session) {
+Reward MirrorGesture::reward(const sim::Session& session) {
   const Side robot = pointing_side(session, task_.robot, task_.human, task_.pointing_reach);
   terms_ = {{"human_points", side_name(side_)}, {"robot_points", side_name(robot)}};
-  return mirror_reward(robot, side_);
+  return sum_of({{"mirror", mirror_reward(robot, side_)}});
 }
 
 }  // namespace hrisim::tasks

@@ -37,7 +37,7 @@ class PickAndPlace : public Task {
   int act(sim::Session& session, const std::vector<double>& action) override;
   int idle_ticks() const override { return ticks_; }
   void after_tick(const sim::Session& session) override;
-  double reward(const sim::Session& session) override;
+  Reward reward(const sim::Session& session) override;
   nlohmann::json info() const override { return terms_; }
 
   /// Midway between the gripper's fingers, in the map frame.
@@ -58,7 +58,7 @@ class MirrorGesture : public Task {
   std::vector<double> observe(const sim::Session&) const override { return {}; }
   int act(sim::Session& session, const std::vector<double>& action) override;
   int idle_ticks() const override { return task_.frame_skip; }
-  double reward(const sim::Session& session) override;
+  Reward reward(const sim::Session& session) override;
   nlohmann::json info() const override { return terms_; }
 
   /// The side of the human that the robot's hand points to (none when nearer than `reach`).

@@ -153,17 +153,20 @@ int NavigationTask::act(sim::Session& session, const std::vector<double>& action
 
 void NavigationTask::after_tick(const sim::Session& session) { touches_.after_tick(session); }
 
-double NavigationTask::reward(const sim::Session& session) {
+Reward NavigationTask::reward(const sim::Session& session) {
   const double previous = distance_;
   distance_ = distance(session);
   touched_ = touches_.take();
+  const Reward reward = sum_of({{"distance", distance_reward(previous, distance_)},
+                                {"collision_human", human_collision_reward(distance_, task_.collision_distance, task_.collision_penalty)},
+                                {"collision_obstacle", obstacle_collision_reward(static_cast<int>(touched_.size()), task_.obstacle_penalty)}});
   terms_ = {{"distance", distance_},
-            {"distance_reward", distance_reward(previous, distance_)},
-            {"collision_human", human_collision_reward(distance_, task_.collision_distance, task_.collision_penalty)},
-            {"collision_obstacle", obstacle_collision_reward(static_cast<int>(touched_.size()), task_.obstacle_penalty)},
+            {"distance_reward", reward.terms[0].second},
+            {"collision_human", reward.terms[1].second},
+            {"collision_obstacle", reward.terms[2].second},
             {"touched", touched_}};
   if (task_.kind == scenario::TaskKind::follow_human) terms_["walking_style"] = style_;
-  return terms_["distance_reward"].get<double>() + terms_["collision_human"].get<double>() + terms_["collision_obstacle"].get<double>();
+  return reward;
 }
 
 void NavigationTask::before_step(sim::Session& session) {

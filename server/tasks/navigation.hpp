@@ -48,7 +48,7 @@ class DefaultView : public Task {
   std::vector<double> observe(const sim::Session& session) const override;
   int act(sim::Session& session, const std::vector<double>& action) override;
   int idle_ticks() const override { return 1; }
-  double reward(const sim::Session&) override { return 0.0; }
+  Reward reward(const sim::Session&) override { return {}; }
 
  private:
   int robot_ = -1;  ///< agent index of the robot under test: the scenario's first robot
@@ -65,7 +65,7 @@ class NavigationTask : public Task {
   void before_step(sim::Session& session) override;
   int idle_ticks() const override { return task_.frame_skip; }
   void after_tick(const sim::Session& session) override;
-  double reward(const sim::Session& session) override;
+  Reward reward(const sim::Session& session) override;
   bool terminated(const sim::Session& session) const override;
   nlohmann::json info() const override { return terms_; }
 

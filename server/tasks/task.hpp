@@ -4,6 +4,7 @@
 // default navigation view of scenarios without a task.
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -31,6 +32,13 @@ struct ImageObservation {
   int width = 0, height = 0;
 };
 
+/// One env step's reward and its terms. Each term is also a metric of the episode, `reward_<name>`,
+/// summed over its env steps (metrics/definitions.cpp lists them).
+struct Reward {
+  double total = 0.0;
+  std::vector<std::pair<std::string, double>> terms;
+};
+
 class Task {
  public:
   virtual ~Task() = default;
@@ -52,7 +60,7 @@ class Task {
   /// Called after every tick of a step.
   virtual void after_tick(const sim::Session& session) { (void)session; }
   /// The step's reward, once its ticks are done; starts the next step's bookkeeping.
-  virtual double reward(const sim::Session& session) = 0;
+  virtual Reward reward(const sim::Session& session) = 0;
   virtual bool terminated(const sim::Session& session) const {
     (void)session;
     return false;

@@ -17,6 +17,12 @@ Space box(std::vector<double> low, std::vector<double> high) {
   return space;
 }
 
+Reward sum_of(std::vector<std::pair<std::string, double>> terms) {
+  Reward reward{0.0, std::move(terms)};
+  for (const auto& term : reward.terms) reward.total += term.second;
+  return reward;
+}
+
 void check_action(const std::vector<double>& action, std::size_t size) {
   if (action.size() != size) {
     throw core::Error(core::ErrorCode::bad_request,

@@ -34,6 +34,9 @@ void command_arm(sim::Session& session, int robot, const std::vector<double>& ac
 /// Positions of the arm group's joints now.
 std::vector<double> arm_positions(const sim::Session& session, int robot);
 
+/// A reward of these terms, their sum as its total.
+Reward sum_of(std::vector<std::pair<std::string, double>> terms);
+
 /// Counts, over a step's ticks, the penalised obstacles and objects the robot touches.
 class TouchCounter {
  public:

@@ -98,7 +98,7 @@ TEST_F(RunsApi, ARunEndsWithAggregatesAVerdictAndItsEpisodes) {
     if (value.is_number()) smallest = std::min(smallest, value.get<double>());
   }
   EXPECT_GE(smallest, episode["metrics"]["minimum_distance_to_people"].get<double>()) << "sampled at 10 Hz, the minimum at 60 Hz";
-  EXPECT_EQ(json_of(http(port(), "GET", "/api/v1/episodes/" + episode_id + "/series"))["items"].size(), 5u);
+  EXPECT_EQ(json_of(http(port(), "GET", "/api/v1/episodes/" + episode_id + "/series"))["items"].size(), 6u) << "every series of GET /api/v1/metrics";
   const HttpReply series_csv = http(port(), "GET", "/api/v1/episodes/" + episode_id + "/series?name=robot_speed&format=csv");
   EXPECT_EQ(series_csv.body.substr(0, series_csv.body.find('\n')), "tick,time,robot_speed");
   EXPECT_EQ(http(port(), "GET", "/api/v1/episodes/" + episode_id + "/series?name=mood").status, 400);

@@ -187,11 +187,10 @@ export async function render(root, params) {
         PROXEMIC_BANDS.flatMap((b) => [h('span', { class: 'swatch', style: `background:${b.colour.replace(/[\d.]+\)$/, '0.5)')}` }), ` ${b.name} < ${b.to} m `])));
     }
   });
-  // Rewards come from a benchmark task: a series when the server keeps one, else the metric's reason.
-  if (!metrics.series.some((s) => /reward/.test(s.name))) {
-    const reward = episode.metrics.episode_reward;
-    plotsPanel.append(h('p', { class: 'message info reward-note' }, reward === null || reward === undefined
-      ? 'No reward: this scenario has no benchmark task.' : `Episode reward ${formatNumber(reward)} (no per-step reward series).`));
+  // Rewards come from a benchmark task: its episode_reward series is plotted above.
+  const reward = episode.metrics.episode_reward;
+  if (reward === null || reward === undefined) {
+    plotsPanel.append(h('p', { class: 'message info reward-note' }, 'No reward: this scenario has no benchmark task.'));
   }
 
   const events = h('section', { 'aria-labelledby': 'events-title' }, h('h2', { id: 'events-title' }, `Events (${episode.events.length})`),

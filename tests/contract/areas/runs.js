@@ -131,7 +131,7 @@ describe('runs', () => {
     const { series } = (await api.get('/api/v1/metrics')).json;
     assert.deepEqual(series.map((item) => [item.name, item.unit]), [
       ['distance_to_closest_person', 'm'], ['proxemic_zone', 'zone'], ['time_to_collision', 's'], ['robot_speed', 'm/s'],
-      ['social_force_on_robot', 'N/kg'],
+      ['social_force_on_robot', 'N/kg'], ['episode_reward', 'reward'],
     ]);
     assert.ok(series.every((item) => item.description.length > 0));
     const parameter = openapi.paths['/api/v1/episodes/{id}/series'].get.parameters.find((p) => p.name === 'name');

@@ -1,5 +1,5 @@
 'use strict';
-// Scenarios the tests upload. The cup is docs/robots.md's example: an HSR whose open hand holds a cup
+// Scenarios the tests upload. The cup is the example of docs/robots/scenario-entries.md: an HSR whose open hand holds a cup
 // on a side table between its fingers, so closing the gripper grasps it.
 const fs = require('node:fs');
 const path = require('node:path');

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "episode/episode.hpp"
 #include "scenario/load.hpp"
 #include "sim/session.hpp"
 
@@ -137,10 +138,12 @@ struct ElevatorRun {
 ElevatorRun run_elevator(const std::vector<double>& request_times) {
   const ImportResult imported = import_imhus(read(kShared / "external/imhus/elevator_goals.xml"), bundled());
   const auto model = load_imported(imported);
-  sim::Session session(model, 1);
+  episode::Episode session_run(model, 1);
+  sim::Session& session = session_run.session();
   const sim::AgentId robot = session.agent_id("tiago");
   for (double time : request_times) session.schedule_request(time, robot, model->find_task("take_robot_floor2"));
-  session.run(240.0);
+  session.set_time_limit(240.0);
+  session_run.run();
   ElevatorRun run{session.state().termination == "scenario_end", "", {}, {}};
   for (const sim::Event& event : session.state().events) {
     if (event.kind == "publish") run.publications.push_back(event.data["topic"].get<std::string>() + "=" + event.data["message"].get<std::string>());
@@ -215,8 +218,10 @@ TEST(ImportPedsim, RealCorridorImportsAndRuns) {
   const auto model = load_imported(imported);
   ASSERT_TRUE(model);
   EXPECT_EQ(model->agents.size(), 9u);
-  sim::Session session(model, 1);
-  session.run(120.0);
+  episode::Episode session_run(model, 1);
+  sim::Session& session = session_run.session();
+  session.set_time_limit(120.0);
+  session_run.run();
   EXPECT_EQ(session.state().termination, "scenario_end") << "the eight walkers reach east, then west";
 }
 
@@ -239,8 +244,10 @@ TEST(ImportImhus, GroupsAndARobotChoreographyBesideTheScenario) {
   EXPECT_EQ(model->steps[2].actions[0].kind, Action::Kind::request);
   EXPECT_TRUE(model->agents[2].start.position().isApprox(Vec2(7, 2))) << "the robot starts at its first goto";
 
-  sim::Session session(model, 1);
-  session.run(120.0);
+  episode::Episode session_run(model, 1);
+  sim::Session& session = session_run.session();
+  session.set_time_limit(120.0);
+  session_run.run();
   EXPECT_EQ(session.state().termination, "scenario_end");
 }
 

@@ -1,6 +1,7 @@
 // Every bundled scenario runs to its end, for several seeds, and the same seed gives the same hash.
 #include <gtest/gtest.h>
 
+#include "episode/episode.hpp"
 #include "scenario/load.hpp"
 #include "sim/session.hpp"
 
@@ -14,11 +15,11 @@ TEST_P(Bundled, CompletesForEverySeed) {
   for (const auto& e : loaded.errors) ADD_FAILURE() << e.pointer << ": " << e.message;
   ASSERT_TRUE(loaded.model);
   for (std::uint64_t seed : {0u, 1u, 2u}) {
-    Session session(loaded.model, seed), again(loaded.model, seed);
-    session.run();
+    episode::Episode run(loaded.model, seed), again(loaded.model, seed);
+    run.run();
     again.run();
-    EXPECT_EQ(session.state().termination, "scenario_end") << GetParam() << " seed " << seed;
-    EXPECT_EQ(session.state_hash(), again.state_hash()) << GetParam() << " seed " << seed;
+    EXPECT_EQ(run.session().state().termination, "scenario_end") << GetParam() << " seed " << seed;
+    EXPECT_EQ(run.session().state_hash(), again.session().state_hash()) << GetParam() << " seed " << seed;
   }
 }
 

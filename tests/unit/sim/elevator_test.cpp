@@ -3,6 +3,7 @@
 
 #include <fstream>
 
+#include "episode/episode.hpp"
 #include "sim/session.hpp"
 #include "support/scenarios.hpp"
 
@@ -43,13 +44,15 @@ constexpr double kTick = 1.0 / 60.0;
 constexpr double kDoorMotion = 1.2 / scenario::kElevatorDoorSpeed;
 
 TEST(Elevator, DoorOpensStaysOpenAndCloses) {
-  Session session(testing::load_valid(elevator_scenario(R"({
+  episode::Episode session_run(testing::load_valid(elevator_scenario(R"({
     "humans": [{"id": "ann", "start": {"x": 2, "y": 1}}],
     "steps": [{"name": "call", "actions": [{"agent": "ann", "publish": {"topic": "/elevator/request", "message": "door1"}},
                                            {"agent": "ann", "wait": {"topic": "/elevator/door1_state", "message": "open"}}]},
               {"name": "linger", "actions": [{"agent": "ann", "wait": {"duration": 25}}]}]})")),
                   1);
-  session.run(30.0);
+  Session& session = session_run.session();
+  session.set_time_limit(30.0);
+  session_run.run();
   const Timeline timeline = timeline_of(session);
   ASSERT_EQ(timeline.door_states.size(), 4u);
   EXPECT_EQ(timeline.door_states[0].second, "door1 opening");
@@ -67,14 +70,16 @@ TEST(Elevator, DoorOpensStaysOpenAndCloses) {
 }
 
 TEST(Elevator, OtherFloorTakesTheTripFirstAndRequestsAreServedInOrder) {
-  Session session(testing::load_valid(elevator_scenario(R"({
+  episode::Episode session_run(testing::load_valid(elevator_scenario(R"({
     "humans": [{"id": "ann", "start": {"x": -2, "y": 1}}],
     "steps": [{"name": "call", "actions": [{"agent": "ann", "publish": {"topic": "/elevator/request", "message": "door2"}},
                                            {"agent": "ann", "publish": {"topic": "/elevator/request", "message": "floor1"}},
                                            {"agent": "ann", "publish": {"topic": "/elevator/request", "message": "basement"}},
                                            {"agent": "ann", "wait": {"duration": 50}}]}]})")),
                   1);
-  session.run(60.0);
+  Session& session = session_run.session();
+  session.set_time_limit(60.0);
+  session_run.run();
   const Timeline timeline = timeline_of(session);
   ASSERT_GE(timeline.trips.size(), 4u);
   EXPECT_EQ(timeline.trips[0].second, "departed 1->2");
@@ -93,11 +98,13 @@ TEST(Elevator, OtherFloorTakesTheTripFirstAndRequestsAreServedInOrder) {
 }
 
 TEST(Elevator, ClosedDoorsAreWalls) {
-  Session session(testing::load_valid(elevator_scenario(R"({
+  episode::Episode session_run(testing::load_valid(elevator_scenario(R"({
     "humans": [{"id": "ann", "start": {"x": 3, "y": 0}}],
     "steps": [{"name": "in", "actions": [{"agent": "ann", "goto": {"pose": {"x": 0, "y": 0}}}]}]})")),
                   1);
-  session.run(20.0);
+  Session& session = session_run.session();
+  session.set_time_limit(20.0);
+  session_run.run();
   EXPECT_EQ(session.state().termination, "timeout");
   EXPECT_GT(session.state().agents[0].position.x(), 1.3) << "ann never passes the closed door";
   const auto unreachable = std::count_if(session.state().events.begin(), session.state().events.end(),
@@ -106,7 +113,7 @@ TEST(Elevator, ClosedDoorsAreWalls) {
 }
 
 TEST(Elevator, RidersGoInRideAndLeaveOnTheOtherFloor) {
-  Session session(testing::load_valid(elevator_scenario(R"({
+  episode::Episode session_run(testing::load_valid(elevator_scenario(R"({
     "humans": [{"id": "ann", "start": {"x": 3, "y": 0.5}}],
     "tasks": {"ride_up": [
       {"publish": {"topic": "/elevator/request", "message": "door1"}},
@@ -117,21 +124,25 @@ TEST(Elevator, RidersGoInRideAndLeaveOnTheOtherFloor) {
       {"goto": {"pose": {"x": -4, "y": 0}}}]},
     "steps": [{"name": "ride", "actions": [{"agent": "ann", "task": "ride_up"}]}]})")),
                   1);
-  session.run(80.0);
+  Session& session = session_run.session();
+  session.set_time_limit(80.0);
+  session_run.run();
   EXPECT_EQ(session.state().termination, "scenario_end");
   EXPECT_LT(session.state().agents[0].position.x(), -3.5) << "ann is on floor 2";
   EXPECT_EQ(session.state().agents[0].reserved_space, -1) << "the cabin slot was released when the door closed";
 }
 
 TEST(Elevator, DoorReopensForSomeoneInTheDoorway) {
-  Session session(testing::load_valid(elevator_scenario(R"({
+  episode::Episode session_run(testing::load_valid(elevator_scenario(R"({
     "humans": [{"id": "ann", "start": {"x": 2, "y": 1}}, {"id": "bo", "start": {"x": 3, "y": -0.5}}],
     "steps": [{"name": "call", "actions": [{"agent": "ann", "publish": {"topic": "/elevator/request", "message": "door1"}},
                                            {"agent": "ann", "wait": {"topic": "/elevator/door1_state", "message": "open"}}]},
               {"name": "block", "actions": [{"agent": "bo", "goto": {"pose": {"x": 1.3, "y": 0}, "radius": 0.05}},
                                             {"agent": "bo", "wait": {"duration": 30}}]}]})")),
                   1);
-  session.run(40.0);
+  Session& session = session_run.session();
+  session.set_time_limit(40.0);
+  session_run.run();
   const Timeline timeline = timeline_of(session);
   bool reopened = false;
   for (std::size_t i = 1; i < timeline.door_states.size(); ++i) {

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "episode/episode.hpp"
 #include "support/scenarios.hpp"
 
 namespace hrisim::sim {
@@ -34,11 +35,12 @@ double step_duration(const Session& session, int step) {
 }
 
 TEST(Session, GotoReachesTheLocationAndTakesItsHeading) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "locations": {"window": {"x": 8, "y": 2, "theta": 1.5708, "radius": 0.2}},
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}, "preferred_speed": 1.2}],
     "steps": [{"name": "walk", "actions": [{"agent": "ana", "goto": {"location": "window"}}]}]})"), 1);
-  session.run();
+  Session& session = session_run.session();
+  session_run.run();
   EXPECT_EQ(session.state().termination, "scenario_end");
   const AgentState& ana = session.state().agents[0];
   EXPECT_LE((ana.position - Vec2(8, 2)).norm(), 0.2 + 1e-9);
@@ -49,9 +51,10 @@ TEST(Session, GotoReachesTheLocationAndTakesItsHeading) {
 }
 
 TEST(Session, GotoWalksAroundTheTable) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ana", "start": {"x": 3, "y": 5}, "preferred_speed": 1.3}],
     "steps": [{"name": "walk", "actions": [{"agent": "ana", "goto": {"pose": {"x": 7, "y": 5}}}]}]})"), 1);
+  Session& session = session_run.session();
   // The table covers [4.4, 5.6] × [4.6, 5.4]; ana's disc (0.3 m) must stay off it.
   double closest_to_table = 1e9;
   while (!session.state().finished) {
@@ -65,12 +68,13 @@ TEST(Session, GotoWalksAroundTheTable) {
 }
 
 TEST(Session, StepActionsStartTogetherAndTheStepEndsWithTheLast) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 2, "y": 8}}],
     "steps": [
       {"name": "waits", "actions": [{"agent": "ana", "wait": {"duration": 1}}, {"agent": "ben", "wait": {"duration": 2.5}}]},
       {"name": "short", "actions": [{"agent": "ana", "wait": {"duration": 0.5}}]}]})"), 1);
-  session.run();
+  Session& session = session_run.session();
+  session_run.run();
   EXPECT_NEAR(step_duration(session, 0), 2.5, 1e-9);
   EXPECT_NEAR(step_duration(session, 1), 0.5, 1e-9);
   EXPECT_EQ(session.state().steps[1].started_tick, session.state().steps[0].finished_tick);
@@ -79,20 +83,22 @@ TEST(Session, StepActionsStartTogetherAndTheStepEndsWithTheLast) {
 }
 
 TEST(Session, SeveralActionsOfOneAgentInAStepRunInOrder) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
     "steps": [{"name": "s", "actions": [{"agent": "ana", "wait": {"duration": 1}}, {"agent": "ana", "wait": {"duration": 2}}]}]})"), 1);
-  session.run();
+  Session& session = session_run.session();
+  session_run.run();
   EXPECT_NEAR(step_duration(session, 0), 3.0, 1e-9);
 }
 
 TEST(Session, CompoundTasksRunTheirActionsInOrder) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
     "tasks": {"inner": [{"wait": {"duration": 1}}, {"publish": {"topic": "/t", "message": "inner"}}],
               "outer": [{"task": "inner"}, {"wait": {"duration": 0.5}}, {"publish": {"topic": "/t", "message": "outer"}}]},
     "steps": [{"name": "s", "actions": [{"agent": "ana", "task": "outer"}]}]})"), 1);
-  session.run();
+  Session& session = session_run.session();
+  session_run.run();
   const auto published = events_of(session, "publish");
   ASSERT_EQ(published.size(), 2u);
   EXPECT_EQ(published[0]->data["message"], "inner");
@@ -103,7 +109,7 @@ TEST(Session, CompoundTasksRunTheirActionsInOrder) {
 }
 
 TEST(Session, WaitForAMessageSeesTheLatestOne) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 2, "y": 8}}],
     "steps": [
       {"name": "early", "actions": [{"agent": "ben", "publish": {"topic": "/door", "message": "open"}}]},
@@ -113,7 +119,9 @@ TEST(Session, WaitForAMessageSeesTheLatestOne) {
                                     {"agent": "ben", "wait": {"duration": 1}},
                                     {"agent": "ben", "publish": {"topic": "/door", "message": "open"}}]},
       {"name": "again", "actions": [{"agent": "ana", "wait": {"topic": "/door", "message": "closed"}}]}]})"), 1);
-  session.run(20.0);
+  Session& session = session_run.session();
+  session.set_time_limit(20.0);
+  session_run.run();
   EXPECT_EQ(session.state().topics.at("/door"), "open");
   // A published state is latched: ana's first wait ends at once; the one for "closed" never does.
   EXPECT_EQ(session.state().step, 2);
@@ -123,11 +131,12 @@ TEST(Session, WaitForAMessageSeesTheLatestOne) {
 
 /// Final heading of ana (starting at heading 0) after one turning action, and how long it took.
 std::pair<double, double> turn(const std::string& action) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "locations": {"door": {"x": 2, "y": 8}},
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2, "theta": 0}}, {"id": "ben", "start": {"x": 8, "y": 8}}],
     "steps": [{"name": "turn", "actions": [{"agent": "ana", )" + action + R"(}]}]})"), 1);
-  session.run();
+  Session& session = session_run.session();
+  session_run.run();
   EXPECT_EQ(session.state().termination, "scenario_end") << action;
   return {session.state().agents[0].heading, step_duration(session, 0)};
 }
@@ -144,13 +153,14 @@ TEST(Session, TurnAndLookAt) {
 }
 
 TEST(Session, SocialSpaceSlotsAreTakenInOrder) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "social_spaces": {"bench": {"x": 5, "y": 8, "slots": [{"x": -1, "y": 0}, {"x": 0, "y": 0}, {"x": 1, "y": 0}]}},
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 5, "y": 2}},
                {"id": "cat", "start": {"x": 8.5, "y": 8}}],
     "steps": [{"name": "sit", "actions": [{"agent": "ana", "goto": {"social_space": "bench"}},
                                           {"agent": "ben", "goto": {"social_space": "bench"}}]}]})"), 1);
-  session.run();
+  Session& session = session_run.session();
+  session_run.run();
   EXPECT_EQ(session.state().termination, "scenario_end");
   // cat stands within two radii of slot 2 (6, 8)? No: 2.5 m away, so slots 0 and 1 go to ana and ben.
   EXPECT_LE((session.state().agents[0].position - Vec2(4, 8)).norm(), 0.2 + 1e-9);
@@ -160,17 +170,18 @@ TEST(Session, SocialSpaceSlotsAreTakenInOrder) {
 }
 
 TEST(Session, OccupiedSlotIsSkipped) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "social_spaces": {"bench": {"x": 5, "y": 8, "slots": [{"x": -1, "y": 0}, {"x": 0, "y": 0}]}},
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "sitter", "start": {"x": 4.2, "y": 8}}],
     "steps": [{"name": "sit", "actions": [{"agent": "ana", "goto": {"social_space": "bench"}}]}]})"), 1);
-  session.run();
+  Session& session = session_run.session();
+  session_run.run();
   EXPECT_LE((session.state().agents[0].position - Vec2(5, 8)).norm(), 0.2 + 1e-9)
       << "slot 0 has someone within two radii, so ana takes slot 1";
 }
 
 TEST(Session, ALocationHoldsOnePerson) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "locations": {"spot": {"x": 5, "y": 8}},
     "humans": [{"id": "ana", "start": {"x": 2, "y": 8}}, {"id": "ben", "start": {"x": 8, "y": 8}}],
     "steps": [
@@ -178,6 +189,7 @@ TEST(Session, ALocationHoldsOnePerson) {
       {"name": "both", "actions": [{"agent": "ben", "goto": {"location": "spot"}},
                                    {"agent": "ana", "wait": {"duration": 3}},
                                    {"agent": "ana", "goto": {"pose": {"x": 2, "y": 2}}}]}]})"), 1);
+  Session& session = session_run.session();
   double ben_closest_while_ana_there = 1e9;
   while (!session.state().finished) {
     session.step();
@@ -200,9 +212,11 @@ const char* kRequestScenario = R"({
   "steps": [{"name": "idle", "actions": [{"agent": "far", "wait": {"duration": 40}}]}]})";
 
 TEST(Requests, TheClosestIdleHumanWithinThreeMetresAnswers) {
-  Session session(model_of(kRequestScenario), 1);
+  episode::Episode session_run(model_of(kRequestScenario), 1);
+  Session& session = session_run.session();
   session.request(session.agent_id("robot"), 0);
-  session.run(5.0);
+  session.set_time_limit(5.0);
+  session_run.run();
   const auto accepted = events_of(session, "request_accepted");
   ASSERT_EQ(accepted.size(), 1u);
   EXPECT_EQ(accepted[0]->subject, "nearest");
@@ -211,26 +225,30 @@ TEST(Requests, TheClosestIdleHumanWithinThreeMetresAnswers) {
 }
 
 TEST(Requests, BusyHumansDoNotAnswerAndTheRequestIsRetriedThenDropped) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "busy", "start": {"x": 3, "y": 2}}, {"id": "far", "start": {"x": 8, "y": 8}}],
     "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
     "tasks": {"press": [{"publish": {"topic": "/button", "message": "pressed"}}]},
     "async": [{"task": "press"}],
     "steps": [{"name": "work", "actions": [{"agent": "busy", "wait": {"duration": 12}}, {"agent": "far", "wait": {"duration": 50}}]}]})"), 1);
+  Session& session = session_run.session();
   session.request(session.agent_id("robot"), 0);
-  session.run(20.0);
+  session.set_time_limit(20.0);
+  session_run.run();
   const auto accepted = events_of(session, "request_accepted");
   ASSERT_EQ(accepted.size(), 1u) << "busy becomes idle at 12 s; the retry at 15 s finds it";
   EXPECT_NEAR(accepted[0]->time, 15.0, 1e-9);
 
-  Session nobody(model_of(R"({
+  episode::Episode nobody_run(model_of(R"({
     "humans": [{"id": "far", "start": {"x": 8, "y": 8}}],
     "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
     "tasks": {"press": [{"publish": {"topic": "/button", "message": "pressed"}}]},
     "async": [{"task": "press"}],
     "steps": [{"name": "s", "actions": [{"agent": "far", "wait": {"duration": 50}}]}]})"), 1);
+  Session& nobody = nobody_run.session();
   nobody.request(nobody.agent_id("robot"), 0);
-  nobody.run(40.0);
+  nobody.set_time_limit(40.0);
+  nobody_run.run();
   const auto dropped = events_of(nobody, "request_dropped");
   ASSERT_EQ(dropped.size(), 1u);
   EXPECT_NEAR(dropped[0]->time, kRequestTimeout, 1e-9);
@@ -238,11 +256,12 @@ TEST(Requests, BusyHumansDoNotAnswerAndTheRequestIsRetriedThenDropped) {
 }
 
 TEST(Requests, UnknownAsyncTaskIsDroppedAtOnce) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
     "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
     "tasks": {"dance": [{"wait": {"duration": 1}}]},
     "steps": []})"), 1);
+  Session& session = session_run.session();
   session.request(session.agent_id("robot"), 0);
   const auto dropped = events_of(session, "request_dropped");
   ASSERT_EQ(dropped.size(), 1u);
@@ -252,8 +271,10 @@ TEST(Requests, UnknownAsyncTaskIsDroppedAtOnce) {
 TEST(Requests, ScriptedRequestsFireAtTheirTime) {
   json extra = json::parse(kRequestScenario);
   extra["requests"] = json::parse(R"([{"time": 2.0, "task": "press"}])");
-  Session session(testing::load_valid(testing::room_scenario(extra)), 1);
-  session.run(5.0);
+  episode::Episode session_run(testing::load_valid(testing::room_scenario(extra)), 1);
+  Session& session = session_run.session();
+  session.set_time_limit(5.0);
+  session_run.run();
   const auto requests = events_of(session, "request");
   ASSERT_EQ(requests.size(), 1u);
   EXPECT_NEAR(requests[0]->time, 2.0, 1e-9);
@@ -267,7 +288,8 @@ const char* kCrowd = R"({
     {"agent": "c", "goto": {"pose": {"x": 9, "y": 1.5}}}, {"agent": "d", "goto": {"pose": {"x": 1, "y": 8.5}}}]}]})";
 
 std::vector<std::uint64_t> hashes(std::uint64_t seed) {
-  Session session(model_of(kCrowd), seed);
+  episode::Episode session_run(model_of(kCrowd), seed);
+  Session& session = session_run.session();
   std::vector<std::uint64_t> result;
   for (int i = 0; i < 900; ++i) {
     session.step();
@@ -287,7 +309,8 @@ TEST(Determinism, AnotherSeedDrawsOtherSpeeds) {
 }
 
 TEST(Determinism, TimeIsTicksTimesDt) {
-  Session session(model_of(kCrowd), 1);
+  episode::Episode session_run(model_of(kCrowd), 1);
+  Session& session = session_run.session();
   for (int i = 0; i < 1000; ++i) session.step();
   EXPECT_EQ(session.time(), 1000 * session.model().dt);
 }
@@ -297,7 +320,8 @@ TEST(Session, DrawnSpeedsFollowTheNamedDistribution) {
   for (int i = 0; i < 400; ++i) {
     many["humans"].push_back({{"id", "h" + std::to_string(i)}, {"start", {{"x", 1 + (i % 40) * 0.2}, {"y", 1 + (i / 40) * 0.2}}}});
   }
-  Session session(testing::load_valid(testing::room_scenario(many)), 3);
+  episode::Episode session_run(testing::load_valid(testing::room_scenario(many)), 3);
+  Session& session = session_run.session();
   double sum = 0, sum_squares = 0;
   for (const AgentState& agent : session.state().agents) {
     EXPECT_GE(agent.preferred_speed, scenario::kPreferredSpeedMin);
@@ -312,11 +336,12 @@ TEST(Session, DrawnSpeedsFollowTheNamedDistribution) {
 
 
 TEST(Groups, APairWalksSideBySide) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ann", "start": {"x": 1.5, "y": 5, "theta": 0}, "preferred_speed": 1.2},
                {"id": "bo", "start": {"x": 1.5, "y": 4.3, "theta": 0}, "preferred_speed": 1.3}],
     "groups": {"pair": {"members": ["ann", "bo"]}},
     "steps": [{"name": "walk", "actions": [{"group": "pair", "goto": {"pose": {"x": 3, "y": 8.5, "theta": 0}}}]}]})"), 1);
+  Session& session = session_run.session();
   double farthest_apart = 0.0;
   while (!session.state().finished) {
     session.step();
@@ -331,7 +356,7 @@ TEST(Groups, APairWalksSideBySide) {
 }
 
 TEST(Groups, GroupsFormAndDismantleAndTakeSlots) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "social_spaces": {"bench": {"x": 5, "y": 8, "slots": [{"x": -1, "y": 0}, {"x": 0, "y": 0}, {"x": 1, "y": 0}]}},
     "humans": [{"id": "ann", "start": {"x": 2, "y": 2}}, {"id": "bo", "start": {"x": 3, "y": 2}}, {"id": "cy", "start": {"x": 8, "y": 2}}],
     "steps": [
@@ -339,7 +364,8 @@ TEST(Groups, GroupsFormAndDismantleAndTakeSlots) {
       {"name": "sit", "actions": [{"group": "friends", "goto": {"social_space": "bench"}}]},
       {"name": "part", "actions": [{"agent": "cy", "dismantle_group": "friends"}]},
       {"name": "nobody", "actions": [{"group": "friends", "goto": {"pose": {"x": 2, "y": 2}}}]}]})"), 1);
-  session.run();
+  Session& session = session_run.session();
+  session_run.run();
   EXPECT_EQ(session.state().termination, "scenario_end");
   std::set<int> slots;
   for (int a = 0; a < 3; ++a) slots.insert(session.state().agents[a].reserved_slot);
@@ -350,12 +376,13 @@ TEST(Groups, GroupsFormAndDismantleAndTakeSlots) {
 }
 
 TEST(Attitudes, HarassingHumanStandsInTheRobotsWay) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "pest", "start": {"x": 2, "y": 8}}],
     "robots": [{"id": "robot", "start": {"x": 2, "y": 3, "theta": 0}}],
     "steps": [{"name": "annoy", "actions": [{"agent": "pest", "harass": {"robot": "robot", "duration": 12}}]}]})"), 1);
+  Session& session = session_run.session();
   session.command_robot(session.agent_id("robot"), Vec2(0.3, 0.0));
-  session.run();
+  session_run.run();
   EXPECT_EQ(session.state().termination, "scenario_end");
   EXPECT_NEAR(step_duration(session, 0), 12.0, 1e-9);
   const AgentState& pest = session.state().agents[0];
@@ -372,22 +399,25 @@ const char* kStopAndLook = R"({
                                            {"agent": "ann", "goto": {"pose": {"x": 8.5, "y": 2}}}]}]})";
 
 TEST(Attitudes, StopAndLookWhenTheRobotComesNear) {
-  Session session(model_of(kStopAndLook), 1);
-  session.run(6.0);
+  episode::Episode session_run(model_of(kStopAndLook), 1);
+  Session& session = session_run.session();
+  session.set_time_limit(6.0);
+  session_run.run();
   const AgentState& ann = session.state().agents[0];
   EXPECT_LT((ann.position - Vec2(5, 3.5)).norm(), scenario::kStopAndLookDistance + 0.1) << "stopped near the robot";
   EXPECT_GT((ann.position - Vec2(5, 3.5)).norm(), scenario::kStopAndLookDistance - 0.3);
   EXPECT_LT(ann.velocity.norm(), 0.1);
   EXPECT_NEAR(core::wrap_angle(ann.heading - std::atan2(3.5 - ann.position.y(), 5 - ann.position.x())), 0.0, 0.1)
       << "facing it";
-  Session until_end(model_of(kStopAndLook), 1);
-  until_end.run();
+  episode::Episode until_end_run(model_of(kStopAndLook), 1);
+  Session& until_end = until_end_run.session();
+  until_end_run.run();
   EXPECT_EQ(until_end.state().termination, "scenario_end") << "after the attitude ends she walks on";
   EXPECT_GT(until_end.time(), 8.0);
 }
 
 TEST(RobotChoreography, TheRobotWalksAsksAndWaitsForTheOutcome) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "time_limit": 200,
     "humans": [{"id": "ann", "start": {"x": 8, "y": 8}}],
     "robots": [{"id": "robot", "start": {"x": 2, "y": 2}}],
@@ -398,7 +428,8 @@ TEST(RobotChoreography, TheRobotWalksAsksAndWaitsForTheOutcome) {
       {"name": "ask", "actions": [{"agent": "robot", "request": {"task": "greet"}}]},
       {"name": "far", "actions": [{"agent": "robot", "goto": {"pose": {"x": 2, "y": 2}, "radius": 0.5}}]},
       {"name": "ask_again", "actions": [{"agent": "robot", "request": {"task": "greet"}}]}]})"), 1);
-  session.run();
+  Session& session = session_run.session();
+  session_run.run();
   EXPECT_EQ(session.state().termination, "scenario_end");
   EXPECT_EQ(events_of(session, "request_accepted").size(), 1u) << "ann is within 3 m at the first request";
   EXPECT_EQ(events_of(session, "request_dropped").size(), 1u) << "and far away at the second";
@@ -409,10 +440,11 @@ TEST(RobotChoreography, TheRobotWalksAsksAndWaitsForTheOutcome) {
 
 
 TEST(AgentIds, RemovedAgentsLeaveAndTheirIdsGoStale) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ann", "start": {"x": 2, "y": 2}}, {"id": "bo", "start": {"x": 8, "y": 2}}],
     "robots": [{"id": "robot", "start": {"x": 5, "y": 8}}],
     "steps": [{"name": "waits", "actions": [{"agent": "ann", "wait": {"duration": 1}}, {"agent": "bo", "wait": {"duration": 50}}]}]})"), 1);
+  Session& session = session_run.session();
   const AgentId bo = session.agent_id("bo");
   EXPECT_EQ(session.index_of(bo), 1);
   EXPECT_EQ(session.agent_ids().size(), 3u);
@@ -439,9 +471,10 @@ namespace hrisim::sim {
 namespace {
 
 TEST(Session, TextualCommandsGoFirstAndTheChoreographyResumes) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}, "preferred_speed": 1.2}, {"id": "ben", "start": {"x": 8, "y": 8}}],
     "steps": [{"name": "walk", "actions": [{"agent": "ana", "goto": {"pose": {"x": 8, "y": 2}}}]}]})"), 1);
+  Session& session = session_run.session();
   const AgentId ana = session.agent_id("ana");
   session.command_human(ana, "walk 2 8");
   double closest_to_detour = 1e9;
@@ -457,11 +490,12 @@ TEST(Session, TextualCommandsGoFirstAndTheChoreographyResumes) {
 }
 
 TEST(Session, BadTextualCommandsSayWhatIsWrong) {
-  Session session(model_of(R"({
+  episode::Episode session_run(model_of(R"({
     "locations": {"door": {"x": 1, "y": 1}},
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
     "robots": [{"id": "bot", "start": {"x": 3, "y": 3}}],
     "steps": [{"name": "wait", "actions": [{"agent": "ana", "wait": {"duration": 1}}]}]})"), 1);
+  Session& session = session_run.session();
   const AgentId ana = session.agent_id("ana");
   const auto message = [&](AgentId who, const std::string& text) {
     try {

@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "scenario/load.hpp"
 #include "support/scenarios.hpp"
+#include "episode/episode.hpp"
 #include "tasks/environment.hpp"
 #include "tasks/manipulation.hpp"
 #include "tasks/rewards.hpp"
@@ -30,20 +31,20 @@ std::shared_ptr<const scenario::Model> bundled(const std::string& name, const js
   return patched.model;
 }
 
-/// A session, its environment, and steps that advance it tick by tick.
-struct Episode {
-  explicit Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t seed = 0) : session(std::move(model), seed), environment(session) {}
-  double step(std::optional<std::vector<double>> action = std::nullopt) {
-    return environment.step(session, action, [this] { session.step(); });
-  }
+/// An episode of a task scenario, with the names the tests use.
+struct TaskRun {
+  explicit TaskRun(std::shared_ptr<const scenario::Model> model, std::uint64_t seed = 0)
+      : episode(std::move(model), seed), session(episode.session()), environment(*episode.environment()) {}
+  double step(std::optional<std::vector<double>> action = std::nullopt) { return episode.step(action); }
   double distance() const {
     const auto& agents = session.state().agents;
     const auto& task = *session.model().task;
     return (agents[task.human].position - agents[task.robot].position).norm();
   }
   sim::AgentId id(int agent) const { return session.agent_id(session.model().agents[agent].id); }
-  sim::Session session;
-  Environment environment;
+  episode::Episode episode;
+  sim::Session& session;
+  Environment& environment;
 };
 
 TEST(Rewards, DistanceIsPreviousMinusCurrent) {
@@ -138,7 +139,7 @@ TEST(TaskSettings, EveryOneCanBeOverridden) {
   ASSERT_TRUE(model);
   EXPECT_EQ(model->task->frame_skip, 1);
   EXPECT_DOUBLE_EQ(model->time_limit, 10.0);
-  Episode run(model, 4);
+  TaskRun run(model, 4);
   const core::Vec2 human = run.session.state().agents[model->task->human].position;
   EXPECT_TRUE(human.x() >= 1 && human.x() <= 2 && human.y() >= 1 && human.y() <= 2) << human.transpose();
   run.step(std::vector<double>{0.0, 0.0});
@@ -179,7 +180,7 @@ TEST(ApproachHuman, PlacesTheHumanFromTheSeedOnFreeFloorInTheSpawnArea) {
   const auto model = bundled("approach_human");
   std::set<std::pair<double, double>> places;
   for (std::uint64_t seed = 0; seed < 20; ++seed) {
-    Episode run(model, seed), again(model, seed);
+    TaskRun run(model, seed), again(model, seed);
     const core::Vec2 at = run.session.state().agents[model->task->human].position;
     EXPECT_EQ(at, again.session.state().agents[model->task->human].position) << "same seed, same place";
     EXPECT_TRUE(at.cwiseAbs().maxCoeff() <= 5.0) << at.transpose();
@@ -188,12 +189,12 @@ TEST(ApproachHuman, PlacesTheHumanFromTheSeedOnFreeFloorInTheSpawnArea) {
     places.insert({at.x(), at.y()});
   }
   EXPECT_EQ(places.size(), 20u);
-  EXPECT_EQ(Episode(model, 0).session.state().agents[model->task->robot].position, core::Vec2(0, 0)) << "the robot at the origin";
+  EXPECT_EQ(TaskRun(model, 0).session.state().agents[model->task->robot].position, core::Vec2(0, 0)) << "the robot at the origin";
 }
 
 TEST(ApproachHuman, RewardsTheDistanceGainedAndEndsWithin30Centimetres) {
   const auto model = bundled("approach_human");
-  Episode run(model, 3);
+  TaskRun run(model, 3);
   const int robot = model->task->robot, human = model->task->human;
   const double start = run.distance();
   const auto& agents = run.session.state().agents;
@@ -223,7 +224,7 @@ TEST(ApproachHuman, RewardsTheDistanceGainedAndEndsWithin30Centimetres) {
 
 TEST(ApproachHuman, ClosestThan10CentimetresCosts20) {
   const auto model = bundled("approach_human");
-  Episode run(model, 5);
+  TaskRun run(model, 5);
   const core::Vec2 human = run.session.state().agents[model->task->human].position;
   const double before = run.distance();
   run.session.place_agent(run.id(model->task->robot), {human.x() + 0.05, human.y(), 0});
@@ -235,7 +236,7 @@ TEST(ApproachHuman, ClosestThan10CentimetresCosts20) {
 
 TEST(ApproachHuman, RunsOutAfter1536TicksAndRefusesWrongActions) {
   const auto model = bundled("approach_human");
-  Episode run(model, 1);
+  TaskRun run(model, 1);
   EXPECT_THROW(run.step(std::vector<double>{0.1}), core::Error);
   try {
     run.step(std::vector<double>{0.1, std::nan("")});
@@ -258,7 +259,7 @@ TEST(FollowHuman, TheHumanWalksInAStyleFromTheSetAndTheEpisodeRunsToItsEnd) {
   const auto model = bundled("follow_human");
   std::set<std::string> styles;
   for (std::uint64_t seed = 0; seed < 12; ++seed) {
-    Episode run(model, seed);
+    TaskRun run(model, seed);
     const int human = model->task->human;
     const core::Vec2 start = run.session.state().agents[human].position;
     EXPECT_NEAR((start - core::Vec2(0, 0)).norm(), 1.0, 1e-9) << "1 m ahead of the robot";
@@ -281,7 +282,7 @@ TEST(FollowHuman, TheHumanWalksInAStyleFromTheSetAndTheEpisodeRunsToItsEnd) {
 
 TEST(FollowHuman, NeverTerminatesEvenWhenClose) {
   const auto model = bundled("follow_human");
-  Episode run(model, 2);
+  TaskRun run(model, 2);
   const core::Vec2 human = run.session.state().agents[model->task->human].position;
   run.session.place_agent(run.id(model->task->robot), {human.x() - 0.2, human.y(), 0});
   run.step(std::vector<double>{0.0, 0.0});
@@ -290,7 +291,7 @@ TEST(FollowHuman, NeverTerminatesEvenWhenClose) {
 
 TEST(ApproachHumanApartment, EachFurnitureTouchedCostsHalfAPoint) {
   const auto model = bundled("approach_human_apartment");
-  Episode run(model, 0);
+  TaskRun run(model, 0);
   // Back off the dining table's east edge (x = −1) and drive into it.
   run.session.place_agent(run.id(model->task->robot), {-0.65, -0.6, std::numbers::pi});
   std::vector<std::string> touched;
@@ -308,7 +309,7 @@ TEST(ApproachHumanApartment, EachFurnitureTouchedCostsHalfAPoint) {
 TEST(ApproachHumanApartment, TheHumanStandsOnFreeFloorInsideTheApartment) {
   const auto model = bundled("approach_human_apartment");
   for (std::uint64_t seed = 0; seed < 20; ++seed) {
-    Episode run(model, seed);
+    TaskRun run(model, seed);
     const core::Vec2 at = run.session.state().agents[model->task->human].position;
     EXPECT_GE(model->field.distance(model->grid, at), model->agents[model->task->human].radius) << at.transpose();
     EXPECT_TRUE(std::abs(at.x()) < 4 && std::abs(at.y()) < 3) << at.transpose();
@@ -328,7 +329,7 @@ std::vector<double> gripper(bool close) { return {1, close ? 1.0 : -1.0, 0, 0, 0
 
 TEST(PickAndPlace, RewardIsTheSumOfItsTermsAndStepsLastTheirFrames) {
   const auto model = bundled("pick_and_place");
-  Episode run(model, 0);
+  TaskRun run(model, 0);
   const double reward = run.step(gripper(false));
   EXPECT_EQ(run.session.state().tick, 8) << "a gripper step: 8 ticks";
   const json terms = run.environment.info();
@@ -354,7 +355,7 @@ TEST(PickAndPlace, RewardIsTheSumOfItsTermsAndStepsLastTheirFrames) {
 TEST(PickAndPlace, AScriptedSequenceCarriesTheCupToTheTargetGivenTime) {
   // The seed's 256 ticks leave no time for hrisim's HSR gripper (1 rad/s) to close; 640 do.
   const auto model = bundled("pick_and_place", {{"task", {{"max_episode_length", 640}}}});
-  Episode run(model, 1);
+  TaskRun run(model, 1);
   run.step(gripper(false));
   run.step(arm(kAbove));
   run.step(arm(kGrasp));
@@ -375,7 +376,7 @@ TEST(MirrorGesture, TheHumanPointsToASideDrawnFromTheSeedAndFacesTheRobot) {
   const auto model = bundled("mirror_gesture");
   std::set<std::string> sides;
   for (std::uint64_t seed = 0; seed < 10; ++seed) {
-    Episode run(model, seed);
+    TaskRun run(model, seed);
     run.step(std::vector<double>(6, 0.0));
     const auto& person = run.session.state().agents[model->task->human];
     EXPECT_NEAR((person.position - core::Vec2(2, 0)).norm(), 0.0, 1e-9);
@@ -391,7 +392,7 @@ TEST(MirrorGesture, TheHumanPointsToASideDrawnFromTheSeedAndFacesTheRobot) {
 TEST(MirrorGesture, ScoresOneWhenTheHandPointsToHerSide) {
   const auto model = bundled("mirror_gesture");
   for (std::uint64_t seed = 0; seed < 6; ++seed) {
-    Episode run(model, seed);
+    TaskRun run(model, seed);
     // The arm stretched forward, turned left by the base roll joint: the hand 0.7 m to the robot's
     // left, which is her right as she faces the robot.
     const std::vector<double> robot_left{0.2, -1.5708, 0, 0, 0, 1.5708};
@@ -401,14 +402,14 @@ TEST(MirrorGesture, ScoresOneWhenTheHandPointsToHerSide) {
     EXPECT_EQ(info["robot_points"], "right");
     EXPECT_EQ(reward, info["human_points"] == "right" ? 1.0 : 0.0);
   }
-  Episode rest(model, 0);
+  TaskRun rest(model, 0);
   EXPECT_EQ(rest.step(std::vector<double>(6, 0.0)), 0.0) << "the arm hanging down points nowhere";
   EXPECT_EQ(rest.environment.info()["robot_points"], "none");
 }
 
 TEST(MirrorGesture, ObservesTheHeadCameraAsAnImage) {
   const auto model = bundled("mirror_gesture");
-  Episode run(model, 0);
+  TaskRun run(model, 0);
   ASSERT_TRUE(run.environment.image());
   EXPECT_EQ(run.environment.image()->camera, "robot.head_rgbd");
   EXPECT_EQ(run.environment.observation_space().shape, (std::vector<int>{256, 256, 5}));
@@ -420,7 +421,7 @@ TEST(MirrorGesture, ObservesTheHeadCameraAsAnImage) {
 TEST(Tasks, SameSeedAndActionsGiveTheSameEpisode) {
   for (const char* name : {"approach_human", "follow_human", "approach_human_apartment", "pick_and_place", "mirror_gesture"}) {
     const auto model = bundled(name);
-    Episode a(model, 7), b(model, 7);
+    TaskRun a(model, 7), b(model, 7);
     const std::size_t size = static_cast<std::size_t>(a.environment.action_space().shape[0]);
     for (int s = 0; s < 3; ++s) {
       std::vector<double> action(size);

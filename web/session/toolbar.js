@@ -1,0 +1,82 @@
+// The session's toolbar: playback (play / pause, single steps, speed and the speed actually reached),
+// the view of the 3D scene, the clock and run state, and the choreography's progress.
+import { h, formatNumber } from '../lib/ui.js';
+import { errorText, showMessage } from './messages.js';
+
+/** Playback speeds, simulated seconds per wall-clock second. */
+const SPEEDS = [0.25, 0.5, 1, 2, 4];
+/** The "actual speed" readout averages over this window, ms. */
+const SPEED_WINDOW_MS = 2000;
+
+/**
+ * The toolbar and, under it, the line where stepping errors show: [toolbar, error line]. `steps` are
+ * the choreography's; `onView(view)` turns the scene to 'top' or 'perspective'.
+ */
+export function toolbar(driver, { steps, onView }) {
+  const { status } = driver;
+  const speedSamples = [];
+  const playButton = h('button', { type: 'button', class: 'play', onclick: () => (driver.playing ? driver.pause() : driver.play()), 'aria-pressed': 'false' }, 'Play');
+  const stepButton = h('button', { type: 'button', class: 'secondary', onclick: () => driver.step() },
+    status.task ? `Step 1 step (${driver.stepTicks} ticks)` : `Step 1 tick (${formatNumber(driver.dt, 2)} s)`);
+  const speedSelect = h('select', { onchange: () => { driver.speed = Number(speedSelect.value); } },
+    SPEEDS.map((value) => h('option', { value, selected: value === driver.speed }, `${value}× real time`)));
+  const actualSpeed = h('span', { class: 'muted actual-speed' });
+  const viewButtons = ['top', 'perspective'].map((view) => h('button', {
+    type: 'button', class: 'secondary', 'data-view': view, 'aria-pressed': String(view === 'top'),
+    onclick: () => {
+      for (const button of viewButtons) button.setAttribute('aria-pressed', String(button.dataset.view === view));
+      onView(view);
+    },
+  }, view === 'top' ? 'Top' : 'Perspective'));
+  const clock = h('span', { class: 'clock', 'aria-live': 'off' });
+  const runState = h('span', { class: 'badge' });
+  const stepText = h('span', { class: 'step-name' });
+  const stepBar = h('progress', { max: Math.max(steps.length, 1), value: 0, 'aria-label': 'Choreography progress' });
+  const playError = h('p', { class: 'message error', role: 'alert', hidden: true });
+  const playback = driver.realtime
+    ? h('div', { class: 'toolbar-group' }, h('span', {}, `Realtime: the server steps it at ${formatNumber(status.realtime_factor)}× real time.`))
+    : h('div', { class: 'toolbar-group', role: 'group', 'aria-label': 'Playback' }, playButton, stepButton,
+      h('label', { class: 'inline' }, 'Speed', speedSelect), actualSpeed);
+
+  driver.on('playing', (playing) => {
+    playButton.textContent = playing ? 'Pause' : 'Play';
+    playButton.setAttribute('aria-pressed', String(playing));
+    stepButton.disabled = playing || driver.status.status === 'finished';
+    if (playing) speedSamples.length = 0;
+    else actualSpeed.textContent = '';
+  });
+  driver.on('round', () => { playError.hidden = true; });
+  driver.on('stepError', (error) => showMessage(playError, 'error', `Stepping failed: ${errorText(error)}`));
+  driver.on('status', (next) => {
+    clock.textContent = `t = ${next.time.toFixed(2)} s · tick ${next.tick}`;
+    clock.dataset.tick = String(next.tick);
+    const finished = next.status === 'finished';
+    runState.textContent = finished ? `finished: ${(next.termination ?? '').replace('_', ' ')}` : 'running';
+    runState.className = `badge ${finished ? 'good' : ''}`;
+    if (next.step) {
+      stepBar.value = next.step.index;
+      stepText.textContent = `step ${next.step.index + 1} of ${steps.length}: ${next.step.name}`;
+    } else {
+      stepBar.value = steps.length;
+      stepText.textContent = steps.length ? `all ${steps.length} steps done` : 'no steps';
+    }
+    if (finished) {
+      playButton.disabled = true;
+      stepButton.disabled = true;
+    }
+    if (driver.playing) {
+      const now = performance.now();
+      speedSamples.push([now, next.time]);
+      while (speedSamples.length > 2 && now - speedSamples[0][0] > SPEED_WINDOW_MS) speedSamples.shift();
+      const [t0, s0] = speedSamples[0];
+      if (now - t0 > 500) actualSpeed.textContent = `actual ${((next.time - s0) / ((now - t0) / 1000)).toFixed(2)}×`;
+    }
+  });
+
+  const bar = h('div', { class: 'panel session-toolbar' },
+    playback,
+    h('div', { class: 'toolbar-group', role: 'group', 'aria-label': 'View' }, h('span', { class: 'muted' }, 'View'), viewButtons),
+    h('div', { class: 'toolbar-group status-group' }, clock, runState),
+    h('div', { class: 'toolbar-group choreography' }, h('span', { class: 'muted' }, 'Choreography'), stepBar, stepText));
+  return [bar, playError];
+}
