@@ -29,7 +29,8 @@ constexpr std::array kDefinitions{
     Definition{"path_length", "m", kTask, Better::none, "length of the robot's path: sum of the distances between consecutive steps",
                "HuNavSim"},
     Definition{"path_efficiency", "ratio", kTask, Better::higher,
-               "straight-line distance from start to goal divided by the path length, for an episode that reached its goal", "SEAN 2.0"},
+               "distance from the start to the goal's circle (straight line to the goal minus its radius) divided by the path length up "
+               "to the first step at the goal, for an episode that reached its goal; 1 for a start inside the goal", "SEAN 2.0"},
     Definition{"cumulative_heading_changes", "rad", kTask, Better::lower,
                "sum of the absolute heading changes between consecutive steps, each wrapped into (-pi, pi]", "HuNavSim"},
     Definition{"minimum_distance_to_target", "m", kTask, Better::lower, "smallest distance from the robot to its goal", "HuNavSim"},
@@ -38,7 +39,7 @@ constexpr std::array kDefinitions{
                "time with |v| < 0.01 m/s and |omega| < 0.02 rad/s (HuNavSim takes abs of a boolean here: fixed)", "HuNavSim"},
     Definition{"avg_robot_linear_speed", "m/s", kTask, Better::none, "mean of the robot's absolute forward speed", "HuNavSim"},
     Definition{"avg_robot_angular_speed", "rad/s", kTask, Better::lower,
-               "mean of the robot's absolute yaw rate, from heading differences between consecutive steps", "HuNavSim"},
+               "mean over the N - 1 intervals between consecutive steps of |heading change, wrapped into (-pi, pi]| / dt", "HuNavSim"},
     Definition{"max_robot_linear_speed", "m/s", kTask, Better::none, "largest absolute forward speed of the robot", "HuNavSim"},
     Definition{"min_obstacle_clearance", "m", kTask, Better::higher,
                "smallest surface distance from the robot to the nearest static obstacle (grid resolution)", "HuNavSim"},
@@ -80,8 +81,8 @@ constexpr std::array kDefinitions{
                "Singamaneni et al. 2023 (HuNavSim)"},
     Definition{"danger_panic_cost", "1/s", kProximity, Better::lower,
                "sum over steps and people, times dt, of |V| / ((d_perp - R) |sin theta|) while closing in on a course that misses "
-               "(d_perp = |P| sin theta > R = both radii); d_perp - R at least 1 cm, so that a grazing course does not divide by "
-               "almost zero",
+               "(d_perp = |P| sin theta, R = both radii, d_perp - R > 1 mm: a course within 1 mm of grazing is a collision course); "
+               "d_perp - R at least 1 cm, so that a near-grazing course does not divide by almost zero",
                "Singamaneni et al. 2023 (HuNavSim)"},
 
     Definition{"collisions", "count", kContact, Better::lower,
@@ -215,12 +216,14 @@ std::string reference_markdown() {
       {"kProgressWindow", {kProgressWindow, "s: failure to progress looks back this far"}},
       {"kProgressDistance", {kProgressDistance, "m: ... and asks for at least this much progress"}},
       {"kPanicMissFloor", {kPanicMissFloor, "m: the panic cost's miss distance is at least this"}},
+      {"kPanicGrazeMargin", {kPanicGrazeMargin, "m: a course missing by no more than this is a collision course (no panic cost)"}},
       {"kGroupCentreAhead", {kGroupCentreAhead, "m: a group's centre lies this far ahead of its members"}},
       {"kSocialForceStrength", {kSocialForceStrength, "A of the social force"}},
       {"kSocialForceLambda", {kSocialForceLambda, "lambda: weight of the velocity difference"}},
       {"kSocialForceGamma", {kSocialForceGamma, "gamma"}},
       {"kSocialForceN", {kSocialForceN, "n"}},
       {"kSocialForceNPrime", {kSocialForceNPrime, "n'"}},
+      {"kSocialForceZeroAngle", {kSocialForceZeroAngle, "rad: a smaller |theta| counts as 0 (no sideways term)"}},
       {"kObstacleForceStrength", {kObstacleForceStrength, "strength of the obstacle force at contact"}},
       {"kObstacleForceRange", {kObstacleForceRange, "m: its decay length"}},
   };

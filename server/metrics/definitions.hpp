@@ -52,6 +52,9 @@ inline constexpr double kBlameSpeed = 0.01;
 /// The panic cost divides by how far a course misses a person (d⊥ − R); below this it counts as this,
 /// so that a course grazing someone gives a large cost, not a division by almost zero, m.
 inline constexpr double kPanicMissFloor = 0.01;
+/// A course that passes within this of grazing a person (d⊥ − R ≤ this) is a collision course, not a
+/// near miss: without the margin, rounding in a tangent velocity decides whether it costs anything, m.
+inline constexpr double kPanicGrazeMargin = 0.001;
 /// A group's centre lies this far ahead of its members (HuNavSim's o-space), m.
 inline constexpr double kGroupCentreAhead = 1.5;
 
@@ -61,6 +64,8 @@ inline constexpr double kSocialForceLambda = 2.0;     ///< λ: weight of the vel
 inline constexpr double kSocialForceGamma = 0.35;     ///< γ
 inline constexpr double kSocialForceN = 2.0;          ///< n
 inline constexpr double kSocialForceNPrime = 3.0;     ///< n′
+/// |θ| below this is θ = 0 (e.g. both at rest, where D̂ = e up to rounding and sign(θ) must be 0), rad.
+inline constexpr double kSocialForceZeroAngle = 1e-9;
 inline constexpr double kObstacleForceStrength = 10.0;  ///< N per unit mass at contact
 inline constexpr double kObstacleForceRange = 0.2;      ///< m
 

@@ -120,23 +120,28 @@ void goal_metrics(const Recording& r, bool collided, Values& values) {
   const Vec2 goal = *r.goal;
   std::optional<double> reached_at;
   double closest = std::numeric_limits<double>::infinity();
-  for (const Sample& sample : r.samples) {
+  double length_to_goal = 0.0;  ///< path from the start up to the first step at the goal
+  for (std::size_t t = 0; t < r.samples.size(); ++t) {
+    const Sample& sample = r.samples[t];
     const double d = (sample.robot.position - goal).norm();
     closest = std::min(closest, d);
-    if (!reached_at && d <= r.goal_radius) reached_at = static_cast<double>(sample.tick - r.samples.front().tick) * r.dt;
+    if (reached_at) continue;
+    if (t > 0) length_to_goal += (sample.robot.position - r.samples[t - 1].robot.position).norm();
+    if (d <= r.goal_radius) reached_at = static_cast<double>(sample.tick - r.samples.front().tick) * r.dt;
   }
   const double final_distance = (r.samples.back().robot.position - goal).norm();
   set_optional(values, "time_to_goal", reached_at, "the robot never reached its goal");
   set(values, "minimum_distance_to_target", closest);
   set(values, "final_distance_to_target", final_distance);
-  const double straight = (goal - r.samples.front().robot.position).norm();
+  // The shortest way to the goal is the straight line to its circle, so the ratio is at most 1 as it is.
+  const double straight = std::max((goal - r.samples.front().robot.position).norm() - r.goal_radius, 0.0);
   const double length = *values.at("path_length").value;
   if (!reached_at) {
     set_null(values, "path_efficiency", "the robot never reached its goal");
-  } else if (length <= 0.0) {
+  } else if (length_to_goal <= 0.0) {
     set(values, "path_efficiency", 1.0);  // started at the goal
   } else {
-    set(values, "path_efficiency", std::min(1.0, straight / length));
+    set(values, "path_efficiency", straight / length_to_goal);
   }
   const bool success = reached_at && !collided;
   set(values, "success", success ? 1.0 : 0.0);
@@ -193,7 +198,7 @@ void danger_metrics(const Recording& r, Values& values) {
       fear += speed / distance * r.dt;
       const double sine = std::abs(core::cross(p, v)) / (distance * speed);
       const double miss = distance * sine, reach = sample.robot.radius + human.radius;
-      if (miss > reach) panic += speed / (std::max(miss - reach, kPanicMissFloor) * sine) * r.dt;
+      if (miss - reach > kPanicGrazeMargin) panic += speed / (std::max(miss - reach, kPanicMissFloor) * sine) * r.dt;
     }
   }
   set(values, "danger_fear_cost", fear);
@@ -357,7 +362,8 @@ Vec2 social_force(const Body& on, const Body& from) {
   if (strength == 0.0) return Vec2::Zero();
   const Vec2 direction = interaction / strength;
   const double b = kSocialForceGamma * strength;
-  const double theta = std::atan2(core::cross(direction, e), direction.dot(e));
+  double theta = std::atan2(core::cross(direction, e), direction.dot(e));
+  if (std::abs(theta) < kSocialForceZeroAngle) theta = 0.0;
   const double sign = theta > 0.0 ? 1.0 : theta < 0.0 ? -1.0 : 0.0;
   const double along = std::exp(-d / b - std::pow(kSocialForceNPrime * b * theta, 2));
   const double sideways = std::exp(-d / b - std::pow(kSocialForceN * b * theta, 2));

@@ -186,6 +186,20 @@ TEST(EpisodeMetrics, ReachingAGoal) {
   EXPECT_EQ(value(values, "failure_to_progress"), 0.0);
 }
 
+TEST(EpisodeMetrics, PathEfficiencyToTheGoalsCircleAndUpToReachingIt) {
+  // Start (0, 0), goal (4, 0) with radius 1: the shortest way is 3 m, to the circle. The robot drives
+  // (0,0) → (0,2) → (3,2) → (3,0.1), still 1.005 m from the goal → (3.2,0), inside; then it wanders
+  // on, which path_efficiency ignores. Path up to the goal: 2 + 3 + 1.9 + √0.05.
+  Recording r = with_robot();
+  r.goal = core::Vec2(4, 0);
+  r.goal_radius = 1.0;
+  const double points[][2] = {{0, 0}, {0, 2}, {3, 2}, {3, 0.1}, {3.2, 0}, {3.2, 5}, {-3, 5}};
+  for (int i = 0; i < 7; ++i) r.samples.push_back(sample(i, disc(0, points[i][0], points[i][1]), {}));
+  const auto values = compute_episode_metrics(r);
+  EXPECT_NEAR(value(values, "path_efficiency"), 3.0 / (6.9 + std::sqrt(0.05)), 1e-12);
+  EXPECT_NEAR(value(values, "time_to_goal"), 4 * kDt, 1e-12);
+}
+
 TEST(EpisodeMetrics, NotReachingAGoalWhileStuck) {
   // 20 s stuck 3 m short of the goal: unsuccessful and no progress over the last 10 s.
   Recording r = with_robot();
@@ -313,11 +327,17 @@ TEST(EpisodeMetrics, DangerCostsOfFearAndPanic) {
   EXPECT_NEAR(value(values, "danger_fear_cost"), (0.5 + 1 / std::sqrt(5.0)) * kDt, 1e-12);
   EXPECT_NEAR(value(values, "danger_panic_cost"), std::sqrt(5.0) / 0.4 * kDt, 1e-9);
 
-  // A course grazing a person (d⊥ − R = 1e-12 m) costs as if it missed by 1 cm, not 1e12.
-  Recording grazing = with_robot();
-  grazing.samples.push_back(sample(0, disc(0, 0, 0, 1, 0), {disc(1, 2, 0.6 + 1e-12)}));
-  const double sine = (0.6 + 1e-12) / std::hypot(2.0, 0.6 + 1e-12);
-  EXPECT_NEAR(value(compute_episode_metrics(grazing), "danger_panic_cost"), 1.0 / (0.01 * sine) * kDt, 1e-6);
+  // A course missing a person by 5 mm costs as if it missed by 1 cm (the floor), not by 5 mm.
+  Recording near = with_robot();
+  near.samples.push_back(sample(0, disc(0, 0, 0, 1, 0), {disc(1, 2, 0.605)}));
+  const double sine = 0.605 / std::hypot(2.0, 0.605);
+  EXPECT_NEAR(value(compute_episode_metrics(near), "danger_panic_cost"), 1.0 / (0.01 * sine) * kDt, 1e-6);
+  // Within 1 mm of grazing (here 0.5 mm, and 1e-12 m) it is a collision course: no panic at all.
+  for (const double miss : {0.0005, 1e-12}) {
+    Recording grazing = with_robot();
+    grazing.samples.push_back(sample(0, disc(0, 0, 0, 1, 0), {disc(1, 2, 0.6 + miss)}));
+    EXPECT_EQ(value(compute_episode_metrics(grazing), "danger_panic_cost"), 0.0) << "missing by " << miss << " m";
+  }
 }
 
 TEST(SocialForce, BetweenStillAgentsItPushesApartWithHuNavSimsStrength) {
@@ -338,6 +358,17 @@ TEST(SocialForce, BetweenStillAgentsItPushesApartWithHuNavSimsStrength) {
   EXPECT_NEAR(value(values, "social_force_on_agents"), 10 * per_step * kDt, 1e-12);
   const double obstacle = 10.0 * std::exp(-10.0 / 0.2);
   EXPECT_NEAR(value(values, "social_work"), 10 * (2 * per_step + obstacle) * kDt, 1e-12);
+}
+
+TEST(SocialForce, AnAngleWithinRoundingOfZeroHasNoSidewaysTerm) {
+  // Both at rest at these places, 1.15 m apart: D̂ = e up to rounding, and θ comes out as −5.6e-17
+  // rather than 0. Its sign must not add a sideways term as large as the main one: the force lies along e.
+  const Vec2 at(-4.26, 2.50), other(-4.64, 3.59);
+  const Vec2 force = social_force(disc(0, at.x(), at.y()), disc(1, other.x(), other.y()));
+  const Vec2 e = (other - at).normalized();
+  const double expected = 2.1 * std::exp(-(other - at).norm() / 0.35);
+  EXPECT_NEAR(core::cross(force, e), 0.0, 1e-15 * expected) << "no component across the line between them";
+  EXPECT_NEAR(force.norm(), expected, 1e-12 * expected);
 }
 
 TEST(Series, OneValuePerStepAndNoneWhereAStepHasNone) {
