@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "storage/store.hpp"
@@ -179,6 +180,45 @@ TEST(Cli, RunsSeveralSeedsAndStoresTheEpisodes) {
   // Runs of the same file reuse its scenario record.
   EXPECT_EQ(store.counts().scenarios, 1);
   EXPECT_EQ(store.counts().episodes, 4);
+}
+
+/// Everything stored for one episode that the simulation decided, as comparable text.
+std::string stored_content(storage::Store& store, const std::string& id) {
+  const auto episode = store.episode(id);
+  if (!episode) return "missing";
+  nlohmann::json content = {{"seed", episode->seed}, {"termination", episode->termination_reason}, {"ticks", episode->ticks},
+                            {"state_hash", episode->state_hash}, {"metrics", nlohmann::json::array()},
+                            {"events", nlohmann::json::array()}, {"trajectory", nlohmann::json::array()}, {"series", nlohmann::json::array()}};
+  for (const auto& metric : episode->metrics) content["metrics"].push_back({metric.key, metric.value ? nlohmann::json(*metric.value) : nlohmann::json()});
+  for (const auto& event : episode->events) content["events"].push_back({event.tick, event.kind, event.subject, event.data});
+  for (const auto& sample : episode->trajectory) content["trajectory"].push_back({sample.agent_id, sample.tick, sample.x, sample.y, sample.theta});
+  for (const auto& series : store.series(id)) {
+    nlohmann::json values = nlohmann::json::array();
+    for (const auto& value : series.values) values.push_back(value ? nlohmann::json(*value) : nlohmann::json());
+    content["series"].push_back({series.name, series.first_tick, series.stride, values});
+  }
+  return content.dump();
+}
+
+TEST(Cli, OneOrTwoWorkerThreadsStoreTheSameEpisodes) {
+  // follow_human: a benchmark task, whose episode the run now builds; queue: a choreography with requests.
+  for (const std::string scenario : {"follow_human", "queue"}) {
+    TempDir dir;
+    std::map<std::uint64_t, std::string> by_jobs[2];
+    for (const int jobs : {1, 2}) {
+      const std::string db = (dir.path() / ("jobs" + std::to_string(jobs) + ".db")).string();
+      const CommandResult result =
+          run_command(kHrisim + " run " + kScenarios + "/" + scenario + ".json --seeds 1-4 --jobs " + std::to_string(jobs) + " --db " + db, false);
+      ASSERT_EQ(result.exit_status, 0) << result.output;
+      storage::Store store(db);
+      const nlohmann::json report = nlohmann::json::parse(result.output);
+      for (const auto& episode : report["episodes"]) {
+        by_jobs[jobs - 1][episode["seed"].get<std::uint64_t>()] = stored_content(store, episode["episode_id"]);
+      }
+    }
+    ASSERT_EQ(by_jobs[0].size(), 4u);
+    for (const auto& [seed, content] : by_jobs[0]) EXPECT_EQ(by_jobs[1][seed], content) << scenario << " seed " << seed;
+  }
 }
 
 TEST(CliRender, AStoredEpisodeReplaysToAVideo) {

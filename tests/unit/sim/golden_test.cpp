@@ -1,0 +1,65 @@
+// Golden determinism: the state hash after 600 ticks of every bundled scenario, seeds 1–3, and of the
+// elevator with the robot's scripted request, as tests/golden/state_hashes.json holds them. Two runs in
+// one process agreeing says the simulation is deterministic; these say it still does what it did, so a
+// change of trajectory cannot pass unnoticed. A deliberate change of behaviour updates the file with
+//   HRISIM_UPDATE_GOLDEN=1 build/test/tests/sim_test --gtest_filter='Golden.*'
+// and the commit says why the hashes changed.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "episode/episode.hpp"
+#include "scenario/load.hpp"
+
+namespace hrisim::sim {
+namespace {
+
+using nlohmann::json;
+
+constexpr int kGoldenTicks = 600;
+const std::string kGoldenFile = std::string(HRISIM_SOURCE_DIR) + "/tests/golden/state_hashes.json";
+const char* const kScenarios[] = {"apartment",      "approach_human", "approach_human_apartment", "conversation_group",
+                                  "corridor_passing", "elevator",     "follow_human",             "mirror_gesture",
+                                  "pair_walking",   "perpendicular_crossing", "pick_and_place",   "queue"};
+
+std::string hash_after_golden_ticks(const std::string& scenario, std::uint64_t seed, episode::Settings settings = {}) {
+  const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/" + scenario + ".json");
+  for (const auto& e : loaded.errors) ADD_FAILURE() << scenario << ": " << e.pointer << ": " << e.message;
+  if (!loaded.model) return "";
+  settings.record = false;
+  episode::Episode run(loaded.model, seed, settings);
+  for (int tick = 0; tick < kGoldenTicks && !run.over(); ++tick) run.tick();
+  return run.session().state_hash_hex();
+}
+
+/// Every golden case: "scenario/seed" (and the elevator's request) → its hash now.
+json current_hashes() {
+  json hashes = json::object();
+  for (const char* scenario : kScenarios) {
+    for (const std::uint64_t seed : {1u, 2u, 3u}) hashes[std::string(scenario) + "/" + std::to_string(seed)] = hash_after_golden_ticks(scenario, seed);
+  }
+  hashes["elevator/1 with call_elevator_floor2 asked at 2 s"] =
+      hash_after_golden_ticks("elevator", 1, {std::nullopt, {{2.0, "call_elevator_floor2"}}, false, {}});
+  return hashes;
+}
+
+TEST(Golden, StateHashesAfter600TicksOfEveryBundledScenario) {
+  const json now = current_hashes();
+  if (std::getenv("HRISIM_UPDATE_GOLDEN")) {
+    std::ofstream(kGoldenFile) << now.dump(2) << '\n';
+    GTEST_SKIP() << "wrote " << kGoldenFile;
+  }
+  std::ifstream file(kGoldenFile);
+  ASSERT_TRUE(file) << "no " << kGoldenFile;
+  const json golden = json::parse(file);
+  EXPECT_EQ(golden.size(), now.size()) << "cases were added or removed: update the file";
+  for (const auto& [name, hash] : now.items()) {
+    EXPECT_EQ(golden.value(name, ""), hash) << name << ": the trajectory changed. If on purpose, update the hashes: "
+                                            << "HRISIM_UPDATE_GOLDEN=1 build/test/tests/sim_test --gtest_filter='Golden.*'";
+  }
+}
+
+}  // namespace
+}  // namespace hrisim::sim
