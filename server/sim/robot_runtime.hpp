@@ -105,7 +105,6 @@ struct RobotRuntime {
   Schedule odometry_schedule;
   OdometryReading odometry_reading;
   std::vector<Contact> contacts;  ///< what the body touches now
-  std::vector<int> link_bodies;   ///< physics body of each link, -1 for links without a shape
   int held_object = -1;           ///< the object its gripper holds
 
   void hash(core::StateHasher& hasher) const;

@@ -1,6 +1,7 @@
 #pragma once
 // Everything about a running scenario that changes: agents, choreography progress, topics, robot
-// requests, events. Copying a State snapshots a session; the Model it runs is shared and immutable.
+// requests, events, robots' runtimes, movable objects, the planner's history. The Model it runs is
+// shared and immutable; the session's engines (the Bullet world, the crowd solver) are set from it.
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -9,9 +10,13 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "core/math.hpp"
 #include "core/random.hpp"
 #include "humans/motion.hpp"
+#include "sim/robot_runtime.hpp"
+#include "world/path_planner.hpp"
 
 namespace hrisim::sim {
 
@@ -149,8 +154,18 @@ struct State {
   std::vector<Event> events;
   std::vector<scenario::Action> commanded;  ///< actions given by textual commands, in order
   core::Random random;
+  /// Robots with a model: motors, controllers, sensor readings and their random streams.
+  std::vector<RobotRuntime> robots;
+  /// Movable objects' poses after the last physics step (the physics world moves them).
+  std::vector<Eigen::Isometry3d> object_poses;
+  /// What the planner searched already: later plans to the same goal follow its field.
+  world::PlanningHistory planning_history;
+  double time_limit = 0.0;  ///< s of simulation time; the episode ends there
   bool finished = false;
-  std::string termination;  ///< "scenario_end" or "timeout" once finished
+  std::string termination;  ///< "scenario_end", "timeout" or "goal" once finished
 };
+
+/// Hash of everything in the state, bit for bit.
+std::uint64_t state_hash(const State& state);
 
 }  // namespace hrisim::sim

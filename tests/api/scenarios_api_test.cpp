@@ -2,6 +2,7 @@
 // validate, and bad input that stores nothing.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -91,17 +92,40 @@ TEST_F(ScenariosApi, UploadStoresTheSourceAndServesTheNativeDocument) {
   EXPECT_TRUE(std::any_of(page["items"].begin(), page["items"].end(), [&](const json& item) { return item["id"] == id; }));
 }
 
-TEST_F(ScenariosApi, XmlUploadsAreImportedByContentOrFormat) {
-  const std::string pedsim = file_text(std::string(HRISIM_SOURCE_DIR) + "/../shared/external/pedsim/corridor.xml");
-  if (pedsim.empty()) GTEST_SKIP() << "no Pedsim reference file beside the project";
-  const HttpReply by_content = http(port(), "POST", "/api/v1/scenarios", pedsim, kXml);
-  ASSERT_EQ(by_content.status, 201) << by_content.body;
+/// Uploads a Pedsim file by its content, validates it as Pedsim (valid) and as IMHuS (errors with lines);
+/// returns the stored upload's summary.
+json expect_pedsim_upload(std::uint16_t port, const std::string& pedsim) {
+  const HttpReply by_content = http(port, "POST", "/api/v1/scenarios", pedsim, kXml);
+  EXPECT_EQ(by_content.status, 201) << by_content.body;
+  if (by_content.status != 201) return json();
   EXPECT_EQ(json_of(by_content)["summary"]["format"], "pedsim_xml");
-  const HttpReply named = http(port(), "POST", "/api/v1/scenarios/validate?format=pedsim", pedsim, kXml);
+  const HttpReply named = http(port, "POST", "/api/v1/scenarios/validate?format=pedsim", pedsim, kXml);
   EXPECT_TRUE(json_of(named)["valid"].get<bool>()) << named.body;
-  const HttpReply wrong = http(port(), "POST", "/api/v1/scenarios/validate?format=imhus", pedsim, kXml);
+  const HttpReply wrong = http(port, "POST", "/api/v1/scenarios/validate?format=imhus", pedsim, kXml);
   EXPECT_FALSE(json_of(wrong)["valid"].get<bool>());
   EXPECT_TRUE(json_of(wrong)["errors"][0].contains("line")) << "XML errors name their line: " << wrong.body;
+  return json_of(by_content)["summary"];
+}
+
+// hrisim's own Pedsim passage (tests/fixtures/pedsim/passage.xml): six walkers and a robot.
+TEST_F(ScenariosApi, XmlUploadsAreImportedByContentOrFormat) {
+  const std::string pedsim = file_text(std::string(HRISIM_SOURCE_DIR) + "/tests/fixtures/pedsim/passage.xml");
+  ASSERT_FALSE(pedsim.empty());
+  json summary = expect_pedsim_upload(port(), pedsim);
+  EXPECT_EQ(summary["humans"], 6);
+  ASSERT_EQ(summary["robots"].size(), 1u);
+  EXPECT_EQ(summary["robots"][0]["id"], "robot_0");
+}
+
+// Pedsim's published corridor (../shared/external/SOURCES.md), read in place when ../shared is beside the project.
+TEST_F(ScenariosApi, PublishedPedsimCorridorUploads) {
+  const std::filesystem::path corridor = std::filesystem::path(HRISIM_SOURCE_DIR) / "../shared/external/pedsim/corridor.xml";
+  if (!std::filesystem::exists(corridor)) {
+    GTEST_SKIP() << "no ../shared/external/pedsim/corridor.xml beside the project: the project's own fixture "
+                    "tests/fixtures/pedsim/passage.xml covers this path (ScenariosApi.XmlUploadsAreImportedByContentOrFormat)";
+  }
+  json summary = expect_pedsim_upload(port(), file_text(corridor.string()));
+  EXPECT_EQ(summary["humans"], 8);
 }
 
 TEST_F(ScenariosApi, ValidateReportsEveryErrorAndStoresNothing) {

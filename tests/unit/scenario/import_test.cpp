@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -23,6 +24,16 @@ std::string read(const std::filesystem::path& file) {
 
 const std::filesystem::path kFixtures = std::filesystem::path(HRISIM_SOURCE_DIR) / "tests/fixtures";
 const std::filesystem::path kShared = HRISIM_SHARED_DIR;
+// Files other projects published (../shared/external/SOURCES.md), read in place when the project's
+// checkout has ../shared beside it; a clone of the project alone skips their tests, and the project's
+// own fixtures take the same importer paths.
+const std::filesystem::path kElevatorGoals = kShared / "external/imhus/elevator_goals.xml";
+const std::filesystem::path kCorridor = kShared / "external/pedsim/corridor.xml";
+
+/// The reason a test of a ../shared/external file gives for skipping when the file is not there.
+std::string no_reference_file(const std::string& file, const std::string& covered_by) {
+  return "no ../shared/external/" + file + " beside the project: the project's own fixture " + covered_by + " covers this path";
+}
 
 ImportOptions bundled(std::string scenario = "") {
   return {std::move(scenario), std::nullopt, {std::filesystem::path(HRISIM_SOURCE_DIR) / "scenarios"}, "test.xml", {}};
@@ -114,7 +125,10 @@ TEST(ImportImhus, MalformedXmlAndUnknownMap) {
 
 // IMHuS's published elevator choreography (reference data, read in place from ../shared/external).
 TEST(ImportImhus, RealElevatorFileImportsCompletely) {
-  const ImportResult imported = import_imhus(read(kShared / "external/imhus/elevator_goals.xml"), bundled());
+  if (!std::filesystem::exists(kElevatorGoals)) {
+    GTEST_SKIP() << no_reference_file("imhus/elevator_goals.xml", "tests/fixtures/imhus/lift.xml (ImportImhus.LiftFixtureImportsCompletely)");
+  }
+  const ImportResult imported = import_imhus(read(kElevatorGoals), bundled());
   const auto model = load_imported(imported);
   ASSERT_TRUE(model);
   EXPECT_EQ(model->name, "take_elevator");
@@ -135,14 +149,17 @@ struct ElevatorRun {
   std::vector<std::string> accepted_by;
 };
 
-ElevatorRun run_elevator(const std::vector<double>& request_times) {
-  const ImportResult imported = import_imhus(read(kShared / "external/imhus/elevator_goals.xml"), bundled());
+/// Runs an IMHuS file on the bundled elevator world; the robot `robot_id` asks for `task` at each of `request_times`.
+ElevatorRun run_elevator(const std::filesystem::path& file, const std::string& robot_id, const std::string& task,
+                         const std::vector<double>& request_times, double time_limit) {
+  const ImportResult imported = import_imhus(read(file), bundled());
   const auto model = load_imported(imported);
+  if (!model) return {};
   episode::Episode session_run(model, 1);
   sim::Session& session = session_run.session();
-  const sim::AgentId robot = session.agent_id("tiago");
-  for (double time : request_times) session.schedule_request(time, robot, model->find_task("take_robot_floor2"));
-  session.set_time_limit(240.0);
+  const sim::AgentId robot = session.agent_id(robot_id);
+  for (double time : request_times) session.schedule_request(time, robot, model->find_task(task));
+  session.set_time_limit(time_limit);
   session_run.run();
   ElevatorRun run{session.state().termination == "scenario_end", "", {}, {}};
   for (const sim::Event& event : session.state().events) {
@@ -154,7 +171,10 @@ ElevatorRun run_elevator(const std::vector<double>& request_times) {
 }
 
 TEST(ImportImhus, RealElevatorFileWaitsForTheRobotsRequest) {
-  const ElevatorRun alone = run_elevator({});
+  if (!std::filesystem::exists(kElevatorGoals)) {
+    GTEST_SKIP() << no_reference_file("imhus/elevator_goals.xml", "tests/fixtures/imhus/lift.xml (ImportImhus.LiftFixtureWaitsForTheRobotsRequest)");
+  }
+  const ElevatorRun alone = run_elevator(kElevatorGoals, "tiago", "take_robot_floor2", {}, 240.0);
   EXPECT_FALSE(alone.completed);
   EXPECT_EQ(alone.last_step, "step") << "human6 waits for door 1, which nobody opens";
   EXPECT_EQ(alone.publications,
@@ -162,13 +182,89 @@ TEST(ImportImhus, RealElevatorFileWaitsForTheRobotsRequest) {
 }
 
 TEST(ImportImhus, RealElevatorFileCompletesWithRepeatedRobotRequests) {
-  const ElevatorRun helped = run_elevator({100.0, 130.0, 160.0});
+  if (!std::filesystem::exists(kElevatorGoals)) {
+    GTEST_SKIP() << no_reference_file("imhus/elevator_goals.xml",
+                                      "tests/fixtures/imhus/lift.xml (ImportImhus.LiftFixtureCompletesWhenAHumanAnswersTheRobot)");
+  }
+  const ElevatorRun helped = run_elevator(kElevatorGoals, "tiago", "take_robot_floor2", {100.0, 130.0, 160.0}, 240.0);
   EXPECT_TRUE(helped.completed);
   ASSERT_FALSE(helped.accepted_by.empty());
   EXPECT_EQ(helped.accepted_by[0], "human5") << "the idle human nearest the robot on floor 1";
   EXPECT_EQ(helped.publications,
             (std::vector<std::string>{"/elevator/request=door2", "/elevator/request=floor1", "/elevator/request=floor2",
                                       "/elevator/request=door1", "/elevator/request=floor2"}));
+}
+
+// hrisim's own lift choreography (tests/fixtures/imhus/lift.xml) takes the importer paths of IMHuS's
+// published elevator file: comments and a commented-out agent and <groups>, slots p1..pN out of order, a
+// cabin social space the bundled world's elevator clears, compound tasks calling that elevator, step
+// actions of any tag with a taskID, a wait_action with event before topic, a relativeX on a turned pose,
+// '2.' numbers, two AsyncActions, the robot at initial_pose_robot, a second scenario after the first.
+TEST(ImportImhus, LiftFixtureImportsCompletely) {
+  const ImportResult imported = import_imhus(read(kFixtures / "imhus/lift.xml"), bundled());
+  for (const auto& w : imported.warnings) ADD_FAILURE() << "unexpected warning, line " << w.line << ": " << w.message;
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->name, "ride_up") << "the file's first scenario";
+  ASSERT_EQ(model->steps.size(), 5u);
+  EXPECT_EQ(model->steps[1].name, "call");
+  EXPECT_EQ(model->steps.back().name, "fetch");
+  EXPECT_EQ(model->steps[1].actions[0].kind, Action::Kind::run_task) << "<use_lift taskID=...> runs a compound task";
+  ASSERT_EQ(model->agents.size(), 4u) << "kim, lou, max and the robot; ned is commented out";
+  EXPECT_EQ(model->agents[2].id, "max");
+  EXPECT_TRUE(model->agents[2].start.position().isApprox(Vec2(-7, 2))) << "agents start at their first goto";
+  EXPECT_EQ(model->agents[3].id, "rex");
+  EXPECT_EQ(model->agents[3].kind, AgentKind::robot);
+  EXPECT_TRUE(model->agents[3].start.position().isApprox(Vec2(8.5, -4))) << "the robot starts at initial_pose_robot";
+  EXPECT_EQ(model->tasks.size(), 4u);
+  ASSERT_EQ(model->async_tasks.size(), 2u);
+  EXPECT_EQ(model->tasks[model->async_tasks[0]].name, "help_rex");
+  EXPECT_EQ(model->tasks[model->async_tasks[1]].name, "greet");
+  EXPECT_DOUBLE_EQ(model->tasks[model->find_task("greet")].actions[1].value, 2.0) << "'2.' is a number";
+  const Action& wait_for_door = model->tasks[model->find_task("call_lift1")].actions[2];
+  EXPECT_EQ(wait_for_door.kind, Action::Kind::wait_message);
+  EXPECT_EQ(wait_for_door.topic, "/elevator/door1_state");
+  EXPECT_EQ(wait_for_door.message, "open");
+  const Location* button = nullptr;
+  for (const Location& location : model->locations) {
+    if (location.name == "button1") button = &location;
+  }
+  ASSERT_NE(button, nullptr);
+  EXPECT_DOUBLE_EQ(button->pose.x, 2.0) << "'2.' is a number";
+  ASSERT_EQ(model->social_spaces.size(), 2u);
+  const SocialSpace* cabin = nullptr;
+  for (const SocialSpace& space : model->social_spaces) {
+    if (space.name == "elevator") cabin = &space;
+  }
+  ASSERT_NE(cabin, nullptr);
+  ASSERT_EQ(cabin->slots.size(), 3u);
+  EXPECT_TRUE(cabin->slots[0].position().isApprox(Vec2(0.5, 0.5))) << "p1 is taken first, though p3 comes first in the file";
+  EXPECT_TRUE(cabin->slots[2].position().isApprox(Vec2(-0.5, -0.5)));
+  ASSERT_EQ(model->elevators.size(), 1u) << "map_name 'elevator' brings the bundled elevator world";
+  ASSERT_EQ(model->elevators[0].social_spaces.size(), 1u);
+  EXPECT_EQ(model->social_spaces[model->elevators[0].social_spaces[0]].name, "elevator") << "the elevator clears the file's cabin";
+  // relativeX is along the map's x axis: sofa2 (-4, -1.5), turned by 1.57, less 2 m in x is (-6, -1.5).
+  const Action& to_sofa = model->steps[3].actions[0];
+  const Pose2 goal = core::compose(model->locations[to_sofa.target].pose, to_sofa.pose);
+  EXPECT_NEAR(goal.x, -6.0, 1e-9);
+  EXPECT_NEAR(goal.y, -1.5, 1e-9);
+}
+
+TEST(ImportImhus, LiftFixtureWaitsForTheRobotsRequest) {
+  const ElevatorRun alone = run_elevator(kFixtures / "imhus/lift.xml", "rex", "help_rex", {}, 150.0);
+  EXPECT_FALSE(alone.completed);
+  EXPECT_EQ(alone.last_step, "fetch") << "kim has ridden up; max waits for door 1, which nobody opens";
+  EXPECT_TRUE(alone.accepted_by.empty());
+  EXPECT_EQ(alone.publications, (std::vector<std::string>{"/elevator/request=door1", "/elevator/request=floor2"}));
+}
+
+TEST(ImportImhus, LiftFixtureCompletesWhenAHumanAnswersTheRobot) {
+  const ElevatorRun helped = run_elevator(kFixtures / "imhus/lift.xml", "rex", "help_rex", {60.0}, 150.0);
+  EXPECT_TRUE(helped.completed);
+  EXPECT_EQ(helped.accepted_by, (std::vector<std::string>{"lou"})) << "the idle human within 3 m of the robot";
+  EXPECT_EQ(helped.publications,
+            (std::vector<std::string>{"/elevator/request=door1", "/elevator/request=floor2", "/elevator/request=floor1"}))
+      << "lou calls the lift down to floor 1 for the robot";
 }
 
 TEST(ImportPedsim, OwnFixture) {
@@ -213,7 +309,10 @@ TEST(ImportPedsim, ErrorsNameTheLine) {
 
 // Pedsim's published corridor (reference data, read in place).
 TEST(ImportPedsim, RealCorridorImportsAndRuns) {
-  const ImportResult imported = import_pedsim(read(kShared / "external/pedsim/corridor.xml"), bundled());
+  if (!std::filesystem::exists(kCorridor)) {
+    GTEST_SKIP() << no_reference_file("pedsim/corridor.xml", "tests/fixtures/pedsim/passage.xml (ImportPedsim.PassageFixtureImportsAndRuns)");
+  }
+  const ImportResult imported = import_pedsim(read(kCorridor), bundled());
   EXPECT_TRUE(has_message(imported.warnings, 13, "waypoint 'robot_goal'"));
   const auto model = load_imported(imported);
   ASSERT_TRUE(model);
@@ -223,6 +322,42 @@ TEST(ImportPedsim, RealCorridorImportsAndRuns) {
   session.set_time_limit(120.0);
   session_run.run();
   EXPECT_EQ(session.state().termination, "scenario_end") << "the eight walkers reach east, then west";
+}
+
+// hrisim's own passage (tests/fixtures/pedsim/passage.xml) takes the importer paths of Pedsim's published
+// corridor: comments, a <source> cluster, source and sink waypoints, a robot with a route, a waypoint
+// outside the walls; its six walkers reach the far end and come back.
+TEST(ImportPedsim, PassageFixtureImportsAndRuns) {
+  const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/passage.xml"), bundled());
+  EXPECT_TRUE(has_message(imported.warnings, 13, "waypoint 'far' is a sink"));
+  EXPECT_TRUE(has_message(imported.warnings, 14, "waypoint 'back' is a source"));
+  EXPECT_TRUE(has_message(imported.warnings, 15, "waypoint 'dock' at (26, 4) lies outside the walls"));
+  EXPECT_TRUE(has_message(imported.warnings, 22, "a source spawns its agents once"));
+  EXPECT_EQ(imported.warnings.size(), 4u);
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  ASSERT_EQ(model->agents.size(), 7u);
+  for (int i = 0; i < 6; ++i) {
+    const AgentDef& walker = model->agents[i];
+    EXPECT_EQ(walker.kind, AgentKind::human);
+    EXPECT_EQ(walker.avoidance, humans::LocalAvoidance::social_force);
+    const Vec2 start = walker.start.position();
+    EXPECT_GE(start.x(), 2.0);
+    EXPECT_LE(start.x(), 5.0);
+    EXPECT_GE(start.y(), 1.5);
+    EXPECT_LE(start.y(), 6.5);
+  }
+  EXPECT_EQ(model->agents[6].id, "robot_0");
+  EXPECT_EQ(model->agents[6].kind, AgentKind::robot);
+  EXPECT_TRUE(model->agents[6].start.position().isApprox(Vec2(6, 7.2)));
+  EXPECT_EQ(model->locations.size(), 2u) << "far and back; dock is left out";
+  ASSERT_EQ(model->steps.size(), 1u);
+  EXPECT_EQ(model->steps[0].actions.size(), 6u * 2) << "far, then back, for each walker; the robot's route is not walked";
+  episode::Episode session_run(model, 1);
+  sim::Session& session = session_run.session();
+  session.set_time_limit(120.0);
+  session_run.run();
+  EXPECT_EQ(session.state().termination, "scenario_end") << "the six walkers reach far, then back";
 }
 
 TEST(DetectXmlFormat, PedsimHasOneScenarioRoot) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "support/scenarios.hpp"
@@ -218,14 +219,50 @@ TEST(LoadScenario, MapRelativeToTheScenarioFile) {
   EXPECT_DOUBLE_EQ(result.model->grid.resolution(), 0.25);
 }
 
+// hrisim's own SLAM-style map (tests/fixtures/maps/lobby.yaml: two rooms, a doorway, a table, an unscanned
+// border) as a scenario's world.map by absolute path: places on its free cells load, places on a wall,
+// the table or the border are refused.
+TEST(LoadScenario, MapFixtureChecksPlacesAgainstItsCells) {
+  json document = json::parse(R"({"name": "lobby map", "world": {}, "steps": [],
+    "locations": {"desk_left": {"x": -1.55, "y": 0.45}, "desk_right": {"x": 1.55, "y": -0.95},
+                  "doorway": {"x": 0.05, "y": 0.05}},
+    "social_spaces": {"chat": {"x": -1.55, "y": -0.45, "slots": [{"x": 0.4, "y": 0}, {"x": -0.4, "y": 0}]}}})");
+  document["world"]["map"] = (std::filesystem::path(HRISIM_SOURCE_DIR) / "tests/fixtures/maps/lobby.yaml").string();
+  const auto model = testing::load_valid(document);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->grid.width(), 60);
+  EXPECT_EQ(model->grid.height(), 40);
+  EXPECT_DOUBLE_EQ(model->grid.resolution(), 0.1);
+  EXPECT_TRUE(model->map_from_image);
+
+  document["locations"]["on_table"] = {{"x", 1.65}, {"y", 1.05}};
+  document["locations"]["unscanned"] = {{"x", -2.95}, {"y", 0.05}};
+  document["locations"]["in_the_wall"] = {{"x", 0.05}, {"y", 1.05}};
+  LoadOptions options;
+  options.limits.confine_files = false;
+  const LoadResult refused = load_scenario(document, options);
+  EXPECT_FALSE(refused.model);
+  std::vector<std::string> errors;
+  for (const auto& e : refused.errors) errors.push_back(e.pointer + ": " + e.message);
+  EXPECT_TRUE(has_error(errors, "/locations/on_table", "on an occupied or unknown cell of the map"));
+  EXPECT_TRUE(has_error(errors, "/locations/unscanned", "on an occupied or unknown cell of the map"));
+  EXPECT_TRUE(has_error(errors, "/locations/in_the_wall", "on an occupied or unknown cell of the map"));
+  EXPECT_EQ(errors.size(), 3u);
+}
+
 // IMHuS's own elevator map loads through a scenario, and its published poses are in free space.
 TEST(LoadScenario, ImhusElevatorMapWithItsPoses) {
+  const std::filesystem::path map = std::filesystem::path(HRISIM_SHARED_DIR) / "external/imhus/elevator_map/elevator.yaml";
+  if (!std::filesystem::exists(map)) {
+    GTEST_SKIP() << "no ../shared/external/imhus/elevator_map beside the project: the project's own fixture "
+                    "tests/fixtures/maps/lobby.yaml covers this path (LoadScenario.MapFixtureChecksPlacesAgainstItsCells)";
+  }
   json document = json::parse(R"({"name": "elevator map", "world": {}, "steps": [],
     "locations": {"initial_pose1": {"x": 5, "y": -2}, "elevator_door1_button": {"x": 2, "y": 1},
                   "center_floor2": {"x": -5, "y": 0}, "printer_floor2": {"x": -7.5, "y": 0}},
     "social_spaces": {"elevator": {"x": 0, "y": 0, "slots": [{"x": 0.5, "y": 0.5}, {"x": 0.5, "y": -0.5},
                       {"x": -0.5, "y": -0.5}, {"x": -0.5, "y": 0.5}, {"x": 0, "y": 0}]}}})");
-  document["world"]["map"] = std::string(HRISIM_SHARED_DIR) + "/external/imhus/elevator_map/elevator.yaml";
+  document["world"]["map"] = map.string();
   const auto model = testing::load_valid(document);
   ASSERT_TRUE(model);
   EXPECT_EQ(model->grid.width(), 325);

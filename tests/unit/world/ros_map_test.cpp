@@ -2,13 +2,22 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
+#include <map>
+#include <vector>
 
 #include "core/error.hpp"
 #include "support/temp_dir.hpp"
 
 namespace hrisim::world {
 namespace {
+
+// hrisim's own map fixtures (tests/fixtures/maps, written by make_maps.py there).
+const std::filesystem::path kMaps = std::filesystem::path(HRISIM_SOURCE_DIR) / "tests/fixtures/maps";
+// IMHuS's published elevator map (../shared/external/SOURCES.md), read in place when ../shared is beside
+// the project.
+const std::filesystem::path kElevatorMap = std::filesystem::path(HRISIM_SHARED_DIR) / "external/imhus/elevator_map/elevator.yaml";
 
 void write(const std::filesystem::path& path, const std::string& content) {
   std::ofstream(path, std::ios::binary) << content;
@@ -76,9 +85,79 @@ TEST(RosMap, TruncatedImageIsRefused) {
   EXPECT_THROW(load_ros_map(dir / "m.yaml"), core::Error);
 }
 
+// hrisim's own map in the shape SLAM tools and image editors leave (tests/fixtures/maps/lobby.yaml):
+// binary P5 with a comment in its header, unknown grey around the scanned area, 255 beside 254, a YAML
+// with trailing zeros and no final newline. It takes the paths IMHuS's elevator map takes.
+TEST(RosMap, SlamStyleFixtureLoadsEveryCell) {
+  const RosMapInfo info = read_ros_map_yaml(kMaps / "lobby.yaml");
+  EXPECT_EQ(info.image.string(), (kMaps / "lobby.pgm").string());
+  EXPECT_DOUBLE_EQ(info.resolution, 0.1) << "written 0.1000000";
+  EXPECT_DOUBLE_EQ(info.origin.x, -3.0);
+  EXPECT_DOUBLE_EQ(info.origin.y, -2.0);
+  EXPECT_FALSE(info.negate);
+  EXPECT_DOUBLE_EQ(info.free_thresh, 0.196) << "the last line, without a newline";
+  const OccupancyGrid grid = load_ros_map(kMaps / "lobby.yaml");
+  EXPECT_EQ(grid.width(), 60);
+  EXPECT_EQ(grid.height(), 40);
+  EXPECT_DOUBLE_EQ(grid.resolution(), 0.1);
+  EXPECT_TRUE(grid.origin().isApprox(Vec2(-3.0, -2.0)));
+  std::map<Cell, std::size_t> counts;
+  for (std::size_t i = 0; i < grid.size(); ++i) ++counts[grid.at(grid.cell_at(i))];
+  EXPECT_EQ(counts[Cell::free], 1775u);
+  EXPECT_EQ(counts[Cell::occupied], 238u) << "the wall ring, the dividing wall, the table and two dark greys";
+  EXPECT_EQ(counts[Cell::unknown], 387u) << "the unscanned border and three middle greys";
+  EXPECT_EQ(grid.at({0, 0}), Cell::unknown) << "grey 205 outside the scan";
+  EXPECT_EQ(grid.at({2, 2}), Cell::occupied) << "a corner of the wall ring";
+  EXPECT_EQ(grid.at({30, 30}), Cell::occupied) << "the dividing wall";
+  EXPECT_EQ(grid.at({30, 20}), Cell::free) << "its doorway";
+  EXPECT_EQ(grid.at({6, 6}), Cell::free) << "pure white 255";
+  EXPECT_EQ(grid.cell_of({1.65, 1.05}), (CellIndex{46, 30}));
+  EXPECT_EQ(grid.at({46, 30}), Cell::occupied) << "the table";
+}
+
+// The fixture's image row 30 (map row 9) holds grey levels 89, 90, 205, 206, 253, 128, 1 at x = 10 to 16:
+// occupancy (255 - v) / 255 is occupied above 0.65 (v <= 89) and free below 0.196 (v >= 206).
+TEST(RosMap, SlamStyleFixtureGreysOnBothSidesOfTheThresholds) {
+  const OccupancyGrid grid = load_ros_map(kMaps / "lobby.yaml");
+  const std::vector<Cell> expected{Cell::occupied, Cell::unknown, Cell::unknown, Cell::free,
+                                   Cell::free,     Cell::unknown, Cell::occupied};
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(grid.at({10 + static_cast<int>(i), 9}), expected[i]) << "x = " << 10 + i;
+  }
+}
+
+// An ASCII P2 image with maxval 15, negate 1 (dark is free), thresholds of its own, mode trinary, a quoted
+// image name and comments (tests/fixtures/maps/negated_ascii.yaml).
+TEST(RosMap, AsciiFixtureWithNegateAndItsOwnThresholds) {
+  const RosMapInfo info = read_ros_map_yaml(kMaps / "negated_ascii.yaml");
+  EXPECT_EQ(info.image.string(), (kMaps / "negated_ascii.pgm").string()) << "the quotes are not part of the name";
+  EXPECT_TRUE(info.negate);
+  EXPECT_DOUBLE_EQ(info.occupied_thresh, 0.7);
+  EXPECT_DOUBLE_EQ(info.free_thresh, 0.3);
+  const OccupancyGrid grid = load_ros_map(kMaps / "negated_ascii.yaml");
+  ASSERT_EQ(grid.width(), 5);
+  ASSERT_EQ(grid.height(), 3);
+  EXPECT_DOUBLE_EQ(grid.resolution(), 0.5);
+  EXPECT_TRUE(grid.origin().isApprox(Vec2(1.5, -0.5)));
+  // Occupancy v / 15: 11 → 0.73 occupied, 10 → 0.67 unknown, 5 → 0.33 unknown, 4 → 0.27 free.
+  const Cell o = Cell::occupied, f = Cell::free, u = Cell::unknown;
+  const std::vector<std::vector<Cell>> image_rows{{o, o, o, u, f}, {u, f, u, u, f}, {f, f, f, o, o}};
+  for (int row = 0; row < 3; ++row) {
+    for (int x = 0; x < 5; ++x) {
+      EXPECT_EQ(grid.at({x, 2 - row}), image_rows[static_cast<std::size_t>(row)][static_cast<std::size_t>(x)])
+          << "image row " << row << ", x " << x;
+    }
+  }
+  EXPECT_EQ(grid.cell_of({3.75, 0.75}), (CellIndex{4, 2}));
+}
+
 // IMHuS's own elevator map (reference data in ../shared/external, read in place).
 TEST(RosMap, LoadsTheImhusElevatorMap) {
-  const OccupancyGrid grid = load_ros_map(std::filesystem::path(HRISIM_SHARED_DIR) / "external/imhus/elevator_map/elevator.yaml");
+  if (!std::filesystem::exists(kElevatorMap)) {
+    GTEST_SKIP() << "no ../shared/external/imhus/elevator_map beside the project: the project's own fixture "
+                    "tests/fixtures/maps/lobby.yaml covers this path (RosMap.SlamStyleFixtureLoadsEveryCell)";
+  }
+  const OccupancyGrid grid = load_ros_map(kElevatorMap);
   EXPECT_EQ(grid.width(), 325);
   EXPECT_EQ(grid.height(), 325);
   EXPECT_DOUBLE_EQ(grid.resolution(), 0.075);

@@ -1,0 +1,336 @@
+#include "sim/choreography.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/events.hpp"
+#include "sim/walking.hpp"
+
+namespace hrisim::sim {
+namespace {
+
+using scenario::Action;
+using scenario::AgentKind;
+using Kind = scenario::Action::Kind;
+
+/// Instant actions (publish, zero waits) chained within one tick per agent, at most.
+constexpr int kMaxActionsPerTick = 64;
+
+double direction_to(const Vec2& from, const Vec2& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
+
+/// Spot of member `role` of a group of `size` in the leader's frame: a pair side by side, larger
+/// groups three abreast in rows behind the leader.
+Vec2 formation_offset(int role, int size) {
+  if (size == 2) return {0.0, -scenario::kFormationSpacing};
+  static constexpr double kLateral[] = {0.0, -1.0, 1.0};
+  return {-scenario::kFormationRowGap * (role / 3), kLateral[role % 3] * scenario::kFormationSpacing};
+}
+
+bool idle(const scenario::Model& model, const State& state, int agent) {
+  const AgentState& a = state.agents[agent];
+  return a.active && model.agents[agent].kind == AgentKind::human && a.program.empty() && !a.answering_request;
+}
+
+bool slot_free(const scenario::Model& model, const State& state, int space, int slot, int agent) {
+  const Vec2 position = model.social_spaces[space].slots[slot].position();
+  for (std::size_t other = 0; other < state.agents.size(); ++other) {
+    const AgentState& a = state.agents[other];
+    if (static_cast<int>(other) == agent || !a.active) continue;
+    if (a.reserved_space == space) {
+      // Someone holding another slot of this space stands for that slot, even when pushed near this one.
+      if (a.reserved_slot == slot) return false;
+      continue;
+    }
+    if ((a.position - position).norm() < 2.0 * model.agents[other].radius) return false;
+  }
+  return true;
+}
+
+bool start_action(const scenario::Model& model, State& state, int agent, const Action& action, const PendingAction& pending) {
+  AgentState& self = state.agents[agent];
+  // A follower in a group goto to a place walks in formation beside or behind the leader.
+  if (action.group >= 0 && pending.role > 0 && action.kind != Kind::go_to_social_space) {
+    release_reservations(state, agent);
+    self.hold.reset();
+    self.follow_leader = state.groups[action.group].front();
+    self.formation_offset = formation_offset(pending.role, pending.group_size);
+    return true;
+  }
+  switch (action.kind) {
+    case Kind::go_to_location: {
+      // The location itself holds one person; a spot at an offset from it is not the location.
+      const bool at_location = action.pose == Pose2{};
+      for (std::size_t other = 0; other < state.agents.size() && at_location; ++other) {
+        if (static_cast<int>(other) != agent && state.agents[other].reserved_location == action.target) return false;
+      }
+      release_reservations(state, agent);
+      if (at_location) self.reserved_location = action.target;
+      const scenario::Location& location = model.locations[action.target];
+      go_to(model, state, agent, core::compose(location.pose, action.pose), location.radius, true);
+      return true;
+    }
+    case Kind::go_to_social_space: {
+      const auto& slots = model.social_spaces[action.target].slots;
+      for (std::size_t slot = 0; slot < slots.size(); ++slot) {
+        if (!slot_free(model, state, action.target, static_cast<int>(slot), agent)) continue;
+        release_reservations(state, agent);
+        self.reserved_space = action.target;
+        self.reserved_slot = static_cast<int>(slot);
+        go_to(model, state, agent, slots[slot], scenario::kDefaultGoalRadius, true);
+        return true;
+      }
+      return false;  // full: try again next tick
+    }
+    case Kind::go_to_pose:
+      release_reservations(state, agent);
+      go_to(model, state, agent, action.pose, action.radius, true);
+      return true;
+    case Kind::wait_duration:
+      self.wait_until_tick = state.tick + ticks(model, action.value);
+      return true;
+    case Kind::look_at_angle:
+    case Kind::turn_to:
+      self.target_heading = core::wrap_angle(action.value);
+      return true;
+    case Kind::turn_by:
+      self.target_heading = core::wrap_angle(self.heading + action.value);
+      return true;
+    case Kind::look_at_location:
+      self.target_heading = direction_to(self.position, model.locations[action.target].pose.position());
+      return true;
+    case Kind::look_at_agent:
+      self.look_at_agent = action.target;
+      self.target_heading = direction_to(self.position, state.agents[action.target].position);
+      return true;
+    case Kind::publish:
+      state.topics[action.topic] = action.message;
+      state.inbox.push_back({action.topic, action.message});
+      emit(model, state, "publish", model.agents[agent].id, {{"topic", action.topic}, {"message", action.message}});
+      return true;
+    case Kind::form_group:
+      state.groups[action.target] = action.members;
+      emit(model, state, "group_formed", model.groups[action.target].name, {{"members", action.members.size()}});
+      return true;
+    case Kind::dismantle_group:
+      state.groups[action.target].clear();
+      emit(model, state, "group_dismantled", model.groups[action.target].name);
+      return true;
+    case Kind::harass:
+      release_reservations(state, agent);
+      self.hold.reset();
+      self.harass_robot = action.target;
+      self.harass_distance = action.radius;
+      self.wait_until_tick = state.tick + ticks(model, action.value);
+      return true;
+    case Kind::stop_and_look:
+      self.watched_robot = action.target;
+      self.watch_distance = action.radius;
+      self.watch_until_tick = state.tick + ticks(model, action.value);
+      return true;
+    case Kind::request: {
+      const std::int64_t id = state.next_request_id;
+      make_request(model, state, agent, action.target);
+      // A request nobody can answer by design is dropped at once and leaves nothing to wait for.
+      const bool open = std::any_of(state.requests.begin(), state.requests.end(), [&](const OpenRequest& r) { return r.id == id; });
+      self.awaited_request = open ? id : 0;
+      return true;
+    }
+    case Kind::play_motion:
+      self.motion = humans::builtin_motion(action.motion);
+      self.motion_tick = state.tick;
+      self.motion_released_tick = -1;
+      self.wait_until_tick = state.tick + ticks(model, action.value);
+      return true;
+    case Kind::wait_message:
+    case Kind::run_task:
+      return true;
+  }
+  return true;
+}
+
+bool action_done(const State& state, int agent, const Action& action) {
+  const AgentState& self = state.agents[agent];
+  if (self.follow_leader >= 0) {
+    // Done when the leader has arrived and this member stands at its spot beside it.
+    const AgentState& leader = state.agents[self.follow_leader];
+    const bool leader_arrived = !leader.navigating && !leader.target_heading;
+    return leader_arrived && (formation_target(state, agent) - self.position).norm() <= kHoldTolerance;
+  }
+  switch (action.kind) {
+    case Kind::go_to_location:
+    case Kind::go_to_social_space:
+    case Kind::go_to_pose:
+      return !self.navigating && !self.target_heading;
+    case Kind::wait_duration:
+      return state.tick >= self.wait_until_tick;
+    case Kind::wait_message: {
+      const auto found = state.topics.find(action.topic);
+      return found != state.topics.end() && found->second == action.message;
+    }
+    case Kind::look_at_angle:
+    case Kind::look_at_agent:
+    case Kind::look_at_location:
+    case Kind::turn_by:
+    case Kind::turn_to:
+      return !self.target_heading;
+    case Kind::harass:
+    case Kind::play_motion:
+      return state.tick >= self.wait_until_tick;
+    case Kind::request:
+      return std::none_of(state.requests.begin(), state.requests.end(), [&](const OpenRequest& open) { return open.id == self.awaited_request; });
+    case Kind::publish:
+    case Kind::run_task:
+    case Kind::form_group:
+    case Kind::dismantle_group:
+    case Kind::stop_and_look:
+      return true;
+  }
+  return true;
+}
+
+void finish_action(State& state, int agent) {
+  AgentState& self = state.agents[agent];
+  self.program.pop_front();
+  self.action_started = false;
+  self.look_at_agent = -1;
+  self.harass_robot = -1;
+  if (self.follow_leader >= 0) {
+    self.hold = self.position;
+    self.target_heading = state.agents[self.follow_leader].heading;
+    self.follow_leader = -1;
+  }
+  if (self.program.empty()) self.answering_request = false;
+}
+
+/// Works through the agent's program as far as this tick allows.
+void advance_agent(const scenario::Model& model, State& state, int agent) {
+  AgentState& self = state.agents[agent];
+  for (int guard = 0; guard < kMaxActionsPerTick && !self.program.empty(); ++guard) {
+    const PendingAction pending = self.program.front();
+    const Action& action = action_of(model, state, pending);
+    if (action.kind == Kind::run_task) {
+      self.program.pop_front();
+      const auto& actions = model.tasks[action.target].actions;
+      for (std::size_t i = actions.size(); i-- > 0;) self.program.push_front({action.target, static_cast<int>(i), pending.step});
+      continue;
+    }
+    if (!self.action_started) {
+      if (!start_action(model, state, agent, action, pending)) return;
+      self.action_started = true;
+    }
+    if (!action_done(state, agent, action)) return;
+    finish_action(state, agent);
+  }
+}
+
+}  // namespace
+
+const Action& action_of(const scenario::Model& model, const State& state, const PendingAction& pending) {
+  if (pending.task == kCommandedAction) return state.commanded[pending.index];
+  return pending.task >= 0 ? model.tasks[pending.task].actions[pending.index] : model.steps[pending.step].actions[pending.index];
+}
+
+void release_reservations(State& state, int agent) {
+  AgentState& self = state.agents[agent];
+  self.reserved_location = -1;
+  self.reserved_space = -1;
+  self.reserved_slot = -1;
+}
+
+void start_step(const scenario::Model& model, State& state, int step) {
+  state.step = step;
+  state.steps[step].started_tick = state.tick;
+  const scenario::Step& definition = model.steps[step];
+  emit(model, state, "step_started", definition.name, {{"index", step}});
+  for (std::size_t i = 0; i < definition.actions.size(); ++i) {
+    const Action& action = definition.actions[i];
+    if (action.group < 0) {
+      state.agents[action.agent].program.push_back({-1, static_cast<int>(i), step});
+      continue;
+    }
+    const std::vector<int>& members = state.groups[action.group];
+    if (members.empty()) emit(model, state, "group_empty", model.groups[action.group].name, {{"step", definition.name}});
+    for (std::size_t role = 0; role < members.size(); ++role) {
+      state.agents[members[role]].program.push_back({-1, static_cast<int>(i), step, static_cast<int>(role), static_cast<int>(members.size())});
+    }
+  }
+}
+
+void make_request(const scenario::Model& model, State& state, int robot, int routine) {
+  const Vec2 position = state.agents[robot].position;
+  const std::int64_t id = state.next_request_id++;
+  emit(model, state, "request", model.agents[robot].id,
+       {{"request", id}, {"task", model.tasks[routine].name}, {"x", position.x()}, {"y", position.y()}});
+  if (std::find(model.async_tasks.begin(), model.async_tasks.end(), routine) == model.async_tasks.end()) {
+    emit(model, state, "request_dropped", model.agents[robot].id,
+         {{"request", id}, {"task", model.tasks[routine].name}, {"reason", "the scenario has no response for this task"}});
+    return;
+  }
+  state.requests.push_back({id, robot, routine, position, state.tick, state.tick});
+}
+
+void update_requests(const scenario::Model& model, State& state) {
+  const auto retry = ticks(model, kRequestRetryPeriod);
+  const auto timeout = ticks(model, kRequestTimeout);
+  std::vector<OpenRequest> still_open;
+  for (OpenRequest& open : state.requests) {
+    if (state.tick < open.next_try_tick) {
+      still_open.push_back(open);
+      continue;
+    }
+    int chosen = -1;
+    double chosen_distance = kRequestRadius;
+    for (std::size_t h = 0; h < state.agents.size(); ++h) {
+      const double distance = (state.agents[h].position - open.position).norm();
+      if (idle(model, state, static_cast<int>(h)) && distance <= chosen_distance && (chosen < 0 || distance < chosen_distance)) {
+        chosen = static_cast<int>(h);
+        chosen_distance = distance;
+      }
+    }
+    const std::string& routine = model.tasks[open.task].name;
+    if (chosen >= 0) {
+      AgentState& human = state.agents[chosen];
+      human.answering_request = true;
+      for (std::size_t i = 0; i < model.tasks[open.task].actions.size(); ++i) human.program.push_back({open.task, static_cast<int>(i), -1});
+      emit(model, state, "request_accepted", model.agents[chosen].id,
+           {{"request", open.id}, {"task", routine}, {"robot", model.agents[open.robot].id}, {"distance", chosen_distance}});
+    } else if (state.tick - open.asked_tick + retry > timeout) {
+      emit(model, state, "request_dropped", model.agents[open.robot].id, {{"request", open.id}, {"task", routine}, {"reason", "no idle human within 3 m"}});
+    } else {
+      open.next_try_tick += retry;
+      still_open.push_back(open);
+    }
+  }
+  state.requests = std::move(still_open);
+}
+
+void update_choreography(const scenario::Model& model, State& state) {
+  // A finished step hands over to the next within the same tick, so its actions start without delay.
+  for (std::size_t guard = 0; guard <= model.steps.size(); ++guard) {
+    for (std::size_t a = 0; a < state.agents.size(); ++a) advance_agent(model, state, static_cast<int>(a));
+    const int step = state.step;
+    if (step >= static_cast<int>(model.steps.size())) {
+      if (!state.finished && !model.task) {  // a benchmark task's episode ends by the task or its length
+        state.finished = true;
+        state.termination = "scenario_end";
+        emit(model, state, "scenario_finished", model.name);
+      }
+      return;
+    }
+    for (const AgentState& agent : state.agents) {
+      for (const PendingAction& pending : agent.program) {
+        if (pending.step == step) return;
+      }
+    }
+    state.steps[step].finished_tick = state.tick;
+    emit(model, state, "step_finished", model.steps[step].name,
+         {{"index", step}, {"duration", static_cast<double>(state.tick - state.steps[step].started_tick) * model.dt}});
+    if (step + 1 < static_cast<int>(model.steps.size())) {
+      start_step(model, state, step + 1);
+    } else {
+      state.step = step + 1;
+    }
+  }
+}
+
+}  // namespace hrisim::sim

@@ -1,0 +1,136 @@
+#include "sim/sensing.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/doors_and_elevators.hpp"
+#include "sim/events.hpp"
+
+namespace hrisim::sim {
+namespace {
+
+/// What the robot's links touch in the physics world now (the floor does not count).
+std::vector<Contact> contacts_of(const physics::PhysicsWorld& world, int robot_agent) {
+  std::vector<Contact> contacts;
+  for (const auto& [first, second] : world.touching()) {
+    const physics::BodyOwner& a = world.owner(first);
+    const physics::BodyOwner& b = world.owner(second);
+    const bool mine_first = a.kind == physics::BodyOwner::Kind::robot && a.index == robot_agent;
+    const bool mine_second = b.kind == physics::BodyOwner::Kind::robot && b.index == robot_agent;
+    if (mine_first == mine_second) continue;  // not this robot's, or two of its own links
+    const physics::BodyOwner& other = mine_first ? b : a;
+    if (other.kind == physics::BodyOwner::Kind::map && other.part == "floor") continue;
+    Contact contact;
+    if (other.kind == physics::BodyOwner::Kind::human || other.kind == physics::BodyOwner::Kind::robot) contact.agent = other.index;
+    if (other.kind == physics::BodyOwner::Kind::object) contact.object = other.index;
+    contact.part = other.part;
+    if (std::find(contacts.begin(), contacts.end(), contact) == contacts.end()) contacts.push_back(contact);
+  }
+  return contacts;
+}
+
+}  // namespace
+
+sensors::RayScene range_scene(const scenario::Model& model, const State& state, const HumanBodies& bodies, double height, int robot_agent) {
+  sensors::RayScene scene(model.outline, height);
+  for (std::size_t d = 0; d < model.doors.size(); ++d) {
+    if (!door_blocks(state, static_cast<int>(d))) continue;
+    const scenario::Door& door = model.doors[d];
+    std::vector<world::Segment> edges;
+    const Vec2 across = core::left_normal((door.to - door.from).normalized()) * (0.5 * door.thickness);
+    world::append_edges({door.from - across, door.to - across, door.to + across, door.from + across}, edges);
+    for (const world::Segment& edge : edges) scene.add(edge);
+  }
+  for (std::size_t o = 0; o < state.object_poses.size(); ++o) {
+    // Movable objects as their footprint at this height, taken upright (a lying cup reads as standing).
+    const scenario::MovableObject& object = model.objects[o];
+    const Eigen::Isometry3d& pose = state.object_poses[o];
+    const robots::Shape& shape = object.shape;
+    const double half_height = shape.kind == robots::Shape::Kind::box      ? 0.5 * shape.size.z()
+                               : shape.kind == robots::Shape::Kind::sphere ? shape.radius
+                                                                            : 0.5 * shape.length + (shape.kind == robots::Shape::Kind::capsule ? shape.radius : 0.0);
+    if (std::abs(pose.translation().z() - height) > half_height) continue;
+    const Vec2 centre(pose.translation().x(), pose.translation().y());
+    if (shape.kind != robots::Shape::Kind::box) {
+      scene.add(sensors::Circle{centre, shape.radius});
+      continue;
+    }
+    const Eigen::Vector3d x_axis = pose.rotation().col(0);
+    const Vec2 along = Vec2(x_axis.x(), x_axis.y()).normalized();
+    const Vec2 u = 0.5 * shape.size.x() * along, v = 0.5 * shape.size.y() * core::left_normal(along);
+    std::vector<world::Segment> edges;
+    world::append_edges({centre - u - v, centre + u - v, centre + u + v, centre - u + v}, edges);
+    for (const world::Segment& edge : edges) scene.add(edge);
+  }
+  for (std::size_t i = 0; i < state.agents.size(); ++i) {
+    const AgentState& agent = state.agents[i];
+    if (!agent.active || static_cast<int>(i) == robot_agent) continue;
+    const scenario::AgentDef& def = model.agents[i];
+    if (def.kind == scenario::AgentKind::human) {
+      add_human_body(scene, bodies.of(model, state, static_cast<int>(i)), height);
+    } else if (!def.robot_model || height < def.robot_model->height) {
+      scene.add(sensors::Circle{agent.position, def.radius});
+    }
+  }
+  return scene;
+}
+
+void sense(const scenario::Model& model, State& state, const PhysicsBodies& physics, const HumanBodies& bodies) {
+  for (RobotRuntime& runtime : state.robots) {
+    if (!state.agents[runtime.agent].active) continue;
+    const std::string& id = model.agents[runtime.agent].id;
+    if (runtime.robot.description().drive) {
+      runtime.odometry.update(runtime.robot.twist(), model.dt, runtime.sensor_random);
+      if (due(runtime.odometry_schedule, state.tick, model.dt)) runtime.odometry_reading = {state.tick, runtime.odometry.pose(), runtime.odometry.twist()};
+    }
+    for (RobotRuntime::LaserSensor& sensor : runtime.lasers) {
+      if (!due(sensor.schedule, state.tick, model.dt)) continue;
+      const Eigen::Isometry3d mount = runtime.robot.sensor_pose(*sensor.mount);
+      const Vec2 origin(mount.translation().x(), mount.translation().y());
+      const Eigen::Vector3d forward = mount.rotation().col(0);
+      const double heading = std::atan2(forward.y(), forward.x());
+      const sensors::RayScene scene = range_scene(model, state, bodies, mount.translation().z(), runtime.agent);
+      sensor.laser.scan(scene, origin, heading, runtime.sensor_random, sensor.reading.ranges);
+      sensor.reading.tick = state.tick;
+      sensor.reading.pose = {origin.x(), origin.y(), heading};
+      sensor.reading.height = mount.translation().z();
+    }
+    if (runtime.people_detector && due(runtime.people_schedule, state.tick, model.dt)) {
+      // The detector looks from the first laser's mount (else the base centre) at torso height.
+      Pose2 from = runtime.robot.pose();
+      if (!runtime.lasers.empty()) {
+        const Eigen::Isometry3d mount = runtime.robot.sensor_pose(*runtime.lasers.front().mount);
+        const Eigen::Vector3d forward = mount.rotation().col(0);
+        from = {mount.translation().x(), mount.translation().y(), std::atan2(forward.y(), forward.x())};
+      }
+      const sensors::RayScene scene = range_scene(model, state, bodies, kPeopleDetectorHeight, runtime.agent);
+      std::vector<sensors::PersonTruth> people;
+      for (std::size_t i = 0; i < state.agents.size(); ++i) {
+        if (state.agents[i].active && model.agents[i].kind == scenario::AgentKind::human) {
+          people.push_back({static_cast<int>(i), state.agents[i].position, state.agents[i].velocity, kPersonRadius});
+        }
+      }
+      runtime.people_detector->detect(scene, from.position(), from.theta, people, runtime.sensor_random, runtime.people.people);
+      runtime.people.tick = state.tick;
+    }
+    std::vector<Contact> contacts = contacts_of(*physics.world, runtime.agent);
+    const auto with = [&](const Contact& contact) -> std::string {
+      if (contact.agent >= 0) return model.agents[contact.agent].id;
+      if (contact.object >= 0) return model.objects[contact.object].name;
+      return "map";
+    };
+    for (const Contact& contact : contacts) {
+      if (std::find(runtime.contacts.begin(), runtime.contacts.end(), contact) == runtime.contacts.end()) {
+        emit(model, state, "contact_start", id, {{"with", with(contact)}, {"part", contact.part}});
+      }
+    }
+    for (const Contact& contact : runtime.contacts) {
+      if (std::find(contacts.begin(), contacts.end(), contact) == contacts.end()) {
+        emit(model, state, "contact_end", id, {{"with", with(contact)}, {"part", contact.part}});
+      }
+    }
+    runtime.contacts = std::move(contacts);
+  }
+}
+
+}  // namespace hrisim::sim

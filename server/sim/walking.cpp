@@ -1,0 +1,209 @@
+#include "sim/walking.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/portable_math.hpp"
+#include "sim/choreography.hpp"
+#include "sim/doors_and_elevators.hpp"
+#include "sim/events.hpp"
+
+namespace hrisim::sim {
+namespace {
+
+using scenario::AgentKind;
+
+double direction_to(const Vec2& from, const Vec2& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
+
+/// A human's gait, turn rate and motion primitive after it moved this tick and turned by `turned`.
+void advance_body(const scenario::Model& model, const State& state, AgentState& self, double turned) {
+  const double speed = self.velocity.norm();
+  self.turn_rate = turned / model.dt;
+  const humans::MotionClip& walk = *humans::builtin_motion("walk");
+  self.gait_distance = std::fmod(self.gait_distance + speed * model.dt + humans::kTurnStepRadius * std::abs(turned), walk.speed() * walk.duration());
+  if (!self.motion) return;
+  const bool playing =
+      !self.program.empty() && self.action_started && action_of(model, state, self.program.front()).kind == scenario::Action::Kind::play_motion;
+  if (self.motion_released_tick < 0 && !playing && speed > kMotionReleaseSpeed) self.motion_released_tick = state.tick;
+  if (self.motion_released_tick >= 0 && static_cast<double>(state.tick - self.motion_released_tick) * model.dt >= humans::kMotionBlendTime) {
+    self.motion = nullptr;
+    self.motion_released_tick = -1;
+  }
+}
+
+/// Where the agent wants to go this tick, before avoiding anyone; replans on the way when needed.
+Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t i, std::optional<double>& watching_heading) {
+  AgentState& self = state.agents[i];
+  Vec2 preferred = Vec2::Zero();
+  if (self.navigating) {
+    if (self.path.empty() && state.tick >= self.replan_at_tick) plan_path(model, state, static_cast<int>(i));
+    if (!self.path.empty() && state.tick - self.planned_tick >= ticks(model, kReplanInterval)) {
+      // Pushed too far off the leg by avoidance: rejoin the path from here without a search when a
+      // straight way is free (local avoidance keeps the agent off the walls), else plan again.
+      const Vec2& waypoint = self.path[self.path_index];
+      const Vec2 nearest = core::closest_point_on_segment(self.position, self.leg_start, waypoint);
+      if ((nearest - self.position).norm() > model.replan_distance) {
+        const double clearance = kRejoinClearance * model.agents[i].radius;
+        const world::Rejoin rejoin =
+            model.planner.rejoin(self.position, self.leg_start, waypoint, clearance, blocked_door_cells(model, state, clearance));
+        self.planned_tick = state.tick;
+        if (rejoin == world::Rejoin::replan) {
+          plan_path(model, state, static_cast<int>(i));
+        } else {
+          if (rejoin == world::Rejoin::back_to_corner) {
+            self.path.insert(self.path.begin() + static_cast<std::ptrdiff_t>(self.path_index), self.leg_start);
+          }
+          self.leg_start = self.position;
+        }
+      }
+    }
+    while (self.path_index + 1 < self.path.size() && (self.path[self.path_index] - self.position).norm() < kWaypointReached) {
+      self.leg_start = self.path[self.path_index];
+      ++self.path_index;
+    }
+    const double to_goal = (self.goal - self.position).norm();
+    if (to_goal <= self.goal_radius) {
+      self.navigating = false;
+      self.path.clear();
+      self.hold = self.goal;
+      if (self.goal_heading) self.target_heading = core::wrap_angle(*self.goal_heading);
+    } else if (!self.path.empty()) {
+      const Vec2 target = self.path[self.path_index];
+      const bool last = self.path_index + 1 == self.path.size();
+      const double speed = self.preferred_speed * (last ? std::clamp(to_goal / kArrivalSlowdown, 0.3, 1.0) : 1.0);
+      preferred = (target - self.position).normalized() * speed;
+    }
+  }
+  if (self.follow_leader >= 0) {
+    const Vec2 to_spot = formation_target(state, static_cast<int>(i)) - self.position;
+    const double speed = std::min(self.preferred_speed * humans::kMaxSpeedFactor, to_spot.norm() / kArrivalSlowdown * self.preferred_speed);
+    preferred = to_spot.norm() > 1e-9 ? Vec2(to_spot.normalized() * speed) : Vec2::Zero();
+  }
+  if (self.harass_robot >= 0) {
+    const AgentState& robot = state.agents[self.harass_robot];
+    const Vec2 in_the_way = robot.position + core::heading_vector(robot.heading) * self.harass_distance;
+    const Vec2 to_spot = in_the_way - self.position;
+    preferred = to_spot.norm() > 0.1 ? Vec2(to_spot.normalized() * std::min(self.preferred_speed, to_spot.norm() / kArrivalSlowdown * self.preferred_speed))
+                                    : Vec2::Zero();
+    self.target_heading = direction_to(self.position, robot.position);
+  }
+  if (self.watched_robot >= 0 && state.tick < self.watch_until_tick) {
+    const Vec2 robot = state.agents[self.watched_robot].position;
+    if ((robot - self.position).norm() <= self.watch_distance) {
+      preferred = Vec2::Zero();
+      watching_heading = direction_to(self.position, robot);
+    }
+  }
+  if (!self.navigating && self.hold) {
+    // Pushed aside while standing (making way in a queue): step back to the spot.
+    const Vec2 back = *self.hold - self.position;
+    if (back.norm() > kHoldTolerance) preferred = back.normalized() * std::min(kHoldSpeed, self.preferred_speed);
+  }
+  if (self.look_at_agent >= 0) self.target_heading = direction_to(self.position, state.agents[self.look_at_agent].position);
+  return preferred;
+}
+
+}  // namespace
+
+void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
+  buffers.members.clear();
+  for (std::size_t i = 0; i < state.agents.size(); ++i) {
+    if (state.agents[i].active) buffers.members.push_back(i);
+  }
+  buffers.agents.resize(buffers.members.size());
+  buffers.watching_headings.assign(state.agents.size(), std::nullopt);
+  for (std::size_t k = 0; k < buffers.members.size(); ++k) {
+    const std::size_t i = buffers.members[k];
+    const Vec2 preferred = preferred_velocity(model, state, i, buffers.watching_headings[i]);
+    const AgentState& self = state.agents[i];
+    const scenario::AgentDef& def = model.agents[i];
+    humans::CrowdAgent& crowd = buffers.agents[k];
+    crowd.position = self.position;
+    crowd.radius = def.radius;
+    crowd.avoidance = def.avoidance;
+    crowd.controlled = def.kind == AgentKind::robot || self.rooted;  // a controlled agent keeps its velocity
+    crowd.preferred_velocity = preferred;
+    crowd.max_speed = std::max(self.preferred_speed * humans::kMaxSpeedFactor, 1e-3);
+    crowd.velocity = !crowd.controlled ? self.velocity
+                     : self.rooted     ? Vec2::Zero()
+                     : def.robot_model ? self.velocity  // where its base is taking it
+                     : self.navigating ? preferred
+                                       : self.commanded_velocity;
+  }
+  const humans::ObstacleQuery obstacles = [&model, &state](const Vec2& p, double range) -> std::optional<Vec2> {
+    std::optional<Vec2> nearest = model.field.nearest_obstacle(model.grid, p);
+    for (std::size_t d = 0; d < model.doors.size(); ++d) {
+      if (!door_blocks(state, static_cast<int>(d))) continue;
+      const scenario::Door& door = model.doors[d];
+      const Vec2 on_door = core::closest_point_on_segment(p, door.from, door.to);
+      if (!nearest || (on_door - p).norm() < (*nearest - p).norm()) nearest = on_door;
+    }
+    if (!nearest || (*nearest - p).norm() > range) return std::nullopt;
+    return nearest;
+  };
+  buffers.crowd.compute_velocities(buffers.agents, obstacles, model.dt, buffers.velocities);
+
+  const double max_turn = kTurnRate * model.dt;
+  for (std::size_t k = 0; k < buffers.members.size(); ++k) {
+    const std::size_t i = buffers.members[k];
+    if (model.agents[i].robot_model) continue;  // a robot with a model moves by its own base
+    AgentState& self = state.agents[i];
+    const std::optional<double>& watching = buffers.watching_headings[i];
+    self.velocity = buffers.velocities[k];
+    self.position += self.velocity * model.dt;
+    const double heading_before = self.heading;
+    std::optional<double> desired = watching ? watching : self.target_heading;
+    // Walking direction, for every walker every tick: the polynomial (1e-5 rad) spares a libm call.
+    if (!desired && self.velocity.norm() > 0.05) desired = core::polynomial_atan2(self.velocity.y(), self.velocity.x());
+    if (desired) {
+      const double difference = core::wrap_angle(*desired - self.heading);
+      if (std::abs(difference) <= max_turn) {
+        self.heading = core::wrap_angle(*desired);
+        if (!watching && self.target_heading && std::abs(difference) <= kHeadingTolerance) self.target_heading.reset();
+      } else {
+        self.heading = core::wrap_angle(self.heading + std::copysign(max_turn, difference));
+      }
+    }
+    if (model.agents[i].kind == AgentKind::human) advance_body(model, state, self, core::wrap_angle(self.heading - heading_before));
+  }
+}
+
+void go_to(const scenario::Model& model, State& state, int agent, const Pose2& goal, double radius, bool with_heading) {
+  AgentState& self = state.agents[agent];
+  self.navigating = true;
+  self.hold.reset();
+  self.goal = goal.position();
+  self.goal_radius = radius;
+  self.goal_heading = with_heading ? std::optional<double>(goal.theta) : std::nullopt;
+  self.target_heading.reset();
+  self.replan_at_tick = -1;
+  plan_path(model, state, agent);
+}
+
+bool plan_path(const scenario::Model& model, State& state, int agent) {
+  AgentState& self = state.agents[agent];
+  const double radius = model.agents[agent].radius;
+  const auto path = model.planner.plan(self.position, self.goal, radius, blocked_door_cells(model, state, radius), state.planning_history);
+  self.path_index = 0;
+  self.leg_start = self.position;
+  self.planned_tick = state.tick;
+  if (path) {
+    self.path = *path;
+    self.replan_at_tick = -1;
+    return true;
+  }
+  self.path.clear();
+  if (self.replan_at_tick < 0) emit(model, state, "goal_unreachable", model.agents[agent].id, {{"x", self.goal.x()}, {"y", self.goal.y()}});
+  self.replan_at_tick = state.tick + ticks(model, kReplanRetry);
+  return false;
+}
+
+Vec2 formation_target(const State& state, int agent) {
+  const AgentState& self = state.agents[agent];
+  const AgentState& leader = state.agents[self.follow_leader];
+  const double heading = leader.velocity.norm() > 0.05 ? std::atan2(leader.velocity.y(), leader.velocity.x()) : leader.heading;
+  const Pose2 spot = core::compose({leader.position.x(), leader.position.y(), heading}, {self.formation_offset.x(), self.formation_offset.y(), 0.0});
+  return spot.position();
+}
+
+}  // namespace hrisim::sim

@@ -1,0 +1,60 @@
+#pragma once
+// Walking: each agent's preferred velocity (its path, its place in a formation, a robot it stands in
+// the way of or watches, the spot it holds), replanning when avoidance pushed it off its path, then
+// the crowd model (ORCA or social force) gives every new velocity, and people move and turn.
+#include <optional>
+#include <vector>
+
+#include "humans/locomotion.hpp"
+#include "scenario/model.hpp"
+#include "sim/state.hpp"
+
+namespace hrisim::sim {
+
+/// Turning speed of humans, rad/s.
+inline constexpr double kTurnRate = 3.0;
+/// A turn or look-at is complete within this angle, rad.
+inline constexpr double kHeadingTolerance = 0.05;
+/// Humans slow down over this distance before their goal, m.
+inline constexpr double kArrivalSlowdown = 0.5;
+/// A waypoint (other than the last) counts as passed within this distance, m.
+inline constexpr double kWaypointReached = 0.3;
+/// A standing agent pushed further than this from where it arrived steps back, m...
+inline constexpr double kHoldTolerance = 0.3;
+/// ...at this speed, m/s.
+inline constexpr double kHoldSpeed = 0.5;
+/// Replanning because avoidance pushed an agent off its path happens at most this often, s.
+inline constexpr double kReplanInterval = 0.5;
+/// An agent pushed off its path walks on straight to its waypoint when a disc of this fraction of its
+/// radius would pass; otherwise it plans again (waypoints hug the inflated walls, so the full radius
+/// would fail needlessly).
+inline constexpr double kRejoinClearance = 0.5;
+/// Without a path, planning is tried again after this long, s.
+inline constexpr double kReplanRetry = 1.0;
+/// A person holding a motion primitive's last pose walks off it (it blends out) above this speed, m/s.
+inline constexpr double kMotionReleaseSpeed = 0.2;
+
+/// The crowd solver and its buffers, kept from tick to tick so that a tick allocates nothing; nothing
+/// in them outlives a tick.
+struct WalkingBuffers {
+  explicit WalkingBuffers(const scenario::Model& model) : crowd(model.orca, model.social_force) {}
+  humans::Crowd crowd;
+  std::vector<humans::CrowdAgent> agents;
+  std::vector<std::size_t> members;  ///< agent index of each crowd entry (active agents)
+  std::vector<Vec2> velocities;
+  std::vector<std::optional<double>> watching_headings;  ///< per agent: facing a watched robot
+};
+
+/// The tick's walking phase. Robots with a model take part in the crowd but move by their own base.
+void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers);
+
+/// Sends an agent to `goal` (within `radius`, then turning to its heading when `with_heading`).
+void go_to(const scenario::Model& model, State& state, int agent, const Pose2& goal, double radius, bool with_heading);
+
+/// Plans the agent's path to its goal around closed doors; false (and a retry later) without one.
+bool plan_path(const scenario::Model& model, State& state, int agent);
+
+/// Where a follower in a group walks: its spot in the leader's frame, facing the leader's way.
+Vec2 formation_target(const State& state, int agent);
+
+}  // namespace hrisim::sim
