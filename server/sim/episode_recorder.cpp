@@ -70,7 +70,7 @@ void EpisodeRecorder::record(const Session& session, double reward) {
     sample.robot = {robot_, robot.position, robot.velocity, robot.heading, radius, false};
     // The distance field runs between cell centres: half a cell is the obstacle's own.
     sample.obstacle_distance = std::max(model.field.distance(model.grid, robot.position) - model.grid.resolution() / 2 - radius, 0.0);
-    const RobotRuntime* runtime = robot.active ? session.robot_runtime(session.agent_id(model.agents[robot_].id)) : nullptr;
+    const RobotRuntime* runtime = robot.active ? session.robot_runtime(session.agent_at(robot_)) : nullptr;
     if (runtime) {
       touching = runtime->contacts;
       for (const Contact& contact : touching) {

@@ -45,6 +45,8 @@ class Session {
 
   /// The id of the agent named `name` in the scenario; throws core::Error(not_found) when there is none.
   AgentId agent_id(const std::string& name) const;
+  /// The id of the agent at `index` (of the model's agents); throws core::Error(not_found) once it was removed.
+  AgentId agent_at(int index) const;
   /// Ids of the agents still in the session, in creation order.
   std::vector<AgentId> agent_ids() const { return ids_.ids(); }
   /// Index of a live agent in state().agents and model().agents; throws on a stale or unknown id.

@@ -71,7 +71,7 @@ std::vector<double> PickAndPlace::observe(const sim::Session& session) const {
 
 int PickAndPlace::act(sim::Session& session, const std::vector<double>& action) {
   if (action[0] >= 0.0) {
-    session.command_robot_gripper(session.agent_id(session.model().agents[task_.robot].id), action[1] >= 0.0);
+    session.command_robot_gripper(session.agent_at(task_.robot), action[1] >= 0.0);
     ticks_ = task_.gripper_frames;
   } else {
     command_arm(session, task_.robot, action, 2, action_space_);
@@ -114,12 +114,13 @@ void MirrorGesture::begin(sim::Session& session) {
   const scenario::Model& model = session.model();
   const sim::AgentState& robot = session.state().agents[task_.robot];
   const core::Vec2 at = robot.position + core::heading_vector(robot.heading) * task_.human_distance;
-  const sim::AgentId human = session.agent_id(model.agents[task_.human].id);
+  const sim::AgentId human = session.agent_at(task_.human);
   session.place_agent(human, {at.x(), at.y(), core::wrap_angle(robot.heading + std::numbers::pi)});
   session.set_rooted(human, true);
   side_ = random_.uniform() < 0.5 ? Side::left : Side::right;
   // She holds the gesture's last pose for the rest of the episode.
-  session.command_human(human, std::string("motion point_") + side_name(side_) + " " + std::to_string(task_.max_episode_length * model.dt));
+  const std::string gesture = std::string("point_") + side_name(side_);
+  session.command_human(sim::motion_action(task_.human, gesture, task_.max_episode_length * model.dt), "motion " + gesture);
 }
 
 int MirrorGesture::act(sim::Session& session, const std::vector<double>& action) {

@@ -75,7 +75,7 @@ int DefaultView::act(sim::Session& session, const std::vector<double>& action) {
   } else {
     const double a = std::clamp(action[0], action_space_.low[0], action_space_.high[0]);
     const double b = std::clamp(action[1], action_space_.low[1], action_space_.high[1]);
-    session.command_robot(session.agent_id(session.model().agents[robot_].id), {a, b});
+    session.command_robot(session.agent_at(robot_), {a, b});
   }
   return 1;
 }
@@ -107,7 +107,7 @@ core::Vec2 NavigationTask::free_place(const sim::Session& session, const core::V
 void NavigationTask::begin(sim::Session& session) {
   const scenario::Model& model = session.model();
   const sim::AgentState& robot = session.state().agents[task_.robot];
-  const sim::AgentId human = session.agent_id(model.agents[task_.human].id);
+  const sim::AgentId human = session.agent_at(task_.human);
   // The human's disc clear of the robot's footprint.
   const double clearance = model.agents[task_.human].radius + model.agents[task_.robot].robot_model->footprint_radius;
   if (task_.kind == scenario::TaskKind::follow_human) {
@@ -129,8 +129,7 @@ void NavigationTask::begin(sim::Session& session) {
 void NavigationTask::walk_on(sim::Session& session) {
   const sim::AgentState& person = session.state().agents[task_.human];
   const core::Vec2 goal = free_place(session, person.position, kFollowMinLeg);
-  session.command_human(session.agent_id(session.model().agents[task_.human].id),
-                        "walk " + std::to_string(goal.x()) + " " + std::to_string(goal.y()));
+  session.command_human(sim::walk_action(task_.human, goal), "walk " + core::point_text(goal));
 }
 
 double NavigationTask::distance(const sim::Session& session) const {

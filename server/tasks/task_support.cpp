@@ -37,14 +37,14 @@ void check_action(const std::vector<double>& action, std::size_t size) {
 
 std::vector<double> robot_motion(const sim::Session& session, int robot) {
   const sim::AgentState& state = session.state().agents[robot];
-  const sim::RobotRuntime* runtime = session.robot_runtime(session.agent_id(session.model().agents[robot].id));
+  const sim::RobotRuntime* runtime = session.robot_runtime(session.agent_at(robot));
   const core::Vec2 heading = core::heading_vector(state.heading);
   return {state.position.x(), state.position.y(), heading.x(), heading.y(), state.velocity.dot(heading),
           runtime ? runtime->robot.twist().angular : 0.0};
 }
 
 const sim::RobotRuntime& runtime_of(const sim::Session& session, int agent) {
-  const sim::RobotRuntime* runtime = session.robot_runtime(session.agent_id(session.model().agents[agent].id));
+  const sim::RobotRuntime* runtime = session.robot_runtime(session.agent_at(agent));
   if (!runtime) throw core::Error(core::ErrorCode::conflict, "agent '" + session.model().agents[agent].id + "' is not a robot with a model");
   return *runtime;
 }
@@ -67,7 +67,7 @@ Space drive_action_space(const scenario::AgentDef& robot) {
 void drive(sim::Session& session, int robot, const std::vector<double>& action, const Space& space) {
   const double v = std::clamp(action[0], space.low[0], space.high[0]);
   const double w = std::clamp(action[1], space.low[1], space.high[1]);
-  session.command_robot_twist(session.agent_id(session.model().agents[robot].id), {v, w});
+  session.command_robot_twist(session.agent_at(robot), {v, w});
 }
 
 void add_arm_limits(const scenario::AgentDef& robot, std::vector<double>& low, std::vector<double>& high) {
@@ -82,7 +82,7 @@ void add_arm_limits(const scenario::AgentDef& robot, std::vector<double>& low, s
 void command_arm(sim::Session& session, int robot, const std::vector<double>& action, std::size_t first, const Space& space) {
   std::vector<double> targets;
   for (std::size_t i = first; i < action.size(); ++i) targets.push_back(std::clamp(action[i], space.low[i], space.high[i]));
-  session.command_robot_joints(session.agent_id(session.model().agents[robot].id), "arm", targets);
+  session.command_robot_joints(session.agent_at(robot), "arm", targets);
 }
 
 std::vector<double> arm_positions(const sim::Session& session, int robot) {
