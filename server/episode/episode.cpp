@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "tasks/task_support.hpp"
 
 namespace hrisim::episode {
 namespace {
@@ -30,7 +31,7 @@ void add_to(tasks::Reward& sum, const tasks::Reward& reward) {
 }  // namespace
 
 Episode::Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t seed, Settings settings)
-    : session_(std::make_unique<sim::Session>(std::move(model), seed)) {
+    : model_(model), seed_(seed), settings_(settings), session_(std::make_unique<sim::Session>(std::move(model), seed)) {
   const scenario::Model& scenario = session_->model();
   if (settings.time_limit) session_->set_time_limit(*settings.time_limit);
   for (const auto& [time, name] : settings.requests) {
@@ -52,6 +53,8 @@ Episode::Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t see
 }
 
 double Episode::step(const std::optional<std::vector<double>>& action, std::int64_t n) {
+  if (action && environment_) tasks::check_action(*action, static_cast<std::size_t>(environment_->action_space().shape.at(0)));
+  log_.push_back({Snapshot::Entry::Kind::step, nullptr, action, n});
   double reward = 0.0;
   for (std::int64_t i = 0; i < n && !over(); ++i) {
     if (!environment_) {
@@ -73,6 +76,7 @@ double Episode::step(const std::optional<std::vector<double>>& action, std::int6
 
 void Episode::tick() {
   if (over()) return;
+  log_ticks(1);
   if (environment_ && ticks_left_ <= 0) {
     ticks_left_ = environment_->begin_step(*session_, std::nullopt);
     if (ticks_left_ <= 0) {
@@ -92,6 +96,45 @@ bool Episode::run(const std::atomic<bool>* cancel, const std::function<void(cons
     if (after_tick && session_->state().tick != before) after_tick(*this);
   }
   return true;
+}
+
+void Episode::give(const Input& input) {
+  input(*session_);
+  log_.push_back({Snapshot::Entry::Kind::input, input, std::nullopt, 0});
+}
+
+void Episode::log_ticks(std::int64_t count) {
+  if (!log_.empty() && log_.back().kind == Snapshot::Entry::Kind::ticks) {
+    log_.back().count += count;
+  } else {
+    log_.push_back({Snapshot::Entry::Kind::ticks, nullptr, std::nullopt, count});
+  }
+}
+
+Episode::Snapshot Episode::snapshot() const { return {log_, session_->state().tick, session_->state_hash()}; }
+
+std::unique_ptr<Episode> Episode::restore(const Snapshot& snapshot) const {
+  auto restored = std::make_unique<Episode>(model_, seed_, settings_);
+  for (const Snapshot::Entry& entry : snapshot.log) restored->replay(entry);
+  if (restored->session().state_hash() != snapshot.state_hash) {
+    throw core::Error(core::ErrorCode::internal, "restoring the snapshot of tick " + std::to_string(snapshot.tick) +
+                                                     " did not reach its state: the simulation was not deterministic here");
+  }
+  return restored;
+}
+
+void Episode::replay(const Snapshot::Entry& entry) {
+  switch (entry.kind) {
+    case Snapshot::Entry::Kind::input:
+      give(entry.input);
+      return;
+    case Snapshot::Entry::Kind::step:
+      step(entry.action, entry.count);
+      return;
+    case Snapshot::Entry::Kind::ticks:
+      for (std::int64_t t = 0; t < entry.count; ++t) tick();
+      return;
+  }
 }
 
 void Episode::advance() {

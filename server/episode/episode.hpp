@@ -8,6 +8,12 @@
 //            → Session::step() → the env step's after-tick bookkeeping → at its last tick its reward
 //            (and the task's ending, which ends the episode) → the recording's sample.
 //   step(action, n): n env steps, the action given at the first; each is its frame skip of ticks.
+//
+// What drives an episode from outside — env steps, ticks, and inputs such as commands and placements —
+// is kept in its input log. A snapshot is the log so far and the state's hash; restoring it gives the
+// same inputs to a fresh episode of the same scenario and seed, which (being deterministic) reaches
+// the same state bit for bit, physics included: the Bullet world's contact caches are history that no
+// copy of the state would carry. Restoring costs re-simulating up to the snapshot's tick.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -34,6 +40,23 @@ struct Settings {
 
 class Episode {
  public:
+  /// An input from outside (a command, a placement), given to the session between ticks.
+  using Input = std::function<void(sim::Session&)>;
+
+  /// A point of an episode to come back to (Episode::restore).
+  struct Snapshot {
+    struct Entry {
+      enum class Kind { input, step, ticks };
+      Kind kind = Kind::ticks;
+      Input input;                                ///< input: what was given
+      std::optional<std::vector<double>> action;  ///< step: the action of its first env step
+      std::int64_t count = 0;                     ///< step: env steps asked for; ticks: how many
+    };
+    std::vector<Entry> log;  ///< everything that drove the episode up to here
+    std::int64_t tick = 0;
+    std::uint64_t state_hash = 0;
+  };
+
   /// Throws core::Error(bad_request) for a scripted request the scenario cannot make, and what the
   /// benchmark task throws when it cannot set its episode up.
   Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t seed, Settings settings = {});
@@ -49,6 +72,15 @@ class Episode {
   void tick();
   /// Ticks until the episode is over; false when `cancel` was set first. `after_tick` sees every tick.
   bool run(const std::atomic<bool>* cancel = nullptr, const std::function<void(const Episode&)>& after_tick = nullptr);
+  /// Gives an input to the session now and keeps it in the log. What it throws, it throws before
+  /// changing anything (check first), and then it is not kept.
+  void give(const Input& input);
+
+  /// This point of the episode.
+  Snapshot snapshot() const;
+  /// A fresh episode of the same scenario, seed and settings driven by the snapshot's log: the state
+  /// the snapshot was taken in, bit for bit (checked by its hash; core::Error(internal) otherwise).
+  std::unique_ptr<Episode> restore(const Snapshot& snapshot) const;
 
   /// The session finished: the scenario's end, its time limit, or the benchmark task's ending.
   bool over() const { return session_->state().finished; }
@@ -74,6 +106,15 @@ class Episode {
   /// Ends the env step under way: its reward is added, and the task's ending ends the episode.
   double end_step();
 
+  /// Adds ticks to the log (runs of ticks are one entry).
+  void log_ticks(std::int64_t count);
+  /// Gives a log entry again (restoring).
+  void replay(const Snapshot::Entry& entry);
+
+  std::shared_ptr<const scenario::Model> model_;
+  std::uint64_t seed_;
+  Settings settings_;
+  std::vector<Snapshot::Entry> log_;
   std::unique_ptr<sim::Session> session_;
   std::optional<tasks::Environment> environment_;
   std::optional<sim::EpisodeRecorder> recorder_;

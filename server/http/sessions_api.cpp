@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "core/json_schema.hpp"
 #include "core/random.hpp"
+#include "episode/episode.hpp"
 #include "http/frames.hpp"
 #include "http/request_helpers.hpp"
 #include "metrics/episode_metrics.hpp"
@@ -21,7 +22,6 @@
 #include "runs/spec.hpp"
 #include "sim/scene_view.hpp"
 #include "sim/session.hpp"
-#include "episode/episode.hpp"
 
 namespace hrisim::http {
 namespace {
@@ -46,7 +46,9 @@ struct Live {
   std::unique_ptr<episode::Episode> episode;
   core::MemoryBudget* recording_memory = nullptr;  ///< shared by every recording of the server
   std::size_t events_reported = 0;  ///< events before this index were in a step reply already
-  std::uint64_t generation = 0;     ///< counts resets, so that viewers notice a fresh start
+  std::uint64_t generation = 0;     ///< counts resets and restores, so that viewers notice a fresh start
+  std::map<std::string, episode::Episode::Snapshot> snapshots;  ///< of this episode (a reset drops them)
+  std::uint64_t snapshots_taken = 0;
   Clock::time_point last_used;
   /// WebSockets open on it; shared with them, as they hold no reference to the session.
   std::shared_ptr<std::atomic<int>> clients = std::make_shared<std::atomic<int>>(0);
@@ -77,6 +79,8 @@ constexpr double kRealtimeTick = 1.0 / 60.0;
 constexpr double kRealtimeMaxCatchUp = 0.5;
 /// Largest realtime factor accepted.
 constexpr double kMaxRealtimeFactor = 100.0;
+/// Snapshots one session keeps at most.
+constexpr std::size_t kMaxSnapshots = 32;
 
 json event_json(const sim::Event& event) {
   return {{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}};
@@ -165,8 +169,8 @@ double number_of(const json& object, const char* key, const std::string& at) {
   return object[key].get<double>();
 }
 
-/// Checks one command against the session and returns what gives it (nothing is changed yet).
-std::function<void()> checked_command(sim::Session& session, const json& command, const std::string& at) {
+/// Checks one command against the session and returns the input that gives it (nothing is changed yet).
+episode::Episode::Input checked_command(const sim::Session& session, const json& command, const std::string& at) {
   if (!command.is_object()) throw core::Error(core::ErrorCode::bad_request, "a command is an object", {{"pointer", at}});
   const bool human = command.contains("human"), robot = command.contains("robot");
   if (human == robot || !command[human ? "human" : "robot"].is_string()) {
@@ -179,15 +183,16 @@ std::function<void()> checked_command(sim::Session& session, const json& command
   } catch (const core::Error&) {
     throw core::Error(core::ErrorCode::bad_request, "no agent '" + who + "'", {{"pointer", at + (human ? "/human" : "/robot")}});
   }
-  const auto& def = session.model().agents[session.index_of(id)];
+  const int agent = session.index_of(id);
+  const auto& def = session.model().agents[agent];
   if (human) {
     refuse_unknown_keys(command, {"human", "command"});
     if (!command.contains("command") || !command["command"].is_string()) {
       throw core::Error(core::ErrorCode::bad_request, "command: the text of a command is required", {{"pointer", at + "/command"}});
     }
     const std::string text = command["command"];
-    session.parse_human_command(id, text);  // throws when it is wrong
-    return [&session, id, text] { session.command_human(id, text); };
+    const scenario::Action action = session.parse_human_command(id, text);  // throws when it is wrong
+    return [action, text](sim::Session& to) { to.command_human(action, text); };
   }
   refuse_unknown_keys(command, {"robot", "velocity", "joints", "gripper", "request"});
   if (def.kind != scenario::AgentKind::robot) throw core::Error(core::ErrorCode::bad_request, "'" + who + "' is not a robot", {{"pointer", at + "/robot"}});
@@ -198,7 +203,7 @@ std::function<void()> checked_command(sim::Session& session, const json& command
     if (!runtime || !def.robot_model->drive) {
       throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no drive to take a velocity", {{"pointer", at + "/velocity"}});
     }
-    return [&session, id, linear, angular] { session.command_robot_twist(id, {linear, angular}); };
+    return [agent, linear, angular](sim::Session& to) { to.command_robot_twist(to.agent_at(agent), {linear, angular}); };
   }
   if (command.contains("joints")) {
     const json& joints = command["joints"];
@@ -221,7 +226,7 @@ std::function<void()> checked_command(sim::Session& session, const json& command
                         {{"pointer", at + "/joints/" + (velocities ? "velocities" : "positions")}});
     }
     const std::vector<double> targets = values.get<std::vector<double>>();
-    return [&session, id, group, targets, velocities] { session.command_robot_joints(id, group, targets, velocities); };
+    return [agent, group, targets, velocities](sim::Session& to) { to.command_robot_joints(to.agent_at(agent), group, targets, velocities); };
   }
   if (command.contains("gripper")) {
     const json& gripper = command["gripper"];
@@ -232,12 +237,12 @@ std::function<void()> checked_command(sim::Session& session, const json& command
       throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no gripper", {{"pointer", at + "/gripper"}});
     }
     const bool close = gripper == "close";
-    return [&session, id, close] { session.command_robot_gripper(id, close); };
+    return [agent, close](sim::Session& to) { to.command_robot_gripper(to.agent_at(agent), close); };
   }
   if (command.contains("request")) {
     const int task = command["request"].is_string() ? session.model().find_task(command["request"]) : -1;
     if (task < 0) throw core::Error(core::ErrorCode::bad_request, "request: no task by that name", {{"pointer", at + "/request"}});
-    return [&session, id, task] { session.request(id, task); };
+    return [agent, task](sim::Session& to) { to.request(to.agent_at(agent), task); };
   }
   throw core::Error(core::ErrorCode::bad_request, "a robot command gives velocity, joints, gripper or request", {{"pointer", at}});
 }
@@ -355,8 +360,8 @@ json poses_of(const sim::Session& session) {
 
 /// Gives a list of commands, each checked before any is given (the session's lock held).
 json give_commands(Live& live, const json& commands) {
-  sim::Session& session = live.session();
-  std::vector<std::function<void()>> apply;
+  const sim::Session& session = live.session();
+  std::vector<episode::Episode::Input> apply;
   for (std::size_t i = 0; i < commands.size(); ++i) {
     const std::string at = "/commands/" + std::to_string(i);
     try {
@@ -368,7 +373,7 @@ json give_commands(Live& live, const json& commands) {
       throw core::Error(core::ErrorCode::bad_request, at + ": " + e.what(), details);
     }
   }
-  for (const auto& give : apply) give();
+  for (const auto& input : apply) live.episode->give(input);
   return {{"applied", apply.size()}, {"tick", session.state().tick}};
 }
 
@@ -402,6 +407,50 @@ json step_session(Live& live, std::int64_t steps, const std::optional<std::vecto
   reply["events"] = events;
   reply["terminated"] = session.state().termination == "scenario_end" || session.state().termination == "goal";
   reply["truncated"] = session.state().termination == "timeout";
+  return reply;
+}
+
+json snapshot_json(const std::string& id, const episode::Episode::Snapshot& snapshot) {
+  return {{"snapshot", id}, {"tick", snapshot.tick}, {"state_hash", sim::hash_hex(snapshot.state_hash)}};
+}
+
+/// Keeps the episode's present point as a snapshot (the session's lock held).
+json take_snapshot(Live& live) {
+  if (live.snapshots.size() >= kMaxSnapshots) {
+    throw core::Error(core::ErrorCode::conflict, "session " + live.id + " keeps its maximum of " + std::to_string(kMaxSnapshots) +
+                                                     " snapshots: delete one (DELETE /api/v1/sessions/" + live.id + "/snapshots/{snapshot})");
+  }
+  const std::string id = "snap-" + std::to_string(++live.snapshots_taken);
+  episode::Episode::Snapshot snapshot = live.episode->snapshot();
+  json reply = snapshot_json(id, snapshot);
+  live.snapshots.emplace(id, std::move(snapshot));
+  return reply;
+}
+
+/// The snapshot a restore names, checked before the work (the session's lock held).
+const episode::Episode::Snapshot& snapshot_named(const Live& live, const json& body) {
+  refuse_unknown_keys(body, {"snapshot"});
+  if (!body.contains("snapshot") || !body["snapshot"].is_string()) {
+    throw core::Error(core::ErrorCode::bad_request, "snapshot: the id of a snapshot of this session is required", {{"pointer", "/snapshot"}});
+  }
+  const auto found = live.snapshots.find(body["snapshot"].get<std::string>());
+  if (found == live.snapshots.end()) {
+    throw core::Error(core::ErrorCode::not_found, "session " + live.id + " has no snapshot '" + body["snapshot"].get<std::string>() + "'",
+                      {{"pointer", "/snapshot"}});
+  }
+  return found->second;
+}
+
+/// Goes back (or forth) to a snapshot: the episode again from its start with the snapshot's inputs, up
+/// to its tick (the session's lock held). Gymnasium's observation and info, with the status.
+json restore_snapshot(Live& live, const json& body) {
+  live.episode = live.episode->restore(snapshot_named(live, body));
+  ++live.generation;
+  live.events_reported = live.session().state().events.size();
+  live.realtime_origin = Clock::now();
+  live.realtime_origin_tick = live.session().state().tick;
+  json reply = status_of(live);
+  add_observation(live, reply);
   return reply;
 }
 
@@ -637,7 +686,7 @@ class SessionSocket : public WebSocketPeer {
       const std::string type = body.value("type", "");
       body.erase("type");
       const auto live = registry_->find(id_, caller_);
-      if (caller_.read_only && (type == "step" || type == "commands")) {
+      if (caller_.read_only && (type == "step" || type == "commands" || type == "snapshot" || type == "restore")) {
         throw core::Error(core::ErrorCode::forbidden, "this socket's token may only read", {{"pointer", "/type"}});
       }
       if (type == "step") {
@@ -660,6 +709,20 @@ class SessionSocket : public WebSocketPeer {
           throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
         }
         return answer_locked(live, [commands = body["commands"]](Live& session) { return reply("commands", give_commands(session, commands)); });
+      }
+      if (type == "snapshot") {
+        refuse_unknown_keys(body, {});
+        return answer_locked(live, [](Live& session) { return reply("snapshot", take_snapshot(session)); });
+      }
+      if (type == "restore") {
+        return Response::later([live, body] {
+          try {
+            std::lock_guard lock(live->mutex);
+            return reply("restore", restore_snapshot(*live, body));
+          } catch (const core::Error& e) {
+            return failure(e);
+          }
+        });
       }
       if (type == "sensors") {
         refuse_unknown_keys(body, {"robot"});
@@ -724,7 +787,7 @@ class SessionSocket : public WebSocketPeer {
         const auto since = integer_field(body, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
         return answer_locked(live, [since](Live& session) { return reply("state", state_of(session, since)); });
       }
-      throw core::Error(core::ErrorCode::bad_request, "type must be step, commands, state, sensors, laser, camera or subscribe", {{"pointer", "/type"}});
+      throw core::Error(core::ErrorCode::bad_request, "type must be step, commands, snapshot, restore, state, sensors, laser, camera or subscribe", {{"pointer", "/type"}});
     } catch (const core::Error& e) {
       return failure(e);
     } catch (const json::exception& e) {
@@ -815,9 +878,10 @@ class SessionSocket : public WebSocketPeer {
   std::uint64_t pushed_generation_ = 0;  ///< the session's resets when the last frame was pushed
 };
 
-/// Places an agent or object by name from a pose {x, y, z, roll, pitch, yaw} at `at` (its JSON pointer
-/// prefix): seed 000's uniform pose interface. People and robots stay upright on the floor.
-void place(sim::Session& session, const std::string& name, const json& body, const std::string& at) {
+/// The input that places an agent or object by name at a pose {x, y, z, roll, pitch, yaw} (checked; `at`
+/// is its JSON pointer prefix): seed 000's uniform pose interface. People and robots stay upright on
+/// the floor; a place off the floor is refused when the input is given.
+episode::Episode::Input place(const sim::Session& session, const std::string& name, const json& body, const std::string& at) {
   if (!body.is_object()) throw core::Error(core::ErrorCode::bad_request, "a pose is an object {x, y, z, roll, pitch, yaw}", {{"pointer", at}});
   for (const auto& [key, unused] : body.items()) {
     if (key != "x" && key != "y" && key != "z" && key != "roll" && key != "pitch" && key != "yaw") {
@@ -833,13 +897,15 @@ void place(sim::Session& session, const std::string& name, const json& body, con
         throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": agents stand upright on the floor", {{"pointer", at + "/" + key}});
       }
     }
-    session.place_agent(session.agent_id(name), {x, y, yaw});
-    return;
+    const int agent = session.index_of(session.agent_id(name));
+    return [agent, x, y, yaw](sim::Session& to) { to.place_agent(to.agent_at(agent), {x, y, yaw}); };
   }
   const auto& objects = session.model().objects;
   const auto found = std::find_if(objects.begin(), objects.end(), [&](const scenario::MovableObject& o) { return o.name == name; });
   if (found == objects.end()) throw core::Error(core::ErrorCode::not_found, "no agent or object '" + name + "'", {{"name", name}, {"pointer", at}});
-  session.place_object(static_cast<int>(found - objects.begin()), robots::to_isometry({x, y, z, roll, pitch, yaw}));
+  const int object = static_cast<int>(found - objects.begin());
+  const Eigen::Isometry3d pose = robots::to_isometry({x, y, z, roll, pitch, yaw});
+  return [object, pose](sim::Session& to) { to.place_object(object, pose); };
 }
 
 /// A 503 for too many sessions carries Retry-After.
@@ -938,6 +1004,39 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     return Response{204, "application/json", "", {}, {}};
   });
 
+  router.add("POST", "/api/v1/sessions/{id}/snapshots", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
+    refuse_unknown_keys(json_object_body(request), {});
+    return locked(live, [](Live& session) { return Response::json(201, take_snapshot(session)); });
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}/snapshots", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
+    return locked(live, [](Live& session) {
+      json items = json::array();
+      for (const auto& [id, snapshot] : session.snapshots) items.push_back(snapshot_json(id, snapshot));
+      return Response::json(200, {{"items", items}, {"max_snapshots", kMaxSnapshots}});
+    });
+  });
+
+  router.add("DELETE", "/api/v1/sessions/{id}/snapshots/{snapshot}", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
+    return locked(live, [name = request.path_params.at("snapshot")](Live& session) {
+      if (session.snapshots.erase(name) == 0) throw core::Error(core::ErrorCode::not_found, "session " + session.id + " has no snapshot '" + name + "'");
+      return Response{204, "application/json", "", {}, {}};
+    });
+  });
+
+  router.add("POST", "/api/v1/sessions/{id}/restore", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
+    const json body = json_object_body(request);
+    // Restoring simulates again up to the snapshot: work for the pool.
+    return Response::later([live, body] {
+      std::lock_guard lock(live->mutex);
+      return Response::json(200, restore_snapshot(*live, body));
+    });
+  });
+
   router.add("GET", "/api/v1/sessions/{id}/state", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
     const auto since = integer_query(request, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
@@ -957,7 +1056,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   router.add("PUT", "/api/v1/sessions/{id}/poses/{name}", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
     return locked(live, [body = json_object_body(request), name = request.path_params.at("name")](Live& session) {
-      place(session.session(), name, body, "");
+      session.episode->give(place(session.session(), name, body, ""));
       return Response::json(200, poses_of(session.session()));
     });
   });
@@ -983,10 +1082,13 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       fresh->seed = seed;
       fresh->recording_memory = live->recording_memory;
       fresh->start(live->session().shared_model());
-      for (const auto& [name, pose] : poses.items()) place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name));
+      for (const auto& [name, pose] : poses.items()) {
+        fresh->episode->give(place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name)));
+      }
       live->seed = seed;
       ++live->generation;
       live->episode = std::move(fresh->episode);
+      live->snapshots.clear();
       live->events_reported = 0;
       live->realtime_origin = fresh->realtime_origin;
       live->realtime_origin_tick = 0;

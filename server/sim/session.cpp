@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -344,10 +343,6 @@ humans::BodyCapsules Session::human_body(int agent) const { return bodies_.of(*m
 
 std::uint64_t Session::state_hash() const { return sim::state_hash(state_); }
 
-std::string Session::state_hash_hex() const {
-  char text[17];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(state_hash()));
-  return text;
-}
+std::string Session::state_hash_hex() const { return hash_hex(state_hash()); }
 
 }  // namespace hrisim::sim

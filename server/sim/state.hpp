@@ -167,5 +167,7 @@ struct State {
 
 /// Hash of everything in the state, bit for bit.
 std::uint64_t state_hash(const State& state);
+/// A state hash as 16 lower-case hex digits, as the API and stored episodes give it.
+std::string hash_hex(std::uint64_t hash);
 
 }  // namespace hrisim::sim

@@ -1,5 +1,7 @@
 #include "sim/state.hpp"
 
+#include <cstdio>
+
 #include "core/state_hash.hpp"
 
 namespace hrisim::sim {
@@ -41,6 +43,12 @@ std::uint64_t state_hash(const State& state) {
     for (int k = 0; k < 16; ++k) hash.add(pose.data()[k]);
   }
   return hash.value();
+}
+
+std::string hash_hex(std::uint64_t hash) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
 }
 
 }  // namespace hrisim::sim

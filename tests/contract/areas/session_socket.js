@@ -66,6 +66,22 @@ describe('session WebSocket', () => {
     assert.equal(wrong.error.details.pointer, '/commands/0/human');
   });
 
+  it('snapshot keeps this point; restore goes back to it, bit for bit; an unknown one is an error naming it', async () => {
+    const snapshot = await socket.send({ type: 'snapshot' });
+    assert.equal(snapshot.type, 'snapshot');
+    const stepped = await socket.send({ type: 'step', n: 12 });
+    const restored = await socket.send({ type: 'restore', snapshot: snapshot.snapshot });
+    assert.equal(restored.type, 'restore');
+    assert.equal(restored.tick, snapshot.tick);
+    assert.equal(restored.state_hash, snapshot.state_hash);
+    assert.equal((await socket.send({ type: 'step', n: 12 })).state_hash, stepped.state_hash);
+    const wrong = await socket.send({ type: 'restore', snapshot: 'snap-0' });
+    assert.equal(wrong.type, 'error');
+    assert.equal(wrong.error.details.pointer, '/snapshot');
+    // Back to the snapshot's tick for the tests that follow.
+    assert.equal((await socket.send({ type: 'restore', snapshot: snapshot.snapshot })).tick, snapshot.tick);
+  });
+
   it('state answers with agents and the events since a tick', async () => {
     const reply = await socket.send({ type: 'state', events_since: 0 });
     assert.equal(reply.type, 'state');

@@ -347,6 +347,26 @@ describe('sessions', () => {
     assert.equal(after.state_hash, before.state_hash);
   });
 
+  it('POST …/snapshots, GET …/snapshots, POST …/restore, DELETE …/snapshots/{snapshot}: back to a point, bit for bit', async () => {
+    const taken = await api.post(at('/snapshots'));
+    assert.equal(taken.status, 201, taken.body);
+    const stepped = (await api.post(at('/step'), { n: 40 })).json;
+    const listed = await api.get(at('/snapshots'));
+    assert.equal(listed.status, 200);
+    assert.deepEqual(listed.json.items.find((item) => item.snapshot === taken.json.snapshot), taken.json);
+    const restored = await api.post(at('/restore'), { snapshot: taken.json.snapshot });
+    assert.equal(restored.status, 200, restored.body);
+    assert.equal(restored.json.tick, taken.json.tick);
+    assert.equal(restored.json.state_hash, taken.json.state_hash);
+    assert.equal((await api.post(at('/step'), { n: 40 })).json.state_hash, stepped.state_hash, 'the same states again');
+    const unknown = await api.post(at('/restore'), { snapshot: 'snap-0' });
+    assert.equal(unknown.status, 404);
+    assert.equal(unknown.json.error.details.pointer, '/snapshot');
+    assert.equal((await api.post(at('/restore'), {})).status, 400);
+    assert.equal((await api.delete(at(`/snapshots/${taken.json.snapshot}`))).status, 204);
+    assert.equal((await api.delete(at(`/snapshots/${taken.json.snapshot}`))).status, 404);
+  });
+
   it('GET /api/v1/sessions/{id}/cameras: overview, follow and the HSR\'s head camera where they are; the segmentation legend', async () => {
     const reply = await api.get(at('/cameras'));
     assert.equal(reply.status, 200);
