@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/state_hash.hpp"
 #include "scenario/model.hpp"
 #include "sim/state.hpp"
 
@@ -20,6 +21,9 @@ inline std::int64_t ticks(const scenario::Model& model, double seconds) { return
 /// Records an event at the state's tick.
 inline void emit(const scenario::Model& model, State& state, std::string kind, std::string subject,
                  nlohmann::json data = nlohmann::json::object()) {
+  core::StateHasher digest;
+  digest.add(state.events_digest).add(state.tick).add(std::string_view(kind)).add(std::string_view(subject)).add(std::string_view(data.dump()));
+  state.events_digest = digest.value();
   state.events.push_back({state.tick, time_of(model, state), std::move(kind), std::move(subject), std::move(data)});
 }
 

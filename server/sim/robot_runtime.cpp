@@ -43,6 +43,19 @@ void RobotRuntime::hash(core::StateHasher& hasher) const {
   hasher.add(people_schedule.next_tick).add(odometry_schedule.next_tick);
   for (const Contact& contact : contacts) hasher.add(contact.agent).add(contact.object).add(std::string_view(contact.part));
   hasher.add(held_object);
+  // What the controller and the sensors hold: the latest readings are state too.
+  hasher.add(static_cast<int>(controller.kind)).add(controller.goal.has_value());
+  for (const LaserSensor& sensor : lasers) {
+    hasher.add(sensor.reading.tick).add(sensor.reading.pose.x).add(sensor.reading.pose.y).add(sensor.reading.pose.theta).add(sensor.reading.height);
+    for (const double range : sensor.reading.ranges) hasher.add(range);
+  }
+  hasher.add(people.tick).add(static_cast<std::uint64_t>(people.people.size()));
+  for (const sensors::Detection& person : people.people) {
+    hasher.add(person.agent).add(person.position.x()).add(person.position.y()).add(person.velocity.x()).add(person.velocity.y());
+    hasher.add(person.range).add(person.bearing);
+  }
+  hasher.add(odometry_reading.tick).add(odometry_reading.pose.x).add(odometry_reading.pose.y).add(odometry_reading.pose.theta);
+  hasher.add(odometry_reading.twist.linear).add(odometry_reading.twist.angular);
 }
 
 bool due(Schedule& schedule, std::int64_t tick, double dt) {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -33,6 +34,9 @@ struct PendingAction {
   int step = -1;    ///< step it belongs to; -1 when it answers a robot request
   int role = 0;     ///< place in the group for a group action (0 leads)
   int group_size = 1;
+
+  /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
+  auto fields() const { return std::tie(task, index, step, role, group_size); }
 };
 
 struct AgentState {
@@ -83,6 +87,9 @@ struct AgentState {
   const humans::MotionClip* motion = nullptr;  ///< a shipped primitive (its pose held once it ends)
   std::int64_t motion_tick = 0;                ///< when it started
   std::int64_t motion_released_tick = -1;      ///< when the person walked off (it blends out), -1 before
+
+  /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
+  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, motion, motion_tick, motion_released_tick); }
 };
 
 struct Event {
@@ -101,6 +108,9 @@ struct OpenRequest {
   Vec2 position = Vec2::Zero();  ///< the robot's position when it asked
   std::int64_t asked_tick = 0;
   std::int64_t next_try_tick = 0;
+
+  /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
+  auto fields() const { return std::tie(id, robot, task, position, asked_tick, next_try_tick); }
 };
 
 /// A robot request to be made at a given simulation time (scripted in the scenario or the command line).
@@ -108,11 +118,17 @@ struct ScheduledRequest {
   double time = 0.0;
   int robot = -1;
   int task = -1;
+
+  /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
+  auto fields() const { return std::tie(time, robot, task); }
 };
 
 struct StepRecord {
   std::int64_t started_tick = -1;
   std::int64_t finished_tick = -1;
+
+  /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
+  auto fields() const { return std::tie(started_tick, finished_tick); }
 };
 
 enum class DoorPhase { closed, opening, open, closing };
@@ -120,6 +136,9 @@ enum class DoorPhase { closed, opening, open, closing };
 struct DoorState {
   DoorPhase phase = DoorPhase::closed;
   double opening = 0.0;  ///< 0 closed … 1 fully open
+
+  /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
+  auto fields() const { return std::tie(phase, opening); }
 };
 
 struct ElevatorState {
@@ -130,12 +149,18 @@ struct ElevatorState {
   std::int64_t until_tick = 0;      ///< end of the open period or of the trip
   std::int64_t reopened_until_tick = 0;  ///< a door reopened for someone in the doorway stays open until then
   int destination = 0;              ///< floor of the trip under way
+
+  /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
+  auto fields() const { return std::tie(phase, floor, queue, until_tick, reopened_until_tick, destination); }
 };
 
 /// A message published during the current tick, for subscribers that need every message.
 struct Message {
   std::string topic;
   std::string text;
+
+  /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
+  auto fields() const { return std::tie(topic, text); }
 };
 
 struct State {
@@ -152,6 +177,7 @@ struct State {
   std::int64_t next_request_id = 1;
   std::vector<ScheduledRequest> scheduled;  ///< robot requests still to come, by time
   std::vector<Event> events;
+  std::uint64_t events_digest = 0;  ///< hash of every event so far, kept by emit() (the hash reads this, not each event)
   std::vector<scenario::Action> commanded;  ///< actions given by textual commands, in order
   core::Random random;
   /// Robots with a model: motors, controllers, sensor readings and their random streams.
@@ -163,6 +189,9 @@ struct State {
   double time_limit = 0.0;  ///< s of simulation time; the episode ends there
   bool finished = false;
   std::string termination;  ///< "scenario_end", "timeout" or "goal" once finished
+
+  /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
+  auto fields() const { return std::tie(tick, agents, step, steps, topics, inbox, groups, doors, elevators, requests, next_request_id, scheduled, events, events_digest, commanded, random, robots, object_poses, planning_history, time_limit, finished, termination); }
 };
 
 /// Hash of everything in the state, bit for bit.

@@ -1,47 +1,110 @@
 #include "sim/state.hpp"
 
 #include <cstdio>
+#include <type_traits>
 
 #include "core/state_hash.hpp"
 
 namespace hrisim::sim {
+namespace {
+
+using Hasher = core::StateHasher;
+
+// Adding a member to a state struct without listing it in its fields() would leave it out of the
+// hash: these sizes make that a compile error (x86-64, libstdc++). List the member, then update the size.
+static_assert(sizeof(PendingAction) == 20, "PendingAction changed: list every member in its fields()");
+static_assert(sizeof(AgentState) == 512, "AgentState changed: list every member in its fields()");
+static_assert(sizeof(OpenRequest) == 48, "OpenRequest changed: list every member in its fields()");
+static_assert(sizeof(ScheduledRequest) == 16, "ScheduledRequest changed: list every member in its fields()");
+static_assert(sizeof(StepRecord) == 16, "StepRecord changed: list every member in its fields()");
+static_assert(sizeof(DoorState) == 16, "DoorState changed: list every member in its fields()");
+static_assert(sizeof(ElevatorState) == 112, "ElevatorState changed: list every member in its fields()");
+static_assert(sizeof(Message) == 64, "Message changed: list every member in its fields()");
+static_assert(sizeof(State) == 528, "State changed: list every member in its fields()");
+
+template <class T>
+concept WithFields = requires(const T& value) { value.fields(); };
+
+void put(Hasher& hash, bool value) { hash.add(value); }
+void put(Hasher& hash, int value) { hash.add(value); }
+void put(Hasher& hash, std::int64_t value) { hash.add(value); }
+void put(Hasher& hash, std::uint64_t value) { hash.add(value); }
+void put(Hasher& hash, double value) { hash.add(value); }
+template <class E>
+  requires std::is_enum_v<E>
+void put(Hasher& hash, E value) {
+  hash.add(static_cast<std::int64_t>(value));
+}
+void put(Hasher& hash, const std::string& text) { hash.add(std::string_view(text)); }
+void put(Hasher& hash, const Vec2& point) { hash.add(point.x()).add(point.y()); }
+void put(Hasher& hash, const Pose2& pose) { hash.add(pose.x).add(pose.y).add(pose.theta); }
+void put(Hasher& hash, const Eigen::Isometry3d& pose) {
+  for (int k = 0; k < 16; ++k) hash.add(pose.data()[k]);
+}
+void put(Hasher& hash, const humans::MotionClip* motion) { hash.add(std::string_view(motion ? motion->name() : std::string())); }
+void put(Hasher& hash, const core::Random& random) {
+  for (const std::uint64_t word : random.state()) hash.add(word);
+}
+void put(Hasher& hash, const RobotRuntime& runtime) { runtime.hash(hash); }
+void put(Hasher& hash, const world::PlanningHistory& history) { history.hash(hash); }
+/// The events' content is in State::events_digest, kept as they happen: hashing each every time would
+/// cost more the longer a session runs.
+void put(Hasher& hash, const std::vector<Event>& events) { hash.add(static_cast<std::uint64_t>(events.size())); }
+/// A command's action (an input, fixed once given).
+void put(Hasher& hash, const scenario::Action& action);
+
+template <class T>
+void put(Hasher& hash, const std::optional<T>& value);
+template <class T>
+void put(Hasher& hash, const std::vector<T>& values);
+template <class T>
+void put(Hasher& hash, const std::deque<T>& values);
+template <class K, class V>
+void put(Hasher& hash, const std::map<K, V>& values);
+template <WithFields T>
+void put(Hasher& hash, const T& value);
+
+template <class T>
+void put(Hasher& hash, const std::optional<T>& value) {
+  hash.add(value.has_value());
+  if (value) put(hash, *value);
+}
+template <class T>
+void put(Hasher& hash, const std::vector<T>& values) {
+  hash.add(static_cast<std::uint64_t>(values.size()));
+  for (const T& value : values) put(hash, value);
+}
+template <class T>
+void put(Hasher& hash, const std::deque<T>& values) {
+  hash.add(static_cast<std::uint64_t>(values.size()));
+  for (const T& value : values) put(hash, value);
+}
+template <class K, class V>
+void put(Hasher& hash, const std::map<K, V>& values) {
+  hash.add(static_cast<std::uint64_t>(values.size()));
+  for (const auto& [key, value] : values) {
+    put(hash, key);
+    put(hash, value);
+  }
+}
+template <WithFields T>
+void put(Hasher& hash, const T& value) {
+  std::apply([&hash](const auto&... field) { (put(hash, field), ...); }, value.fields());
+}
+
+void put(Hasher& hash, const scenario::Action& action) {
+  put(hash, action.kind);
+  hash.add(action.agent).add(action.group).add(action.target).add(action.radius).add(action.value);
+  put(hash, action.members);
+  put(hash, action.pose);
+  hash.add(std::string_view(action.topic)).add(std::string_view(action.message)).add(std::string_view(action.motion));
+}
+
+}  // namespace
 
 std::uint64_t state_hash(const State& state) {
-  core::StateHasher hash;
-  hash.add(state.tick).add(state.step).add(state.finished);
-  for (const AgentState& agent : state.agents) {
-    hash.add(agent.active);
-    hash.add(agent.position.x()).add(agent.position.y()).add(agent.velocity.x()).add(agent.velocity.y());
-    hash.add(agent.heading).add(agent.preferred_speed).add(static_cast<std::int64_t>(agent.program.size()));
-    hash.add(agent.navigating).add(static_cast<std::int64_t>(agent.path_index)).add(static_cast<std::int64_t>(agent.path.size()));
-    hash.add(agent.leg_start.x()).add(agent.leg_start.y());
-    hash.add(agent.reserved_location).add(agent.reserved_space).add(agent.reserved_slot);
-    hash.add(agent.follow_leader).add(agent.harass_robot).add(agent.watched_robot);
-  }
-  for (const auto& [topic, message] : state.topics) hash.add(std::string_view(topic)).add(std::string_view(message));
-  for (const auto& members : state.groups) {
-    for (int member : members) hash.add(member);
-    hash.add(-1);
-  }
-  for (const DoorState& door : state.doors) hash.add(static_cast<int>(door.phase)).add(door.opening);
-  for (const ElevatorState& cabin : state.elevators) {
-    hash.add(static_cast<int>(cabin.phase)).add(cabin.floor).add(static_cast<std::int64_t>(cabin.queue.size()));
-  }
-  hash.add(static_cast<std::int64_t>(state.requests.size())).add(static_cast<std::int64_t>(state.events.size()));
-  hash.add(static_cast<std::int64_t>(state.commanded.size()));
-  for (std::uint64_t word : state.random.state()) hash.add(word);
-  for (const AgentState& agent : state.agents) {
-    hash.add(agent.rooted);
-    hash.add(agent.gait_distance);
-    hash.add(agent.turn_rate);
-    hash.add(agent.motion ? agent.motion->name() : std::string());
-    hash.add(agent.motion_tick);
-    hash.add(agent.motion_released_tick);
-  }
-  for (const RobotRuntime& runtime : state.robots) runtime.hash(hash);
-  for (const Eigen::Isometry3d& pose : state.object_poses) {
-    for (int k = 0; k < 16; ++k) hash.add(pose.data()[k]);
-  }
+  Hasher hash;
+  put(hash, state);
   return hash.value();
 }
 

@@ -28,6 +28,16 @@ std::vector<std::size_t> sorted(std::vector<std::size_t> cells) {
 
 PathPlanner::PathPlanner(const OccupancyGrid& grid, const DistanceField& field) : grid_(grid), field_(field) {}
 
+void PlanningHistory::hash(core::StateHasher& hasher) const {
+  hasher.add(static_cast<std::uint64_t>(searched_cells_.size())).add(static_cast<std::uint64_t>(field_descents_));
+  for (const auto& [key, cells] : searched_cells_) {
+    const auto& [goal, radius, blocked] = key;
+    hasher.add(static_cast<std::uint64_t>(goal)).add(radius).add(static_cast<std::uint64_t>(blocked.size()));
+    for (const std::size_t cell : blocked) hasher.add(static_cast<std::uint64_t>(cell));
+    hasher.add(static_cast<std::uint64_t>(cells));
+  }
+}
+
 bool PathPlanner::traversable(std::size_t cell, double radius, const std::vector<std::size_t>& blocked_cells) const {
   // The nearest blocked cell reaches half a cell towards us.
   if (field_.distance(cell) - 0.5 * grid_.resolution() < radius) return false;

@@ -19,6 +19,7 @@
 #include <tuple>
 #include <vector>
 
+#include "core/state_hash.hpp"
 #include "world/occupancy_grid.hpp"
 
 namespace hrisim::world {
@@ -37,6 +38,8 @@ class PlanningHistory {
   void clear() { searched_cells_.clear(); }
   /// Requests answered from a goal's field rather than by a search.
   std::size_t field_descents() const { return field_descents_; }
+  /// Adds everything it holds to a state hash.
+  void hash(core::StateHasher& hasher) const;
 
  private:
   friend class PathPlanner;
