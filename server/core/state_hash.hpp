@@ -3,6 +3,7 @@
 // runs agree on the hash when they agree on the state bit for bit (and, but for a 2^-64 chance, only then).
 #include <bit>
 #include <cstdint>
+#include <span>
 #include <string_view>
 
 #include "core/random.hpp"
@@ -24,6 +25,15 @@ class StateHasher {
   StateHasher& add(int value) { return add(static_cast<std::int64_t>(value)); }
   StateHasher& add(bool value) { return add(std::uint64_t{value}); }
   StateHasher& add(double value) { return add(std::bit_cast<std::uint64_t>(value)); }
+  /// Many numbers at once (a laser scan): a multiplication and a rotation per word (still a bijection,
+  /// so one differing word always shows; the rotation carries high bits down, so that differences in
+  /// two words do not cancel), and the full mix once, with the count.
+  StateHasher& add(std::span<const double> values) {
+    std::uint64_t z = hash_;
+    for (const double value : values) z = std::rotl((z ^ std::bit_cast<std::uint64_t>(value)) * 0x9e3779b97f4a7c15ULL, 27);
+    hash_ = z;
+    return add(static_cast<std::uint64_t>(values.size()));
+  }
   StateHasher& add(std::string_view text) {
     hash_ = fnv1a(text, hash_);
     return add(static_cast<std::uint64_t>(text.size()));

@@ -47,7 +47,7 @@ void RobotRuntime::hash(core::StateHasher& hasher) const {
   hasher.add(static_cast<int>(controller.kind)).add(controller.goal.has_value());
   for (const LaserSensor& sensor : lasers) {
     hasher.add(sensor.reading.tick).add(sensor.reading.pose.x).add(sensor.reading.pose.y).add(sensor.reading.pose.theta).add(sensor.reading.height);
-    for (const double range : sensor.reading.ranges) hasher.add(range);
+    hasher.add(std::span<const double>(sensor.reading.ranges));
   }
   hasher.add(people.tick).add(static_cast<std::uint64_t>(people.people.size()));
   for (const sensors::Detection& person : people.people) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <vector>
 
 namespace hrisim::core {
 namespace {
@@ -30,6 +31,34 @@ TEST(StateHasher, EveryBitOfEveryWordAndTheirOrderCount) {
       EXPECT_TRUE(seen.insert(hash.value()).second) << "word " << word << " bit " << bit;
     }
   }
+}
+
+TEST(StateHasher, ABlockOfNumbersCountsEveryBitToo) {
+  std::vector<double> scan(1081, 2.5);
+  StateHasher whole;
+  whole.add(std::span<const double>(scan));
+  std::set<std::uint64_t> seen{whole.value()};
+  for (const std::size_t at : {std::size_t{0}, std::size_t{540}, std::size_t{1080}}) {
+    for (int bit = 0; bit < 64; ++bit) {
+      std::vector<double> changed = scan;
+      changed[at] = std::bit_cast<double>(std::bit_cast<std::uint64_t>(changed[at]) ^ (std::uint64_t{1} << bit));
+      StateHasher hash;
+      hash.add(std::span<const double>(changed));
+      EXPECT_TRUE(seen.insert(hash.value()).second) << "value " << at << " bit " << bit;
+    }
+  }
+  // Two values changed the same way (here both signs) do not cancel out.
+  for (const auto& [i, j] : {std::pair{0, 1}, std::pair{3, 700}, std::pair{540, 1080}}) {
+    std::vector<double> changed = scan;
+    changed[i] = -changed[i];
+    changed[j] = -changed[j];
+    StateHasher hash;
+    hash.add(std::span<const double>(changed));
+    EXPECT_NE(hash.value(), whole.value()) << "values " << i << " and " << j;
+  }
+  StateHasher shorter;
+  shorter.add(std::span<const double>(scan.data(), 1080));
+  EXPECT_NE(shorter.value(), whole.value());
 }
 
 TEST(StateHasher, TextCountsByContentAndLength) {
