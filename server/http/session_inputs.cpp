@@ -1,0 +1,234 @@
+#include "http/session_inputs.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/json_schema.hpp"
+#include "http/request_helpers.hpp"
+#include "http/session_views.hpp"
+
+namespace hrisim::http {
+
+using nlohmann::json;
+
+/// A number field of a command; 400 naming it otherwise.
+static double number_of(const json& object, const char* key, const std::string& at) {
+  if (!object.is_object() || !object.contains(key) || !object[key].is_number() || !std::isfinite(object[key].get<double>())) {
+    throw core::Error(core::ErrorCode::bad_request, std::string(key) + " must be a number", {{"pointer", at + "/" + key}});
+  }
+  return object[key].get<double>();
+}
+
+/// Checks one command against the session and returns the input that gives it (nothing is changed yet).
+static episode::Episode::Input checked_command(const sim::Session& session, const json& command, const std::string& at) {
+  if (!command.is_object()) throw core::Error(core::ErrorCode::bad_request, "a command is an object", {{"pointer", at}});
+  const bool human = command.contains("human"), robot = command.contains("robot");
+  if (human == robot || !command[human ? "human" : "robot"].is_string()) {
+    throw core::Error(core::ErrorCode::bad_request, "a command names a \"human\" or a \"robot\"", {{"pointer", at}});
+  }
+  const std::string who = command[human ? "human" : "robot"];
+  sim::AgentId id;
+  try {
+    id = session.agent_id(who);
+  } catch (const core::Error&) {
+    throw core::Error(core::ErrorCode::bad_request, "no agent '" + who + "'", {{"pointer", at + (human ? "/human" : "/robot")}});
+  }
+  const int agent = session.index_of(id);
+  const auto& def = session.model().agents[agent];
+  if (human) {
+    refuse_unknown_keys(command, {"human", "command"});
+    if (!command.contains("command") || !command["command"].is_string()) {
+      throw core::Error(core::ErrorCode::bad_request, "command: the text of a command is required", {{"pointer", at + "/command"}});
+    }
+    const std::string text = command["command"];
+    const scenario::Action action = session.parse_human_command(id, text);  // throws when it is wrong
+    return [action, text](sim::Session& to) { to.command_human(action, text); };
+  }
+  refuse_unknown_keys(command, {"robot", "velocity", "joints", "gripper", "request"});
+  if (def.kind != scenario::AgentKind::robot) throw core::Error(core::ErrorCode::bad_request, "'" + who + "' is not a robot", {{"pointer", at + "/robot"}});
+  const sim::RobotRuntime* runtime = session.robot_runtime(id);
+  if (command.contains("velocity")) {
+    const json& velocity = command["velocity"];
+    const double linear = number_of(velocity, "linear", at + "/velocity"), angular = number_of(velocity, "angular", at + "/velocity");
+    if (!runtime || !def.robot_model->drive) {
+      throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no drive to take a velocity", {{"pointer", at + "/velocity"}});
+    }
+    return [agent, linear, angular](sim::Session& to) { to.command_robot_twist(to.agent_at(agent), {linear, angular}); };
+  }
+  if (command.contains("joints")) {
+    const json& joints = command["joints"];
+    if (!runtime) throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no joints", {{"pointer", at + "/joints"}});
+    if (!joints.is_object() || !joints.contains("group") || !joints["group"].is_string()) {
+      throw core::Error(core::ErrorCode::bad_request, "joints: a group name is required", {{"pointer", at + "/joints/group"}});
+    }
+    const std::string group = joints["group"];
+    const auto found = def.robot_model->groups.find(group);
+    if (found == def.robot_model->groups.end()) {
+      throw core::Error(core::ErrorCode::bad_request, "robot model '" + def.robot_model->name + "' has no joint group '" + group + "'",
+                        {{"pointer", at + "/joints/group"}});
+    }
+    const bool velocities = joints.contains("velocities");
+    const json& values = joints[velocities ? "velocities" : "positions"];
+    if (!values.is_array() || values.size() != found->second.size() ||
+        !std::all_of(values.begin(), values.end(), [](const json& v) { return v.is_number() && std::isfinite(v.get<double>()); })) {
+      throw core::Error(core::ErrorCode::bad_request,
+                        std::string(velocities ? "velocities" : "positions") + ": " + std::to_string(found->second.size()) + " numbers for group '" + group + "'",
+                        {{"pointer", at + "/joints/" + (velocities ? "velocities" : "positions")}});
+    }
+    const std::vector<double> targets = values.get<std::vector<double>>();
+    return [agent, group, targets, velocities](sim::Session& to) { to.command_robot_joints(to.agent_at(agent), group, targets, velocities); };
+  }
+  if (command.contains("gripper")) {
+    const json& gripper = command["gripper"];
+    if (!gripper.is_string() || (gripper != "open" && gripper != "close")) {
+      throw core::Error(core::ErrorCode::bad_request, "gripper: \"open\" or \"close\"", {{"pointer", at + "/gripper"}});
+    }
+    if (!runtime || !def.robot_model->gripper) {
+      throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no gripper", {{"pointer", at + "/gripper"}});
+    }
+    const bool close = gripper == "close";
+    return [agent, close](sim::Session& to) { to.command_robot_gripper(to.agent_at(agent), close); };
+  }
+  if (command.contains("request")) {
+    const int task = command["request"].is_string() ? session.model().find_task(command["request"]) : -1;
+    if (task < 0) throw core::Error(core::ErrorCode::bad_request, "request: no task by that name", {{"pointer", at + "/request"}});
+    return [agent, task](sim::Session& to) { to.request(to.agent_at(agent), task); };
+  }
+  throw core::Error(core::ErrorCode::bad_request, "a robot command gives velocity, joints, gripper or request", {{"pointer", at}});
+}
+
+/// The optional "action" of a step: a list of numbers.
+std::optional<std::vector<double>> action_of(const json& body) {
+  if (!body.contains("action")) return std::nullopt;
+  const json& action = body["action"];
+  if (!action.is_array()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", "/action"}});
+  std::vector<double> values;
+  for (std::size_t i = 0; i < action.size(); ++i) {
+    if (!action[i].is_number()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", "/action/" + std::to_string(i)}});
+    values.push_back(action[i].get<double>());
+  }
+  return values;
+}
+
+/// 409 for stepping a session the server steps itself.
+void check_lockstep(const Live& live) {
+  if (live.mode != "lockstep") {
+    throw core::Error(core::ErrorCode::conflict, "session " + live.id + " runs in realtime mode: the server steps it", {{"mode", live.mode}});
+  }
+}
+
+/// Gives a list of commands, each checked before any is given (the session's lock held).
+json give_commands(Live& live, const json& commands) {
+  const sim::Session& session = live.session();
+  std::vector<episode::Episode::Input> apply;
+  for (std::size_t i = 0; i < commands.size(); ++i) {
+    const std::string at = "/commands/" + std::to_string(i);
+    try {
+      apply.push_back(checked_command(session, commands[i], at));
+    } catch (const core::Error& e) {
+      json details = e.details();
+      const std::string inner = details.value("pointer", "");
+      details["pointer"] = inner.starts_with(at) ? inner : at + inner;
+      throw core::Error(core::ErrorCode::bad_request, at + ": " + e.what(), details);
+    }
+  }
+  for (const auto& input : apply) live.episode->give(input);
+  return {{"applied", apply.size()}, {"tick", session.state().tick}};
+}
+
+/// Advances up to `steps` environment steps (the session's lock held; each the task's frame skip in
+/// ticks, one tick without a task): the status, the events of those steps, and Gymnasium's terminated
+/// (the task's ending, or the scenario's last step done) and truncated (its time limit).
+json step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action) {
+  const sim::Session& session = live.session();
+  if (action && !live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act", {{"pointer", "/action"}});
+  const double reward = live.episode->step(action, steps);
+  json reply = status_of(live);
+  // Gymnasium's step: observation, reward (summed over the steps), terminated, truncated, info.
+  add_observation(live, reply);
+  reply["reward"] = reward;
+  // Each event is in exactly one step reply: those since the last reply, including what commands and
+  // the session's start gave between steps. (Counted, not dated: a step stamps some events with the
+  // tick it starts at.)
+  json events = json::array();
+  const auto& all = session.state().events;
+  for (std::size_t e = live.events_reported; e < all.size(); ++e) events.push_back(event_json(all[e]));
+  live.events_reported = all.size();
+  reply["events"] = events;
+  reply["terminated"] = session.state().termination == "scenario_end" || session.state().termination == "goal";
+  reply["truncated"] = session.state().termination == "timeout";
+  return reply;
+}
+
+/// Keeps the episode's present point as a snapshot (the session's lock held).
+json take_snapshot(Live& live) {
+  if (live.snapshots.size() >= kMaxSnapshots) {
+    throw core::Error(core::ErrorCode::conflict, "session " + live.id + " keeps its maximum of " + std::to_string(kMaxSnapshots) +
+                                                     " snapshots: delete one (DELETE /api/v1/sessions/" + live.id + "/snapshots/{snapshot})");
+  }
+  const std::string id = "snap-" + std::to_string(++live.snapshots_taken);
+  episode::Episode::Snapshot snapshot = live.episode->snapshot();
+  json reply = snapshot_json(id, snapshot);
+  live.snapshots.emplace(id, std::move(snapshot));
+  return reply;
+}
+
+/// The snapshot a restore names, checked before the work (the session's lock held).
+static const episode::Episode::Snapshot& snapshot_named(const Live& live, const json& body) {
+  refuse_unknown_keys(body, {"snapshot"});
+  if (!body.contains("snapshot") || !body["snapshot"].is_string()) {
+    throw core::Error(core::ErrorCode::bad_request, "snapshot: the id of a snapshot of this session is required", {{"pointer", "/snapshot"}});
+  }
+  const auto found = live.snapshots.find(body["snapshot"].get<std::string>());
+  if (found == live.snapshots.end()) {
+    throw core::Error(core::ErrorCode::not_found, "session " + live.id + " has no snapshot '" + body["snapshot"].get<std::string>() + "'",
+                      {{"pointer", "/snapshot"}});
+  }
+  return found->second;
+}
+
+/// Goes back (or forth) to a snapshot: the episode again from its start with the snapshot's inputs, up
+/// to its tick (the session's lock held). Gymnasium's observation and info, with the status.
+json restore_snapshot(Live& live, const json& body) {
+  live.episode = live.episode->restore(snapshot_named(live, body));
+  ++live.generation;
+  live.events_reported = live.session().state().events.size();
+  live.realtime_origin = Clock::now();
+  live.realtime_origin_tick = live.session().state().tick;
+  json reply = status_of(live);
+  add_observation(live, reply);
+  return reply;
+}
+
+/// The input that places an agent or object by name at a pose {x, y, z, roll, pitch, yaw} (checked; `at`
+/// is its JSON pointer prefix): seed 000's uniform pose interface. People and robots stay upright on
+/// the floor; a place off the floor is refused when the input is given.
+episode::Episode::Input place(const sim::Session& session, const std::string& name, const json& body, const std::string& at) {
+  if (!body.is_object()) throw core::Error(core::ErrorCode::bad_request, "a pose is an object {x, y, z, roll, pitch, yaw}", {{"pointer", at}});
+  for (const auto& [key, unused] : body.items()) {
+    if (key != "x" && key != "y" && key != "z" && key != "roll" && key != "pitch" && key != "yaw") {
+      throw core::Error(core::ErrorCode::bad_request, "unknown field '" + key + "'", {{"pointer", at + "/" + key}});
+    }
+  }
+  const double x = number_of(body, "x", at), y = number_of(body, "y", at);
+  const auto optional = [&](const char* key) { return body.contains(key) ? number_of(body, key, at) : 0.0; };
+  const double z = optional("z"), roll = optional("roll"), pitch = optional("pitch"), yaw = optional("yaw");
+  if (session.model().find_agent(name) >= 0) {
+    for (const char* key : {"z", "roll", "pitch"}) {
+      if (optional(key) != 0.0) {
+        throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": agents stand upright on the floor", {{"pointer", at + "/" + key}});
+      }
+    }
+    const int agent = session.index_of(session.agent_id(name));
+    return [agent, x, y, yaw](sim::Session& to) { to.place_agent(to.agent_at(agent), {x, y, yaw}); };
+  }
+  const auto& objects = session.model().objects;
+  const auto found = std::find_if(objects.begin(), objects.end(), [&](const scenario::MovableObject& o) { return o.name == name; });
+  if (found == objects.end()) throw core::Error(core::ErrorCode::not_found, "no agent or object '" + name + "'", {{"name", name}, {"pointer", at}});
+  const int object = static_cast<int>(found - objects.begin());
+  const Eigen::Isometry3d pose = robots::to_isometry({x, y, z, roll, pitch, yaw});
+  return [object, pose](sim::Session& to) { to.place_object(object, pose); };
+}
+
+}  // namespace hrisim::http

@@ -1,0 +1,36 @@
+#pragma once
+// What a client gives a live session (its lock held by the caller): env steps with actions, commands,
+// placements, snapshots and restores — checked first, then given through the episode, which keeps
+// them in its input log.
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "episode/episode.hpp"
+#include "http/live_sessions.hpp"
+
+namespace hrisim::http {
+
+/// The optional "action" of a step: a list of numbers.
+std::optional<std::vector<double>> action_of(const nlohmann::json& body);
+/// 409 for stepping a session the server steps itself.
+void check_lockstep(const Live& live);
+/// Gives a list of commands, each checked before any is given.
+nlohmann::json give_commands(Live& live, const nlohmann::json& commands);
+/// Advances up to `steps` environment steps (each the task's frame skip in ticks, one tick without a
+/// task): the status, the events of those steps, and Gymnasium's terminated (the task's ending, or the
+/// scenario's last step done) and truncated (its time limit).
+nlohmann::json step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action = std::nullopt);
+/// Keeps the episode's present point as a snapshot.
+nlohmann::json take_snapshot(Live& live);
+/// Goes back (or forth) to the snapshot the body names: the episode again from its start with the
+/// snapshot's inputs, up to its tick. Gymnasium's observation and info, with the status.
+nlohmann::json restore_snapshot(Live& live, const nlohmann::json& body);
+/// The input that places an agent or object by name at a pose {x, y, z, roll, pitch, yaw} (checked; `at`
+/// is its JSON pointer prefix): seed 000's uniform pose interface. People and robots stay upright on
+/// the floor; a place off the floor is refused when the input is given.
+episode::Episode::Input place(const sim::Session& session, const std::string& name, const nlohmann::json& body, const std::string& at);
+
+}  // namespace hrisim::http

@@ -1,0 +1,280 @@
+#include "http/session_socket.hpp"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <optional>
+#include <string_view>
+
+#include "core/error.hpp"
+#include "http/frames.hpp"
+#include "http/request_helpers.hpp"
+#include "http/session_inputs.hpp"
+#include "http/session_views.hpp"
+#include "sim/scene_view.hpp"
+
+namespace hrisim::http {
+namespace {
+
+using nlohmann::json;
+
+/// A session's WebSocket: each message is answered once, in order, by the handler its type names in
+/// kMessageTypes (the messages and answers are in api/asyncapi.yaml). A wrong message gets
+/// {"type": "error", "error": {code, message, details}} and the socket stays open.
+class SessionSocket : public WebSocketPeer {
+ public:
+  /// A message type the socket answers, what answers it, and whether it changes the session (a
+  /// read-only token may not send those).
+  struct MessageType {
+    std::string_view name;
+    Response (SessionSocket::*handle)(const std::shared_ptr<Live>&, json&);
+    bool changes_session;
+  };
+  static const std::array<MessageType, 9> kMessageTypes;
+
+  /// Holds no reference to the session: a deleted one is freed, and the socket then closes.
+  SessionSocket(std::shared_ptr<Registry> registry, const std::shared_ptr<Live>& live, Caller caller)
+      : registry_(std::move(registry)), id_(live->id), clients_(live->clients), caller_(std::move(caller)) {
+    ++*clients_;
+  }
+  ~SessionSocket() override { --*clients_; }
+
+  std::string close_reason() const override { return registry_->find_if_live(id_) ? "" : "session " + id_ + " ended"; }
+
+  Response on_message(const std::string& text) override;
+
+  double push_rate() const override { return rate_; }
+
+  std::vector<Response> push_frames(std::uint64_t dropped) override {
+    const std::shared_ptr<Live> live = registry_->find_if_live(id_);
+    if (!live) {
+      rate_ = 0.0;  // the session is gone
+      return {};
+    }
+    std::unique_lock lock(live->mutex, std::try_to_lock);
+    if (!lock) return {};  // stepping: the next frame will show it
+    const auto& events = live->session().state().events;
+    const bool reset = live->generation != pushed_generation_;
+    if (reset) {
+      events_pushed_ = 0;
+      pushed_generation_ = live->generation;
+    }
+    const std::int64_t tick = live->session().state().tick;
+    if (!reset && tick == pushed_tick_ && events_pushed_ == events.size()) return {};  // nothing new
+    json frame = state_of(*live, std::numeric_limits<std::int64_t>::max());
+    json fresh = json::array();
+    for (std::size_t e = events_pushed_; e < events.size(); ++e) fresh.push_back(event_json(events[e]));
+    frame["events"] = fresh;
+    frame["dropped_frames"] = dropped;
+    frame["type"] = "state_frame";
+    events_pushed_ = events.size();
+    pushed_tick_ = tick;
+    std::vector<Response> frames{Response::json(200, frame)};
+    if (camera_) {
+      try {
+        frames.push_back(camera_frame(live->session(), camera_->name, camera_->width, camera_->height, camera_->ids));
+      } catch (const core::Error&) {
+        camera_.reset();  // the robot carrying it left the session
+      }
+    }
+    return frames;
+  }
+
+ private:
+  Response on_step(const std::shared_ptr<Live>& live, json& body) {
+    refuse_unknown_keys(body, {"n", "action"});
+    const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
+    const auto action = action_of(body);
+    check_lockstep(*live);
+    return Response::later([live, steps, action] {
+      try {
+        std::lock_guard lock(live->mutex);
+        return reply("step", step_session(*live, steps, action));
+      } catch (const core::Error& e) {
+        return failure(e);
+      }
+    });
+  }
+
+  Response on_commands(const std::shared_ptr<Live>& live, json& body) {
+    refuse_unknown_keys(body, {"commands"});
+    if (!body.contains("commands") || !body["commands"].is_array()) {
+      throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
+    }
+    return answer_locked(live, [commands = body["commands"]](Live& session) { return reply("commands", give_commands(session, commands)); });
+  }
+
+  Response on_snapshot(const std::shared_ptr<Live>& live, json& body) {
+    refuse_unknown_keys(body, {});
+    return answer_locked(live, [](Live& session) { return reply("snapshot", take_snapshot(session)); });
+  }
+
+  Response on_restore(const std::shared_ptr<Live>& live, json& body) {
+    return Response::later([live, body] {
+      try {
+        std::lock_guard lock(live->mutex);
+        return reply("restore", restore_snapshot(*live, body));
+      } catch (const core::Error& e) {
+        return failure(e);
+      }
+    });
+  }
+
+  Response on_sensors(const std::shared_ptr<Live>& live, json& body) {
+    refuse_unknown_keys(body, {"robot"});
+    if (!body.contains("robot") || !body["robot"].is_string()) {
+      throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
+    }
+    return answer_locked(live, [robot = body["robot"].get<std::string>()](Live& session) { return reply("sensors", sensors_of(session.session(), robot)); });
+  }
+
+  Response on_laser(const std::shared_ptr<Live>& live, json& body) {
+    refuse_unknown_keys(body, {"robot", "sensor"});
+    if (!body.contains("robot") || !body["robot"].is_string()) {
+      throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
+    }
+    if (body.contains("sensor") && !body["sensor"].is_string()) {
+      throw core::Error(core::ErrorCode::bad_request, "sensor: a laser's name", {{"pointer", "/sensor"}});
+    }
+    return answer_locked(live, [robot = body["robot"].get<std::string>(), sensor = body.value("sensor", "")](Live& session) {
+      return Response{200, kBinaryContentType, laser_of(session.session(), robot, sensor), {}, {}};
+    });
+  }
+
+  Response on_camera(const std::shared_ptr<Live>& live, json& body) {
+    refuse_unknown_keys(body, {"camera", "width", "height", "ids"});
+    if (!body.contains("camera") || !body["camera"].is_string()) {
+      throw core::Error(core::ErrorCode::bad_request, "camera: a camera's name is required", {{"pointer", "/camera"}});
+    }
+    const auto width = static_cast<int>(integer_field(body, "width", 16, kMaxFrameSize, 0));
+    const auto height = static_cast<int>(integer_field(body, "height", 16, kMaxFrameSize, 0));
+    if (body.contains("ids") && !body["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/ids"}});
+    return answer_locked(live, [camera = body["camera"].get<std::string>(), width, height, ids = body.value("ids", false)](Live& session) {
+      return camera_frame(session.session(), camera, width, height, ids);
+    });
+  }
+
+  Response on_subscribe(const std::shared_ptr<Live>& live, json& body) {
+    refuse_unknown_keys(body, {"rate", "camera"});
+    if (!body.contains("rate") || !body["rate"].is_number() || !(body["rate"].get<double>() >= 0.0) ||
+        body["rate"].get<double>() > kMaxPushRate) {
+      throw core::Error(core::ErrorCode::bad_request, "rate: frames per second from 0 (stop) to " + std::to_string(static_cast<int>(kMaxPushRate)),
+                        {{"pointer", "/rate"}});
+    }
+    std::optional<CameraSubscription> camera;
+    if (body.contains("camera") && !body["camera"].is_null()) {
+      const json& asked = body["camera"];
+      if (!asked.is_object() || !asked.contains("name") || !asked["name"].is_string()) {
+        throw core::Error(core::ErrorCode::bad_request, "camera: {name, width, height, ids}", {{"pointer", "/camera"}});
+      }
+      refuse_unknown_keys(asked, {"name", "width", "height", "ids"}, "/camera");
+      camera = CameraSubscription{asked["name"], static_cast<int>(integer_field(asked, "width", 16, kMaxFrameSize, 0, "/camera")),
+                                  static_cast<int>(integer_field(asked, "height", 16, kMaxFrameSize, 0, "/camera")), false};
+      if (asked.contains("ids") && !asked["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/camera/ids"}});
+      camera->ids = asked.value("ids", false);
+      // An unknown camera is refused now, unless the session is busy (then the first push drops it).
+      if (std::unique_lock lock(live->mutex, std::try_to_lock); lock) sim::camera_of(live->session(), camera->name, camera->width, camera->height);
+    }
+    rate_ = body["rate"].get<double>();
+    camera_ = rate_ > 0.0 ? camera : std::nullopt;  // rate 0 stops both kinds of frame
+    json answer = {{"rate", rate_}, {"camera", nullptr}};
+    if (camera_) answer["camera"] = {{"name", camera_->name}, {"width", camera_->width}, {"height", camera_->height}, {"ids", camera_->ids}};
+    return reply("subscribed", answer);
+  }
+
+  Response on_state(const std::shared_ptr<Live>& live, json& body) {
+    refuse_unknown_keys(body, {"events_since"});
+    const auto since = integer_field(body, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
+    return answer_locked(live, [since](Live& session) { return reply("state", state_of(session, since)); });
+  }
+
+  /// locked(), with errors answered as WebSocket error messages wherever the work runs.
+  static Response answer_locked(std::shared_ptr<Live> live, std::function<Response(Live&)> work) {
+    return locked(std::move(live), [work = std::move(work)](Live& session) {
+      try {
+        return work(session);
+      } catch (const core::Error& e) {
+        return failure(e);
+      } catch (const json::exception& e) {
+        return failure(wrong_type(e));
+      }
+    });
+  }
+
+  /// A value of the wrong JSON type somewhere in a message (the router says the same of a REST body).
+  static core::Error wrong_type(const json::exception& e) {
+    return core::Error(core::ErrorCode::bad_request, std::string("invalid message: ") + e.what());
+  }
+
+  static Response reply(const char* type, json body) {
+    body["type"] = type;
+    return Response::json(200, body);
+  }
+  static Response failure(const core::Error& error) {
+    json body = error.to_json();
+    body["type"] = "error";
+    return Response::json(http_status(error.code()), body);
+  }
+
+  std::shared_ptr<Registry> registry_;
+  std::string id_;
+  std::shared_ptr<std::atomic<int>> clients_;  ///< the session's count of connected clients, shared with it
+  Caller caller_;
+  // Touched on the connection's strand only.
+  double rate_ = 0.0;              ///< state frames per second subscribed to
+  struct CameraSubscription {
+    std::string name;
+    int width = 0, height = 0;
+    bool ids = false;
+  };
+  std::optional<CameraSubscription> camera_;  ///< a camera frame follows each state frame
+  std::size_t events_pushed_ = 0;  ///< events before this index were in a frame
+  std::int64_t pushed_tick_ = -1;
+  std::uint64_t pushed_generation_ = 0;  ///< the session's resets when the last frame was pushed
+};
+
+const std::array<SessionSocket::MessageType, 9> SessionSocket::kMessageTypes{{
+    {"step", &SessionSocket::on_step, true},
+    {"commands", &SessionSocket::on_commands, true},
+    {"snapshot", &SessionSocket::on_snapshot, true},
+    {"restore", &SessionSocket::on_restore, true},
+    {"state", &SessionSocket::on_state, false},
+    {"sensors", &SessionSocket::on_sensors, false},
+    {"laser", &SessionSocket::on_laser, false},
+    {"camera", &SessionSocket::on_camera, false},
+    {"subscribe", &SessionSocket::on_subscribe, false},
+}};
+
+Response SessionSocket::on_message(const std::string& text) {
+  try {
+    Request message;
+    message.body = text;
+    json body = json_object_body(message);
+    if (body.contains("type") && !body["type"].is_string()) throw core::Error(core::ErrorCode::bad_request, "type: a string", {{"pointer", "/type"}});
+    const std::string type = body.value("type", "");
+    body.erase("type");
+    const auto live = registry_->find(id_, caller_);
+    const auto found = std::find_if(kMessageTypes.begin(), kMessageTypes.end(), [&](const MessageType& known) { return known.name == type; });
+    if (found == kMessageTypes.end()) {
+      std::string names;
+      for (const MessageType& known : kMessageTypes) names += (names.empty() ? "" : &known == &kMessageTypes.back() ? " or " : ", ") + std::string(known.name);
+      throw core::Error(core::ErrorCode::bad_request, "type must be " + names, {{"pointer", "/type"}});
+    }
+    if (caller_.read_only && found->changes_session) {
+      throw core::Error(core::ErrorCode::forbidden, "this socket's token may only read", {{"pointer", "/type"}});
+    }
+    return (this->*found->handle)(live, body);
+  } catch (const core::Error& e) {
+    return failure(e);
+  } catch (const json::exception& e) {
+    return failure(wrong_type(e));
+  }
+}
+
+}  // namespace
+
+std::shared_ptr<WebSocketPeer> open_session_socket(std::shared_ptr<Registry> registry, const std::shared_ptr<Live>& live, Caller caller) {
+  return std::make_shared<SessionSocket>(std::move(registry), live, std::move(caller));
+}
+
+}  // namespace hrisim::http

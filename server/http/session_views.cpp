@@ -1,0 +1,261 @@
+#include "http/session_views.hpp"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "core/error.hpp"
+#include "http/frames.hpp"
+#include "render/image_codec.hpp"
+
+namespace hrisim::http {
+
+using nlohmann::json;
+
+json event_json(const sim::Event& event) {
+  return {{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}};
+}
+
+/// The events of tick `first` and later; they are kept in tick order, so only the new ones are looked at.
+static json events_since(const sim::Session& session, std::int64_t first) {
+  const auto& events = session.state().events;
+  auto begin = events.end();
+  while (begin != events.begin() && std::prev(begin)->tick >= first) --begin;
+  json list = json::array();
+  for (auto event = begin; event != events.end(); ++event) list.push_back(event_json(*event));
+  return list;
+}
+
+/// Status of a session (its lock held).
+json status_of(const Live& live) {
+  const sim::Session& session = live.session();
+  const sim::State& state = session.state();
+  const bool in_step = state.step < static_cast<int>(session.model().steps.size());
+  return {{"id", live.id},
+          {"scenario", live.scenario},
+          {"seed", live.seed},
+          {"mode", live.mode},
+          {"realtime_factor", live.mode == "realtime" ? json(live.realtime_factor) : json()},
+          {"controller", live.controller ? *live.controller : json()},
+          {"connected_clients", live.clients->load()},
+          {"tick", state.tick},
+          {"time", session.time()},
+          {"dt", session.model().dt},
+          {"status", state.finished ? "finished" : "running"},
+          {"termination", state.finished ? json(state.termination) : json()},
+          {"step", in_step ? json{{"index", state.step}, {"name", session.model().steps[state.step].name}} : json()},
+          {"task", session.model().task && live.environment() ? json{{"name", session.model().task->name},
+                                                                     {"step_ticks", live.environment()->step_ticks()},
+                                                                     {"terminated", live.environment()->terminated()}}
+                                                              : json()},
+          {"state_hash", session.state_hash_hex()}};
+}
+
+/// Every agent's pose and motion, requests waiting for an answer, and the events since a tick.
+/// The waypoints an agent still has to pass, from where it is: [[x, y], …]; empty when it stands.
+static json path_ahead(const sim::AgentState& agent) {
+  json points = json::array();
+  if (!agent.navigating) return points;
+  points.push_back({agent.position.x(), agent.position.y()});
+  for (std::size_t w = agent.path_index; w < agent.path.size(); ++w) points.push_back({agent.path[w].x(), agent.path[w].y()});
+  return points;
+}
+
+json state_of(const Live& live, std::int64_t events_since_tick) {
+  const sim::Session& session = live.session();
+  const sim::State& state = session.state();
+  json agents = json::array();
+  for (std::size_t i = 0; i < state.agents.size(); ++i) {
+    const sim::AgentState& agent = state.agents[i];
+    const scenario::AgentDef& def = session.model().agents[i];
+    agents.push_back({{"id", def.id},
+                      {"kind", def.kind == scenario::AgentKind::human ? "human" : "robot"},
+                      {"active", agent.active},
+                      {"x", agent.position.x()},
+                      {"y", agent.position.y()},
+                      {"theta", agent.heading},
+                      {"vx", agent.velocity.x()},
+                      {"vy", agent.velocity.y()},
+                      {"busy", !agent.program.empty()},
+                      {"path", path_ahead(agent)},
+                      {"motion", agent.motion ? json(agent.motion->name()) : json()}});
+  }
+  json requests = json::array();
+  for (const sim::OpenRequest& open : state.requests) {
+    requests.push_back({{"robot", session.model().agents[open.robot].id}, {"task", session.model().tasks[open.task].name}});
+  }
+  json reply = status_of(live);
+  reply["agents"] = agents;
+  reply["requests"] = requests;
+  reply["events"] = events_since(session, events_since_tick);
+  return reply;
+}
+
+/// A pose as x, y, z, roll, pitch, yaw (rpy about fixed x, y, z).
+json pose_json(const Eigen::Isometry3d& pose) {
+  const Eigen::Matrix3d r = pose.rotation();  // = Rz(yaw) Ry(pitch) Rx(roll)
+  const double yaw = std::atan2(r(1, 0), r(0, 0)), pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0)), roll = std::atan2(r(2, 1), r(2, 2));
+  return {{"x", pose.translation().x()}, {"y", pose.translation().y()}, {"z", pose.translation().z()},
+          {"roll", roll}, {"pitch", pitch}, {"yaw", yaw}};
+}
+
+/// A number as JSON, infinities spelled "inf" and "-inf", which JSON numbers cannot hold (REP 117's
+/// out-of-range laser values, unbounded Box spaces).
+json number_or_infinity(double value) {
+  if (std::isfinite(value)) return value;
+  return value > 0 ? "inf" : "-inf";
+}
+
+/// A Gymnasium space in gym-http-api's form: {"name": "Box", shape, low, high, dtype} or {"name": "Discrete", n}.
+/// low and high hold one value per element, or one for all of them. An image observation names its
+/// camera: the observation is that camera's frame, not in the step's JSON.
+json space_json(const tasks::Space& space, const std::optional<tasks::ImageObservation>& image) {
+  if (space.name == "Discrete") return {{"name", "Discrete"}, {"n", space.n}};
+  json low = json::array(), high = json::array();
+  for (const double value : space.low) low.push_back(number_or_infinity(value));
+  for (const double value : space.high) high.push_back(number_or_infinity(value));
+  json doc = {{"name", space.name}, {"shape", space.shape}, {"low", low}, {"high", high}, {"dtype", space.dtype}};
+  if (image) doc["camera"] = {{"name", image->camera}, {"width", image->width}, {"height", image->height}};
+  return doc;
+}
+
+/// A robot's latest sensor readings and its joints (the session's lock held).
+json sensors_of(const sim::Session& session, const std::string& name) {
+  const int agent = session.model().find_agent(name);
+  if (agent < 0) throw core::Error(core::ErrorCode::not_found, "no agent '" + name + "'", {{"name", name}});
+  const sim::RobotRuntime* runtime = session.robot_runtime(session.agent_id(name));
+  if (!runtime) throw core::Error(core::ErrorCode::not_found, "'" + name + "' is not a robot with a model", {{"name", name}});
+  json lasers = json::array();
+  for (const auto& sensor : runtime->lasers) {
+    const sim::LaserReading& reading = sensor.reading;
+    json ranges = json::array();
+    for (const double range : reading.ranges) ranges.push_back(number_or_infinity(range));
+    lasers.push_back({{"sensor", reading.sensor}, {"type", sensor.mount->type}, {"tick", reading.tick},
+                      {"pose", {{"x", reading.pose.x}, {"y", reading.pose.y}, {"theta", reading.pose.theta}}}, {"height", reading.height},
+                      {"angle_min", reading.angle_min}, {"angle_increment", reading.angle_increment}, {"range_min", reading.range_min},
+                      {"range_max", reading.range_max}, {"ranges", ranges}});
+  }
+  json people = json::array();
+  for (const sensors::Detection& person : runtime->people.people) {
+    people.push_back({{"id", session.model().agents[person.agent].id}, {"x", person.position.x()}, {"y", person.position.y()},
+                      {"vx", person.velocity.x()}, {"vy", person.velocity.y()}, {"range", person.range}, {"bearing", person.bearing}});
+  }
+  json joints = json::array();
+  const auto& description = runtime->robot.description();
+  for (std::size_t j = 0; j < description.joints.size(); ++j) {
+    if (description.joints[j].type == robots::JointType::fixed) continue;
+    joints.push_back({{"name", description.joints[j].name}, {"position", runtime->robot.joint_position(static_cast<int>(j))},
+                      {"velocity", runtime->robot.joint_velocity(static_cast<int>(j))}});
+  }
+  json contacts = json::array();
+  for (const sim::Contact& contact : runtime->contacts) {
+    const std::string with = contact.agent >= 0    ? session.model().agents[contact.agent].id
+                             : contact.object >= 0 ? session.model().objects[contact.object].name
+                                                   : "map";
+    contacts.push_back({{"with", with}, {"part", contact.part}});
+  }
+  const sim::OdometryReading& odometry = runtime->odometry_reading;
+  return {{"robot", name},
+          {"tick", session.state().tick},
+          {"lasers", lasers},
+          {"people", {{"tick", runtime->people.tick}, {"detections", people}}},
+          {"odometry", {{"tick", odometry.tick}, {"x", odometry.pose.x}, {"y", odometry.pose.y}, {"theta", odometry.pose.theta},
+                        {"linear", odometry.twist.linear}, {"angular", odometry.twist.angular}}},
+          {"joints", joints},
+          {"gripper_closed", runtime->robot.gripper_closed()},
+          {"contacts", contacts}};
+}
+
+/// Every agent's and movable object's pose.
+json poses_of(const sim::Session& session) {
+  json agents = json::array(), objects = json::array();
+  for (std::size_t i = 0; i < session.state().agents.size(); ++i) {
+    const sim::AgentState& agent = session.state().agents[i];
+    agents.push_back({{"id", session.model().agents[i].id}, {"x", agent.position.x()}, {"y", agent.position.y()}, {"z", 0.0},
+                      {"roll", 0.0}, {"pitch", 0.0}, {"yaw", agent.heading}});
+  }
+  for (std::size_t o = 0; o < session.model().objects.size(); ++o) {
+    json pose = pose_json(session.object_pose(static_cast<int>(o)));
+    pose["name"] = session.model().objects[o].name;
+    objects.push_back(pose);
+  }
+  return {{"agents", agents}, {"objects", objects}};
+}
+
+/// Gymnasium's observation and info now: the observation null when it is a camera image (fetched as
+/// a binary camera frame), info the tick, time and the last step's reward terms.
+void add_observation(const Live& live, json& reply) {
+  const sim::Session& session = live.session();
+  reply["observation"] = live.environment() && !live.environment()->image() ? json(live.environment()->observe(session)) : json();
+  reply["info"] = {{"tick", session.state().tick}, {"time", session.time()}};
+  if (live.environment()) reply["info"].update(live.environment()->info());
+}
+
+json snapshot_json(const std::string& id, const episode::Episode::Snapshot& snapshot) {
+  return {{"snapshot", id}, {"tick", snapshot.tick}, {"state_hash", sim::hash_hex(snapshot.state_hash)}};
+}
+
+/// A laser scan as a binary WebSocket message: a 56-byte little-endian header, then the ranges as
+/// float32 (REP 117: +inf beyond range_max, -inf closer than range_min). Layout in api/asyncapi.yaml.
+static std::string laser_frame(const sim::LaserReading& reading, double dt) {
+  static_assert(std::endian::native == std::endian::little, "binary frames are written in the host's byte order");
+  std::string frame(56 + 4 * reading.ranges.size(), '\0');
+  char* out = frame.data();
+  const auto put = [&](std::size_t offset, auto value) { std::memcpy(out + offset, &value, sizeof value); };
+  std::memcpy(out, "HRLS", 4);
+  put(4, std::uint16_t{1});   // format version
+  put(6, std::uint16_t{56});  // header size
+  put(8, std::int64_t{reading.tick});
+  put(16, static_cast<double>(reading.tick) * dt);
+  put(24, static_cast<float>(reading.pose.x));
+  put(28, static_cast<float>(reading.pose.y));
+  put(32, static_cast<float>(reading.pose.theta));
+  put(36, static_cast<float>(reading.angle_min));
+  put(40, static_cast<float>(reading.angle_increment));
+  put(44, static_cast<float>(reading.range_min));
+  put(48, static_cast<float>(reading.range_max));
+  put(52, static_cast<std::uint32_t>(reading.ranges.size()));
+  for (std::size_t i = 0; i < reading.ranges.size(); ++i) put(56 + 4 * i, static_cast<float>(reading.ranges[i]));
+  return frame;
+}
+
+/// A robot's laser reading by sensor name (the first laser when empty), as a binary frame.
+std::string laser_of(const sim::Session& session, const std::string& robot, const std::string& sensor) {
+  const int agent = session.model().find_agent(robot);
+  const sim::RobotRuntime* runtime = agent < 0 ? nullptr : session.robot_runtime(session.agent_id(robot));
+  if (!runtime) throw core::Error(core::ErrorCode::not_found, "no robot with a model named '" + robot + "'", {{"pointer", "/robot"}});
+  for (const auto& laser : runtime->lasers) {
+    if (sensor.empty() || laser.reading.sensor == sensor) return laser_frame(laser.reading, session.model().dt);
+  }
+  throw core::Error(core::ErrorCode::not_found, "robot '" + robot + "' has no laser" + (sensor.empty() ? "" : " named '" + sensor + "'"),
+                    {{"pointer", sensor.empty() ? "/robot" : "/sensor"}});
+}
+
+/// A camera's name, kind, image size, intrinsics, range, rate and pose (position and quaternion x, y, z, w).
+json camera_json(const sim::CameraInfo& info) {
+  const render::Camera& c = info.camera;
+  const Eigen::Quaterniond q(c.pose.rotation());
+  json camera = {{"name", info.name}, {"kind", info.kind}, {"width", c.width}, {"height", c.height}, {"near", c.near}, {"far", c.far},
+                 {"rate", info.rate},
+                 {"pose", {{"position", {c.pose.translation().x(), c.pose.translation().y(), c.pose.translation().z()}},
+                           {"orientation", {q.x(), q.y(), q.z(), q.w()}}}}};
+  if (c.orthographic_width > 0.0) {
+    camera["orthographic_width"] = c.orthographic_width;
+  } else {
+    camera["fx"] = c.fx, camera["fy"] = c.fy, camera["cx"] = c.cx, camera["cy"] = c.cy;
+  }
+  return camera;
+}
+
+/// A binary RGB-D frame of a camera, as a deferred answer: the scene is taken now (the caller holds
+/// the session's lock), the worker pool draws it.
+Response camera_frame(const sim::Session& session, const std::string& name, int width, int height, bool ids) {
+  sim::CameraInfo camera = sim::camera_of(session, name, width, height);
+  render::Scene scene = sim::scene_for(session, camera);
+  return Response::later([scene = std::move(scene), camera = std::move(camera), tick = session.state().tick, time = session.time(), ids] {
+    return Response{200, kBinaryContentType, camera_message(render::render_on_this_thread(scene, camera.camera), camera, tick, time, ids), {}, {}};
+  });
+}
+
+}  // namespace hrisim::http
