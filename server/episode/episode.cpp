@@ -18,8 +18,10 @@ int robot_under_test(const scenario::Model& model) {
 /// Adds a step's reward to the sums, term by term (in the order the terms first came).
 void add_to(tasks::Reward& sum, const tasks::Reward& reward) {
   sum.total += reward.total;
-  for (const auto& [name, value] : reward.terms) {
-    auto found = std::find_if(sum.terms.begin(), sum.terms.end(), [&](const auto& term) { return term.first == name; });
+  for (const auto& term : reward.terms) {
+    const std::string& name = term.first;
+    const double value = term.second;
+    auto found = std::find_if(sum.terms.begin(), sum.terms.end(), [&](const auto& known) { return known.first == name; });
     if (found == sum.terms.end()) {
       sum.terms.emplace_back(name, value);
     } else {
