@@ -47,6 +47,8 @@ inline Vec2 left_normal(const Vec2& v) { return {-v.y(), v.x()}; }
 std::string point_text(const Vec2& p);
 
 /// 2D cross product (z of the 3D one).
+/// Heading of the direction from `from` to `to`, rad.
+inline double direction_to(const Vec2& from, const Vec2& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
 inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 /// Unit vector of heading theta.

@@ -16,8 +16,6 @@ using Kind = scenario::Action::Kind;
 /// Instant actions (publish, zero waits) chained within one tick per agent, at most.
 constexpr int kMaxActionsPerTick = 64;
 
-double direction_to(const Vec2& from, const Vec2& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
-
 /// Spot of member `role` of a group of `size` in the leader's frame: a pair side by side, larger
 /// groups three abreast in rows behind the leader.
 Vec2 formation_offset(int role, int size) {
@@ -96,11 +94,11 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       self.target_heading = core::wrap_angle(self.heading + action.value);
       return true;
     case Kind::look_at_location:
-      self.target_heading = direction_to(self.position, model.locations[action.target].pose.position());
+      self.target_heading = core::direction_to(self.position, model.locations[action.target].pose.position());
       return true;
     case Kind::look_at_agent:
       self.look_at_agent = action.target;
-      self.target_heading = direction_to(self.position, state.agents[action.target].position);
+      self.target_heading = core::direction_to(self.position, state.agents[action.target].position);
       return true;
     case Kind::publish:
       state.topics[action.topic] = action.message;

@@ -95,7 +95,7 @@ PhysicsBodies build_physics(const scenario::Model& model, State& state, const Hu
     robots::Shape slab;
     slab.size = Eigen::Vector3d(door.width(), door.thickness, scenario::kDefaultObstacleHeight);
     Eigen::Isometry3d pose = upright(0.5 * (door.from + door.to), 0.5 * scenario::kDefaultObstacleHeight);
-    pose.rotate(Eigen::AngleAxisd(std::atan2(door.to.y() - door.from.y(), door.to.x() - door.from.x()), Eigen::Vector3d::UnitZ()));
+    pose.rotate(Eigen::AngleAxisd(core::direction_to(door.from, door.to), Eigen::Vector3d::UnitZ()));
     physics.doors.push_back(world.add_kinematic(slab, pose, {BodyOwner::Kind::map, -1, door.name}));
     world.set_enabled(physics.doors.back(), door_blocks(state, static_cast<int>(d)));
   }

@@ -13,8 +13,6 @@ namespace {
 
 using scenario::AgentKind;
 
-double direction_to(const Vec2& from, const Vec2& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
-
 /// A human's gait, turn rate and motion primitive after it moved this tick and turned by `turned`.
 void advance_body(const scenario::Model& model, const State& state, AgentState& self, double turned) {
   const double speed = self.velocity.norm();
@@ -85,13 +83,13 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
     const Vec2 to_spot = in_the_way - self.position;
     preferred = to_spot.norm() > 0.1 ? Vec2(to_spot.normalized() * std::min(self.preferred_speed, to_spot.norm() / kArrivalSlowdown * self.preferred_speed))
                                     : Vec2::Zero();
-    self.target_heading = direction_to(self.position, robot.position);
+    self.target_heading = core::direction_to(self.position, robot.position);
   }
   if (self.watched_robot >= 0 && state.tick < self.watch_until_tick) {
     const Vec2 robot = state.agents[self.watched_robot].position;
     if ((robot - self.position).norm() <= self.watch_distance) {
       preferred = Vec2::Zero();
-      watching_heading = direction_to(self.position, robot);
+      watching_heading = core::direction_to(self.position, robot);
     }
   }
   if (!self.navigating && self.hold) {
@@ -99,7 +97,7 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
     const Vec2 back = *self.hold - self.position;
     if (back.norm() > kHoldTolerance) preferred = back.normalized() * std::min(kHoldSpeed, self.preferred_speed);
   }
-  if (self.look_at_agent >= 0) self.target_heading = direction_to(self.position, state.agents[self.look_at_agent].position);
+  if (self.look_at_agent >= 0) self.target_heading = core::direction_to(self.position, state.agents[self.look_at_agent].position);
   return preferred;
 }
 
