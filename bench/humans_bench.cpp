@@ -103,9 +103,9 @@ struct Measurement {
 
 Measurement measure_once(const std::shared_ptr<const hrisim::scenario::Model>& model, int steps) {
   hrisim::sim::Session session(model, 1);
-  for (int i = 0; i < 30; ++i) session.step();  // first plans
+  for (int i = 0; i < 30; ++i) session.tick();  // first plans
   const auto start = Clock::now();
-  for (int i = 0; i < steps; ++i) session.step();
+  for (int i = 0; i < steps; ++i) session.tick();
   if (session.state().finished) std::fprintf(stderr, "warning: the crowd finished its choreography during the measurement\n");
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return {steps / seconds, session.state_hash()};

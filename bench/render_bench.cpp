@@ -30,12 +30,12 @@ Figures measure(const std::string& scenario, const std::string& camera_name, int
     std::exit(2);
   }
   hrisim::sim::Session session(loaded.model, 1);
-  for (int i = 0; i < 50; ++i) session.step();  // people on their way
+  for (int i = 0; i < 50; ++i) session.tick();  // people on their way
   Figures figures;
   int frames = 0;
   double scene_seconds = 0.0, elapsed = 0.0;
   while (elapsed < seconds) {
-    session.step();  // not timed: stepping is not rendering
+    session.tick();  // not timed: stepping is not rendering
     const auto before = std::chrono::steady_clock::now();
     const hrisim::sim::CameraInfo info = hrisim::sim::camera_of(session, camera_name, width, height);
     const hrisim::render::Scene scene = hrisim::sim::scene_for(session, info);

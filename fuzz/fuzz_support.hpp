@@ -27,7 +27,7 @@ inline void use(const scenario::CompiledSource& compiled) {
   (void)scenario::world_geometry(*compiled.model);
   try {
     sim::Session session(compiled.model, 1);
-    for (int tick = 0; tick < 3 && !session.state().finished; ++tick) session.step();
+    for (int tick = 0; tick < 3 && !session.state().finished; ++tick) session.tick();
   } catch (const core::Error&) {
     // A valid scenario a session refuses (a task that cannot place its human) says so; that is fine.
   }

@@ -25,7 +25,7 @@ constexpr const char* kUsage =
     "            seeds prints its report and exits 1 when a gate fails:\n"
     "            hrisim run FILE [--seed N | --seeds A-B|A,B,C] [--gate EXPR ...] [--junit FILE.xml]\n"
     "                       [--db FILE] [--jobs N] [--controller JSON] [--max-time S] [--events]\n"
-    "                       [--request TIME:TASK ...] [--scenario NAME] [--map FILE] [--trajectory FILE.csv]\n"
+    "                       [--request TIME:ROUTINE ...] [--scenario NAME] [--map FILE] [--trajectory FILE.csv]\n"
     "            (FILE: native JSON, IMHuS or Pedsim XML)\n"
     "  import    convert IMHuS or Pedsim XML to the native JSON on stdout:\n"
     "            hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]\n"

@@ -274,7 +274,7 @@ int run_command(const std::vector<std::string>& args) {
       args, {"--seed", "--seeds", "--db", "--max-time", "--request", "--scenario", "--map", "--trajectory", "--gate", "--junit", "--controller", "--jobs"},
       {"--events", "--baseline-without-robot"},
       "usage: hrisim run FILE [--seed N | --seeds A-B|A,B,C] [--gate EXPR ...] [--junit FILE.xml] [--db FILE] [--jobs N] "
-      "[--controller JSON] [--baseline-without-robot] [--max-time S] [--events] [--request TIME:TASK ...] [--scenario NAME] [--map FILE] "
+      "[--controller JSON] [--baseline-without-robot] [--max-time S] [--events] [--request TIME:ROUTINE ...] [--scenario NAME] [--map FILE] "
       "[--trajectory FILE.csv]");
   const std::string& file = parsed.file;
   std::uint64_t single_seed = 0;
@@ -293,7 +293,7 @@ int run_command(const std::vector<std::string>& args) {
   if (parsed.values.contains("--request")) {
     for (const std::string& text : parsed.values.at("--request")) {
       const auto colon = text.find(':');
-      if (colon == std::string::npos) usage_error("--request: expected TIME:TASK, got '" + text + "'");
+      if (colon == std::string::npos) usage_error("--request: expected TIME:ROUTINE, got '" + text + "'");
       request.requests.emplace_back(parse_seconds("--request", text.substr(0, colon)), text.substr(colon + 1));
     }
   }
@@ -450,7 +450,8 @@ int render_command(const std::vector<std::string>& args) {
   request.seeds = {episode->seed};
   if (config.contains("controller") && !config["controller"].is_null()) request.controller = config["controller"];
   if (config.contains("max_time") && config["max_time"].is_number()) request.max_time = config["max_time"].get<double>();
-  for (const nlohmann::json& asked : config.value("requests", nlohmann::json::array())) request.requests.emplace_back(asked["time"], asked["task"]);
+  // Episodes stored before the rename to "routine" keep "task".
+  for (const nlohmann::json& asked : config.value("requests", nlohmann::json::array())) request.requests.emplace_back(asked["time"], asked.value("routine", asked.value("task", "")));
   const runs::RunSpec spec = runs::make_run_spec(request);
 
   // A frame every `stride` ticks, as close to the asked rate as whole ticks allow.

@@ -37,7 +37,7 @@ Episode::Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t see
   const scenario::Model& scenario = session_->model();
   if (settings.time_limit) session_->set_time_limit(*settings.time_limit);
   for (const auto& [time, name] : settings.requests) {
-    const int task = scenario.find_task(name);
+    const int task = scenario.find_routine(name);
     if (task < 0) throw core::Error(core::ErrorCode::bad_request, "the scenario has no task '" + name + "' to request");
     const int robot = robot_under_test(scenario);
     if (robot < 0) throw core::Error(core::ErrorCode::bad_request, "the scenario has no robot to make the request");
@@ -140,7 +140,7 @@ void Episode::replay(const Snapshot::Entry& entry) {
 }
 
 void Episode::advance() {
-  session_->step();
+  session_->tick();
   if (environment_) {
     environment_->after_tick(*session_);
     if (--ticks_left_ <= 0 || over()) end_step();

@@ -81,15 +81,17 @@ runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue, con
     }
   }
   if (body.contains("requests")) {
-    if (!body["requests"].is_array()) bad("/requests", "requests must be a list of {time, task}");
+    if (!body["requests"].is_array()) bad("/requests", "requests must be a list of {time, routine}");
     for (std::size_t i = 0; i < body["requests"].size(); ++i) {
       const json& item = body["requests"][i];
       const std::string at = "/requests/" + std::to_string(i);
+      // "task" is the routine's former name, still accepted for one version.
+      const char* routine = item.is_object() && item.contains("task") ? "task" : "routine";
       if (!item.is_object() || !item.contains("time") || !item["time"].is_number() || !(item["time"].get<double>() >= 0.0) ||
-          !item.contains("task") || !item["task"].is_string() || item.size() != 2) {
-        bad(at, "a request is {\"time\": seconds >= 0, \"task\": name}");
+          !item.contains(routine) || !item[routine].is_string() || item.size() != 2) {
+        bad(at, "a request is {\"time\": seconds >= 0, \"routine\": name}");
       }
-      request.requests.emplace_back(item["time"].get<double>(), item["task"].get<std::string>());
+      request.requests.emplace_back(item["time"].get<double>(), item[routine].get<std::string>());
     }
   }
   return request;

@@ -91,7 +91,7 @@ static episode::Episode::Input checked_command(const sim::Session& session, cons
     return [agent, close](sim::Session& to) { to.command_robot_gripper(to.agent_at(agent), close); };
   }
   if (command.contains("request")) {
-    const int task = command["request"].is_string() ? session.model().find_task(command["request"]) : -1;
+    const int task = command["request"].is_string() ? session.model().find_routine(command["request"]) : -1;
     if (task < 0) throw core::Error(core::ErrorCode::bad_request, "request: no task by that name", {{"pointer", at + "/request"}});
     return [agent, task](sim::Session& to) { to.request(to.agent_at(agent), task); };
   }

@@ -31,7 +31,8 @@ static json events_since(const sim::Session& session, std::int64_t first) {
 json status_of(const Live& live) {
   const sim::Session& session = live.session();
   const sim::State& state = session.state();
-  const bool in_step = state.step < static_cast<int>(session.model().steps.size());
+  const bool in_step = state.current_step < static_cast<int>(session.model().steps.size());
+  const json current_step = in_step ? json{{"index", state.current_step}, {"name", session.model().steps[state.current_step].name}} : json();
   return {{"id", live.id},
           {"scenario", live.scenario},
           {"seed", live.seed},
@@ -44,7 +45,8 @@ json status_of(const Live& live) {
           {"dt", session.model().dt},
           {"status", state.finished ? "finished" : "running"},
           {"termination", state.finished ? json(state.termination) : json()},
-          {"step", in_step ? json{{"index", state.step}, {"name", session.model().steps[state.step].name}} : json()},
+          {"current_step", current_step},
+          {"step", current_step},  // the former name, kept for one version
           {"task", session.model().task && live.environment() ? json{{"name", session.model().task->name},
                                                                      {"step_ticks", live.environment()->step_ticks()},
                                                                      {"terminated", live.environment()->terminated()}}
@@ -83,7 +85,8 @@ json state_of(const Live& live, std::int64_t events_since_tick) {
   }
   json requests = json::array();
   for (const sim::OpenRequest& open : state.requests) {
-    requests.push_back({{"robot", session.model().agents[open.robot].id}, {"task", session.model().tasks[open.task].name}});
+    const std::string& routine = session.model().routines[open.routine].name;
+    requests.push_back({{"robot", session.model().agents[open.robot].id}, {"routine", routine}, {"task", routine}});  // "task": the former name, for one version
   }
   json reply = status_of(live);
   reply["agents"] = agents;

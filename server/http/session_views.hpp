@@ -10,7 +10,7 @@
 #include "http/live_sessions.hpp"
 #include "sim/scene_view.hpp"
 #include "sim/session.hpp"
-#include "tasks/task.hpp"
+#include "tasks/view.hpp"
 
 namespace hrisim::http {
 

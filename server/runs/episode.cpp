@@ -124,9 +124,10 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
                       {"theta", agent.heading},
                       {"busy", !agent.program.empty()}});
   }
-  const bool in_step = state.step < static_cast<int>(model.steps.size());
+  const bool in_step = state.current_step < static_cast<int>(model.steps.size());
   json metric_values = json::object();
   for (const storage::MetricValue& metric : record.metrics) metric_values[metric.key] = metric.value ? json(*metric.value) : json();
+  const json current_step = in_step ? json{{"index", state.current_step}, {"name", model.steps[state.current_step].name}} : json();
   result.summary = {{"scenario", model.name},
                     {"seed", seed},
                     {"dt", model.dt},
@@ -134,7 +135,8 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
                     {"sim_time", session.time()},
                     {"completed", state.termination == "scenario_end"},
                     {"termination", state.termination},
-                    {"step", in_step ? json{{"index", state.step}, {"name", model.steps[state.step].name}} : json()},
+                    {"current_step", current_step},
+                    {"step", current_step},  // the former name, kept for one version
                     {"steps", steps_json(session)},
                     {"events", counts},
                     {"agents", agents},

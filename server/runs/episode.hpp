@@ -33,7 +33,7 @@ std::int64_t trajectory_stride(double dt);
 
 struct EpisodeOptions {
   std::optional<double> max_time;  ///< s of simulation time; the scenario's limit when empty
-  std::vector<std::pair<double, std::string>> requests;  ///< the robot asks for task (second) at time (first)
+  std::vector<std::pair<double, std::string>> requests;  ///< the robot asks for routine (second) at time (first)
   std::function<void(const sim::Session&)> observe;      ///< called at the start and after every step, read-only
   const std::atomic<bool>* cancel = nullptr;             ///< stops the episode at its next step when set
   /// Also runs the seed without the robots to measure human_path_deviation (twice the work).

@@ -30,7 +30,7 @@ struct RunSpec {
   std::string controller;  ///< its type, as listed
   nlohmann::json config;   ///< stored with the run: seeds, gates, controller, max time, provenance
   std::optional<double> max_time;
-  std::vector<std::pair<double, std::string>> requests;  ///< scripted robot requests (time, task)
+  std::vector<std::pair<double, std::string>> requests;  ///< scripted robot requests (time, routine)
   bool baseline_without_robot = false;                    ///< see EpisodeOptions
   std::string owner;  ///< who started it (a token's name); empty without owners
 };

@@ -84,7 +84,7 @@ RunSpec make_run_spec(const RunRequest& request) {
     }
   }
   for (std::size_t i = 0; loaded.model && i < request.requests.size(); ++i) {
-    if (loaded.model->find_task(request.requests[i].second) < 0) {
+    if (loaded.model->find_routine(request.requests[i].second) < 0) {
       problem("/requests/" + std::to_string(i), "the scenario has no task '" + request.requests[i].second + "'");
     }
   }
@@ -104,7 +104,7 @@ RunSpec make_run_spec(const RunRequest& request) {
   spec.requests = request.requests;
   spec.baseline_without_robot = request.baseline_without_robot;
   json requests = json::array();
-  for (const auto& [time, task] : request.requests) requests.push_back({{"time", time}, {"task", task}});
+  for (const auto& [time, routine] : request.requests) requests.push_back({{"time", time}, {"routine", routine}});
   spec.config = {{"scenario", request.scenario_id},
                  {"seeds", request.seeds},
                  {"gates", request.gates},

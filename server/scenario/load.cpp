@@ -54,7 +54,7 @@ std::vector<Vec2> wall_polygon(const Vec2& from, const Vec2& to, double thicknes
 
 /// Names of everything the scenario declares, for resolving references.
 struct Names {
-  std::map<std::string, int> locations, social_spaces, agents, tasks, doors, groups;
+  std::map<std::string, int> locations, social_spaces, agents, routines, doors, groups;
   std::set<std::string> robots;
 };
 
@@ -77,7 +77,7 @@ class Loader {
     read_objects(*model);
     collect_task_names(*model);
     read_groups(*model);
-    read_tasks(*model);
+    read_routines(*model);
     read_steps(*model);
     read_async(*model);
     check_task_cycles(*model);
@@ -438,8 +438,8 @@ class Loader {
 
   void collect_task_names(Model& model) {
     for (const auto& [name, unused] : member(doc_, "tasks").items()) {
-      names_.tasks[name] = static_cast<int>(model.tasks.size());
-      model.tasks.push_back({name, {}});
+      names_.routines[name] = static_cast<int>(model.routines.size());
+      model.routines.push_back({name, {}});
     }
   }
 
@@ -490,14 +490,14 @@ class Loader {
     return -1;
   }
 
-  Action read_action(const json& entry, const std::string& pointer, bool in_task) {
+  Action read_action(const json& entry, const std::string& pointer, bool in_routine) {
     Action action;
     action.pointer = pointer;
     if (entry.contains("agent") && entry.contains("group")) {
       error(pointer, "an action names an agent or a group, not both");
     } else if (entry.contains("agent") || entry.contains("group")) {
       const char* key = entry.contains("agent") ? "agent" : "group";
-      if (in_task) {
+      if (in_routine) {
         error(pointer + "/" + key, "actions of a compound task do not name an agent or group: whoever runs the task acts");
       } else if (entry.contains("agent")) {
         action.agent = resolve(names_.agents, entry["agent"], pointer + "/agent", "agent");
@@ -506,7 +506,7 @@ class Loader {
       } else {
         action.group = resolve(names_.groups, entry["group"], pointer + "/group", "group");
       }
-    } else if (!in_task) {
+    } else if (!in_routine) {
       error(pointer, "missing required key 'agent' (or 'group')");
     }
     auto robot = [&](const json& name, const std::string& at) {
@@ -576,7 +576,7 @@ class Loader {
       action.radius = attitude.value("distance", harass ? kHarassDistance : kStopAndLookDistance);
     } else if (entry.contains("request")) {
       action.kind = Action::Kind::request;
-      action.target = resolve(names_.tasks, entry["request"]["task"], pointer + "/request/task", "task");
+      action.target = resolve(names_.routines, entry["request"]["task"], pointer + "/request/task", "task");
       if (action.agent >= 0 && !names_.robots.contains(model_for_checks_->agents[action.agent].id)) {
         error(pointer + "/agent", "only a robot makes requests");
       }
@@ -591,8 +591,8 @@ class Loader {
       }
       if (action.agent >= 0 && model_for_checks_->agents[action.agent].kind != AgentKind::human) error(pointer + "/agent", "only a human plays motions");
     } else {
-      action.kind = Action::Kind::run_task;
-      action.target = resolve(names_.tasks, entry["task"], pointer + "/task", "task");
+      action.kind = Action::Kind::run_routine;
+      action.target = resolve(names_.routines, entry["task"], pointer + "/task", "task");
     }
     if (action.agent >= 0) {
       const AgentDef& agent = model_for_checks_->agents[action.agent];
@@ -607,12 +607,12 @@ class Loader {
     return action;
   }
 
-  void read_tasks(Model& model) {
+  void read_routines(Model& model) {
     model_for_checks_ = &model;
     for (const auto& [name, actions] : member(doc_, "tasks").items()) {
-      Task& task = model.tasks[static_cast<std::size_t>(names_.tasks[name])];
+      Routine& routine = model.routines[static_cast<std::size_t>(names_.routines[name])];
       for (std::size_t i = 0; i < actions.size(); ++i) {
-        task.actions.push_back(read_action(actions[i], "/tasks/" + core::pointer_token(name) + "/" + std::to_string(i), true));
+        routine.actions.push_back(read_action(actions[i], "/tasks/" + core::pointer_token(name) + "/" + std::to_string(i), true));
       }
     }
   }
@@ -741,9 +741,9 @@ class Loader {
     const json& async = member(doc_, "async");
     std::set<int> handled;
     for (std::size_t i = 0; i < async.size(); ++i) {
-      const int task = resolve(names_.tasks, async[i]["task"], "/async/" + std::to_string(i) + "/task", "task");
+      const int task = resolve(names_.routines, async[i]["task"], "/async/" + std::to_string(i) + "/task", "task");
       if (task >= 0) {
-        model.async_tasks.push_back(task);
+        model.async_routines.push_back(task);
         handled.insert(task);
       }
     }
@@ -752,8 +752,8 @@ class Loader {
       const std::string pointer = "/requests/" + std::to_string(i);
       Request request;
       request.time = requests[i]["time"];
-      request.task = resolve(names_.tasks, requests[i]["task"], pointer + "/task", "task");
-      if (request.task >= 0 && !handled.contains(request.task)) {
+      request.routine = resolve(names_.routines, requests[i]["task"], pointer + "/task", "task");
+      if (request.routine >= 0 && !handled.contains(request.routine)) {
         error(pointer + "/task", "no entry of 'async' answers task '" + requests[i]["task"].get<std::string>() + "'");
       }
       if (requests[i].contains("robot")) {
@@ -782,15 +782,15 @@ class Loader {
 
   void check_task_cycles(const Model& model) {
     // Depth-first search over task → task calls; a task on the current path reached again is a cycle.
-    std::vector<int> state(model.tasks.size(), 0);  // 0 unseen, 1 on path, 2 done
+    std::vector<int> state(model.routines.size(), 0);  // 0 unseen, 1 on path, 2 done
     std::function<bool(int)> visit = [&](int task) {
       if (state[task] == 1) return true;
       if (state[task] == 2) return false;
       state[task] = 1;
-      for (const Action& action : model.tasks[task].actions) {
-        if (action.kind == Action::Kind::run_task && action.target >= 0 && visit(action.target)) {
-          error(action.pointer + "/task", "task '" + model.tasks[task].name + "' calls itself through '" +
-                                              model.tasks[action.target].name + "'");
+      for (const Action& action : model.routines[task].actions) {
+        if (action.kind == Action::Kind::run_routine && action.target >= 0 && visit(action.target)) {
+          error(action.pointer + "/task", "task '" + model.routines[task].name + "' calls itself through '" +
+                                              model.routines[action.target].name + "'");
           state[task] = 2;
           return false;
         }
@@ -798,7 +798,7 @@ class Loader {
       state[task] = 2;
       return false;
     };
-    for (std::size_t t = 0; t < model.tasks.size(); ++t) visit(static_cast<int>(t));
+    for (std::size_t t = 0; t < model.routines.size(); ++t) visit(static_cast<int>(t));
   }
 
   /// Goals of social-force humans closer to an obstacle than such a human can get are reported: it
@@ -829,8 +829,8 @@ class Loader {
       warnings_.push_back({pointer, message.str()});
     };
     std::function<void(const Action&, std::set<int>&)> visit = [&](const Action& action, std::set<int>& seen) {
-      if (action.kind == Action::Kind::run_task && action.target >= 0 && seen.insert(action.target).second) {
-        for (const Action& inner : model.tasks[action.target].actions) visit(inner, seen);
+      if (action.kind == Action::Kind::run_routine && action.target >= 0 && seen.insert(action.target).second) {
+        for (const Action& inner : model.routines[action.target].actions) visit(inner, seen);
       } else if (action.kind == Action::Kind::go_to_location && action.target >= 0 && action.pose == Pose2{}) {
         const Location& location = model.locations[action.target];
         check(location.pose.position(), location.radius, "/locations/" + core::pointer_token(location.name),
@@ -856,9 +856,9 @@ class Loader {
         if (by_social_force) visit(action, seen);
       }
     }
-    for (int task : model.async_tasks) {  // any idle human may answer, social-force ones included
+    for (int task : model.async_routines) {  // any idle human may answer, social-force ones included
       std::set<int> seen{task};
-      for (const Action& action : model.tasks[task].actions) visit(action, seen);
+      for (const Action& action : model.routines[task].actions) visit(action, seen);
     }
   }
 
@@ -880,9 +880,9 @@ int Model::find_agent(const std::string& id) const {
   return -1;
 }
 
-int Model::find_task(const std::string& task_name) const {
-  for (std::size_t i = 0; i < tasks.size(); ++i) {
-    if (tasks[i].name == task_name) return static_cast<int>(i);
+int Model::find_routine(const std::string& name) const {
+  for (std::size_t i = 0; i < routines.size(); ++i) {
+    if (routines[i].name == name) return static_cast<int>(i);
   }
   return -1;
 }

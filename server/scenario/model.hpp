@@ -161,16 +161,16 @@ struct Action {
     turn_by,             ///< value: angle
     turn_to,             ///< value: heading
     publish,             ///< topic, message
-    run_task,            ///< target: compound task
+    run_routine,         ///< target: routine
     form_group,          ///< target: group; members
     dismantle_group,     ///< target: group
     harass,              ///< target: robot; value: duration; radius: distance in front of it
     stop_and_look,       ///< target: robot; value: duration; radius: distance that stops the human
-    request,             ///< target: compound task a robot asks a human to run
+    request,             ///< target: routine a robot asks a human to run
     play_motion,         ///< motion: a shipped motion primitive; value: seconds it plays
   };
   Kind kind = Kind::wait_duration;
-  int agent = -1;   ///< acting agent in steps; -1 in compound tasks (the invoker acts) and group actions
+  int agent = -1;   ///< acting agent in steps; -1 in routines (the invoker acts) and group actions
   int group = -1;   ///< acting group in steps (goto only), or -1
   std::vector<int> members;  ///< form_group: the new members
   int target = -1;  ///< index of the location, social space, agent or task
@@ -183,7 +183,8 @@ struct Action {
   std::string pointer;  ///< where it stands in the scenario (JSON pointer), for events and errors
 };
 
-struct Task {
+/// An IMHuS compound task (the scenario file's "tasks"): actions an agent runs in order.
+struct Routine {
   std::string name;
   std::vector<Action> actions;
 };
@@ -195,7 +196,7 @@ struct Step {
 
 struct Request {
   double time = 0.0;
-  int task = -1;
+  int routine = -1;  ///< the routine a human is asked to run
   int robot = -1;
 };
 
@@ -302,9 +303,9 @@ struct Model {
   std::vector<AgentDef> agents;  ///< humans then robots, each in file order
   std::vector<MovableObject> objects;
   std::vector<Group> groups;     ///< declared groups (members at the start) and groups formed later (empty)
-  std::vector<Task> tasks;
+  std::vector<Routine> routines;  ///< IMHuS compound tasks (the file's "tasks")
   std::vector<Step> steps;
-  std::vector<int> async_tasks;  ///< tasks humans run when a robot requests them
+  std::vector<int> async_routines;  ///< routines humans run when a robot requests them
   std::vector<Request> requests;  ///< scripted robot requests, by time
 
   std::optional<TaskSettings> task;  ///< a benchmark task; the episode then ends by it or its length
@@ -314,7 +315,7 @@ struct Model {
   double replan_distance = kDefaultReplanDistance;
 
   int find_agent(const std::string& id) const;
-  int find_task(const std::string& name) const;
+  int find_routine(const std::string& name) const;
 };
 
 }  // namespace hrisim::scenario

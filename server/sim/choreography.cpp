@@ -140,7 +140,7 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       self.wait_until_tick = state.tick + ticks(model, action.value);
       return true;
     case Kind::wait_message:
-    case Kind::run_task:
+    case Kind::run_routine:
       return true;
   }
   return true;
@@ -177,7 +177,7 @@ bool action_done(const State& state, int agent, const Action& action) {
     case Kind::request:
       return std::none_of(state.requests.begin(), state.requests.end(), [&](const OpenRequest& open) { return open.id == self.awaited_request; });
     case Kind::publish:
-    case Kind::run_task:
+    case Kind::run_routine:
     case Kind::form_group:
     case Kind::dismantle_group:
     case Kind::stop_and_look:
@@ -206,9 +206,9 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
   for (int guard = 0; guard < kMaxActionsPerTick && !self.program.empty(); ++guard) {
     const PendingAction pending = self.program.front();
     const Action& action = action_of(model, state, pending);
-    if (action.kind == Kind::run_task) {
+    if (action.kind == Kind::run_routine) {
       self.program.pop_front();
-      const auto& actions = model.tasks[action.target].actions;
+      const auto& actions = model.routines[action.target].actions;
       for (std::size_t i = actions.size(); i-- > 0;) self.program.push_front({action.target, static_cast<int>(i), pending.step});
       continue;
     }
@@ -224,8 +224,8 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
 }  // namespace
 
 const Action& action_of(const scenario::Model& model, const State& state, const PendingAction& pending) {
-  if (pending.task == kCommandedAction) return state.commanded[pending.index];
-  return pending.task >= 0 ? model.tasks[pending.task].actions[pending.index] : model.steps[pending.step].actions[pending.index];
+  if (pending.routine == kCommandedAction) return state.commanded[pending.index];
+  return pending.routine >= 0 ? model.routines[pending.routine].actions[pending.index] : model.steps[pending.step].actions[pending.index];
 }
 
 void release_reservations(State& state, int agent) {
@@ -236,7 +236,7 @@ void release_reservations(State& state, int agent) {
 }
 
 void start_step(const scenario::Model& model, State& state, int step) {
-  state.step = step;
+  state.current_step = step;
   state.steps[step].started_tick = state.tick;
   const scenario::Step& definition = model.steps[step];
   emit(model, state, "step_started", definition.name, {{"index", step}});
@@ -258,10 +258,10 @@ void make_request(const scenario::Model& model, State& state, int robot, int rou
   const Vec2 position = state.agents[robot].position;
   const std::int64_t id = state.next_request_id++;
   emit(model, state, "request", model.agents[robot].id,
-       {{"request", id}, {"task", model.tasks[routine].name}, {"x", position.x()}, {"y", position.y()}});
-  if (std::find(model.async_tasks.begin(), model.async_tasks.end(), routine) == model.async_tasks.end()) {
+       {{"request", id}, {"routine", model.routines[routine].name}, {"task", model.routines[routine].name}, {"x", position.x()}, {"y", position.y()}});
+  if (std::find(model.async_routines.begin(), model.async_routines.end(), routine) == model.async_routines.end()) {
     emit(model, state, "request_dropped", model.agents[robot].id,
-         {{"request", id}, {"task", model.tasks[routine].name}, {"reason", "the scenario has no response for this task"}});
+         {{"request", id}, {"routine", model.routines[routine].name}, {"task", model.routines[routine].name}, {"reason", "the scenario has no response for this routine"}});
     return;
   }
   state.requests.push_back({id, robot, routine, position, state.tick, state.tick});
@@ -285,15 +285,15 @@ void update_requests(const scenario::Model& model, State& state) {
         chosen_distance = distance;
       }
     }
-    const std::string& routine = model.tasks[open.task].name;
+    const std::string& routine = model.routines[open.routine].name;
     if (chosen >= 0) {
       AgentState& human = state.agents[chosen];
       human.answering_request = true;
-      for (std::size_t i = 0; i < model.tasks[open.task].actions.size(); ++i) human.program.push_back({open.task, static_cast<int>(i), -1});
+      for (std::size_t i = 0; i < model.routines[open.routine].actions.size(); ++i) human.program.push_back({open.routine, static_cast<int>(i), -1});
       emit(model, state, "request_accepted", model.agents[chosen].id,
-           {{"request", open.id}, {"task", routine}, {"robot", model.agents[open.robot].id}, {"distance", chosen_distance}});
+           {{"request", open.id}, {"routine", routine}, {"task", routine}, {"robot", model.agents[open.robot].id}, {"distance", chosen_distance}});
     } else if (state.tick - open.asked_tick + retry > timeout) {
-      emit(model, state, "request_dropped", model.agents[open.robot].id, {{"request", open.id}, {"task", routine}, {"reason", "no idle human within 3 m"}});
+      emit(model, state, "request_dropped", model.agents[open.robot].id, {{"request", open.id}, {"routine", routine}, {"task", routine}, {"reason", "no idle human within 3 m"}});
     } else {
       open.next_try_tick += retry;
       still_open.push_back(open);
@@ -306,7 +306,7 @@ void update_choreography(const scenario::Model& model, State& state) {
   // A finished step hands over to the next within the same tick, so its actions start without delay.
   for (std::size_t guard = 0; guard <= model.steps.size(); ++guard) {
     for (std::size_t a = 0; a < state.agents.size(); ++a) advance_agent(model, state, static_cast<int>(a));
-    const int step = state.step;
+    const int step = state.current_step;
     if (step >= static_cast<int>(model.steps.size())) {
       if (!state.finished && !model.task) {  // a benchmark task's episode ends by the task or its length
         state.finished = true;
@@ -326,7 +326,7 @@ void update_choreography(const scenario::Model& model, State& state) {
     if (step + 1 < static_cast<int>(model.steps.size())) {
       start_step(model, state, step + 1);
     } else {
-      state.step = step + 1;
+      state.current_step = step + 1;
     }
   }
 }

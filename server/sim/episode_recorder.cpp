@@ -113,7 +113,7 @@ metrics::Recording EpisodeRecorder::finish(const Session& session, std::string t
     if (event.data.contains("request") && event.data["request"].is_number_integer()) recorded.request = event.data["request"].get<std::int64_t>();
     recording.events.push_back(std::move(recorded));
   }
-  recording.choreography_completed = state.step >= static_cast<int>(session.model().steps.size());
+  recording.choreography_completed = state.current_step >= static_cast<int>(session.model().steps.size());
   recording.termination = termination.empty() ? state.termination : std::move(termination);
   return recording;
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "robots/controllers.hpp"
 #include "sim/events.hpp"
 #include "sim/walking.hpp"
 
@@ -22,13 +23,13 @@ void decide_robots(const scenario::Model& model, State& state) {
         for (std::size_t other = 0; other < state.agents.size(); ++other) {
           if (state.agents[other].active && model.agents[other].kind == scenario::AgentKind::human) people.push_back(state.agents[other].position);
         }
-        command = follow_velocity(pose, social_velocity(pose, path, self.preferred_speed, people, model.agents[runtime.agent].radius));
+        command = robots::follow_velocity(pose, robots::social_velocity(pose, path, self.preferred_speed, people, model.agents[runtime.agent].radius));
       } else {
-        command = pure_pursuit(pose, path, self.preferred_speed);
+        command = robots::pure_pursuit(pose, path, self.preferred_speed);
       }
     } else if (self.target_heading) {
       // Turning on the spot to a goal's heading or to look at something.
-      command = {0.0, kHeadingGain * core::wrap_angle(*self.target_heading - pose.theta)};
+      command = {0.0, robots::kHeadingGain * core::wrap_angle(*self.target_heading - pose.theta)};
     } else {
       command = {};
     }

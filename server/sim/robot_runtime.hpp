@@ -22,25 +22,6 @@ namespace hrisim::sim {
 using core::Pose2;
 using core::Vec2;
 
-// Built-in controllers (named defaults, docs/robots/controllers.md).
-/// Pure pursuit looks this far ahead along the path, m.
-inline constexpr double kPurePursuitLookahead = 0.6;
-/// A target further to the side than this is first faced by turning on the spot, rad.
-inline constexpr double kTurnOnTheSpotAngle = 0.8;
-/// Angular velocity per radian of heading error when facing a direction, 1/s.
-inline constexpr double kHeadingGain = 2.5;
-/// Robots slow down over this distance before their goal, m.
-inline constexpr double kRobotArrivalSlowdown = 0.5;
-/// The social robot slows for a person closer than this within ±kSocialYieldAngle ahead, m...
-inline constexpr double kSocialSlowDistance = 1.5;
-/// ...and stops for one this close, m.
-inline constexpr double kSocialStopDistance = 0.6;
-inline constexpr double kSocialYieldAngle = 1.0;  ///< rad
-/// The social robot's sideways push away from people: strength at contact (m/s) and decay length (m),
-/// Helbing's exponential repulsion.
-inline constexpr double kSocialRepulsion = 0.5;
-inline constexpr double kSocialRepulsionRange = 0.4;
-
 /// The people detector looks at this height, m (mid-torso of an adult)...
 inline constexpr double kPeopleDetectorHeight = 1.15;
 /// ...and reports a person as a disc of this radius, m.
@@ -112,20 +93,6 @@ struct RobotRuntime {
 
 /// True when a sensor with this schedule reads at `tick` (and moves its schedule on).
 bool due(Schedule& schedule, std::int64_t tick, double dt);
-
-/// Pure pursuit along `path` (from the robot's position through the remaining waypoints): the arc
-/// through the point kPurePursuitLookahead ahead, at `speed`; turns on the spot towards targets far to
-/// the side; slows before the last waypoint.
-robots::Twist pure_pursuit(const Pose2& pose, const std::vector<Vec2>& path, double speed);
-
-/// A differential-drive command that follows a desired planar velocity: turn towards it, drive at its
-/// speed projected on the heading (never backwards).
-robots::Twist follow_velocity(const Pose2& pose, const Vec2& desired);
-
-/// The social robot's desired velocity: towards the lookahead point at `speed`, pushed sideways away
-/// from nearby people, slowed and stopped for people ahead.
-Vec2 social_velocity(const Pose2& pose, const std::vector<Vec2>& path, double speed, const std::vector<Vec2>& people,
-                     double robot_radius);
 
 /// Height of the cylinder that stands for a robot without a model in the physics world, m.
 inline constexpr double kDiscRobotHeight = 1.0;

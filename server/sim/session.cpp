@@ -54,7 +54,7 @@ State initial_state(const scenario::Model& model, std::uint64_t seed) {
     }
   }
   state.steps.resize(model.steps.size());
-  for (const scenario::Request& scripted : model.requests) state.scheduled.push_back({scripted.time, scripted.robot, scripted.task});  // kept sorted
+  for (const scenario::Request& scripted : model.requests) state.scheduled.push_back({scripted.time, scripted.robot, scripted.routine});  // kept sorted
   return state;
 }
 
@@ -63,7 +63,7 @@ void make_scheduled_requests(const scenario::Model& model, State& state) {
   while (!state.scheduled.empty() && state.scheduled.front().time <= time_of(model, state)) {
     const ScheduledRequest due = state.scheduled.front();
     state.scheduled.erase(state.scheduled.begin());
-    make_request(model, state, due.robot, due.task);
+    make_request(model, state, due.robot, due.routine);
   }
 }
 
@@ -103,7 +103,7 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
   if (!model_->steps.empty()) start_step(*model_, state_, 0);
 }
 
-void Session::step() {
+void Session::tick() {
   if (state_.finished) return;
   const scenario::Model& model = *model_;
   make_scheduled_requests(model, state_);
@@ -124,8 +124,8 @@ void Session::end_at_time_limit() {
   if (time() < state_.time_limit) return;
   state_.finished = true;
   state_.termination = "timeout";
-  const bool in_step = state_.step < static_cast<int>(model_->steps.size());
-  emit(*model_, state_, "time_limit", in_step ? model_->steps[state_.step].name : "", {{"step", state_.step}});
+  const bool in_step = state_.current_step < static_cast<int>(model_->steps.size());
+  emit(*model_, state_, "time_limit", in_step ? model_->steps[state_.current_step].name : "", {{"step", state_.current_step}});
 }
 
 void Session::end_by_task() {

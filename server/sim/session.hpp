@@ -36,7 +36,7 @@ class Session {
   Session(std::shared_ptr<const scenario::Model> model, std::uint64_t seed);
 
   /// Advances one tick; does nothing once finished.
-  void step();
+  void tick();
   /// The benchmark task's ending held (e.g. the robot reached the person): the episode is over, for
   /// reason "goal".
   void end_by_task();

@@ -24,19 +24,19 @@ namespace hrisim::sim {
 using core::Pose2;
 using core::Vec2;
 
-/// An action waiting or running for one agent; compound tasks are expanded when they start.
-/// PendingAction::task of an action given by a command (index into State::commanded).
+/// An action waiting or running for one agent; routines are expanded when they start.
+/// PendingAction::routine of an action given by a command (index into State::commanded).
 inline constexpr int kCommandedAction = -2;
 
 struct PendingAction {
-  int task = -1;    ///< compound task the action belongs to, -1 for a step action, kCommandedAction
-  int index = -1;   ///< index of the action in the step or task
+  int routine = -1; ///< routine the action belongs to, -1 for a step action, kCommandedAction
+  int index = -1;   ///< index of the action in the step or routine
   int step = -1;    ///< step it belongs to; -1 when it answers a robot request
   int role = 0;     ///< place in the group for a group action (0 leads)
   int group_size = 1;
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(task, index, step, role, group_size); }
+  auto fields() const { return std::tie(routine, index, step, role, group_size); }
 };
 
 struct AgentState {
@@ -104,23 +104,23 @@ struct Event {
 struct OpenRequest {
   std::int64_t id = 0;
   int robot = -1;
-  int task = -1;
+  int routine = -1;
   Vec2 position = Vec2::Zero();  ///< the robot's position when it asked
   std::int64_t asked_tick = 0;
   std::int64_t next_try_tick = 0;
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(id, robot, task, position, asked_tick, next_try_tick); }
+  auto fields() const { return std::tie(id, robot, routine, position, asked_tick, next_try_tick); }
 };
 
 /// A robot request to be made at a given simulation time (scripted in the scenario or the command line).
 struct ScheduledRequest {
   double time = 0.0;
   int robot = -1;
-  int task = -1;
+  int routine = -1;
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(time, robot, task); }
+  auto fields() const { return std::tie(time, robot, routine); }
 };
 
 struct StepRecord {
@@ -166,7 +166,7 @@ struct Message {
 struct State {
   std::int64_t tick = 0;
   std::vector<AgentState> agents;
-  int step = 0;  ///< index of the current step; == steps.size() when all have finished
+  int current_step = 0;  ///< index of the choreography step under way; == steps.size() when all have finished
   std::vector<StepRecord> steps;
   std::map<std::string, std::string> topics;  ///< latest message per topic
   std::vector<Message> inbox;                 ///< messages published since the environment last read them
@@ -191,7 +191,7 @@ struct State {
   std::string termination;  ///< "scenario_end", "timeout" or "goal" once finished
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(tick, agents, step, steps, topics, inbox, groups, doors, elevators, requests, next_request_id, scheduled, events, events_digest, commanded, random, robots, object_poses, planning_history, time_limit, finished, termination); }
+  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, requests, next_request_id, scheduled, events, events_digest, commanded, random, robots, object_poses, planning_history, time_limit, finished, termination); }
 };
 
 /// Hash of everything in the state, bit for bit.

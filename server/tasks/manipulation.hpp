@@ -24,12 +24,12 @@
 
 #include "core/random.hpp"
 #include "tasks/rewards.hpp"
-#include "tasks/task.hpp"
+#include "tasks/view.hpp"
 #include "tasks/task_support.hpp"
 
 namespace hrisim::tasks {
 
-class PickAndPlace : public Task {
+class PickAndPlace : public View {
  public:
   explicit PickAndPlace(const sim::Session& session);
   void begin(sim::Session& session) override;
@@ -51,7 +51,7 @@ class PickAndPlace : public Task {
   nlohmann::json terms_ = nlohmann::json::object();
 };
 
-class MirrorGesture : public Task {
+class MirrorGesture : public View {
  public:
   explicit MirrorGesture(const sim::Session& session);
   void begin(sim::Session& session) override;

@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "core/random.hpp"
-#include "tasks/task.hpp"
+#include "tasks/view.hpp"
 #include "tasks/task_support.hpp"
 
 namespace hrisim::tasks {
@@ -42,7 +42,7 @@ inline constexpr double kDiscRobotMaxSpeed = 2.0;
 /// follow_human: each leg of the human's walk ends at least this far from where it starts, m.
 inline constexpr double kFollowMinLeg = 2.0;
 
-class DefaultView : public Task {
+class DefaultView : public View {
  public:
   explicit DefaultView(const sim::Session& session);
   std::vector<double> observe(const sim::Session& session) const override;
@@ -56,7 +56,7 @@ class DefaultView : public Task {
 };
 
 /// approach_human, follow_human and approach_human_apartment.
-class NavigationTask : public Task {
+class NavigationTask : public View {
  public:
   explicit NavigationTask(const sim::Session& session);
   void begin(sim::Session& session) override;

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "tasks/task.hpp"
+#include "tasks/view.hpp"
 
 namespace hrisim::tasks {
 

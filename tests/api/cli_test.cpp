@@ -57,7 +57,8 @@ TEST(Cli, RunStopsAtTheTimeLimitAndNamesTheStep) {
   const auto summary = nlohmann::json::parse(result.output);
   EXPECT_FALSE(summary["completed"].get<bool>());
   EXPECT_EQ(summary["termination"], "timeout");
-  EXPECT_EQ(summary["step"]["name"], "line_up");
+  EXPECT_EQ(summary["current_step"]["name"], "line_up");
+  EXPECT_EQ(summary["step"], summary["current_step"]);  // the former name, for one version
   EXPECT_EQ(summary["event_log"].back()["kind"], "time_limit");
 }
 

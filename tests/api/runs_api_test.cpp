@@ -35,6 +35,18 @@ class RunsApi : public ::testing::Test {
 };
 TestServer* RunsApi::server_ = nullptr;
 
+TEST_F(RunsApi, ARequestNamesItsRoutineAndTheFormerKeyStillWorks) {
+  // The queue's robot asks once by itself; one more request at 1 s makes two, whichever key names it.
+  const json named = wait_for_run(port(), submit({{"scenario", "queue"}, {"seeds", {2}}, {"requests", {{{"time", 1}, {"routine", "help_robot"}}}}})["id"]);
+  const json former = wait_for_run(port(), submit({{"scenario", "queue"}, {"seeds", {2}}, {"requests", {{{"time", 1}, {"task", "help_robot"}}}}})["id"]);
+  ASSERT_EQ(named["status"], "finished");
+  EXPECT_EQ(named["aggregates"]["requests_sent"]["mean"], 2.0);
+  const auto episode_of = [](const json& run) {
+    return json_of(http(port(), "GET", "/api/v1/episodes/" + run["episodes"][0]["episode_id"].get<std::string>()));
+  };
+  EXPECT_EQ(episode_of(named)["state_hash"], episode_of(former)["state_hash"]);
+}
+
 TEST_F(RunsApi, ARunEndsWithAggregatesAVerdictAndItsEpisodes) {
   const json submitted = submit({{"scenario", "queue"}, {"seeds", {3, 4, 5}}, {"gates", {"requests_sent.min >= 1", "episode_length.max < 1"}}});
   EXPECT_EQ(submitted["progress"]["total"], 3);
@@ -195,7 +207,8 @@ TEST_F(RunsApi, BadSubmissionsAreRefusedAndNothingIsStored) {
       {{{"scenario", "queue"}, {"count", 1}, {"gates", {"collisions.max = 0"}}}, 400, "/gates/0"},
       {{{"scenario", "queue"}, {"count", 1}, {"gates", {"collisions.max == many"}}}, 400, "/gates/0"},
       {{{"scenario", "queue"}, {"count", 1}, {"max_time", -1}}, 400, "/max_time"},
-      {{{"scenario", "queue"}, {"count", 1}, {"requests", {{{"time", 1}, {"task", "fly"}}}}}, 400, "/requests/0"},
+      {{{"scenario", "queue"}, {"count", 1}, {"requests", {{{"time", 1}, {"routine", "fly"}}}}}, 400, "/requests/0"},
+      {{{"scenario", "queue"}, {"count", 1}, {"requests", {{{"time", 1}, {"routine", "help_robot"}, {"task", "help_robot"}}}}}, 400, "/requests/0"},
       {{{"scenario", "elevator"}, {"count", 1}, {"controller", {{"type", "goal"}}}}, 400, "/controller/goal"},
       {{{"scenario", "queue"}, {"count", 1}, {"colour", "red"}}, 400, "/colour"},
       {{{"scenario", "queue"}, {"count", 1}, {"baseline_without_robot", "yes"}}, 400, "/baseline_without_robot"},

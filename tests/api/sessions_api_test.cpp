@@ -43,7 +43,8 @@ TEST_F(SessionsApi, CreateStepReadAndDelete) {
   EXPECT_EQ(created.headers.at("location"), "/api/v1/sessions/" + id);
   EXPECT_EQ(status["tick"], 0);
   EXPECT_EQ(status["status"], "running");
-  EXPECT_EQ(status["step"]["name"], "gather");
+  EXPECT_EQ(status["current_step"]["name"], "gather");
+  EXPECT_EQ(status["step"], status["current_step"]);  // the former name, for one version
   const json stepped = json_of(http(port(), "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 60})"));
   EXPECT_EQ(stepped["tick"], 60);
   EXPECT_NEAR(stepped["time"].get<double>(), 1.0, 1e-12);

@@ -36,8 +36,8 @@ export async function render(root, { id }) {
   const robot = world.agents.find((agent) => agent.kind === 'robot') ?? null;  // the robot under test
   const steps = scenario.steps ?? [];
   const answered = new Set((scenario.async ?? []).map((entry) => entry.task));
-  // Tasks a human answers first: the others are dropped at once.
-  const tasks = Object.keys(scenario.tasks ?? {}).sort((a, b) => Number(answered.has(b)) - Number(answered.has(a)));
+  // Routines (the file's "tasks") a human answers first: the others are dropped at once.
+  const routines = Object.keys(scenario.tasks ?? {}).sort((a, b) => Number(answered.has(b)) - Number(answered.has(a)));
   const canDrive = Boolean(robot && robot.model && actionSpace && actionSpace.shape?.[0] === 2);
 
   // ---- Layout ----
@@ -63,7 +63,7 @@ export async function render(root, { id }) {
     eventsPanel(driver),
     agentsPanel(driver, world.agents),
     h('div', { class: 'session-commands' }, humans.length ? humanCommandPanel(driver, humans) : null,
-      robot && tasks.length ? robotRequestPanel(driver, { robot, tasks, answered }) : null)));
+      robot && routines.length ? robotRequestPanel(driver, { robot, routines, answered }) : null)));
   scene.mount();
 
   // ---- Connection ----

@@ -31,7 +31,7 @@ export function agentsPanel(driver, agents) {
       entry.cells.busy.textContent = agent.busy ? 'yes' : 'no';
     }
     openRequests.textContent = state.requests.length
-      ? `Open requests: ${state.requests.map((r) => `${r.robot} → ${r.task}`).join(', ')}` : '';
+      ? `Open requests: ${state.requests.map((r) => `${r.robot} → ${r.routine}`).join(', ')}` : '';
   });
   return h('section', { class: 'panel agents-panel', 'aria-label': 'Agents' }, h('h2', {}, 'Agents'), table, openRequests);
 }

@@ -26,31 +26,31 @@ export function humanCommandPanel(driver, humans) {
     h('p', { class: 'muted session-note' }, 'walk X Y (m) · wait S (s) · turn_to RAD · look_at NAME · motion NAME [S]. The command goes first, then the choreography resumes.'));
 }
 
-/** `tasks` the robot may ask for; `answered` are those a human answers (the others are dropped at once). */
-export function robotRequestPanel(driver, { robot, tasks, answered }) {
-  let pending = null;  // the page's last request: {task, tick, id (null until its event names it)}
-  const task = h('select', { name: 'task' }, tasks.map((name) => h('option', { value: name },
+/** `routines` the robot may ask for; `answered` are those a human answers (the others are dropped at once). */
+export function robotRequestPanel(driver, { robot, routines, answered }) {
+  let pending = null;  // the page's last request: {routine, tick, id (null until its event names it)}
+  const routine = h('select', { name: 'routine' }, routines.map((name) => h('option', { value: name },
     answered.has(name) ? `${name} (a human answers)` : name)));
   const result = h('p', { class: 'message', role: 'status', hidden: true });
   const form = h('form', { class: 'robot-request', onsubmit: async (event) => {
     event.preventDefault();
     try {
-      const reply = await driver.command({ robot: robot.id, request: task.value });
-      pending = { task: task.value, tick: reply.tick, id: null };
-      showMessage(result, 'info', `${robot.id} asked for ${task.value} at tick ${reply.tick}; who answers shows once the session steps.`);
+      const reply = await driver.command({ robot: robot.id, request: routine.value });
+      pending = { routine: routine.value, tick: reply.tick, id: null };
+      showMessage(result, 'info', `${robot.id} asked for ${routine.value} at tick ${reply.tick}; who answers shows once the session steps.`);
     } catch (error) {
       showMessage(result, 'error', errorText(error));
     }
   } },
-  h('div', { class: 'fields' }, h('label', { class: 'grow' }, 'Task', task), h('button', { type: 'submit' }, 'Request')),
+  h('div', { class: 'fields' }, h('label', { class: 'grow' }, 'Routine', routine), h('button', { type: 'submit' }, 'Request')),
   result);
 
   driver.on('events', (events) => {
     for (const event of events) {
       if (!pending) return;
-      if (event.kind === 'request' && pending.id === null && event.subject === robot.id && event.data.task === pending.task) {
+      if (event.kind === 'request' && pending.id === null && event.subject === robot.id && event.data.routine === pending.routine) {
         pending.id = event.data.request;
-        showMessage(result, 'info', `Request #${event.data.request} (${pending.task}) is open: waiting for an idle human within 3 m…`);
+        showMessage(result, 'info', `Request #${event.data.request} (${pending.routine}) is open: waiting for an idle human within 3 m…`);
       } else if (event.data?.request === pending.id && pending.id !== null) {
         if (event.kind === 'request_accepted') {
           showMessage(result, 'info', `Request #${pending.id} accepted by ${event.subject} (${formatNumber(event.data.distance)} m away) at ${event.time.toFixed(2)} s.`);

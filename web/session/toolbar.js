@@ -53,9 +53,9 @@ export function toolbar(driver, { steps, onView }) {
     const finished = next.status === 'finished';
     runState.textContent = finished ? `finished: ${(next.termination ?? '').replace('_', ' ')}` : 'running';
     runState.className = `badge ${finished ? 'good' : ''}`;
-    if (next.step) {
-      stepBar.value = next.step.index;
-      stepText.textContent = `step ${next.step.index + 1} of ${steps.length}: ${next.step.name}`;
+    if (next.current_step) {
+      stepBar.value = next.current_step.index;
+      stepText.textContent = `step ${next.current_step.index + 1} of ${steps.length}: ${next.current_step.name}`;
     } else {
       stepBar.value = steps.length;
       stepText.textContent = steps.length ? `all ${steps.length} steps done` : 'no steps';

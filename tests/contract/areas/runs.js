@@ -209,9 +209,12 @@ describe('runs', () => {
 
   it('POST /api/v1/runs: requests make the robot ask at the given times', async () => {
     const plain = await waitForRun((await startRun({ scenario: 'queue', seeds: [0] })).json.id);
-    const asking = await waitForRun((await startRun({ scenario: 'queue', seeds: [0], requests: [{ time: 1, task: 'help_robot' }] })).json.id);
-    assert.deepEqual(asking.config.requests, [{ time: 1, task: 'help_robot' }]);
+    const asking = await waitForRun((await startRun({ scenario: 'queue', seeds: [0], requests: [{ time: 1, routine: 'help_robot' }] })).json.id);
+    assert.deepEqual(asking.config.requests, [{ time: 1, routine: 'help_robot' }]);
     assert.equal(asking.aggregates.requests_sent.mean, plain.aggregates.requests_sent.mean + 1);
+    // "task", the routine's former name, is still accepted and stored under the new one.
+    const former = await waitForRun((await startRun({ scenario: 'queue', seeds: [0], requests: [{ time: 1, task: 'help_robot' }] })).json.id);
+    assert.deepEqual(former.config.requests, [{ time: 1, routine: 'help_robot' }]);
   });
 
   it('POST /api/v1/runs: 404 for an unknown scenario', async () => {

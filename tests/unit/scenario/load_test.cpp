@@ -57,9 +57,9 @@ TEST(LoadScenario, CompilesTheModel) {
   EXPECT_DOUBLE_EQ(model->locations[0].radius, kDefaultGoalRadius);
   EXPECT_TRUE(model->social_spaces[0].slots[1].position().isApprox(Vec2(8.7, 8.0)));
   ASSERT_EQ(model->steps.size(), 1u);
-  EXPECT_EQ(model->steps[0].actions[0].kind, Action::Kind::run_task);
+  EXPECT_EQ(model->steps[0].actions[0].kind, Action::Kind::run_routine);
   EXPECT_EQ(model->steps[0].actions[0].agent, 0);
-  EXPECT_EQ(model->tasks[0].actions[0].kind, Action::Kind::go_to_location);
+  EXPECT_EQ(model->routines[0].actions[0].kind, Action::Kind::go_to_location);
   EXPECT_EQ(model->requests[0].robot, 2);
   EXPECT_TRUE(model->grid.blocked(Vec2(5.0, 5.0))) << "the table is in the grid";
   EXPECT_TRUE(model->grid.blocked(Vec2(0.0, 5.0))) << "so are the walls";

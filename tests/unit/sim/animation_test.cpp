@@ -38,7 +38,7 @@ TEST(Animation, AWalkingPersonsPlantedFootDoesNotSlide) {
   int stances = 0, stance_foot = -1;
   Eigen::Vector2d planted = Eigen::Vector2d::Zero();
   while (session.time() < 7.0 && !session.state().finished) {
-    session.step();
+    session.tick();
     const AgentState& state = session.state().agents[ana];
     walked += state.velocity.norm() * session.model().dt;
     const double phase = state.gait_distance / stride;
@@ -73,12 +73,12 @@ TEST(Animation, AMotionPlaysHoldsItsLastPoseAndBlendsOutOnceThePersonWalks) {
   const auto reach = [&] { return part(session.human_body(ana), BodyPart::l_forearm).to.y() - session.state().agents[ana].position.y(); };
   const double hanging = reach();
   EXPECT_LT(hanging, 0.3) << "the arm hangs at the start";
-  while (session.time() < 1.5) session.step();
+  while (session.time() < 1.5) session.tick();
   EXPECT_GT(reach(), 0.6) << "pointing to her left";
   EXPECT_EQ(session.state().agents[ana].motion, humans::builtin_motion("point_left"));
-  while (session.time() < 2.8) session.step();
+  while (session.time() < 2.8) session.tick();
   EXPECT_GT(reach(), 0.6) << "still pointing after the primitive ended, while she stands";
-  while (session.time() < 4.5) session.step();
+  while (session.time() < 4.5) session.tick();
   EXPECT_GT(session.state().agents[ana].velocity.norm(), 0.5) << "walking";
   EXPECT_LT(reach(), 0.3) << "the arm swings by her side again";
   EXPECT_EQ(session.state().agents[ana].motion, nullptr);
@@ -88,7 +88,7 @@ TEST(Animation, AMotionPlaysHoldsItsLastPoseAndBlendsOutOnceThePersonWalks) {
   EXPECT_THROW(session.command_human(session.agent_id("ana"), "motion dance"), core::Error);
   EXPECT_THROW(session.command_human(session.agent_id("ana"), "motion wave -1"), core::Error);
   EXPECT_THROW(session.command_human(session.agent_id("ana"), "motion wave 2 3"), core::Error);
-  session.step();
+  session.tick();
   EXPECT_EQ(session.state().agents[ana].motion, humans::builtin_motion("wave"));
 }
 
@@ -123,7 +123,7 @@ TEST(HeadCamera, APersonAheadIsInTheSegmentationWhereSheStandsAtHerDepth) {
   Session session(room_with(json::array({{{"id", "ana"}, {"start", {{"x", 4.2}, {"y", 2.3}, {"theta", 3.14159}}}}}),
                             json::parse(R"([{"name": "wait", "actions": [{"agent": "ana", "wait": {"duration": 5}}]}])"), hsr_at_origin_of_room()),
                   1);
-  session.step();
+  session.tick();
   const int ana = session.index_of(session.agent_id("ana"));
   const CameraInfo camera = camera_of(session, "hsr.head_rgbd", 256, 256);
   EXPECT_EQ(camera.camera.width, 256);
@@ -152,7 +152,7 @@ TEST(HeadCamera, PointingLeftAndPointingRightAreMirrorImages) {
                               json::array({{{"name", "point"}, {"actions", json::array({{{"agent", "ana"}, {"motion", {{"name", motion}}}}})}}}),
                               hsr_at_origin_of_room()),
                     1);
-    while (session.time() < 1.2) session.step();
+    while (session.time() < 1.2) session.tick();
     const CameraInfo camera = camera_of(session, "hsr.head_rgbd", 256, 256);
     const render::Frame frame = render::render_on_this_thread(scene_for(session, camera), camera.camera);
     // Mirrored about the column of her body's axis.

@@ -45,7 +45,7 @@ TEST(EpisodeRecorder, StopsAtItsBodyLimitAndKeepsTheEventsUpToThere) {
   const std::size_t bodies = session.model().agents.size();  // every person present, and the robot
   EpisodeRecorder capped(session, {10 * bodies}), full(session);
   for (int i = 0; i < 600; ++i) {
-    session.step();
+    session.tick();
     capped.record(session);
     full.record(session);
   }
@@ -68,7 +68,7 @@ TEST(EpisodeRecorder, RecordingsSharingAMemoryBudgetStopWhenItIsSpentAndGiveItBa
   EpisodeRecorder second(session, {std::nullopt, &memory});
   std::int64_t ticks = 0;
   while (first->stopped().empty() && ticks < 100000) {
-    session.step();
+    session.tick();
     ++ticks;
     first->record(session);
     second.record(session);
@@ -83,11 +83,11 @@ TEST(EpisodeRecorder, RecordingsSharingAMemoryBudgetStopWhenItIsSpentAndGiveItBa
   const std::size_t before = memory.used();
   first.reset();
   EXPECT_LT(memory.used(), before / 2 + 4096) << "the ended recording gave its half back";
-  session.step();
+  session.tick();
   second.record(session);
   EXPECT_LT(second.recorded_until(), session.state().tick) << "a stopped recording stays stopped: a gap would misstate its metrics";
   EpisodeRecorder third(session, {std::nullopt, &memory});
-  session.step();
+  session.tick();
   third.record(session);
   EXPECT_EQ(third.recorded_until(), session.state().tick) << "a new one records in the room given back";
   EXPECT_EQ(third.stopped(), "");

@@ -69,7 +69,7 @@ TEST(StateHash, EveryMemberOfTheStateCounts) {
   const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/elevator.json");
   ASSERT_TRUE(loaded.model);
   Session session(loaded.model, 1);
-  for (int t = 0; t < 120; ++t) session.step();
+  for (int t = 0; t < 120; ++t) session.tick();
   const State& state = session.state();
   const std::uint64_t before = state_hash(state);
   const auto differs = [&](const char* what, const std::function<void(State&)>& change) {

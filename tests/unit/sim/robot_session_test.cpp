@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "robots/controllers.hpp"
 #include "sim/session.hpp"
 #include "support/scenarios.hpp"
 
@@ -38,7 +39,7 @@ TEST(RobotSession, GoalControllerDrivesAroundTheTableToTheGoal) {
   const AgentId hsr = session.agent_id("hsr");
   double closest_to_table = 1e9;
   while (events_of(session, "robot_goal_reached").empty() && session.time() < 50.0) {
-    session.step();
+    session.tick();
     const Vec2 p = session.state().agents[session.index_of(hsr)].position;
     closest_to_table = std::min(closest_to_table, (p - Vec2(std::clamp(p.x(), 4.4, 5.6), std::clamp(p.y(), 4.6, 5.4))).norm());
     ASSERT_LE(session.robot_runtime(hsr)->robot.twist().linear, 0.8 / 3.6 + 0.02) << "HSR's 0.8 km/h";
@@ -54,7 +55,7 @@ TEST(RobotSession, TeleopDrivesTheBaseAndDiscRobotsRefuseTwists) {
   Session session(with_hsr({{"controller", {{"type", "teleop"}}}}), 1);
   const AgentId hsr = session.agent_id("hsr");
   session.command_robot_twist(hsr, {0.2, 0.0});
-  for (int i = 0; i < 300; ++i) session.step();
+  for (int i = 0; i < 300; ++i) session.tick();
   EXPECT_NEAR(session.state().agents[session.index_of(hsr)].position.x(), 2.0 + 0.2 * (5.0 - 1.0 / 60 - 0.1), 0.01);
   const RobotRuntime& runtime = *session.robot_runtime(hsr);
   // Odometry believes about the same, with its own drift.
@@ -74,7 +75,7 @@ TEST(RobotSession, BaseLaserSeesAPersonsLegsAsTwoArcs) {
   Session session(with_hsr({{"controller", {{"type", "idle"}}}},
                            {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 3.7}, {"y", 2}, {"theta", 3.14159}}}}})}}),
                   1);
-  for (int i = 0; i < 3; ++i) session.step();
+  for (int i = 0; i < 3; ++i) session.tick();
   const LaserReading& scan = session.robot_runtime(session.agent_id("hsr"))->lasers.front().reading;
   ASSERT_EQ(scan.ranges.size(), 1081u) << "the UST-20LX class default";
   // 40 Hz on 60 Hz steps: scans after steps 1, 2, 3 (at 0, 0.025 and 0.05 s, each read on the first
@@ -102,7 +103,7 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
                            {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 2.25}, {"y", 2}, {"theta", 3.14159}}}}})}}),
                   1);
   const AgentId hsr = session.agent_id("hsr");
-  session.step();
+  session.tick();
   // Her skeleton's capsules — shins, feet, thighs — overlap the HSR's 0.215 m base; each part is its
   // own contact, named by its body part.
   const auto started = events_of(session, "contact_start");
@@ -121,7 +122,7 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
     return false;
   }));
   session.command_robot_twist(hsr, {-0.2, 0.0});
-  for (int i = 0; i < 200; ++i) session.step();
+  for (int i = 0; i < 200; ++i) session.tick();
   EXPECT_EQ(events_of(session, "contact_end").size(), started.size());
   EXPECT_TRUE(session.robot_runtime(hsr)->contacts.empty());
   // A robot taken out of the session stops sensing and touching; the others go on.
@@ -129,7 +130,7 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
   const std::int64_t last_scan = runtime->lasers.front().reading.tick;
   session.command_robot_twist(hsr, {0.2, 0.0});
   session.remove_agent(hsr);
-  for (int i = 0; i < 200; ++i) session.step();
+  for (int i = 0; i < 200; ++i) session.tick();
   EXPECT_EQ(runtime->lasers.front().reading.tick, last_scan);
   EXPECT_EQ(events_of(session, "contact_start").size(), started.size()) << "no contacts of a removed robot";
   EXPECT_THROW(session.robot_runtime(hsr), core::Error) << "its id is stale";
@@ -142,7 +143,7 @@ TEST(RobotSession, PeopleDetectorSeesPeopleButNotThroughTheTable) {
                            {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 3}, {"y", 7}}}},
                                                     {{"id", "ben"}, {"start", {{"x", 7}, {"y", 5}}}}})}}),
                   1);
-  session.step();
+  session.tick();
   const PeopleReading& people = session.robot_runtime(session.agent_id("hsr"))->people;
   EXPECT_EQ(people.tick, 1);
   ASSERT_EQ(people.people.size(), 1u) << "ben is hidden: obstacles are full height";
@@ -155,7 +156,7 @@ TEST(RobotSession, SameSeedSameRunDifferentSeedDifferentNoise) {
                               {"people_detector", json::object()}},
                              {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 6}, {"y", 6}}}}})}}),
                     seed);
-    for (int i = 0; i < 600; ++i) session.step();
+    for (int i = 0; i < 600; ++i) session.tick();
     return session.state_hash();
   };
   EXPECT_EQ(run(4), run(4));
@@ -214,7 +215,7 @@ TEST(RobotSession, BundledElevatorRobotRidesUpAndRequestsTheButton) {
   ASSERT_NE(session.robot_runtime(robot), nullptr);
   bool on_floor2 = false;
   while (!session.state().finished) {
-    session.step();
+    session.tick();
     // The cabin spans x from -1.2 to 1.3; floor 2 is the room at x < -1.2.
     on_floor2 |= session.state().agents[session.index_of(robot)].position.x() < -1.5;
   }
@@ -252,21 +253,21 @@ TEST(RobotSession, GripperGraspsLiftsAndReleasesACup) {
                                      {"joints", {{"arm_lift_joint", 0.3}, {"arm_flex_joint", -1.5708}, {"hand_motor_joint", 1.2}}}}});
   Session session(testing::load_valid(scenario), 1);
   const AgentId hsr = session.agent_id("hsr");
-  for (int i = 0; i < 30; ++i) session.step();
+  for (int i = 0; i < 30; ++i) session.tick();
   EXPECT_NEAR(session.object_pose(0).translation().z(), 0.606, 0.005) << "resting on the side table";
   session.command_robot_gripper(hsr, true);
-  for (int i = 0; i < 120 && events_of(session, "grasp").empty(); ++i) session.step();
+  for (int i = 0; i < 120 && events_of(session, "grasp").empty(); ++i) session.tick();
   ASSERT_EQ(events_of(session, "grasp").size(), 1u);
   EXPECT_EQ(events_of(session, "grasp")[0]->data["object"], "cup");
   session.command_robot_joints(hsr, "arm", {0.5, -1.5708, 0.0, 0.0, 0.0, 0.0});
-  for (int i = 0; i < 120; ++i) session.step();
+  for (int i = 0; i < 120; ++i) session.tick();
   EXPECT_GT(session.object_pose(0).translation().z(), 0.606 + 0.15) << "lifted with the arm";
   // Put it back down and let go: it stands on the table again.
   session.command_robot_joints(hsr, "arm", {0.3, -1.5708, 0.0, 0.0, 0.0, 0.0});
-  for (int i = 0; i < 120; ++i) session.step();
+  for (int i = 0; i < 120; ++i) session.tick();
   EXPECT_TRUE(events_of(session, "release").empty()) << "held until the gripper opens";
   session.command_robot_gripper(hsr, false);
-  for (int i = 0; i < 120; ++i) session.step();
+  for (int i = 0; i < 120; ++i) session.tick();
   ASSERT_EQ(events_of(session, "release").size(), 1u);
   EXPECT_EQ(events_of(session, "release")[0]->data["object"], "cup");
   EXPECT_NEAR(session.object_pose(0).translation().z(), 0.606, 0.01) << "standing on the side table";
@@ -287,7 +288,7 @@ double closest_approach(const std::string& controller) {
   const AgentId hsr = session.agent_id("hsr"), ana = session.agent_id("ana");
   double closest = 1e9;
   for (int i = 0; i < 60 * 40 && events_of(session, "robot_goal_reached").empty(); ++i) {
-    session.step();
+    session.tick();
     closest = std::min(closest, (session.state().agents[session.index_of(hsr)].position -
                                  session.state().agents[session.index_of(ana)].position).norm());
   }
@@ -298,7 +299,7 @@ double closest_approach(const std::string& controller) {
 TEST(RobotSession, SocialControllerKeepsMoreDistanceThanThePathFollower) {
   const double social = closest_approach("social"), plain = closest_approach("goal");
   EXPECT_GT(social, plain + 0.1) << "the social robot yields";
-  EXPECT_GT(social, 0.215 + kSocialStopDistance - 0.1);
+  EXPECT_GT(social, 0.215 + robots::kSocialStopDistance - 0.1);
 }
 
 }  // namespace
@@ -316,7 +317,7 @@ TEST(RobotSession, LaserSeesMovableObjectsAndRobotsTouchDiscRobots) {
   scenario["robots"] = json::array({{{"id", "hsr"}, {"model", "hsr"}, {"start", {{"x", 2}, {"y", 2}}}},
                                     {{"id", "cart"}, {"start", {{"x", 2}, {"y", 2.4}}}, {"radius", 0.2}}});
   Session session(testing::load_valid(scenario), 1);
-  session.step();
+  session.tick();
   const LaserReading& scan = session.robot_runtime(session.agent_id("hsr"))->lasers.front().reading;
   // The crate's near face is at x = 3.3; the laser sits 0.1675 m ahead of the robot's centre.
   EXPECT_NEAR(scan.ranges[540], 3.3 - 2.1675, 0.05);

@@ -58,7 +58,7 @@ TEST(Session, GotoWalksAroundTheTable) {
   // The table covers [4.4, 5.6] × [4.6, 5.4]; ana's disc (0.3 m) must stay off it.
   double closest_to_table = 1e9;
   while (!session.state().finished) {
-    session.step();
+    session.tick();
     const Vec2 p = session.state().agents[0].position;
     const Vec2 on_table(std::clamp(p.x(), 4.4, 5.6), std::clamp(p.y(), 4.6, 5.4));
     closest_to_table = std::min(closest_to_table, (p - on_table).norm());
@@ -124,7 +124,7 @@ TEST(Session, WaitForAMessageSeesTheLatestOne) {
   session_run.run();
   EXPECT_EQ(session.state().topics.at("/door"), "open");
   // A published state is latched: ana's first wait ends at once; the one for "closed" never does.
-  EXPECT_EQ(session.state().step, 2);
+  EXPECT_EQ(session.state().current_step, 2);
   EXPECT_EQ(session.state().termination, "timeout");
   EXPECT_EQ(events_of(session, "time_limit")[0]->subject, "again");
 }
@@ -192,9 +192,9 @@ TEST(Session, ALocationHoldsOnePerson) {
   Session& session = session_run.session();
   double ben_closest_while_ana_there = 1e9;
   while (!session.state().finished) {
-    session.step();
+    session.tick();
     const State& state = session.state();
-    if (state.step == 1 && state.agents[0].reserved_location == 0) {
+    if (state.current_step == 1 && state.agents[0].reserved_location == 0) {
       ben_closest_while_ana_there = std::min(ben_closest_while_ana_there, (state.agents[1].position - Vec2(5, 8)).norm());
     }
   }
@@ -292,7 +292,7 @@ std::vector<std::uint64_t> hashes(std::uint64_t seed) {
   Session& session = session_run.session();
   std::vector<std::uint64_t> result;
   for (int i = 0; i < 900; ++i) {
-    session.step();
+    session.tick();
     result.push_back(session.state_hash());
   }
   return result;
@@ -311,7 +311,7 @@ TEST(Determinism, AnotherSeedDrawsOtherSpeeds) {
 TEST(Determinism, TimeIsTicksTimesDt) {
   episode::Episode session_run(model_of(kCrowd), 1);
   Session& session = session_run.session();
-  for (int i = 0; i < 1000; ++i) session.step();
+  for (int i = 0; i < 1000; ++i) session.tick();
   EXPECT_EQ(session.time(), 1000 * session.model().dt);
 }
 
@@ -344,7 +344,7 @@ TEST(Groups, APairWalksSideBySide) {
   Session& session = session_run.session();
   double farthest_apart = 0.0;
   while (!session.state().finished) {
-    session.step();
+    session.tick();
     farthest_apart = std::max(farthest_apart, (session.state().agents[0].position - session.state().agents[1].position).norm());
   }
   EXPECT_EQ(session.state().termination, "scenario_end");
@@ -449,7 +449,7 @@ TEST(AgentIds, RemovedAgentsLeaveAndTheirIdsGoStale) {
   EXPECT_EQ(session.index_of(bo), 1);
   EXPECT_EQ(session.agent_ids().size(), 3u);
   EXPECT_THROW(session.agent_id("zoe"), core::Error);
-  for (int tick = 0; tick < 120; ++tick) session.step();
+  for (int tick = 0; tick < 120; ++tick) session.tick();
   session.remove_agent(bo);
   EXPECT_THROW(session.index_of(bo), core::Error) << "a stale id fails loudly";
   EXPECT_THROW(session.remove_agent(bo), core::Error);
@@ -458,7 +458,7 @@ TEST(AgentIds, RemovedAgentsLeaveAndTheirIdsGoStale) {
   ASSERT_EQ(left.size(), 2u);
   EXPECT_EQ(session.index_of(left[0]), 0) << "creation order";
   EXPECT_EQ(session.index_of(left[1]), 2);
-  session.step();
+  session.tick();
   EXPECT_EQ(session.state().termination, "scenario_end") << "the step no longer waits for bo";
   EXPECT_FALSE(session.state().agents[1].active);
   EXPECT_EQ(events_of(session, "agent_removed").size(), 1u);
@@ -479,7 +479,7 @@ TEST(Session, TextualCommandsGoFirstAndTheChoreographyResumes) {
   session.command_human(ana, "walk 2 8");
   double closest_to_detour = 1e9;
   while (!session.state().finished && session.time() < 50) {
-    session.step();
+    session.tick();
     closest_to_detour = std::min(closest_to_detour, (session.state().agents[0].position - Vec2(2, 8)).norm());
   }
   EXPECT_LE(closest_to_detour, scenario::kDefaultGoalRadius + 1e-9) << "walked to the commanded spot first";

@@ -1,7 +1,7 @@
 #pragma once
 // A Gymnasium environment's behaviour over a session: its spaces, what the robot under test observes
-// and does, and the step's reward and ending. Each benchmark task of seed 003 §4.4 is one; so is the
-// default navigation view of scenarios without a task.
+// and does, and an env step's reward and ending: a View. Each benchmark task of seed 003 §4.4 is one;
+// so is the default navigation view of scenarios without a task.
 #include <memory>
 #include <string>
 #include <utility>
@@ -39,9 +39,9 @@ struct Reward {
   std::vector<std::pair<std::string, double>> terms;
 };
 
-class Task {
+class View {
  public:
-  virtual ~Task() = default;
+  virtual ~View() = default;
 
   const Space& observation_space() const { return observation_space_; }
   const Space& action_space() const { return action_space_; }
@@ -75,6 +75,6 @@ class Task {
 
 /// The task a session's scenario names, or the default navigation view. Throws core::Error(conflict)
 /// when the scenario has no robot that can act.
-std::unique_ptr<Task> make_task(const sim::Session& session);
+std::unique_ptr<View> make_view(const sim::Session& session);
 
 }  // namespace hrisim::tasks

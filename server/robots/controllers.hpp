@@ -1,0 +1,47 @@
+#pragma once
+// The built-in robot controllers' laws: from the robot's pose, the path ahead and the people around,
+// a base command. The session's robot-control phase picks one per robot (docs/robots/controllers.md).
+#include <vector>
+
+#include "core/math.hpp"
+#include "robots/differential_drive.hpp"
+
+namespace hrisim::robots {
+
+using core::Pose2;
+using core::Vec2;
+
+// Named defaults, documented in docs/robots/controllers.md.
+/// Pure pursuit looks this far ahead along the path, m.
+inline constexpr double kPurePursuitLookahead = 0.6;
+/// A target further to the side than this is first faced by turning on the spot, rad.
+inline constexpr double kTurnOnTheSpotAngle = 0.8;
+/// Angular velocity per radian of heading error when facing a direction, 1/s.
+inline constexpr double kHeadingGain = 2.5;
+/// Robots slow down over this distance before their goal, m.
+inline constexpr double kRobotArrivalSlowdown = 0.5;
+/// The social robot slows for a person closer than this within ±kSocialYieldAngle ahead, m...
+inline constexpr double kSocialSlowDistance = 1.5;
+/// ...and stops for one this close, m.
+inline constexpr double kSocialStopDistance = 0.6;
+inline constexpr double kSocialYieldAngle = 1.0;  ///< rad
+/// The social robot's sideways push away from people: strength at contact (m/s) and decay length (m),
+/// Helbing's exponential repulsion.
+inline constexpr double kSocialRepulsion = 0.5;
+inline constexpr double kSocialRepulsionRange = 0.4;
+
+/// Pure pursuit along `path` (from the robot's position through the remaining waypoints): the arc
+/// through the point kPurePursuitLookahead ahead, at `speed`; turns on the spot towards targets far to
+/// the side; slows before the last waypoint.
+Twist pure_pursuit(const Pose2& pose, const std::vector<Vec2>& path, double speed);
+
+/// A differential-drive command that follows a desired planar velocity: turn towards it, drive at its
+/// speed projected on the heading (never backwards).
+Twist follow_velocity(const Pose2& pose, const Vec2& desired);
+
+/// The social robot's desired velocity: towards the lookahead point at `speed`, pushed sideways away
+/// from nearby people, slowed and stopped for people ahead.
+Vec2 social_velocity(const Pose2& pose, const std::vector<Vec2>& path, double speed, const std::vector<Vec2>& people,
+                     double robot_radius);
+
+}  // namespace hrisim::robots
