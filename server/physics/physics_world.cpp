@@ -118,6 +118,34 @@ struct PhysicsWorld::Impl {
     }
   }
 
+  /// Whether body `other` stops body `self` (see PhysicsWorld::clearance).
+  bool solid_for(const Body& self, int other) const {
+    const Body& body = bodies[other];
+    if (other == floor || body.mass > 0.0) return false;  // held objects keep their mass
+    return !(body.owner.kind == self.owner.kind && body.owner.index == self.owner.index);
+  }
+
+  int floor = -1;
+
+  /// The nearest contact between one body and those solid for it.
+  class Clearance : public btCollisionWorld::ContactResultCallback {
+   public:
+    Clearance(const Impl& impl, const Body& self, double reach) : impl_(impl), self_(self), nearest_(reach) { m_closestDistanceThreshold = reach; }
+    bool needsCollision(btBroadphaseProxy* proxy) const override {
+      return impl_.solid_for(self_, static_cast<const btCollisionObject*>(proxy->m_clientObject)->getUserIndex());
+    }
+    btScalar addSingleResult(btManifoldPoint& point, const btCollisionObjectWrapper*, int, int, const btCollisionObjectWrapper*, int, int) override {
+      nearest_ = std::min(nearest_, static_cast<double>(point.getDistance()));
+      return 0;
+    }
+    double nearest() const { return nearest_; }
+
+   private:
+    const Impl& impl_;
+    const Body& self_;
+    double nearest_;
+  };
+
   Body& at(int id) {
     if (id < 0 || id >= static_cast<int>(bodies.size())) throw core::Error(core::ErrorCode::internal, "no physics body " + std::to_string(id));
     return bodies[id];
@@ -136,6 +164,7 @@ int PhysicsWorld::add_floor_and_walls(std::span<const world::Segment> segments, 
   // (a plane gathers it over several steps, and the first lone contact tips and slides them).
   const int floor = impl_->add(std::make_unique<btBoxShape>(btVector3(kFloorHalfSize, kFloorHalfSize, 0.5)), 0.0,
                                btTransform(btQuaternion::getIdentity(), btVector3(0, 0, -0.5)), {BodyOwner::Kind::map, -1, "floor"}, false);
+  impl_->floor = floor;
   if (segments.empty()) return floor;
   auto mesh = std::make_unique<btTriangleMesh>();
   for (const world::Segment& segment : segments) {
@@ -173,6 +202,17 @@ void PhysicsWorld::set_kinematic_pose(int body, const Eigen::Isometry3d& pose) {
   Impl::Body& entry = impl_->at(body);
   entry.motion->setWorldTransform(to_bullet(pose));
   entry.body->setWorldTransform(to_bullet(pose));
+  // Clearance queries find bodies by their broadphase boxes before the next step would move them.
+  if (entry.enabled) impl_->world.updateSingleAabb(entry.body.get());
+}
+
+double PhysicsWorld::clearance(int body, const Eigen::Isometry3d& pose, double reach) {
+  Impl::Body& entry = impl_->at(body);
+  entry.motion->setWorldTransform(to_bullet(pose));
+  entry.body->setWorldTransform(to_bullet(pose));
+  Impl::Clearance nearest(*impl_, entry, reach);
+  impl_->world.contactTest(entry.body.get(), nearest);
+  return nearest.nearest();
 }
 
 void PhysicsWorld::place(int body, const Eigen::Isometry3d& pose) {

@@ -58,6 +58,12 @@ class PhysicsWorld {
   /// The body holding this one, -1 when free.
   int holder(int body) const;
 
+  /// The smallest signed distance (m; negative: overlap) from `body`, placed at `pose`, to what is
+  /// solid for it — the map (not the floor), doors, people and other robots' links; not movable
+  /// objects, which it pushes, nor the links of its own owner — looking no farther than `reach`
+  /// (nothing that near: `reach`). The body stays at `pose`.
+  double clearance(int body, const Eigen::Isometry3d& pose, double reach);
+
   /// Advances the dynamic bodies one fixed step.
   void step();
 

@@ -31,13 +31,16 @@ double remaining_length(const Vec2& start, const std::vector<Vec2>& path) {
   return length;
 }
 
+/// How far ahead along the path a follower at `speed` aims.
+double lookahead(double speed) { return std::clamp(speed * kPurePursuitLookaheadTime, kMinPurePursuitLookahead, kPurePursuitLookahead); }
+
 }  // namespace
 
 Twist pure_pursuit(const Pose2& pose, const std::vector<Vec2>& path, double speed) {
   if (path.empty()) return {};
   const Vec2 position = pose.position();
   const double remaining = remaining_length(position, path);
-  const Vec2 target = point_along(position, path, std::min(kPurePursuitLookahead, remaining));
+  const Vec2 target = point_along(position, path, std::min(lookahead(speed), remaining));
   const Vec2 offset = target - position;
   if (offset.norm() < 1e-9) return {};
   // The target in the robot's frame; the arc through it has curvature 2y / L².
@@ -62,7 +65,7 @@ Vec2 social_velocity(const Pose2& pose, const std::vector<Vec2>& path, double sp
   if (path.empty()) return Vec2::Zero();
   const Vec2 position = pose.position();
   const double remaining = remaining_length(position, path);
-  const Vec2 target = point_along(position, path, std::min(kPurePursuitLookahead, remaining));
+  const Vec2 target = point_along(position, path, std::min(lookahead(speed), remaining));
   const Vec2 onwards = (target - position).normalized() * speed * std::clamp(remaining / kRobotArrivalSlowdown, 0.2, 1.0);
   const Vec2 forward = core::heading_vector(pose.theta);
   double slowest = 1.0;

@@ -14,6 +14,10 @@ using core::Vec2;
 // Named defaults, documented in docs/robots/controllers.md.
 /// Pure pursuit looks this far ahead along the path, m.
 inline constexpr double kPurePursuitLookahead = 0.6;
+/// ...or less at low speed: as far as the robot drives in this time, but no less than
+/// kMinPurePursuitLookahead (a long lookahead at walking pace cuts corners into walls), s.
+inline constexpr double kPurePursuitLookaheadTime = 1.5;
+inline constexpr double kMinPurePursuitLookahead = 0.25;
 /// A target further to the side than this is first faced by turning on the spot, rad.
 inline constexpr double kTurnOnTheSpotAngle = 0.8;
 /// Angular velocity per radian of heading error when facing a direction, 1/s.
@@ -31,7 +35,7 @@ inline constexpr double kSocialRepulsion = 0.5;
 inline constexpr double kSocialRepulsionRange = 0.4;
 
 /// Pure pursuit along `path` (from the robot's position through the remaining waypoints): the arc
-/// through the point kPurePursuitLookahead ahead, at `speed`; turns on the spot towards targets far to
+/// through the point a lookahead ahead (speed × kPurePursuitLookaheadTime, within [kMinPurePursuitLookahead, kPurePursuitLookahead]), at `speed`; turns on the spot towards targets far to
 /// the side; slows before the last waypoint.
 Twist pure_pursuit(const Pose2& pose, const std::vector<Vec2>& path, double speed);
 

@@ -44,6 +44,12 @@ void Motor::hash(core::StateHasher& hasher) const {
   for (const double queued : delay_line_) hasher.add(queued);
 }
 
+void Motor::stop_at(double position, double velocity) {
+  position_ = clamp_position(position);
+  velocity_ = velocity;
+  if (params_.kind == MotorKind::dc) controller_velocity_ = velocity;  // a stalled motor loses its speed
+}
+
 void Motor::step(core::Random& random) {
   const double previous = position_;
   if (params_.kind == MotorKind::dc) {

@@ -55,6 +55,8 @@ class Motor {
 
   /// Advances one tick of dt; noise from `random`.
   void step(core::Random& random);
+  /// The joint was stopped short by something solid: it stands at `position`, moving at `velocity`.
+  void stop_at(double position, double velocity);
 
   double position() const { return position_; }
   double velocity() const { return velocity_; }

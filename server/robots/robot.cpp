@@ -127,13 +127,39 @@ double Robot::joint_velocity(int joint) const {
   return 0.0;
 }
 
-std::vector<Eigen::Isometry3d> Robot::link_poses() const {
+Configuration between(const Configuration& from, const Configuration& to, double t) {
+  Configuration at{{from.base.x + t * (to.base.x - from.base.x), from.base.y + t * (to.base.y - from.base.y),
+                    core::wrap_angle(from.base.theta + t * core::wrap_angle(to.base.theta - from.base.theta))},
+                   from.joints};
+  for (std::size_t j = 0; j < at.joints.size(); ++j) at.joints[j] += t * (to.joints[j] - from.joints[j]);
+  return at;
+}
+
+Configuration Robot::configuration() const {
+  Configuration configuration{pose_, std::vector<double>(description_->joints.size(), 0.0)};
+  for (std::size_t j = 0; j < configuration.joints.size(); ++j) configuration.joints[j] = joint_position(static_cast<int>(j));
+  return configuration;
+}
+
+void Robot::stop_at(const Configuration& from, double t) {
+  const Configuration reached = between(from, configuration(), t);
+  pose_ = reached.base;
+  twist_ = {t * twist_.linear, t * twist_.angular};
+  for (std::size_t j = 0; j < motors_.size(); ++j) {
+    if (motors_[j]) motors_[j]->stop_at(reached.joints[j], t * motors_[j]->velocity());
+  }
+}
+
+std::vector<Eigen::Isometry3d> Robot::link_poses() const { return link_poses(configuration()); }
+
+std::vector<Eigen::Isometry3d> Robot::link_poses(const Configuration& configuration) const {
   std::vector<Eigen::Isometry3d> poses(description_->links.size(), Eigen::Isometry3d::Identity());
-  poses[0] = to_isometry({pose_.x, pose_.y, 0.0, 0.0, 0.0, pose_.theta});
+  const Pose2& base = configuration.base;
+  poses[0] = to_isometry({base.x, base.y, 0.0, 0.0, 0.0, base.theta});
   for (std::size_t j = 0; j < description_->joints.size(); ++j) {
     const Joint& joint = description_->joints[j];
     Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
-    const double q = joint_position(static_cast<int>(j));
+    const double q = configuration.joints[j];
     if (joint.type == JointType::prismatic) {
       motion.translate(q * joint.axis);
     } else if (joint.type != JointType::fixed) {

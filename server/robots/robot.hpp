@@ -22,6 +22,15 @@ using core::Pose2;
 /// Pose3 as a rigid transform (rpy about fixed x, y, z).
 Eigen::Isometry3d to_isometry(const Pose3& pose);
 
+/// Where a robot is: its base pose and every joint's position (mimic joints included, fixed ones 0).
+struct Configuration {
+  Pose2 base;
+  std::vector<double> joints;
+};
+
+/// The configuration a share `t` (0…1) of the way from `from` to `to`: the base along the shorter turn.
+Configuration between(const Configuration& from, const Configuration& to, double t);
+
 class Robot {
  public:
   /// `initial_joints` override the description's initial positions, by joint name.
@@ -60,6 +69,12 @@ class Robot {
 
   /// Every link's pose in the map frame (z up from the floor), in description order.
   std::vector<Eigen::Isometry3d> link_poses() const;
+  /// The same for another configuration of this robot.
+  std::vector<Eigen::Isometry3d> link_poses(const Configuration& configuration) const;
+  Configuration configuration() const;
+  /// Something solid stopped the last step a share `t` of the way from `from`: the base and the joints
+  /// go back to that point, and the wheels', joints' and base's velocities become the share they achieved.
+  void stop_at(const Configuration& from, double t);
   /// A sensor's pose in the map frame.
   Eigen::Isometry3d sensor_pose(const Sensor& sensor) const;
 

@@ -143,7 +143,7 @@ PhysicsBodies build_physics(const scenario::Model& model, State& state, const Hu
   return physics;
 }
 
-void step_physics(const scenario::Model& model, State& state, PhysicsBodies& physics, const HumanBodies& bodies) {
+void place_people_and_doors(const scenario::Model& model, const State& state, PhysicsBodies& physics, const HumanBodies& bodies) {
   physics::PhysicsWorld& world = *physics.world;
   for (std::size_t d = 0; d < physics.doors.size(); ++d) world.set_enabled(physics.doors[d], door_blocks(state, static_cast<int>(d)));
   // People touch robots only: a body far from every robot is left out of the world, which spares
@@ -166,11 +166,50 @@ void step_physics(const scenario::Model& model, State& state, PhysicsBodies& phy
     }
     for (const int part : parts) world.set_enabled(part, present);
   }
+  // Robots without a model walk with the crowd.
   for (std::size_t i = 0; i < physics.disc_robots.size(); ++i) {
     if (physics.disc_robots[i] < 0) continue;
     world.set_enabled(physics.disc_robots[i], state.agents[i].active);
     world.set_kinematic_pose(physics.disc_robots[i], upright(state.agents[i].position, 0.5 * kDiscRobotHeight));
   }
+}
+
+double free_share(PhysicsBodies& physics, std::size_t robot, const robots::Robot& moved, const robots::Configuration& from) {
+  physics::PhysicsWorld& world = *physics.world;
+  const std::vector<int>& links = physics.robot_links[robot];
+  const auto& description = moved.description().links;
+  const robots::Configuration to = moved.configuration();
+  const auto placed = [&](const std::vector<Eigen::Isometry3d>& poses, std::size_t l) { return poses[l] * robots::to_isometry(description[l].collision_origin); };
+  const auto clearance_at = [&](double t) {
+    const std::vector<Eigen::Isometry3d> poses = moved.link_poses(robots::between(from, to, t));
+    double nearest = physics::kContactDistance;
+    for (std::size_t l = 0; l < links.size(); ++l) {
+      if (links[l] >= 0) nearest = std::min(nearest, world.clearance(links[l], placed(poses, l), physics::kContactDistance));
+    }
+    return nearest;
+  };
+  // Enough samples that no link moves farther than kSweepStep between two: none jumps a thin wall.
+  const std::vector<Eigen::Isometry3d> start = moved.link_poses(from), end = moved.link_poses();
+  double travel = 0.0;
+  for (std::size_t l = 0; l < links.size(); ++l) travel = std::max(travel, (end[l].translation() - start[l].translation()).norm());
+  const int samples = std::max(1, static_cast<int>(std::ceil(travel / kSweepStep)));
+  if (samples == 1 && clearance_at(1.0) >= -kPenetrationSlop) return 1.0;
+  // A person who walked into the robot leaves it overlapping: then it may move, but not deeper.
+  const double limit = std::min(-kPenetrationSlop, clearance_at(0.0));
+  for (int k = 1; k <= samples; ++k) {
+    if (clearance_at(static_cast<double>(k) / samples) >= limit) continue;
+    double free = static_cast<double>(k - 1) / samples, blocked = static_cast<double>(k) / samples;
+    for (int i = 0; i < kStopBisections; ++i) {
+      const double middle = 0.5 * (free + blocked);
+      (clearance_at(middle) >= limit ? free : blocked) = middle;
+    }
+    return free;
+  }
+  return 1.0;
+}
+
+void step_physics(const scenario::Model& model, State& state, PhysicsBodies& physics) {
+  physics::PhysicsWorld& world = *physics.world;
   for (std::size_t r = 0; r < state.robots.size(); ++r) {
     RobotRuntime& runtime = state.robots[r];
     const std::vector<int>& links = physics.robot_links[r];

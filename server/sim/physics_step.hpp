@@ -18,6 +18,15 @@ namespace hrisim::sim {
 /// cannot touch one: a robot's reach plus a person's).
 inline constexpr double kHumanContactRange = 3.0;
 
+/// A robot's links may overlap something solid by this much before it stops them, m (Bullet's contact
+/// distances are this noisy between curved shapes).
+inline constexpr double kPenetrationSlop = 5e-4;
+/// A robot's motion in a tick is checked at points no link is farther than this apart, m: a link as
+/// thick cannot pass through a wall between two checks.
+inline constexpr double kSweepStep = 0.02;
+/// Halvings of the blocked stretch of a motion: where a robot stops is found to 1/2^this of it.
+inline constexpr int kStopBisections = 10;
+
 /// The world and which body stands for what (fixed once built).
 struct PhysicsBodies {
   std::unique_ptr<physics::PhysicsWorld> world;  ///< none without a robot with a model and without objects
@@ -31,8 +40,16 @@ struct PhysicsBodies {
 /// The world of the model as the state is now (tick 0); the objects' poses go to the state.
 PhysicsBodies build_physics(const scenario::Model& model, State& state, const HumanBodies& bodies);
 
-/// The tick's physics phase: bodies follow their owners, the world steps, grasps change, and the
+/// People's bodies and the doors as the state has them now, before robots move among them.
+void place_people_and_doors(const scenario::Model& model, const State& state, PhysicsBodies& physics, const HumanBodies& bodies);
+
+/// The share (0…1) of the motion from `from` to where robot `robot` (index into State::robots) now is
+/// that it can make before a link would overlap something solid — walls, furniture, closed doors,
+/// people, other robots — by more than kPenetrationSlop (or, when it already overlaps, more than it does).
+double free_share(PhysicsBodies& physics, std::size_t robot, const robots::Robot& moved, const robots::Configuration& from);
+
+/// The tick's physics phase: robots' links follow them, the world steps, grasps change, and the
 /// objects' poses go to the state.
-void step_physics(const scenario::Model& model, State& state, PhysicsBodies& physics, const HumanBodies& bodies);
+void step_physics(const scenario::Model& model, State& state, PhysicsBodies& physics);
 
 }  // namespace hrisim::sim

@@ -37,12 +37,16 @@ void decide_robots(const scenario::Model& model, State& state) {
   }
 }
 
-void move_robots(const scenario::Model& model, State& state) {
-  for (RobotRuntime& runtime : state.robots) {
+void move_robots(const scenario::Model& model, State& state, PhysicsBodies& physics) {
+  for (std::size_t r = 0; r < state.robots.size(); ++r) {
+    RobotRuntime& runtime = state.robots[r];
     AgentState& self = state.agents[runtime.agent];
     if (!self.active) continue;
     const bool was_navigating = self.navigating;
+    const robots::Configuration before = runtime.robot.configuration();
     runtime.robot.step(runtime.motor_random);
+    const double share = free_share(physics, r, runtime.robot, before);
+    if (share < 1.0) runtime.robot.stop_at(before, share);
     const Pose2& pose = runtime.robot.pose();
     self.position = pose.position();
     self.heading = pose.theta;

@@ -113,9 +113,10 @@ void Session::tick() {
   if (state_.finished) return;
   decide_robots(model, state_);
   walk(model, state_, walking_);
-  move_robots(model, state_);
+  if (physics_.world) place_people_and_doors(model, state_, physics_, bodies_);
+  move_robots(model, state_, physics_);
   ++state_.tick;
-  if (physics_.world) step_physics(model, state_, physics_, bodies_);  // the state after this tick: its events carry the new tick, as sensors do
+  if (physics_.world) step_physics(model, state_, physics_);  // the state after this tick: its events carry the new tick, as sensors do
   sense(model, state_, physics_, bodies_);
   end_at_time_limit();
 }

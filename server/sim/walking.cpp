@@ -13,6 +13,15 @@ namespace {
 
 using scenario::AgentKind;
 
+/// Whether an agent is done with its current waypoint (not the last): people within a step of it; a
+/// robot's follower, which rounds corners itself, close to it or already past it along the next leg.
+bool passed_waypoint(const scenario::AgentDef& def, const AgentState& self) {
+  const Vec2& waypoint = self.path[self.path_index];
+  if (!def.robot_model) return (waypoint - self.position).norm() < kWaypointReached;
+  const Vec2& next = self.path[self.path_index + 1];
+  return (waypoint - self.position).norm() < kRobotWaypointReached || (self.position - waypoint).dot(next - waypoint) > 0.0;
+}
+
 /// A human's gait, turn rate and motion primitive after it moved this tick and turned by `turned`.
 void advance_body(const scenario::Model& model, const State& state, AgentState& self, double turned) {
   const double speed = self.velocity.norm();
@@ -55,7 +64,7 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
         }
       }
     }
-    while (self.path_index + 1 < self.path.size() && (self.path[self.path_index] - self.position).norm() < kWaypointReached) {
+    while (self.path_index + 1 < self.path.size() && passed_waypoint(model.agents[i], self)) {
       self.leg_start = self.path[self.path_index];
       ++self.path_index;
     }
@@ -181,7 +190,11 @@ void go_to(const scenario::Model& model, State& state, int agent, const Pose2& g
 bool plan_path(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
   const double radius = model.agents[agent].radius;
-  const auto path = model.planner.plan(self.position, self.goal, radius, blocked_door_cells(model, state, radius), state.planning_history);
+  const auto plan = [&](double clearance) {
+    return model.planner.plan(self.position, self.goal, clearance, blocked_door_cells(model, state, clearance), state.planning_history);
+  };
+  auto path = model.agents[agent].robot_model ? plan(radius + kRobotPathMargin) : std::nullopt;
+  if (!path) path = plan(radius);
   self.path_index = 0;
   self.leg_start = self.position;
   self.planned_tick = state.tick;

@@ -19,6 +19,12 @@ inline constexpr double kHeadingTolerance = 0.05;
 inline constexpr double kArrivalSlowdown = 0.5;
 /// A waypoint (other than the last) counts as passed within this distance, m.
 inline constexpr double kWaypointReached = 0.3;
+/// A robot's path follower turns a corner itself: its waypoint counts as passed within this distance,
+/// or once the robot is past it along the next leg, m.
+inline constexpr double kRobotWaypointReached = 0.1;
+/// Robots plan their paths this far off walls and furniture beyond their radius, where the way is wide
+/// enough, m: a path follower cuts corners, and walls stop a robot's body.
+inline constexpr double kRobotPathMargin = 0.1;
 /// A standing agent pushed further than this from where it arrived steps back, m...
 inline constexpr double kHoldTolerance = 0.3;
 /// ...at this speed, m/s.

@@ -133,7 +133,11 @@ void NavigationTask::walk_on(sim::Session& session) {
 }
 
 double NavigationTask::distance(const sim::Session& session) const {
-  return (session.state().agents[task_.human].position - session.state().agents[task_.robot].position).norm();
+  // Between the bodies: the seed's human has no collider, so its root-to-base distance could reach
+  // 0.3 m; hrisim's people are solid, and the footprints' gap is what the robot can close.
+  const scenario::Model& model = session.model();
+  const double centres = (session.state().agents[task_.human].position - session.state().agents[task_.robot].position).norm();
+  return centres - model.agents[task_.human].radius - model.agents[task_.robot].radius;
 }
 
 std::vector<double> NavigationTask::observe(const sim::Session& session) const {
@@ -141,7 +145,7 @@ std::vector<double> NavigationTask::observe(const sim::Session& session) const {
   const sim::AgentState& human = session.state().agents[task_.human];
   const core::Vec2 at = core::in_frame(robot.heading, human.position - robot.position), moving = core::in_frame(robot.heading, human.velocity);
   std::vector<double> observation = robot_motion(session, task_.robot);
-  observation.insert(observation.end(), {at.x(), at.y(), moving.x(), moving.y(), at.norm()});
+  observation.insert(observation.end(), {at.x(), at.y(), moving.x(), moving.y(), distance(session)});
   return observation;
 }
 

@@ -15,9 +15,9 @@
 // The benchmark's navigation tasks (seed 003 §4.4.1–4.4.3):
 //
 //   observation (float64, 11 values): the robot's x, y, cos θ, sin θ, v, ω as above; the human's position
-//     x, y and velocity x, y in the robot's frame; the robot–human distance (m)
+//     x, y and velocity x, y in the robot's frame; the gap between the robot's and the human's footprints (m)
 //   action: forward speed and yaw rate, as above
-//   reward: previous minus current robot–human distance; −20 when closer than 0.1 m; −0.5 for each
+//   reward: previous minus current gap; −20 when closer than 0.1 m; −0.5 for each
 //     penalised obstacle touched during the step
 //   terminated: closer than 0.3 m (not follow_human)
 #include <limits>
@@ -79,7 +79,7 @@ class NavigationTask : public View {
   const scenario::TaskSettings& task_;
   TouchCounter touches_;
   core::Random random_;
-  double distance_ = 0.0;  ///< robot–human distance after the last step
+  double distance_ = 0.0;  ///< the footprints' gap after the last step
   std::vector<std::string> touched_;
   std::string style_;
   nlohmann::json terms_ = nlohmann::json::object();
