@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <span>
 
 #include "sim/doors_and_elevators.hpp"
@@ -179,29 +180,39 @@ double free_share(PhysicsBodies& physics, std::size_t robot, const robots::Robot
   const std::vector<int>& links = physics.robot_links[robot];
   const auto& description = moved.description().links;
   const robots::Configuration to = moved.configuration();
-  const auto placed = [&](const std::vector<Eigen::Isometry3d>& poses, std::size_t l) { return poses[l] * robots::to_isometry(description[l].collision_origin); };
-  const auto clearance_at = [&](double t) {
-    const std::vector<Eigen::Isometry3d> poses = moved.link_poses(robots::between(from, to, t));
-    double nearest = physics::kContactDistance;
-    for (std::size_t l = 0; l < links.size(); ++l) {
-      if (links[l] >= 0) nearest = std::min(nearest, world.clearance(links[l], placed(poses, l), physics::kContactDistance));
-    }
-    return nearest;
+  const auto clearance = [&](std::size_t l, const std::vector<Eigen::Isometry3d>& poses) {
+    return world.clearance(links[l], poses[l] * robots::to_isometry(description[l].collision_origin), physics::kContactDistance);
   };
+  const auto poses_at = [&](double t) { return moved.link_poses(robots::between(from, to, t)); };
   // Enough samples that no link moves farther than kSweepStep between two: none jumps a thin wall.
   const std::vector<Eigen::Isometry3d> start = moved.link_poses(from), end = moved.link_poses();
   double travel = 0.0;
   for (std::size_t l = 0; l < links.size(); ++l) travel = std::max(travel, (end[l].translation() - start[l].translation()).norm());
+  if (travel == 0.0) return 1.0;  // standing still goes nowhere deeper
   const int samples = std::max(1, static_cast<int>(std::ceil(travel / kSweepStep)));
-  if (samples == 1 && clearance_at(1.0) >= -kPenetrationSlop) return 1.0;
-  // A person who walked into the robot leaves it overlapping: then it may move, but not deeper.
-  const double limit = std::min(-kPenetrationSlop, clearance_at(0.0));
+  // How deep each link may overlap: kPenetrationSlop, or as deep as it already is (a person who walked
+  // into the robot: it may move, but not deeper). Measured only for links that come close.
+  std::vector<std::optional<double>> limits(links.size());
+  const auto limit = [&](std::size_t l) {
+    if (!limits[l]) limits[l] = std::min(-kPenetrationSlop, clearance(l, start));
+    return *limits[l];
+  };
+  std::vector<std::size_t> blocking;
   for (int k = 1; k <= samples; ++k) {
-    if (clearance_at(static_cast<double>(k) / samples) >= limit) continue;
+    const std::vector<Eigen::Isometry3d> poses = k == samples ? end : poses_at(static_cast<double>(k) / samples);
+    for (std::size_t l = 0; l < links.size(); ++l) {
+      if (links[l] < 0) continue;
+      const double nearest = clearance(l, poses);
+      if (nearest < -kPenetrationSlop && nearest < limit(l)) blocking.push_back(l);
+    }
+    if (blocking.empty()) continue;
+    // Where between the last free sample and this one the blocking links stop.
     double free = static_cast<double>(k - 1) / samples, blocked = static_cast<double>(k) / samples;
-    for (int i = 0; i < kStopBisections; ++i) {
+    while ((blocked - free) * travel > kStopResolution) {
       const double middle = 0.5 * (free + blocked);
-      (clearance_at(middle) >= limit ? free : blocked) = middle;
+      const std::vector<Eigen::Isometry3d> there = poses_at(middle);
+      const bool clear = std::all_of(blocking.begin(), blocking.end(), [&](std::size_t l) { return clearance(l, there) >= limit(l); });
+      (clear ? free : blocked) = middle;
     }
     return free;
   }

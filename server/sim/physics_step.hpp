@@ -18,14 +18,15 @@ namespace hrisim::sim {
 /// cannot touch one: a robot's reach plus a person's).
 inline constexpr double kHumanContactRange = 3.0;
 
-/// A robot's links may overlap something solid by this much before it stops them, m (Bullet's contact
-/// distances are this noisy between curved shapes).
-inline constexpr double kPenetrationSlop = 5e-4;
+/// A robot's links may overlap something solid by this much before it stops them, m: none. Resting
+/// just clear of what stopped it, the next tick's checks need no penetration-depth search.
+inline constexpr double kPenetrationSlop = 0.0;
 /// A robot's motion in a tick is checked at points no link is farther than this apart, m: a link as
 /// thick cannot pass through a wall between two checks.
 inline constexpr double kSweepStep = 0.02;
-/// Halvings of the blocked stretch of a motion: where a robot stops is found to 1/2^this of it.
-inline constexpr int kStopBisections = 10;
+/// Where a robot stops is found to within this much of its links' travel, m (it ends this close to
+/// what stopped it, well inside physics::kContactDistance, so the contact is still reported).
+inline constexpr double kStopResolution = 1e-4;
 
 /// The world and which body stands for what (fixed once built).
 struct PhysicsBodies {
