@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <set>
 
 #include "sim/session.hpp"
@@ -122,6 +123,24 @@ TEST_P(WallsStopRobots, AtTopSpeedIntoEveryFace) {
 
 INSTANTIATE_TEST_SUITE_P(Maps, WallsStopRobots,
                          ::testing::Values("corridor_passing", "conversation_group", "queue", "elevator", "apartment", "pick_and_place"));
+
+TEST(DoorsStopRobots, AClosedElevatorDoorStopsTheHsrAtItsSlab) {
+  // The elevator's floor-1 door spans x = 1.3, y −0.6…0.6, and stays shut while nobody calls the cabin.
+  const auto model = alone(map_of("elevator"), "hsr", {2.4, 0.0, std::numbers::pi});
+  ASSERT_TRUE(model);
+  Session session(model, 1);
+  const AgentId robot = session.agent_id("robot");
+  session.command_robot_twist(robot, {1.0, 0.0});
+  for (int tick = 0; tick < static_cast<int>(8.0 / model->dt); ++tick) session.tick();
+  const double radius = model->agents[session.index_of(robot)].radius;
+  const double slab = 1.3 + 0.5 * scenario::kDefaultWallThickness;
+  const double x = session.state().agents[session.index_of(robot)].position.x();
+  EXPECT_GE(x - radius, slab - kAllowedPenetration) << "not through the door";
+  EXPECT_LE(x - radius, slab + 0.02) << "stopped by the door, not before";
+  bool touched = false;
+  for (const Event& event : session.state().events) touched |= event.kind == "contact_start" && event.data.value("part", "") == "door1";
+  EXPECT_TRUE(touched);
+}
 
 TEST(PeopleStopRobots, ARobotDrivingAtAStandingPersonStopsAgainstHer) {
   json document = testing::room_scenario({{"humans", {{{"id", "ana"}, {"start", {{"x", 5}, {"y", 2}}}}}},
