@@ -36,4 +36,16 @@ const scenario::Action& action_of(const scenario::Model& model, const State& sta
 /// Gives up the location, social space and slot an agent holds.
 void release_reservations(State& state, int agent);
 
+/// A person touched by a robot steps back this far from it, m (half as far when that spot is taken;
+/// not at all when neither is free, in a social space such as a cabin, or standing their ground)...
+inline constexpr double kStartleStepBack = 0.5;
+/// ...then looks at the robot this long before going on with what they were doing, s.
+inline constexpr double kStartleLook = 1.0;
+/// Touches within this long of the last one startle nobody again, s.
+inline constexpr double kStartleRefractory = 3.0;
+
+/// A robot touched `human`: they stop what they do, step back, look at the robot, then carry on (the
+/// reaction goes before their program, as a command would). Emits "startled".
+void startle(const scenario::Model& model, State& state, int human, int robot);
+
 }  // namespace hrisim::sim

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/choreography.hpp"
 #include "sim/doors_and_elevators.hpp"
 #include "sim/events.hpp"
 
@@ -122,6 +123,7 @@ void sense(const scenario::Model& model, State& state, const PhysicsBodies& phys
     for (const Contact& contact : contacts) {
       if (std::find(runtime.contacts.begin(), runtime.contacts.end(), contact) == runtime.contacts.end()) {
         emit(model, state, "contact_start", id, {{"with", with(contact)}, {"part", contact.part}});
+        if (contact.agent >= 0) startle(model, state, contact.agent, runtime.agent);
       }
     }
     for (const Contact& contact : runtime.contacts) {

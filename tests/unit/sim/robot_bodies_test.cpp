@@ -166,5 +166,32 @@ TEST(PeopleStopRobots, ARobotDrivingAtAStandingPersonStopsAgainstHer) {
   EXPECT_TRUE(touched);
 }
 
+TEST(PeopleReactToTouch, ATouchedPersonStepsBackAndLooksAtTheRobot) {
+  // The robot starts a hand's breadth behind her and drives on: people avoid robots, so only one this
+  // close and this fast reaches her.
+  json document = testing::room_scenario({{"humans", {{{"id", "ana"}, {"start", {{"x", 5}, {"y", 2}, {"theta", 0}}}}}},
+                                          {"robots", {{{"id", "robot"}, {"model", "artos"}, {"start", {{"x", 4.3}, {"y", 2}, {"theta", 0}}},
+                                                       {"controller", {{"type", "teleop"}}}}}}});
+  document["steps"] = json::array({{{"name", "wait"}, {"actions", {{{"agent", "ana"}, {"wait", {{"duration", 50}}}}}}}});
+  Session session(testing::load_valid(document), 1);
+  const AgentId robot = session.agent_id("robot");
+  const int ana = session.index_of(session.agent_id("ana")), artos = session.index_of(robot);
+  session.command_robot_twist(robot, {1.0, 0.0});
+  const auto startled = [&] { return std::count_if(session.state().events.begin(), session.state().events.end(), [](const Event& e) { return e.kind == "startled"; }); };
+  while (startled() == 0 && session.time() < 10.0) session.tick();
+  ASSERT_EQ(startled(), 1) << "the robot reached her";
+  session.command_robot_twist(robot, {0.0, 0.0});
+  const auto gap = [&] { return (session.state().agents[ana].position - session.state().agents[artos].position).norm(); };
+  const double touching = gap();
+  for (int tick = 0; tick < static_cast<int>(3.0 / session.model().dt); ++tick) session.tick();
+  EXPECT_GT(gap(), touching + 0.3) << "she stepped back";
+  const AgentState& her = session.state().agents[ana];
+  EXPECT_LT(std::abs(core::wrap_angle(core::direction_to(her.position, session.state().agents[artos].position) - her.heading)), 0.2) << "she looks at it";
+  const auto event = std::find_if(session.state().events.begin(), session.state().events.end(), [](const Event& e) { return e.kind == "startled"; });
+  EXPECT_EQ(event->subject, "ana");
+  EXPECT_EQ(event->data["robot"], "robot");
+  EXPECT_TRUE(event->data["stepped_back"].get<bool>());
+}
+
 }  // namespace
 }  // namespace hrisim::sim
