@@ -189,8 +189,43 @@ Vec2 solve_orca(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, 
   return result;
 }
 
-Crowd::Crowd(OrcaParams orca, SocialForceParams social_force)
-    : orca_(orca), social_force_(social_force), grid_(std::max(orca.neighbour_distance, 1.0)) {}
+Crowd::Crowd(OrcaParams orca, SocialForceParams social_force, PersonalSpace personal_space)
+    : orca_(orca), social_force_(social_force), personal_space_(personal_space), grid_(std::max(orca.neighbour_distance, 1.0)) {}
+
+/// No agent's body is wider than this round its centre, m (bounds the search for neighbours).
+constexpr double kLargestBodyRadius = 1.0;
+
+double Crowd::margin(const CrowdAgent& agent, const CrowdAgent& other) const {
+  const double limbs = std::min(kLimbClearance, personal_space_.from_robots);
+  double wanted = 0.0;
+  if (other.controlled) {
+    wanted = agent.place >= 0 ? limbs : std::max(agent.personal_space * personal_space_.from_robots, limbs);
+  } else if (!(agent.group >= 0 && agent.group == other.group) && !(agent.place >= 0 && agent.place == other.place)) {
+    wanted = agent.personal_space * personal_space_.from_people;
+  }
+  const double gap = (other.position - agent.position).norm() - agent.radius - other.radius;
+  return std::clamp(gap, 0.0, wanted);
+}
+
+Vec2 Crowd::keep_personal_space(std::size_t i, std::span<const CrowdAgent> agents, Vec2 velocity, double dt) {
+  const CrowdAgent& agent = agents[i];
+  std::vector<std::pair<double, std::uint32_t>>& neighbours = orca_neighbours_;
+  const double reach = agent.radius + personal_space_.from_robots + agent.max_speed * dt + kLargestBodyRadius;
+  grid_.nearest_within(agent.position, reach, agents.size(), static_cast<std::uint32_t>(i), neighbours);
+  for (const auto& [squared_distance, j] : neighbours) {
+    const CrowdAgent& other = agents[j];
+    const double keep = margin(agent, other);
+    const double distance = std::sqrt(squared_distance);
+    if (keep <= 0.0 || distance <= 0.0) continue;  // the social force alone, as pedsim has it
+    const Vec2 offset = other.position - agent.position;
+    const Vec2 towards = offset / distance;
+    // No nearer than the margin after this tick: the closing speed is capped by the room left.
+    const double room = distance - agent.radius - other.radius - keep;
+    const double closing = (velocity - other.velocity).dot(towards), allowed = std::max(room, 0.0) / dt;
+    if (closing > allowed) velocity -= (closing - allowed) * towards;
+  }
+  return velocity;
+}
 
 void Crowd::compute_velocities(std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
                                std::vector<Vec2>& velocities) {
@@ -230,7 +265,7 @@ Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, con
   for (const auto& [squared_distance, j] : neighbours) {
     const CrowdAgent& other = agents[j];
     lines.push_back(orca_line(agent.position, agent.velocity, agent.radius, other.position, other.velocity,
-                              other.radius, orca_.time_horizon, dt, other.controlled ? 1.0 : 0.5));
+                              other.radius + margin(agent, other), orca_.time_horizon, dt, other.controlled ? 1.0 : 0.5));
   }
   return solve_orca(lines, obstacle_lines, agent.max_speed, agent.preferred_velocity);
 }
@@ -305,7 +340,7 @@ Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> age
   const Vec2 acceleration = p.desired_factor * desired + p.social_factor * social + p.obstacle_factor * obstacle_force;
   Vec2 velocity = agent.velocity + acceleration * dt;
   if (velocity.norm() > agent.max_speed) velocity = velocity.normalized() * agent.max_speed;
-  return velocity;
+  return keep_personal_space(i, agents, velocity, dt);
 }
 
 }  // namespace hrisim::humans

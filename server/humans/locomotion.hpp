@@ -39,6 +39,26 @@ struct SocialForceParams {
   double neighbour_distance = 4.0;  ///< m, neighbours considered (the force is negligible beyond)
 };
 
+/// The gap people keep from a robot's footprint, beyond touching, m: Hall's boundary between the
+/// intimate and the personal zone (0.45 m), which subjects in a corridor found the least a passing
+/// robot should leave (Pacchierotti, Christensen & Jensfelt 2006); docs/crowd.md gives the sources.
+inline constexpr double kPersonalSpaceFromRobots = 0.45;
+/// The gap people keep from each other beyond touching, m: walkers passing an obstacle kept 0.30 m
+/// (Hackney, Vallis & Cinelli 2013).
+inline constexpr double kPersonalSpaceFromPeople = 0.30;
+
+/// Squeezing past a robot, people still keep this much from its footprint, m: their swinging hands
+/// and feet reach this far beyond the disc that stands for their body.
+inline constexpr double kLimbClearance = 0.1;
+
+/// Margins people keep beyond touching, surface to surface. Where two are already closer (people
+/// placed close together, a crowded scene) the gap they have is the one they keep: nobody is pushed
+/// apart, nobody closes in.
+struct PersonalSpace {
+  double from_robots = kPersonalSpaceFromRobots;
+  double from_people = kPersonalSpaceFromPeople;
+};
+
 /// Helbing & Molnár's bound on speed relative to the preferred speed.
 inline constexpr double kMaxSpeedFactor = 1.3;
 
@@ -50,6 +70,9 @@ struct CrowdAgent {
   double max_speed = 1.34 * kMaxSpeedFactor;
   LocalAvoidance avoidance = LocalAvoidance::orca;
   bool controlled = false;  ///< a robot: velocity given, not computed; others treat it as non-reciprocating
+  double personal_space = 1.0;  ///< share of the PersonalSpace margins this agent keeps now
+  int group = -1;  ///< members of one group keep no margin between them
+  int place = -1;  ///< people sharing a place (a cabin, a queue) keep none either, nor from a robot there
 };
 
 /// One half-plane of permitted velocities: points left of the directed line (RVO2's Line).
@@ -73,7 +96,7 @@ using ObstacleQuery = std::function<std::optional<Vec2>(const Vec2& p, double ra
 
 class Crowd {
  public:
-  Crowd(OrcaParams orca = {}, SocialForceParams social_force = {});
+  Crowd(OrcaParams orca = {}, SocialForceParams social_force = {}, PersonalSpace personal_space = {});
 
   /// New velocities for all agents (controlled agents keep theirs).
   void compute_velocities(std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
@@ -81,8 +104,13 @@ class Crowd {
 
   const OrcaParams& orca() const { return orca_; }
   const SocialForceParams& social_force() const { return social_force_; }
+  const PersonalSpace& personal_space() const { return personal_space_; }
 
  private:
+  /// The margin agent i keeps from agent j this tick (see PersonalSpace).
+  double margin(const CrowdAgent& agent, const CrowdAgent& other) const;
+  /// A social-force agent's velocity with the part that would take it into a neighbour's margin removed.
+  Vec2 keep_personal_space(std::size_t i, std::span<const CrowdAgent> agents, Vec2 velocity, double dt);
   Vec2 orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt);
   /// The interaction forces of the social force model on every agent that uses it, into social_.
   void add_social_forces(std::span<const CrowdAgent> agents);
@@ -91,6 +119,7 @@ class Crowd {
 
   OrcaParams orca_;
   SocialForceParams social_force_;
+  PersonalSpace personal_space_;
   SpatialGrid grid_;
   std::vector<Vec2> positions_;
   std::vector<Vec2> social_;  ///< per agent this step: the sum of its interaction forces

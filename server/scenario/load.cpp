@@ -233,6 +233,9 @@ class Loader {
     p.n = sf.value("n", p.n);
     p.n_prime = sf.value("n_prime", p.n_prime);
     p.neighbour_distance = sf.value("neighbour_distance", p.neighbour_distance);
+    const json& personal_space = member(locomotion, "personal_space");
+    model.personal_space.from_robots = personal_space.value("from_robots", model.personal_space.from_robots);
+    model.personal_space.from_people = personal_space.value("from_people", model.personal_space.from_people);
   }
 
   /// Errors when p is outside the map or inside an obstacle, naming the obstacle when one contains it.

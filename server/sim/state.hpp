@@ -85,12 +85,15 @@ struct AgentState {
   double gait_distance = 0.0;  ///< m, within one walk cycle
   double turn_rate = 0.0;      ///< rad/s in the last step
   std::int64_t startled_tick = -1;  ///< when a robot last touched this person, -1 before
+  /// Share (0…1) of their personal-space margins a person keeps: it falls while others hold them up
+  /// and comes back once they walk freely (squeezing past in a narrow place).
+  double personal_space = 1.0;
   const humans::MotionClip* motion = nullptr;  ///< a shipped primitive (its pose held once it ends)
   std::int64_t motion_tick = 0;                ///< when it started
   std::int64_t motion_released_tick = -1;      ///< when the person walked off (it blends out), -1 before
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, motion, motion_tick, motion_released_tick); }
+  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, motion, motion_tick, motion_released_tick); }
 };
 
 struct Event {

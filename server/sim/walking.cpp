@@ -13,6 +13,14 @@ namespace {
 
 using scenario::AgentKind;
 
+/// The group an agent belongs to now, -1 for none.
+int group_of(const State& state, int agent) {
+  for (std::size_t g = 0; g < state.groups.size(); ++g) {
+    if (std::find(state.groups[g].begin(), state.groups[g].end(), agent) != state.groups[g].end()) return static_cast<int>(g);
+  }
+  return -1;
+}
+
 /// Whether an agent is done with its current waypoint (not the last): people within a step of it; a
 /// robot's follower, which rounds corners itself, close to it or already past it along the next leg.
 bool passed_waypoint(const scenario::AgentDef& def, const AgentState& self) {
@@ -130,6 +138,10 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     crowd.avoidance = def.avoidance;
     crowd.controlled = def.kind == AgentKind::robot || self.rooted;  // a controlled agent keeps its velocity
     crowd.preferred_velocity = preferred;
+    crowd.personal_space = self.personal_space;
+    // Members of one group, and people sharing a place (a cabin, a queue), stand as close as it has them.
+    crowd.group = group_of(state, static_cast<int>(i));
+    crowd.place = self.reserved_space;
     crowd.max_speed = std::max(self.preferred_speed * humans::kMaxSpeedFactor, 1e-3);
     crowd.velocity = !crowd.controlled ? self.velocity
                      : self.rooted     ? Vec2::Zero()
@@ -158,6 +170,9 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     const std::optional<double>& watching = buffers.watching_headings[i];
     self.velocity = buffers.velocities[k];
     self.position += self.velocity * model.dt;
+    const double wanted = buffers.agents[k].preferred_velocity.norm();
+    const bool held_up = wanted > 0.0 && self.velocity.norm() < kHeldUpSpeedShare * wanted;
+    self.personal_space = std::clamp(self.personal_space + (held_up ? -1.0 : 1.0) * model.dt / kSqueezeTime, 0.0, 1.0);
     const double heading_before = self.heading;
     std::optional<double> desired = watching ? watching : self.target_heading;
     // Walking direction, for every walker every tick: the polynomial (1e-5 rad) spares a libm call.

@@ -35,6 +35,10 @@ inline constexpr double kReplanInterval = 0.5;
 /// radius would pass; otherwise it plans again (waypoints hug the inflated walls, so the full radius
 /// would fail needlessly).
 inline constexpr double kRejoinClearance = 0.5;
+/// A person held up by others (slower than kHeldUpSpeedShare of where they want to go) gives up their
+/// personal-space margins over this long, and takes them back over as long once walking freely, s.
+inline constexpr double kSqueezeTime = 3.0;
+inline constexpr double kHeldUpSpeedShare = 0.3;
 /// Without a path, planning is tried again after this long, s.
 inline constexpr double kReplanRetry = 1.0;
 /// A person holding a motion primitive's last pose walks off it (it blends out) above this speed, m/s.
@@ -43,7 +47,7 @@ inline constexpr double kMotionReleaseSpeed = 0.2;
 /// The crowd solver and its buffers, kept from tick to tick so that a tick allocates nothing; nothing
 /// in them outlives a tick.
 struct WalkingBuffers {
-  explicit WalkingBuffers(const scenario::Model& model) : crowd(model.orca, model.social_force) {}
+  explicit WalkingBuffers(const scenario::Model& model) : crowd(model.orca, model.social_force, model.personal_space) {}
   humans::Crowd crowd;
   std::vector<humans::CrowdAgent> agents;
   std::vector<std::size_t> members;  ///< agent index of each crowd entry (active agents)

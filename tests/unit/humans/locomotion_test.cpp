@@ -151,7 +151,7 @@ TEST(SocialForce, HeadOnPassSwervesToOppositeSides) {
   EXPECT_LT(agents[0].position.y(), -0.1);
   EXPECT_GT(agents[1].position.y(), 0.1);
 
-  Crowd without_interaction(OrcaParams{}, SocialForceParams{.social_factor = 0.0});
+  Crowd without_interaction(OrcaParams{}, SocialForceParams{.social_factor = 0.0}, PersonalSpace{0.0, 0.0});
   std::vector<CrowdAgent> blind{walker({-5, 0.0}, LocalAvoidance::social_force),
                                 walker({5, 0.05}, LocalAvoidance::social_force)};
   EXPECT_LT(simulate(without_interaction, blind, goals, 6.0), 0.1);

@@ -283,7 +283,9 @@ namespace {
 /// ana standing on the way at (5, 2).
 double closest_approach(const std::string& controller) {
   Session session(with_hsr({{"controller", {{"type", controller}, {"goal", {{"pose", {{"x", 8}, {"y", 2}}}}}}}},
-                           {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 5}, {"y", 2}, {"theta", 3.14159}}}}})}}),
+                           // She keeps no margin of her own: the distance is the controller's doing.
+                           {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 5}, {"y", 2}, {"theta", 3.14159}}}}})},
+                            {"locomotion", {{"personal_space", {{"from_robots", 0.0}, {"from_people", 0.0}}}}}}),
                   1);
   const AgentId hsr = session.agent_id("hsr"), ana = session.agent_id("ana");
   double closest = 1e9;
