@@ -331,47 +331,52 @@ void update_choreography(const scenario::Model& model, State& state) {
   }
 }
 
-void startle(const scenario::Model& model, State& state, int human, int robot) {
+void interrupt(State& state, int human, std::span<const Action> actions) {
   AgentState& self = state.agents[human];
-  if (!self.active || model.agents[human].kind != AgentKind::human) return;
-  if (self.startled_tick >= 0 && state.tick - self.startled_tick < ticks(model, kStartleRefractory)) return;
-  self.startled_tick = state.tick;
-  const Vec2 robot_at = state.agents[robot].position;
-  const Vec2 from_robot = self.position - robot_at;
-  const Vec2 away = from_robot.norm() > 1e-9 ? Vec2(from_robot.normalized()) : Vec2(-core::heading_vector(self.heading));
-  std::vector<Action> reaction;
-  for (const double back : {kStartleStepBack, 0.5 * kStartleStepBack}) {
-    const Vec2 to = self.position + back * away;
-    if (self.rooted || self.reserved_space >= 0 || !model.grid.in_bounds(model.grid.cell_of(to)) || model.field.distance(model.grid, to) < model.agents[human].radius) continue;
-    Action step_back;
-    step_back.agent = human;
-    step_back.kind = Action::Kind::go_to_pose;
-    step_back.pose = {to.x(), to.y(), core::direction_to(to, robot_at)};
-    step_back.radius = scenario::kDefaultGoalRadius;
-    step_back.pointer = "reaction: step back";
-    reaction.push_back(step_back);
-    break;
-  }
-  Action look;
-  look.agent = human;
-  look.kind = Action::Kind::look_at_agent;
-  look.target = robot;
-  look.pointer = "reaction: look at the robot";
-  reaction.push_back(look);
-  Action pause;
-  pause.agent = human;
-  pause.kind = Action::Kind::wait_duration;
-  pause.value = kStartleLook;
-  pause.pointer = "reaction: look at the robot";
-  reaction.push_back(pause);
-  for (auto action = reaction.rbegin(); action != reaction.rend(); ++action) {
+  for (auto action = actions.rbegin(); action != actions.rend(); ++action) {
     state.commanded.push_back(*action);
     self.program.push_front({kCommandedAction, static_cast<int>(state.commanded.size()) - 1, -1});
   }
   self.action_started = false;
   self.navigating = false;
   self.path.clear();
-  emit(model, state, "startled", model.agents[human].id, {{"robot", model.agents[robot].id}, {"stepped_back", reaction.size() == 3}});
+}
+
+void startle(const scenario::Model& model, State& state, int human, int robot) {
+  AgentState& self = state.agents[human];
+  if (!self.active || model.agents[human].kind != AgentKind::human) return;
+  if (self.startled_tick >= 0 && state.tick - self.startled_tick < ticks(model, kStartleRefractory)) return;
+  self.startled_tick = state.tick;
+  const Vec2 robot_at = state.agents[robot].position;
+  const auto reaction = [&](Kind kind, const char* what) {
+    Action action;
+    action.agent = human;
+    action.kind = kind;
+    action.pointer = std::string("reaction: ") + what;
+    return action;
+  };
+  std::vector<Action> actions;
+  const bool may_step_back = !self.rooted && self.reserved_space < 0;  // no room to in a cabin or a queue
+  const Vec2 from_robot = self.position - robot_at;
+  const Vec2 away = from_robot.norm() > 1e-9 ? Vec2(from_robot.normalized()) : Vec2(-core::heading_vector(self.heading));
+  for (const double back : {kStartleStepBack, 0.5 * kStartleStepBack}) {
+    const Vec2 to = self.position + back * away;
+    if (!may_step_back || !model.grid.in_bounds(model.grid.cell_of(to)) || model.field.distance(model.grid, to) < model.agents[human].radius) continue;
+    Action step_back = reaction(Kind::go_to_pose, "step back");
+    step_back.pose = {to.x(), to.y(), core::direction_to(to, robot_at)};
+    step_back.radius = scenario::kDefaultGoalRadius;
+    actions.push_back(step_back);
+    break;
+  }
+  const bool stepped_back = !actions.empty();
+  Action look = reaction(Kind::look_at_agent, "look at the robot");
+  look.target = robot;
+  actions.push_back(look);
+  Action pause = reaction(Kind::wait_duration, "look at the robot");
+  pause.value = kStartleLook;
+  actions.push_back(pause);
+  interrupt(state, human, actions);
+  emit(model, state, "startled", model.agents[human].id, {{"robot", model.agents[robot].id}, {"stepped_back", stepped_back}});
 }
 
 }  // namespace hrisim::sim

@@ -3,6 +3,8 @@
 // through its program one action at a time (compound routines expanded as they start); a step ends
 // when all its actions are done. Robot requests wait for the closest idle human within reach, who then
 // runs the asked routine.
+#include <span>
+
 #include "scenario/model.hpp"
 #include "sim/state.hpp"
 
@@ -35,6 +37,10 @@ const scenario::Action& action_of(const scenario::Model& model, const State& sta
 
 /// Gives up the location, social space and slot an agent holds.
 void release_reservations(State& state, int agent);
+
+/// Puts `actions` before everything in a human's program, in order; what they were doing starts
+/// again afterwards (commands and reactions).
+void interrupt(State& state, int human, std::span<const scenario::Action> actions);
 
 /// A person touched by a robot steps back this far from it, m (half as far when that spot is taken;
 /// not at all when neither is free, in a social space such as a cabin, or standing their ground)...

@@ -41,7 +41,8 @@ struct PhysicsBodies {
 /// The world of the model as the state is now (tick 0); the objects' poses go to the state.
 PhysicsBodies build_physics(const scenario::Model& model, State& state, const HumanBodies& bodies);
 
-/// People's bodies and the doors as the state has them now, before robots move among them.
+/// People's bodies, the doors and robots without a model (they walk with the crowd) as the state has
+/// them now, before robots with a model move among them.
 void place_people_and_doors(const scenario::Model& model, const State& state, PhysicsBodies& physics, const HumanBodies& bodies);
 
 /// The share (0…1) of the motion from `from` to where robot `robot` (index into State::robots) now is

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/state_hash.hpp"
 #include "core/text.hpp"
+#include "sim/choreography.hpp"
 #include "sim/doors_and_elevators.hpp"
 #include "sim/robot_control.hpp"
 #include "sim/sensing.hpp"
@@ -249,13 +250,7 @@ void Session::command_human(const Action& action, std::string text) {
   if (agent < 0 || agent >= static_cast<int>(model_->agents.size()) || model_->agents[agent].kind != AgentKind::human) {
     throw core::Error(core::ErrorCode::bad_request, "a command goes to a human");
   }
-  AgentState& self = state_.agents[agent];
-  // The command goes first; what the human was doing starts again afterwards.
-  state_.commanded.push_back(action);
-  self.program.push_front({kCommandedAction, static_cast<int>(state_.commanded.size()) - 1, -1});
-  self.action_started = false;
-  self.navigating = false;
-  self.path.clear();
+  interrupt(state_, agent, std::span<const Action>(&action, 1));
   emit(*model_, state_, "command", model_->agents[agent].id, {{"text", std::move(text)}});
 }
 
