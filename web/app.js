@@ -12,6 +12,7 @@ const routes = [
   { pattern: /^\/runs\/([^/]+)$/, page: 'run', nav: 'runs', keys: ['id'] },
   { pattern: /^\/episodes\/([^/]+)$/, page: 'episode', nav: 'runs', keys: ['id'] },
   { pattern: /^\/compare\/([^/]+)\/([^/]+)$/, page: 'compare', nav: 'runs', keys: ['a', 'b'] },
+  { pattern: /^\/controllers$/, page: 'controllers', nav: 'controllers' },
 ];
 
 let cleanup = null;

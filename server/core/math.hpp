@@ -50,6 +50,11 @@ std::string point_text(const Vec2& p);
 /// Heading of the direction from `from` to `to`, rad.
 inline double direction_to(const Vec2& from, const Vec2& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
 inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+/// Whether segments ab and cd cross (touching counts).
+inline bool segments_cross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a), d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
+  return d1 * d2 <= 0.0 && d3 * d4 <= 0.0;
+}
 
 /// Unit vector of heading theta.
 inline Vec2 heading_vector(double theta) { return {std::cos(theta), std::sin(theta)}; }

@@ -94,8 +94,8 @@ void linear_program3(const std::vector<OrcaLine>& lines, std::size_t obstacle_li
   }
 }
 
-/// The ORCA half-plane induced by one neighbour (RVO2's Agent::computeNewVelocity), with the given
-/// share of the avoidance (0.5 reciprocal, 1 when the other does not avoid).
+}  // namespace
+
 OrcaLine orca_line(const Vec2& position, const Vec2& velocity, double radius, const Vec2& other_position,
                    const Vec2& other_velocity, double other_radius, double time_horizon, double dt,
                    double responsibility) {
@@ -142,6 +142,8 @@ OrcaLine orca_line(const Vec2& position, const Vec2& velocity, double radius, co
   return line;
 }
 
+namespace {
+
 /// The social force model's interaction force on a from b (Moussaïd et al. 2009 as pedsim computes
 /// it) for each pair given as columns; zero for agents at the same spot. Cloned for wider vector
 /// units: each lane does the same IEEE operations in the same order, so every clone gives the same bits.
@@ -180,6 +182,14 @@ void interaction_forces(const SocialForceParams& p, std::size_t count, const flo
 }
 
 }  // namespace
+
+Vec2 interaction_force(const SocialForceParams& params, const Vec2& offset, const Vec2& velocity_difference) {
+  const auto dx = static_cast<float>(offset.x()), dy = static_cast<float>(offset.y());
+  const auto dvx = static_cast<float>(velocity_difference.x()), dvy = static_cast<float>(velocity_difference.y());
+  float fx = 0.0f, fy = 0.0f;
+  interaction_forces(params, 1, &dx, &dy, &dvx, &dvy, &fx, &fy);
+  return {static_cast<double>(fx), static_cast<double>(fy)};
+}
 
 Vec2 solve_orca(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, double max_speed,
                 const Vec2& preferred) {

@@ -131,6 +131,17 @@ class Crowd {
   std::vector<std::pair<double, std::uint32_t>> orca_neighbours_;   ///< scratch of orca_velocity
 };
 
+/// The ORCA half-plane induced by one neighbour (RVO2's Agent::computeNewVelocity) for an agent at
+/// `position` moving at `velocity`: `responsibility` is its share of the avoidance (0.5 when the other
+/// avoids too, 1 when it does not). A neighbour of radius 0 that stands still is an obstacle point.
+OrcaLine orca_line(const Vec2& position, const Vec2& velocity, double radius, const Vec2& other_position,
+                   const Vec2& other_velocity, double other_radius, double time_horizon, double dt,
+                   double responsibility);
+
+/// The social force model's interaction force on an agent from another `offset` away (the other's
+/// position minus its own), with `velocity_difference` its velocity minus the other's.
+Vec2 interaction_force(const SocialForceParams& params, const Vec2& offset, const Vec2& velocity_difference);
+
 /// RVO2's linear programs: the velocity closest to `preferred` (within `max_speed`) satisfying the
 /// lines, the first `obstacle_lines` of which are hard; when infeasible, the velocity that violates
 /// the soft lines least.

@@ -9,7 +9,14 @@ namespace hrisim::robots {
 
 namespace {
 
-/// The point `distance` further along the path (the robot's position, then the waypoints).
+/// How far ahead along the path a follower at `speed` aims.
+double lookahead(double speed) { return std::clamp(speed * kPurePursuitLookaheadTime, kMinPurePursuitLookahead, kPurePursuitLookahead); }
+
+/// The share of its speed a follower keeps with `remaining` metres to go.
+double arrival_share(double remaining) { return std::clamp(remaining / kRobotArrivalSlowdown, 0.2, 1.0); }
+
+}  // namespace
+
 Vec2 point_along(const Vec2& start, const std::vector<Vec2>& path, double distance) {
   Vec2 from = start;
   for (const Vec2& to : path) {
@@ -31,32 +38,38 @@ double remaining_length(const Vec2& start, const std::vector<Vec2>& path) {
   return length;
 }
 
-/// How far ahead along the path a follower at `speed` aims.
-double lookahead(double speed) { return std::clamp(speed * kPurePursuitLookaheadTime, kMinPurePursuitLookahead, kPurePursuitLookahead); }
+Vec2 lookahead_point(const Vec2& position, const std::vector<Vec2>& path, double speed) {
+  return point_along(position, path, std::min(lookahead(speed), remaining_length(position, path)));
+}
 
-}  // namespace
+Vec2 path_velocity(const Vec2& position, const std::vector<Vec2>& path, double speed) {
+  if (path.empty()) return Vec2::Zero();
+  const double remaining = remaining_length(position, path);
+  const Vec2 offset = point_along(position, path, std::min(lookahead(speed), remaining)) - position;
+  if (offset.norm() < 1e-9) return Vec2::Zero();
+  return offset.normalized() * speed * arrival_share(remaining);
+}
 
 Twist pure_pursuit(const Pose2& pose, const std::vector<Vec2>& path, double speed) {
   if (path.empty()) return {};
   const Vec2 position = pose.position();
   const double remaining = remaining_length(position, path);
-  const Vec2 target = point_along(position, path, std::min(lookahead(speed), remaining));
-  const Vec2 offset = target - position;
+  const Vec2 offset = lookahead_point(position, path, speed) - position;
   if (offset.norm() < 1e-9) return {};
   // The target in the robot's frame; the arc through it has curvature 2y / L².
   const Vec2 local = core::in_frame(pose.theta, offset);
   const double ahead = local.x(), left = local.y();
   const double bearing = core::polynomial_atan2(left, ahead);
   if (std::abs(bearing) > kTurnOnTheSpotAngle) return {0.0, kHeadingGain * bearing};
-  const double linear = speed * std::clamp(remaining / kRobotArrivalSlowdown, 0.2, 1.0);
+  const double linear = speed * arrival_share(remaining);
   return {linear, linear * 2.0 * left / offset.squaredNorm()};
 }
 
-Twist follow_velocity(const Pose2& pose, const Vec2& desired) {
+Twist follow_velocity(const Pose2& pose, const Vec2& desired, double turn_angle) {
   const double speed = desired.norm();
   if (speed < 1e-6) return {};
   const double error = core::wrap_angle(core::polynomial_atan2(desired.y(), desired.x()) - pose.theta);
-  if (std::abs(error) > kTurnOnTheSpotAngle) return {0.0, kHeadingGain * error};
+  if (std::abs(error) > turn_angle) return {0.0, kHeadingGain * error};
   return {speed * std::cos(error), kHeadingGain * error};
 }
 
@@ -64,9 +77,7 @@ Vec2 social_velocity(const Pose2& pose, const std::vector<Vec2>& path, double sp
                      double robot_radius) {
   if (path.empty()) return Vec2::Zero();
   const Vec2 position = pose.position();
-  const double remaining = remaining_length(position, path);
-  const Vec2 target = point_along(position, path, std::min(lookahead(speed), remaining));
-  const Vec2 onwards = (target - position).normalized() * speed * std::clamp(remaining / kRobotArrivalSlowdown, 0.2, 1.0);
+  const Vec2 onwards = path_velocity(position, path, speed);
   const Vec2 forward = core::heading_vector(pose.theta);
   double slowest = 1.0;
   Vec2 push = Vec2::Zero();

@@ -34,14 +34,27 @@ inline constexpr double kSocialYieldAngle = 1.0;  ///< rad
 inline constexpr double kSocialRepulsion = 0.5;
 inline constexpr double kSocialRepulsionRange = 0.4;
 
+/// The point `distance` further along the path from `start` through the waypoints (the last one when the
+/// path is shorter).
+Vec2 point_along(const Vec2& start, const std::vector<Vec2>& path, double distance);
+/// The length of the path from `start` through the waypoints.
+double remaining_length(const Vec2& start, const std::vector<Vec2>& path);
+/// The point a path follower at `speed` aims at: a lookahead (speed × kPurePursuitLookaheadTime, within
+/// [kMinPurePursuitLookahead, kPurePursuitLookahead]) along the path, or its end.
+Vec2 lookahead_point(const Vec2& position, const std::vector<Vec2>& path, double speed);
+/// The velocity a path follower at `speed` wants: towards the point a lookahead ahead, slowed before
+/// the last waypoint (as pure pursuit); zero for an empty path.
+Vec2 path_velocity(const Vec2& position, const std::vector<Vec2>& path, double speed);
+
 /// Pure pursuit along `path` (from the robot's position through the remaining waypoints): the arc
 /// through the point a lookahead ahead (speed × kPurePursuitLookaheadTime, within [kMinPurePursuitLookahead, kPurePursuitLookahead]), at `speed`; turns on the spot towards targets far to
 /// the side; slows before the last waypoint.
 Twist pure_pursuit(const Pose2& pose, const std::vector<Vec2>& path, double speed);
 
-/// A differential-drive command that follows a desired planar velocity: turn towards it, drive at its
-/// speed projected on the heading (never backwards).
-Twist follow_velocity(const Pose2& pose, const Vec2& desired);
+/// A differential-drive command that follows a desired planar velocity: turn on the spot towards it when
+/// it points further than `turn_angle` away, else drive at its speed projected on the heading (never
+/// backwards) while turning towards it.
+Twist follow_velocity(const Pose2& pose, const Vec2& desired, double turn_angle = kTurnOnTheSpotAngle);
 
 /// The social robot's desired velocity: towards the lookahead point at `speed`, pushed sideways away
 /// from nearby people, slowed and stopped for people ahead.

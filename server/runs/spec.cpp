@@ -20,7 +20,7 @@ scenario::LoadResult with_controller(nlohmann::json document, const nlohmann::js
     return {};
   }
   if (!controller.is_object() || !controller.contains("type") || !controller["type"].is_string()) {
-    problem("/controller", "a controller is an object with a \"type\" (idle, goal, social or teleop)");
+    problem("/controller", "a controller is an object with a \"type\" (idle, goal, social, dwa, orca, social_force or teleop)");
     return {};
   }
   document["robots"][0]["controller"] = controller;

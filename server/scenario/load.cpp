@@ -32,6 +32,18 @@ const json& member(const json& object, const char* key) {
   return found == object.end() ? kEmpty : *found;
 }
 
+/// A controller's `type` (the schema admits only these names).
+RobotController::Kind controller_kind(std::string_view type) {
+  using Kind = RobotController::Kind;
+  static constexpr std::pair<std::string_view, Kind> kKinds[] = {
+      {"idle", Kind::idle}, {"goal", Kind::goal}, {"social", Kind::social}, {"teleop", Kind::teleop},
+      {"dwa", Kind::dwa},   {"orca", Kind::orca}, {"social_force", Kind::social_force}};
+  for (const auto& [name, kind] : kKinds) {
+    if (name == type) return kind;
+  }
+  return Kind::idle;
+}
+
 Pose2 read_pose(const json& j) { return {j.at("x").get<double>(), j.at("y").get<double>(), j.value("theta", 0.0)}; }
 Vec2 read_point(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>()}; }
 
@@ -365,7 +377,7 @@ class Loader {
       const json& controller = entry["controller"];
       const std::string type = controller["type"];
       using Kind = RobotController::Kind;
-      agent.controller.kind = type == "goal" ? Kind::goal : type == "social" ? Kind::social : type == "teleop" ? Kind::teleop : Kind::idle;
+      agent.controller.kind = controller_kind(type);
       const json goal = controller.value("goal", json::object());
       if (goal.contains("location")) {
         const int location = resolve(names_.locations, goal["location"], pointer + "/controller/goal/location", "location");
@@ -376,10 +388,11 @@ class Loader {
         check_free(model, agent.controller.goal->position(), pointer + "/controller/goal/pose", "goal of robot '" + agent.id + "'");
       }
       agent.controller.goal_radius = goal.value("radius", kDefaultGoalRadius);
-      const bool drives = agent.controller.kind == Kind::goal || agent.controller.kind == Kind::social;
-      // A goal that was given but is wrong has its own error already.
-      if (drives && !goal.contains("location") && !goal.contains("pose")) error(pointer + "/controller/goal", "a " + type + " controller needs a goal");
-      if (!drives && controller.contains("goal")) error(pointer + "/controller/goal", "only goal and social controllers drive to a goal");
+      const bool drives = agent.controller.kind != Kind::idle && agent.controller.kind != Kind::teleop;
+      if (drives && controller.contains("goal") && !goal.contains("location") && !goal.contains("pose")) {
+        error(pointer + "/controller/goal", "a goal is a location or a pose");
+      }
+      if (!drives && controller.contains("goal")) error(pointer + "/controller/goal", "the " + type + " controller does not drive to a goal");
       if (agent.robot_model && !agent.robot_model->drive && agent.controller.kind != Kind::idle) {
         error(pointer + "/controller/type", "robot model '" + agent.robot_model->name + "' has no drive");
       }

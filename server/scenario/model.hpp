@@ -85,6 +85,9 @@ inline constexpr double kElevatorTravelTime = 3.0;
 inline constexpr double kElevatorSettleTime = 1.0;
 /// A door reopened for someone standing in the doorway stays open at least this long, in seconds.
 inline constexpr double kElevatorReopenHold = 2.0;
+/// An open door waits up to this long past its open time for someone still on their way to a place in
+/// the cabin or out through it, as riders hold the door for each other, in seconds.
+inline constexpr double kElevatorPassengerHold = 30.0;
 
 /// A cabin joining floors; door i serves floor i (IMHuS: door1 on floor 1, door2 on floor 2).
 struct Elevator {
@@ -116,11 +119,13 @@ struct Group {
   std::vector<int> members;  ///< first member leads
 };
 
-/// A robot's built-in controller (when no external controller is connected).
+/// A robot's built-in controller (when no external controller is connected). Every kind but idle and
+/// teleop drives to its goal, if it has one, and along the choreography's gotos: goal by blind pure
+/// pursuit, social, dwa, orca and social_force each with their local planner (docs/robots/controllers.md).
 struct RobotController {
-  enum class Kind { idle, goal, social, teleop };
+  enum class Kind { idle, goal, social, teleop, dwa, orca, social_force };
   Kind kind = Kind::idle;
-  std::optional<Pose2> goal;  ///< goal and social: where to drive
+  std::optional<Pose2> goal;  ///< where to drive, if anywhere
   double goal_radius = kDefaultGoalRadius;
 };
 

@@ -38,6 +38,22 @@ bool someone_in_doorway(const scenario::Model& model, const State& state, int do
   return false;
 }
 
+/// Someone is still on their way into the cabin (to a place in it) or out of it through the open door.
+bool rider_on_the_way(const scenario::Model& model, const scenario::Elevator& elevator, const State& state, int door) {
+  const scenario::Door& doorway = model.doors[door];
+  return std::any_of(state.agents.begin(), state.agents.end(), [&](const AgentState& agent) {
+    if (!agent.active || !agent.navigating) return false;
+    if (std::find(elevator.social_spaces.begin(), elevator.social_spaces.end(), agent.reserved_space) != elevator.social_spaces.end()) return true;
+    // Leaving: the next legs of the path go through the doorway.
+    Vec2 from = agent.position;
+    for (std::size_t k = agent.path_index; k < agent.path.size() && k < agent.path_index + 3; ++k) {
+      if (core::segments_cross(from, agent.path[k], doorway.from, doorway.to)) return true;
+      from = agent.path[k];
+    }
+    return false;
+  });
+}
+
 void update_elevator(const scenario::Model& model, State& state, int index) {
   const scenario::Elevator& elevator = model.elevators[index];
   ElevatorState& cabin = state.elevators[index];
@@ -74,17 +90,20 @@ void update_elevator(const scenario::Model& model, State& state, int index) {
         set_door(model, state, door, DoorPhase::open);
       }
       break;
-    case Phase::open:
+    case Phase::open: {
       // Asked again for this floor: stay open longer; asked for another floor: close and go.
       while (!cabin.queue.empty() && cabin.queue.front() == cabin.floor) {
         cabin.queue.pop_front();
         cabin.until_tick = state.tick + ticks(model, elevator.open_time);
       }
-      if (state.tick >= cabin.until_tick || (!cabin.queue.empty() && state.tick >= cabin.reopened_until_tick)) {
+      const bool due = state.tick >= cabin.until_tick || (!cabin.queue.empty() && state.tick >= cabin.reopened_until_tick);
+      const bool held = state.tick < cabin.until_tick + ticks(model, scenario::kElevatorPassengerHold) && rider_on_the_way(model, elevator, state, door);
+      if (due && !held) {
         cabin.phase = Phase::closing;
         set_door(model, state, door, DoorPhase::closing);
       }
       break;
+    }
     case Phase::closing:
       if (someone_in_doorway(model, state, door)) {
         cabin.phase = Phase::opening;

@@ -3,10 +3,46 @@
 #include <cmath>
 
 #include "robots/controllers.hpp"
+#include "robots/local_planners.hpp"
 #include "sim/events.hpp"
 #include "sim/walking.hpp"
 
 namespace hrisim::sim {
+
+namespace {
+
+using Kind = scenario::RobotController::Kind;
+
+/// The base command of a robot following `path` with its controller's law.
+robots::Twist follow_path(const scenario::Model& model, const State& state, const RobotRuntime& runtime, const std::vector<Vec2>& path) {
+  const AgentState& self = state.agents[runtime.agent];
+  const Pose2 pose = runtime.robot.pose();
+  const double speed = self.preferred_speed;
+  if (runtime.controller.kind == Kind::goal || runtime.controller.kind == Kind::idle) return robots::pure_pursuit(pose, path, speed);
+  std::vector<robots::Person> people;
+  for (std::size_t other = 0; other < state.agents.size(); ++other) {
+    const AgentState& person = state.agents[other];
+    if (person.active && model.agents[other].kind == scenario::AgentKind::human) people.push_back({person.position, person.velocity, model.agents[other].radius});
+  }
+  const robots::Surroundings around{people, [&model, &state](const Vec2& p, double range) { return nearest_obstacle(model, state, p, range); },
+                                    model.grid.resolution() / 2.0,
+                                    self.reserved_space >= 0 ? robots::kRobotPlaceClearance : robots::kRobotPersonalSpace};
+  const robots::RobotMotion motion{pose, runtime.robot.twist(), model.agents[runtime.agent].radius, runtime.robot.description().drive->params};
+  switch (runtime.controller.kind) {
+    case Kind::social: {
+      std::vector<Vec2> positions;
+      for (const robots::Person& person : people) positions.push_back(person.position);
+      return robots::follow_velocity(pose, robots::social_velocity(pose, path, speed, positions, motion.radius));
+    }
+    case Kind::dwa: return robots::dynamic_window(motion, path, speed, around);
+    case Kind::orca: return robots::follow_velocity(pose, robots::orca_velocity(motion, path, speed, around, model.dt), robots::kPlannerTurnOnTheSpotAngle);
+    case Kind::social_force:
+      return robots::follow_velocity(pose, robots::social_force_velocity(motion, path, speed, around, model.dt), robots::kPlannerTurnOnTheSpotAngle);
+    default: return robots::pure_pursuit(pose, path, speed);
+  }
+}
+
+}  // namespace
 
 void decide_robots(const scenario::Model& model, State& state) {
   for (RobotRuntime& runtime : state.robots) {
@@ -14,19 +50,10 @@ void decide_robots(const scenario::Model& model, State& state) {
     const AgentState& self = state.agents[runtime.agent];
     const Pose2 pose = runtime.robot.pose();
     robots::Twist command = runtime.command;  // teleoperation, or an external controller
-    if (runtime.controller.kind == scenario::RobotController::Kind::teleop) {
+    if (runtime.controller.kind == Kind::teleop) {
       // Under external control: its commands drive the robot, even along a choreography's goto.
     } else if (self.navigating && !self.path.empty()) {
-      const std::vector<Vec2> path(self.path.begin() + static_cast<std::ptrdiff_t>(self.path_index), self.path.end());
-      if (runtime.controller.kind == scenario::RobotController::Kind::social) {
-        std::vector<Vec2> people;
-        for (std::size_t other = 0; other < state.agents.size(); ++other) {
-          if (state.agents[other].active && model.agents[other].kind == scenario::AgentKind::human) people.push_back(state.agents[other].position);
-        }
-        command = robots::follow_velocity(pose, robots::social_velocity(pose, path, self.preferred_speed, people, model.agents[runtime.agent].radius));
-      } else {
-        command = robots::pure_pursuit(pose, path, self.preferred_speed);
-      }
+      command = follow_path(model, state, runtime, std::vector<Vec2>(self.path.begin() + static_cast<std::ptrdiff_t>(self.path_index), self.path.end()));
     } else if (self.target_heading) {
       // Turning on the spot to a goal's heading or to look at something.
       command = {0.0, robots::kHeadingGain * core::wrap_angle(*self.target_heading - pose.theta)};

@@ -52,13 +52,18 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
   Vec2 preferred = Vec2::Zero();
   if (self.navigating) {
     if (self.path.empty() && state.tick >= self.replan_at_tick) plan_path(model, state, static_cast<int>(i));
-    if (!self.path.empty() && state.tick - self.planned_tick >= ticks(model, kReplanInterval)) {
+    if (!self.path.empty() && self.personal_space <= 0.0 && state.tick - self.planned_tick >= ticks(model, kStuckReplanInterval)) {
+      // Held up for a whole squeeze time (kSqueezeTime): the way round may be elsewhere, e.g. off a door
+      // jamb that avoidance pressed the agent against.
+      plan_path(model, state, static_cast<int>(i));
+    } else if (!self.path.empty() && state.tick - self.planned_tick >= ticks(model, kReplanInterval)) {
       // Pushed too far off the leg by avoidance: rejoin the path from here without a search when a
       // straight way is free (local avoidance keeps the agent off the walls), else plan again.
       const Vec2& waypoint = self.path[self.path_index];
       const Vec2 nearest = core::closest_point_on_segment(self.position, self.leg_start, waypoint);
       if ((nearest - self.position).norm() > model.replan_distance) {
-        const double clearance = kRejoinClearance * model.agents[i].radius;
+        // A robot's body would hit a wall its footprint grazes: it rejoins only with its whole radius free.
+        const double clearance = (model.agents[i].robot_model ? 1.0 : kRejoinClearance) * model.agents[i].radius;
         const world::Rejoin rejoin =
             model.planner.rejoin(self.position, self.leg_start, waypoint, clearance, blocked_door_cells(model, state, clearance));
         self.planned_tick = state.tick;
@@ -120,6 +125,18 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
 
 }  // namespace
 
+std::optional<Vec2> nearest_obstacle(const scenario::Model& model, const State& state, const Vec2& p, double range) {
+  std::optional<Vec2> nearest = model.field.nearest_obstacle(model.grid, p);
+  for (std::size_t d = 0; d < model.doors.size(); ++d) {
+    if (!door_blocks(state, static_cast<int>(d))) continue;
+    const scenario::Door& door = model.doors[d];
+    const Vec2 on_door = core::closest_point_on_segment(p, door.from, door.to);
+    if (!nearest || (on_door - p).norm() < (*nearest - p).norm()) nearest = on_door;
+  }
+  if (!nearest || (*nearest - p).norm() > range) return std::nullopt;
+  return nearest;
+}
+
 void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
   buffers.members.clear();
   for (std::size_t i = 0; i < state.agents.size(); ++i) {
@@ -149,17 +166,7 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
                      : self.navigating ? preferred
                                        : self.commanded_velocity;
   }
-  const humans::ObstacleQuery obstacles = [&model, &state](const Vec2& p, double range) -> std::optional<Vec2> {
-    std::optional<Vec2> nearest = model.field.nearest_obstacle(model.grid, p);
-    for (std::size_t d = 0; d < model.doors.size(); ++d) {
-      if (!door_blocks(state, static_cast<int>(d))) continue;
-      const scenario::Door& door = model.doors[d];
-      const Vec2 on_door = core::closest_point_on_segment(p, door.from, door.to);
-      if (!nearest || (on_door - p).norm() < (*nearest - p).norm()) nearest = on_door;
-    }
-    if (!nearest || (*nearest - p).norm() > range) return std::nullopt;
-    return nearest;
-  };
+  const humans::ObstacleQuery obstacles = [&model, &state](const Vec2& p, double range) { return nearest_obstacle(model, state, p, range); };
   buffers.crowd.compute_velocities(buffers.agents, obstacles, model.dt, buffers.velocities);
 
   const double max_turn = kTurnRate * model.dt;

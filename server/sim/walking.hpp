@@ -31,9 +31,11 @@ inline constexpr double kHoldTolerance = 0.3;
 inline constexpr double kHoldSpeed = 0.5;
 /// Replanning because avoidance pushed an agent off its path happens at most this often, s.
 inline constexpr double kReplanInterval = 0.5;
-/// An agent pushed off its path walks on straight to its waypoint when a disc of this fraction of its
-/// radius would pass; otherwise it plans again (waypoints hug the inflated walls, so the full radius
-/// would fail needlessly).
+/// A person held up until their personal space is all given up plans their way again this often, s.
+inline constexpr double kStuckReplanInterval = 2.0;
+/// A person pushed off their path walks on straight to their waypoint when a disc of this fraction of
+/// their radius would pass; otherwise they plan again (waypoints hug the inflated walls, so the full
+/// radius would fail needlessly). A robot, whose body walls stop, needs its full radius.
 inline constexpr double kRejoinClearance = 0.5;
 /// A person held up by others (slower than kHeldUpSpeedShare of where they want to go) gives up their
 /// personal-space margins over this long, and takes them back over as long once walking freely, s.
@@ -54,6 +56,11 @@ struct WalkingBuffers {
   std::vector<Vec2> velocities;
   std::vector<std::optional<double>> watching_headings;  ///< per agent: facing a watched robot
 };
+
+/// The nearest point of the static map or of a closed door to `p`, when within `range`: the obstacle
+/// people's crowd model and the robots' local planners avoid. Map points are the centres of blocked
+/// cells, half a cell inside the obstacle.
+std::optional<Vec2> nearest_obstacle(const scenario::Model& model, const State& state, const Vec2& p, double range);
 
 /// The tick's walking phase. Robots with a model take part in the crowd but move by their own base.
 void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers);

@@ -297,9 +297,9 @@ TEST(Cli, AControllerReplacesTheScenariosOwn) {
   const nlohmann::json report = nlohmann::json::parse(result.output);
   EXPECT_EQ(report["controller"], "goal");
   EXPECT_GT(report["aggregates"]["path_length"]["mean"].get<double>(), 0.5);
-  const CommandResult bad = run_command(kHrisim + " run " + kScenarios + "/elevator.json --controller '{\"type\":\"goal\"}'");
+  const CommandResult bad = run_command(kHrisim + " run " + kScenarios + "/elevator.json --controller '{\"type\":\"dwa\",\"goal\":{\"radius\":1}}'");
   EXPECT_EQ(bad.exit_status, 2);
-  EXPECT_NE(bad.output.find("/controller/goal: a goal controller needs a goal"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("/controller/goal: a goal is a location or a pose"), std::string::npos) << bad.output;
 }
 
 TEST(Cli, BadSeedListsExitWithTwo) {

@@ -209,7 +209,7 @@ TEST_F(RunsApi, BadSubmissionsAreRefusedAndNothingIsStored) {
       {{{"scenario", "queue"}, {"count", 1}, {"max_time", -1}}, 400, "/max_time"},
       {{{"scenario", "queue"}, {"count", 1}, {"requests", {{{"time", 1}, {"routine", "fly"}}}}}, 400, "/requests/0"},
       {{{"scenario", "queue"}, {"count", 1}, {"requests", {{{"time", 1}, {"routine", "help_robot"}, {"task", "help_robot"}}}}}, 400, "/requests/0"},
-      {{{"scenario", "elevator"}, {"count", 1}, {"controller", {{"type", "goal"}}}}, 400, "/controller/goal"},
+      {{{"scenario", "elevator"}, {"count", 1}, {"controller", {{"type", "goal"}, {"goal", {{"radius", 1}}}}}}, 400, "/controller/goal"},
       {{{"scenario", "queue"}, {"count", 1}, {"colour", "red"}}, 400, "/colour"},
       {{{"scenario", "queue"}, {"count", 1}, {"baseline_without_robot", "yes"}}, 400, "/baseline_without_robot"},
   };

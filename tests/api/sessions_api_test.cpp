@@ -549,8 +549,8 @@ TEST(SessionModes, ARealtimeSessionStepsItselfAndAControllerReplacesTheRobots) {
                            R"({"scenario": "queue", "mode": "realtime", "realtime_factor": 0})"}) {
     EXPECT_EQ(http(port, "POST", "/api/v1/sessions", body).status, 400) << body;
   }
-  const HttpReply no_goal = http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "controller": {"type": "goal"}})");
-  EXPECT_EQ(no_goal.status, 400);
+  const HttpReply no_goal = http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "controller": {"type": "goal", "goal": {"radius": 1}}})");
+  EXPECT_EQ(no_goal.status, 400) << "a goal says where";
   EXPECT_EQ(json_of(no_goal)["error"]["details"]["pointer"], "/controller/goal");
   const HttpReply driven =
       http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "controller": {"type": "goal", "goal": {"pose": {"x": 1.0, "y": -0.8, "theta": 0}}}})");

@@ -133,7 +133,7 @@ describe('sessions', () => {
       [{ scenario: 'elevator', mode: 'realtime', realtime_factor: 'fast' }, '/realtime_factor'],
       [{ scenario: 'elevator', controller: 'social' }, '/controller'],
       [{ scenario: 'elevator', controller: { type: 'warp' } }, '/controller/type'],
-      [{ scenario: 'elevator', controller: { type: 'goal' } }, '/controller/goal'],
+      [{ scenario: 'elevator', controller: { type: 'goal', goal: { radius: 1 } } }, '/controller/goal'],
       [{ scenario: 'elevator', controller: { type: 'idle', speed: 2 } }, '/controller/speed'],
       [{ scenario: 'elevator', controller: { type: 'idle', goal: { location: 'button_floor1' } } }, '/controller/goal'],
       // What the scenario cannot take, which the spec cannot know:

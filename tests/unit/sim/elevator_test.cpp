@@ -132,6 +132,35 @@ TEST(Elevator, RidersGoInRideAndLeaveOnTheOtherFloor) {
   EXPECT_EQ(session.state().agents[0].reserved_space, -1) << "the cabin slot was released when the door closed";
 }
 
+TEST(Elevator, DoorWaitsForARiderOnTheWay) {
+  // Bo strolls to the cabin from 7 m away at 0.3 m/s: the door, open for 10 s, waits for him (up to
+  // kElevatorPassengerHold more), then closes once he is in.
+  episode::Episode session_run(testing::load_valid(elevator_scenario(R"({
+    "humans": [{"id": "ann", "start": {"x": 2, "y": 1}}, {"id": "bo", "start": {"x": 8, "y": 0.5}, "preferred_speed": 0.3}],
+    "steps": [{"name": "call", "actions": [{"agent": "ann", "publish": {"topic": "/elevator/request", "message": "door1"}},
+                                           {"agent": "ann", "wait": {"topic": "/elevator/door1_state", "message": "open"}}]},
+              {"name": "board", "actions": [{"agent": "bo", "goto": {"social_space": "elevator"}}]},
+              {"name": "linger", "actions": [{"agent": "ann", "wait": {"duration": 15}}]}]})")),
+                  1);
+  Session& session = session_run.session();
+  session.set_time_limit(70.0);
+  double boarded = -1.0, closing = -1.0;
+  while (!session.state().finished) {
+    session_run.tick();
+    const AgentState& bo = session.state().agents[1];
+    if (boarded < 0.0 && !bo.navigating && bo.position.x() < 1.0) boarded = session.time();
+    for (const Event& event : session.state().events) {
+      if (closing < 0.0 && event.kind == "door_state" && event.data["state"] == "closing") closing = event.time;
+    }
+  }
+  const Timeline timeline = timeline_of(session);
+  ASSERT_GE(timeline.door_states.size(), 2u);
+  const double opened = timeline.door_states[1].first;
+  ASSERT_GT(boarded, opened + scenario::kElevatorOpenTime) << "he took longer than the door's open time";
+  EXPECT_GE(closing, boarded) << "the door waited for him";
+  EXPECT_LT(closing, boarded + 1.0);
+}
+
 TEST(Elevator, DoorReopensForSomeoneInTheDoorway) {
   episode::Episode session_run(testing::load_valid(elevator_scenario(R"({
     "humans": [{"id": "ann", "start": {"x": 2, "y": 1}}, {"id": "bo", "start": {"x": 3, "y": -0.5}}],

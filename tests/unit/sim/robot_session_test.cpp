@@ -178,7 +178,10 @@ TEST(RobotSession, RobotDefinitionsAreValidated) {
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "r2d2"}, {"start", start}}), "/robots/0/model unknown robot model 'r2d2'"));
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"radius", 0.3}, {"start", start}}), "/robots/0/radius"));
   EXPECT_TRUE(has(errors({{"id", "r"}, {"start", start}, {"controller", {{"type", "idle"}}}}), "/robots/0/controller only a robot with a model"));
-  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "goal"}}}}), "/robots/0/controller/goal"));
+  // Without a goal a driving controller only drives the choreography's gotos; a goal must say where.
+  EXPECT_TRUE(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "dwa"}}}}).empty());
+  EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "orca"}, {"goal", {{"radius", 1.0}}}}}}),
+                  "/robots/0/controller/goal a goal is a location or a pose"));
   const auto unknown_location = errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "goal"}, {"goal", {{"location", "nowhere"}}}}}});
   EXPECT_TRUE(has(unknown_location, "/robots/0/controller/goal/location"));
   EXPECT_EQ(unknown_location.size(), 1u) << "a goal that is wrong is not also missing";
@@ -187,7 +190,7 @@ TEST(RobotSession, RobotDefinitionsAreValidated) {
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "roman"}, {"start", start}, {"controller", {{"type", "teleop"}}}}), "/robots/0/controller/type"));
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"people_detector", {{"range", -1}}}}), "/robots/0/people_detector/range"));
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"controller", {{"type", "idle"}, {"goal", {{"pose", {{"x", 8}, {"y", 8}}}}}}}}),
-                  "/robots/0/controller/goal only goal and social"));
+                  "/robots/0/controller/goal the idle controller does not drive to a goal"));
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"joints", {{"arm_lift_joint", 2.0}}}}), "/robots/0/joints/arm_lift_joint outside"));
   EXPECT_TRUE(has(errors({{"id", "r"}, {"model", "hsr"}, {"start", start}, {"joints", {{"tail_joint", 0.0}}}}), "/robots/0/joints/tail_joint"));
   // ROMAN cannot be sent anywhere.

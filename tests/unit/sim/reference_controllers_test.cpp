@@ -1,0 +1,92 @@
+// The reference robot controllers (DWA, ORCA, social force) drive to their goal past a person standing
+// on the way without touching her, and ORCA keeps its personal-space margin where there is room; the
+// blind path follower runs into her. An elevator holds its door for a rider still on the way.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+
+#include "robots/local_planners.hpp"
+#include "sim/session.hpp"
+#include "support/scenarios.hpp"
+
+namespace hrisim::sim {
+namespace {
+
+using nlohmann::json;
+
+struct Pass {
+  bool reached = false;
+  bool touched = false;
+  double closest_gap = 1e9;  ///< surface to surface, m
+};
+
+/// ARTOS drives from (1, 2) to (9, 2) along the room's south side with `controller`; ana stands her
+/// ground at (5, 2), right on its way.
+Pass drive_past_a_standing_person(const std::string& controller) {
+  json document = testing::room_scenario(
+      {{"humans", {{{"id", "ana"}, {"start", {{"x", 5}, {"y", 2}, {"theta", 1.5708}}}}}},
+       {"robots", {{{"id", "robot"}, {"model", "artos"}, {"start", {{"x", 1}, {"y", 2}, {"theta", 0}}},
+                    {"controller", {{"type", controller}, {"goal", {{"pose", {{"x", 9}, {"y", 2}}}, {"radius", 0.3}}}}}}}}});
+  document["steps"] = json::array({{{"name", "stand"}, {"actions", {{{"agent", "ana"}, {"wait", {{"duration", 40}}}}}}}});
+  Session session(testing::load_valid(document), 1);
+  const int robot = session.index_of(session.agent_id("robot")), ana = session.index_of(session.agent_id("ana"));
+  session.set_rooted(session.agent_id("ana"), true);
+  const double radii = session.model().agents[robot].radius + session.model().agents[ana].radius;
+  Pass pass;
+  while (!session.state().finished && session.time() < 30.0) {
+    session.tick();
+    const double gap = (session.state().agents[robot].position - session.state().agents[ana].position).norm() - radii;
+    pass.closest_gap = std::min(pass.closest_gap, gap);
+    for (const Event& event : session.state().events) {
+      pass.reached |= event.kind == "robot_goal_reached";
+      pass.touched |= event.kind == "contact_start" && event.data.value("with", "") == "ana";
+    }
+  }
+  return pass;
+}
+
+TEST(ReferenceControllers, DriveRoundAPersonStandingOnTheWay) {
+  for (const char* controller : {"dwa", "orca", "social_force", "social"}) {
+    const Pass pass = drive_past_a_standing_person(controller);
+    EXPECT_TRUE(pass.reached) << controller;
+    EXPECT_FALSE(pass.touched) << controller;
+  }
+}
+
+TEST(ReferenceControllers, DwaKeepsClearOfHer) {
+  // DWA meets people at its personal space: it brakes for it and is steered round it.
+  EXPECT_GT(drive_past_a_standing_person("dwa").closest_gap, robots::kRobotPersonalSpace / 2.0);
+}
+
+TEST(ReferenceControllers, OrcaKeepsItsPersonalSpaceWhereThereIsRoom) {
+  // The room is 10 m wide: nothing forces the robot nearer to her than its margin.
+  EXPECT_GT(drive_past_a_standing_person("orca").closest_gap, robots::kRobotPersonalSpace - 0.1);
+}
+
+TEST(ReferenceControllers, TheBlindFollowerRunsIntoHer) {
+  // The lower bound: pure pursuit ignores people, and a person standing her ground does not step aside.
+  const Pass pass = drive_past_a_standing_person("goal");
+  EXPECT_TRUE(pass.touched);
+  EXPECT_FALSE(pass.reached) << "she stops it";
+}
+
+TEST(ReferenceControllers, TheSameInputsGiveTheSameBits) {
+  for (const char* controller : {"dwa", "orca", "social_force"}) {
+    std::ifstream file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/crossing_navigation.json");
+    json document = json::parse(file);
+    document["robots"][0]["controller"]["type"] = controller;
+    const auto model = testing::load_valid(document);
+    Session first(model, 7), second(model, 7);
+    for (int tick = 0; tick < 1200; ++tick) {
+      first.tick();
+      second.tick();
+    }
+    EXPECT_EQ(first.state_hash(), second.state_hash()) << controller;
+    EXPECT_GT((first.state().agents[first.index_of(first.agent_id("robot"))].position - Vec2(-4.5, -4.5)).norm(), 2.0)
+        << controller << " drove";
+  }
+}
+
+}  // namespace
+}  // namespace hrisim::sim
