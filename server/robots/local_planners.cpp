@@ -24,7 +24,7 @@ double static_gap(const RobotMotion& robot, const Surroundings& around, const Ve
 struct Rollout {
   bool admissible = true;
   double clearance = kDwaClearanceCap;  ///< smallest gap on the way (less the personal space for people), capped
-  double heading = 0.0;                 ///< how much nearer the target it ends, m
+  double heading = 0.0;                 ///< how much nearer the target it comes, m
 };
 
 Rollout roll_out(const RobotMotion& robot, const Twist& twist, const Vec2& target, const Surroundings& around) {
@@ -34,10 +34,12 @@ Rollout roll_out(const RobotMotion& robot, const Twist& twist, const Vec2& targe
   Pose2 pose = robot.pose;
   const int steps = static_cast<int>(std::lround(kDwaPredictionTime / kDwaPredictionStep));
   double collision_time = std::numeric_limits<double>::infinity();
+  double nearest_to_target = (target - start).norm();
   for (int k = 1; k <= steps && collision_time == std::numeric_limits<double>::infinity(); ++k) {
     const double time = k * kDwaPredictionStep;
     pose = integrate(pose, twist, kDwaPredictionStep);
     const Vec2 position = pose.position();
+    nearest_to_target = std::min(nearest_to_target, (target - position).norm());
     // A gap that is already closed only counts as a collision when it closes further: a robot touching a
     // wall may still drive away from it.
     const double wall = static_gap(robot, around, position, kDwaClearanceCap);
@@ -58,10 +60,10 @@ Rollout roll_out(const RobotMotion& robot, const Twist& twist, const Vec2& targe
     const double distance = std::abs(twist.linear) * std::max(collision_time - kDwaPredictionStep, 0.0);
     rollout.admissible = std::abs(twist.linear) <= std::sqrt(2.0 * distance * kDwaLinearAcceleration);
   }
-  // Progress: how much nearer the target the rollout ends (a way round an obstacle is progress too;
-  // Fox et al.'s heading alone leaves the robot facing a person who stands on its way).
-  const double before = (target - start).norm(), after = (target - pose.position()).norm();
-  rollout.heading = std::max(before - after, 0.0);
+  // Progress: how much nearer the target the rollout comes (a way round an obstacle is progress too;
+  // Fox et al.'s heading alone leaves the robot facing a person who stands on its way). The nearest
+  // point on the way, not the end, so that driving through the goal beats passing it.
+  rollout.heading = std::max((target - start).norm() - nearest_to_target, 0.0);
   return rollout;
 }
 

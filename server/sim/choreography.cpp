@@ -302,13 +302,23 @@ void update_requests(const scenario::Model& model, State& state) {
   state.requests = std::move(still_open);
 }
 
+/// A robot still driving to its own controller's goal: the scenario waits for it, so a navigation
+/// episode ends when the robot arrives (or at the time limit), not when the people are done.
+bool robot_on_its_way(const State& state) {
+  return std::any_of(state.robots.begin(), state.robots.end(), [&state](const RobotRuntime& runtime) {
+    const AgentState& self = state.agents[runtime.agent];
+    return runtime.controller.goal && self.active && self.navigating && self.goal == runtime.controller.goal->position();
+  });
+}
+
 void update_choreography(const scenario::Model& model, State& state) {
   // A finished step hands over to the next within the same tick, so its actions start without delay.
   for (std::size_t guard = 0; guard <= model.steps.size(); ++guard) {
     for (std::size_t a = 0; a < state.agents.size(); ++a) advance_agent(model, state, static_cast<int>(a));
     const int step = state.current_step;
     if (step >= static_cast<int>(model.steps.size())) {
-      if (!state.finished && !model.task) {  // a benchmark task's episode ends by the task or its length
+      // A benchmark task's episode ends by the task or its length.
+      if (!state.finished && !model.task && !robot_on_its_way(state)) {
         state.finished = true;
         state.termination = "scenario_end";
         emit(model, state, "scenario_finished", model.name);

@@ -25,7 +25,7 @@ TEST_P(Bundled, CompletesForEverySeed) {
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, Bundled,
                          ::testing::Values("corridor_passing", "perpendicular_crossing", "conversation_group", "queue",
-                                           "elevator", "pair_walking", "apartment"));
+                                           "elevator", "pair_walking", "apartment", "corridor_navigation", "crossing_navigation"));
 
 }  // namespace
 }  // namespace hrisim::sim

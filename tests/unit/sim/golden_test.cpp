@@ -22,9 +22,10 @@ using nlohmann::json;
 
 constexpr int kGoldenTicks = 600;
 const std::string kGoldenFile = std::string(HRISIM_SOURCE_DIR) + "/tests/golden/state_hashes.json";
-const char* const kScenarios[] = {"apartment",      "approach_human", "approach_human_apartment", "conversation_group",
-                                  "corridor_passing", "elevator",     "follow_human",             "mirror_gesture",
-                                  "pair_walking",   "perpendicular_crossing", "pick_and_place",   "queue"};
+const char* const kScenarios[] = {"apartment",          "approach_human",     "approach_human_apartment", "conversation_group",
+                                  "corridor_navigation", "corridor_passing",   "crossing_navigation",      "elevator",
+                                  "follow_human",        "mirror_gesture",     "pair_walking",             "perpendicular_crossing",
+                                  "pick_and_place",      "queue"};
 
 std::string hash_after_golden_ticks(const std::string& scenario, std::uint64_t seed, episode::Settings settings = {}) {
   const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/" + scenario + ".json");
