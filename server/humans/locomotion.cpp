@@ -209,7 +209,9 @@ double Crowd::margin(const CrowdAgent& agent, const CrowdAgent& other) const {
   const double limbs = std::min(kLimbClearance, personal_space_.from_robots);
   double wanted = 0.0;
   if (other.controlled) {
-    wanted = agent.place >= 0 ? limbs : std::max(agent.personal_space * personal_space_.from_robots, limbs);
+    // A robot sharing the place (riding the cabin too) is as close as the place has it.
+    const bool shared = agent.place >= 0 && agent.place == other.place;
+    wanted = shared ? limbs : std::max(agent.personal_space * personal_space_.from_robots, limbs);
   } else if (!(agent.group >= 0 && agent.group == other.group) && !(agent.place >= 0 && agent.place == other.place)) {
     wanted = agent.personal_space * personal_space_.from_people;
   }

@@ -72,7 +72,7 @@ struct CrowdAgent {
   bool controlled = false;  ///< a robot: velocity given, not computed; others treat it as non-reciprocating
   double personal_space = 1.0;  ///< share of the PersonalSpace margins this agent keeps now
   int group = -1;  ///< members of one group keep no margin between them
-  int place = -1;  ///< people sharing a place (a cabin, a queue) keep none either, nor from a robot there
+  int place = -1;  ///< people sharing a place (a cabin, a queue) keep none either, nor from a robot sharing it
 };
 
 /// One half-plane of permitted velocities: points left of the directed line (RVO2's Line).
