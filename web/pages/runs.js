@@ -9,9 +9,14 @@ const PAGE_SIZE = 20;
 const CONTROLLERS = [
   ['scenario', "the scenario's own"],
   ['idle', 'idle (stands still)'],
-  ['goal', 'goal (A* path, ignores people)'],
-  ['social', 'social (social force, yields to people)'],
+  ['goal', 'goal (A* path, pure pursuit, blind to people)'],
+  ['social', 'social (yields to people)'],
+  ['dwa', 'dwa (Dynamic Window Approach)'],
+  ['orca', 'orca (ORCA, the robot avoids alone)'],
+  ['social_force', 'social_force (HuNavSim\'s social force)'],
 ];
+/** The controllers that drive: to a goal when given one, else along the choreography's goto actions. */
+const DRIVING = ['goal', 'social', 'dwa', 'orca', 'social_force'];
 
 /** Every scenario the server holds (paging through the list). */
 async function allScenarios() {
@@ -104,7 +109,7 @@ function startForm(scenarios, preselected) {
 
   // Goal locations come from the scenario's world; another controller needs a robot with a model.
   let worldRequest = 0;
-  const showController = () => { fields.goal.wrapper.hidden = !['goal', 'social'].includes(controller.value); };
+  const showController = () => { fields.goal.wrapper.hidden = !DRIVING.includes(controller.value); };
   const loadScenario = async () => {
     const scenario = scenarios.find((s) => s.id === scenarioSelect.value);
     const robot = scenario?.robots?.[0];
@@ -115,8 +120,8 @@ function startForm(scenarios, preselected) {
     try {
       const world = await api.get(`/api/v1/scenarios/${encodeURIComponent(scenarioSelect.value)}/world`);
       if (request !== worldRequest) return;
-      goal.replaceChildren(...(world.locations.length ? world.locations.map((l) => h('option', { value: l.name }, l.name))
-        : [h('option', { value: '' }, 'no locations in this scenario')]));
+      goal.replaceChildren(h('option', { value: '' }, "none (the choreography's goto actions)"),
+        ...world.locations.map((l) => h('option', { value: l.name }, l.name)));
       setError(fields.goal, null);
     } catch (error) {
       if (request !== worldRequest) return;
@@ -158,7 +163,7 @@ function startForm(scenarios, preselected) {
     }
     if (controller.value !== 'scenario') {
       body.controller = { type: controller.value };
-      if (['goal', 'social'].includes(controller.value) && goal.value) body.controller.goal = { location: goal.value };
+      if (DRIVING.includes(controller.value) && goal.value) body.controller.goal = { location: goal.value };
     }
     if (maxTime.value.trim() !== '') body.max_time = Number(maxTime.value);
     gateLines = [];

@@ -189,18 +189,17 @@ function sessionForm(id, doc, world) {
     const own = doc.robots?.find((entry) => entry.id === robot.id)?.controller?.type ?? 'idle';
     controller = h('select', { id: 'session-controller' },
       h('option', { value: '' }, `scenario's own (${own})`), h('option', { value: 'idle' }, 'idle'),
-      h('option', { value: 'goal' }, 'goal (A*, ignores people)'), h('option', { value: 'social' }, 'social (yields to people)'),
-      h('option', { value: 'teleop' }, 'teleop'));
-    goal = h('select', { id: 'session-goal', disabled: true }, world.locations.map((location) => h('option', { value: location.name }, location.name)));
+      h('option', { value: 'goal' }, 'goal (A*, blind to people)'), h('option', { value: 'social' }, 'social (yields to people)'),
+      h('option', { value: 'dwa' }, 'dwa (Dynamic Window Approach)'), h('option', { value: 'orca' }, 'orca (avoids alone)'),
+      h('option', { value: 'social_force' }, "social_force (HuNavSim's)"), h('option', { value: 'teleop' }, 'teleop'));
+    goal = h('select', { id: 'session-goal', disabled: true }, h('option', { value: '' }, "none (the choreography's goto actions)"),
+      world.locations.map((location) => h('option', { value: location.name }, location.name)));
     controllerError = h('span', { class: 'sc-field-error', id: 'session-controller-error', role: 'alert' });
     controller.setAttribute('aria-describedby', controllerError.id);
     goal.setAttribute('aria-describedby', controllerError.id);
-    const needsGoal = () => controller.value === 'goal' || controller.value === 'social';
-    if (!world.locations.length) {
-      // goal and social need a goal, and this form names goals by location.
-      for (const option of controller.options) if (option.value === 'goal' || option.value === 'social') option.disabled = true;
-    }
-    controller.addEventListener('input', () => { goal.disabled = !needsGoal(); });
+    // Every controller but idle and teleop drives: to a goal when given one, else along the choreography's gotos.
+    const drives = () => !['', 'idle', 'teleop'].includes(controller.value);
+    controller.addEventListener('input', () => { goal.disabled = !drives(); });
     fields.push(h('label', { for: 'session-controller' }, `Controller of ${robot.id} (${robot.model})`, controller),
       h('label', { for: 'session-goal' }, 'Goal location', goal), controllerError);
     // A robot without a drive (ROMAN) can only stand idle.
@@ -223,7 +222,7 @@ function sessionForm(id, doc, world) {
     if (seed.value.trim() !== '') body.seed = Number(seed.value);
     if (controller && controller.value) {
       body.controller = { type: controller.value };
-      if (!goal.disabled) body.controller.goal = { location: goal.value };
+      if (!goal.disabled && goal.value) body.controller.goal = { location: goal.value };
     }
     start.disabled = true;
     const wait = loading(status, 'Starting the session');

@@ -165,6 +165,11 @@ describe('runs', () => {
       await tab.open('/runs?scenario=apartment');
       await page.waitForSelector('#run-scenario option[value=apartment]', { ...WAIT, state: 'attached' });
       assert.equal(await page.isVisible('#run-goal'), false, 'no goal for the scenario\'s own controller');
+      assert.deepEqual(await page.$$eval('#run-controller option', (options) => options.map((o) => o.value)),
+        ['scenario', 'idle', 'goal', 'social', 'dwa', 'orca', 'social_force'], 'the reference controllers are offered');
+      await page.selectOption('#run-controller', 'dwa');
+      assert.equal(await page.isVisible('#run-goal'), true, 'a driving controller may have a goal');
+      assert.equal(await page.inputValue('#run-goal'), '', 'none by default: the choreography\'s gotos');
       await page.selectOption('#run-controller', 'goal');
       await page.waitForSelector('#run-goal option[value=kitchen]', { ...WAIT, state: 'attached' });
       await page.selectOption('#run-goal', 'kitchen');
