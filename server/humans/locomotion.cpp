@@ -191,6 +191,13 @@ Vec2 interaction_force(const SocialForceParams& params, const Vec2& offset, cons
   return {static_cast<double>(fx), static_cast<double>(fy)};
 }
 
+Vec2 obstacle_force(const SocialForceParams& params, const Vec2& position, double radius, const Vec2& obstacle) {
+  const Vec2 away = position - obstacle;
+  const double length = away.norm();
+  if (length <= 0.0) return Vec2::Zero();
+  return std::exp(-(length - radius) / params.obstacle_sigma) * away / length;
+}
+
 Vec2 solve_orca(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, double max_speed,
                 const Vec2& preferred) {
   Vec2 result;
@@ -342,12 +349,8 @@ Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> age
   const Vec2 desired = (agent.preferred_velocity - agent.velocity) / p.relaxation_time;
   const Vec2& social = social_[i];
 
-  Vec2 obstacle_force = Vec2::Zero();
-  if (const auto obstacle = obstacles(agent.position, p.neighbour_distance)) {
-    const Vec2 away = agent.position - *obstacle;
-    const double length = away.norm();
-    if (length > 0.0) obstacle_force = std::exp(-(length - agent.radius) / p.obstacle_sigma) * away / length;
-  }
+  const auto obstacle = obstacles(agent.position, p.neighbour_distance);
+  const Vec2 obstacle_force = obstacle ? humans::obstacle_force(p, agent.position, agent.radius, *obstacle) : Vec2::Zero();
 
   const Vec2 acceleration = p.desired_factor * desired + p.social_factor * social + p.obstacle_factor * obstacle_force;
   Vec2 velocity = agent.velocity + acceleration * dt;

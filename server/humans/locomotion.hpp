@@ -142,6 +142,10 @@ OrcaLine orca_line(const Vec2& position, const Vec2& velocity, double radius, co
 /// position minus its own), with `velocity_difference` its velocity minus the other's.
 Vec2 interaction_force(const SocialForceParams& params, const Vec2& offset, const Vec2& velocity_difference);
 
+/// The social force model's repulsion from the nearest obstacle point on a body of `radius` at
+/// `position` (pedsim's exponential, decay length obstacle_sigma), unweighted; zero at the point itself.
+Vec2 obstacle_force(const SocialForceParams& params, const Vec2& position, double radius, const Vec2& obstacle);
+
 /// RVO2's linear programs: the velocity closest to `preferred` (within `max_speed`) satisfying the
 /// lines, the first `obstacle_lines` of which are hard; when infeasible, the velocity that violates
 /// the soft lines least.

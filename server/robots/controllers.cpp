@@ -44,10 +44,9 @@ Vec2 lookahead_point(const Vec2& position, const std::vector<Vec2>& path, double
 
 Vec2 path_velocity(const Vec2& position, const std::vector<Vec2>& path, double speed) {
   if (path.empty()) return Vec2::Zero();
-  const double remaining = remaining_length(position, path);
-  const Vec2 offset = point_along(position, path, std::min(lookahead(speed), remaining)) - position;
+  const Vec2 offset = lookahead_point(position, path, speed) - position;
   if (offset.norm() < 1e-9) return Vec2::Zero();
-  return offset.normalized() * speed * arrival_share(remaining);
+  return offset.normalized() * speed * arrival_share(remaining_length(position, path));
 }
 
 Twist pure_pursuit(const Pose2& pose, const std::vector<Vec2>& path, double speed) {

@@ -27,9 +27,16 @@ struct Rollout {
   double heading = 0.0;                 ///< how much nearer the target it comes, m
 };
 
-Rollout roll_out(const RobotMotion& robot, const Twist& twist, const Vec2& target, const Surroundings& around) {
+/// The gaps at the robot's pose now, the same for every candidate: to the walls, and to each person
+/// beyond their personal space.
+struct StartGaps {
+  double wall = 0.0;
+  std::vector<double> people;
+};
+
+Rollout roll_out(const RobotMotion& robot, const Twist& twist, const Vec2& target, const Surroundings& around,
+                 const StartGaps& start_gaps) {
   const Vec2 start = robot.pose.position();
-  const double start_static = static_gap(robot, around, start, kDwaClearanceCap);
   Rollout rollout;
   Pose2 pose = robot.pose;
   const int steps = static_cast<int>(std::lround(kDwaPredictionTime / kDwaPredictionStep));
@@ -43,14 +50,13 @@ Rollout roll_out(const RobotMotion& robot, const Twist& twist, const Vec2& targe
     // A gap that is already closed only counts as a collision when it closes further: a robot touching a
     // wall may still drive away from it.
     const double wall = static_gap(robot, around, position, kDwaClearanceCap);
-    if (wall <= 0.0 && wall < start_static) collision_time = time;
+    if (wall <= 0.0 && wall < start_gaps.wall) collision_time = time;
     rollout.clearance = std::min(rollout.clearance, wall);
     // People count as met at their personal space: the robot brakes for it and is steered round it.
-    for (const Person& person : around.people) {
-      const double reach = person.radius + robot.radius + around.personal_space;
-      const double room_now = (person.position - start).norm() - reach;
-      const double room = (person.position + person.velocity * time - position).norm() - reach;
-      if (room <= 0.0 && room < room_now) collision_time = time;
+    for (std::size_t p = 0; p < around.people.size(); ++p) {
+      const Person& person = around.people[p];
+      const double room = (person.position + person.velocity * time - position).norm() - (person.radius + robot.radius + around.personal_space);
+      if (room <= 0.0 && room < start_gaps.people[p]) collision_time = time;
       rollout.clearance = std::min(rollout.clearance, room);
     }
   }
@@ -109,6 +115,10 @@ Twist dynamic_window(const RobotMotion& robot, const std::vector<Vec2>& path, do
   const double angular_low = std::clamp(robot.twist.angular - turn, -max_turn, max_turn);
   const double angular_high = std::clamp(robot.twist.angular + turn, -max_turn, max_turn);
 
+  StartGaps start_gaps{static_gap(robot, around, position, kDwaClearanceCap), {}};
+  for (const Person& person : around.people) {
+    start_gaps.people.push_back((person.position - position).norm() - (person.radius + robot.radius + around.personal_space));
+  }
   struct Candidate {
     Twist twist;
     Rollout rollout;
@@ -119,7 +129,7 @@ Twist dynamic_window(const RobotMotion& robot, const std::vector<Vec2>& path, do
   for (int i = 0; i < kDwaLinearSamples; ++i) {
     for (int j = 0; j < kDwaAngularSamples; ++j) {
       const Twist twist{sample(linear_low, linear_high, i, kDwaLinearSamples), sample(angular_low, angular_high, j, kDwaAngularSamples)};
-      const Rollout rollout = roll_out(robot, twist, target, around);
+      const Rollout rollout = roll_out(robot, twist, target, around, start_gaps);
       if (!rollout.admissible) continue;
       candidates.push_back({twist, rollout});
       best_heading = std::max(best_heading, rollout.heading);
@@ -146,7 +156,6 @@ Twist dynamic_window(const RobotMotion& robot, const std::vector<Vec2>& path, do
       chosen = &candidate;
     }
   }
-
   return chosen->twist;
 }
 
@@ -191,12 +200,8 @@ Vec2 social_force_velocity(const RobotMotion& robot, const std::vector<Vec2>& pa
     const Vec2 offset = person.position - position;
     if (offset.norm() <= params.neighbour_distance) social += humans::interaction_force(params, offset, velocity - person.velocity);
   }
-  Vec2 obstacle_force = Vec2::Zero();
-  if (const auto obstacle = around.nearest_obstacle(position, params.neighbour_distance)) {
-    const Vec2 away = position - *obstacle;
-    const double length = away.norm();
-    if (length > 0.0) obstacle_force = std::exp(-(length - around.obstacle_inset - robot.radius) / params.obstacle_sigma) * away / length;
-  }
+  const auto obstacle = around.nearest_obstacle(position, params.neighbour_distance);
+  const Vec2 obstacle_force = obstacle ? humans::obstacle_force(params, position, robot.radius + around.obstacle_inset, *obstacle) : Vec2::Zero();
   const Vec2 acceleration = params.desired_factor * driving + params.social_factor * social + params.obstacle_factor * obstacle_force;
   Vec2 next = velocity + acceleration * dt;
   if (next.norm() > speed) next = next.normalized() * speed;

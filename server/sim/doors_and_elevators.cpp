@@ -97,7 +97,8 @@ void update_elevator(const scenario::Model& model, State& state, int index) {
         cabin.until_tick = state.tick + ticks(model, elevator.open_time);
       }
       const bool due = state.tick >= cabin.until_tick || (!cabin.queue.empty() && state.tick >= cabin.reopened_until_tick);
-      const bool held = state.tick < cabin.until_tick + ticks(model, scenario::kElevatorPassengerHold) && rider_on_the_way(model, elevator, state, door);
+      const bool held = due && state.tick < cabin.until_tick + ticks(model, scenario::kElevatorPassengerHold) &&
+                        rider_on_the_way(model, elevator, state, door);
       if (due && !held) {
         cabin.phase = Phase::closing;
         set_door(model, state, door, DoorPhase::closing);
