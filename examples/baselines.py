@@ -20,9 +20,6 @@ sys.path.insert(0, os.path.join(REPO, "clients", "python"))
 import hrisim  # noqa: E402
 from hrisim import controllers  # noqa: E402
 
-#: pick_and_place with room for the whole sequence: the seed's 256 ticks end while the gripper closes.
-LONG_PICK_TICKS = 640
-
 
 def success(task, terminated, info):
     """The task's own measure: the person reached, the cup held or on the target, the side mirrored."""
@@ -57,9 +54,6 @@ def main(argv=None):
     rows = []
     # (label, task, scenario id)
     cases = [(task, task, task) for task in args.tasks]
-    if "pick_and_place" in args.tasks:
-        cases.append(("pick_and_place, %d ticks" % LONG_PICK_TICKS, "pick_and_place",
-                      hrisim.with_task_settings(client, "pick_and_place", {"max_episode_length": LONG_PICK_TICKS})))
     for label, task, scenario in cases:
         with hrisim.make(scenario, seed=0, client=client) as env:
             for name, controller in (("scripted", controllers.for_task(task, env)),

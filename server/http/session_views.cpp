@@ -158,6 +158,19 @@ json sensors_of(const sim::Session& session, const std::string& name) {
                                                    : "map";
     contacts.push_back({{"with", with}, {"part", contact.part}});
   }
+  const auto xyz = [](const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); };
+  json imus = json::array();
+  for (const auto& imu : runtime->imus) {
+    const sim::ImuReading& reading = imu.reading;
+    const Eigen::Quaterniond& q = reading.orientation;
+    imus.push_back({{"sensor", reading.sensor}, {"tick", reading.tick}, {"orientation", {{"x", q.x()}, {"y", q.y()}, {"z", q.z()}, {"w", q.w()}}},
+                    {"angular_velocity", xyz(reading.angular_velocity)}, {"linear_acceleration", xyz(reading.linear_acceleration)}});
+  }
+  json force_torque = json::array();
+  for (const auto& sensor : runtime->force_torque_sensors) {
+    const sim::ForceTorqueReading& reading = sensor.reading;
+    force_torque.push_back({{"sensor", reading.sensor}, {"tick", reading.tick}, {"force", xyz(reading.force)}, {"torque", xyz(reading.torque)}});
+  }
   const sim::OdometryReading& odometry = runtime->odometry_reading;
   return {{"robot", name},
           {"tick", session.state().tick},
@@ -165,6 +178,8 @@ json sensors_of(const sim::Session& session, const std::string& name) {
           {"people", {{"tick", runtime->people.tick}, {"detections", people}}},
           {"odometry", {{"tick", odometry.tick}, {"x", odometry.pose.x}, {"y", odometry.pose.y}, {"theta", odometry.pose.theta},
                         {"linear", odometry.twist.linear}, {"angular", odometry.twist.angular}}},
+          {"imu", imus},
+          {"force_torque", force_torque},
           {"joints", joints},
           {"gripper_closed", runtime->robot.gripper_closed()},
           {"contacts", contacts}};

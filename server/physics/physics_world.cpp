@@ -53,10 +53,18 @@ class ContactDispatcher : public btCollisionDispatcher {
   bool needsCollision(const btCollisionObject* a, const btCollisionObject* b) override {
     const bool robot_a = a->getBroadphaseHandle()->m_collisionFilterGroup & kRobotGroup;
     const bool robot_b = b->getBroadphaseHandle()->m_collisionFilterGroup & kRobotGroup;
+    if (!a->checkCollideWith(b) || !b->checkCollideWith(a)) return false;  // a held object and the hand holding it
     if (robot_a || robot_b) return a->getUserIndex2() != b->getUserIndex2() || !(robot_a && robot_b);  // not two links of one robot
     return btCollisionDispatcher::needsCollision(a, b);
   }
 };
+
+void clear(btJointFeedback& feedback) {
+  feedback.m_appliedForceBodyA.setZero();
+  feedback.m_appliedForceBodyB.setZero();
+  feedback.m_appliedTorqueBodyA.setZero();
+  feedback.m_appliedTorqueBodyB.setZero();
+}
 
 }  // namespace
 
@@ -64,7 +72,10 @@ struct PhysicsWorld::Impl {
   explicit Impl(double dt_in) : dt(dt_in) {
     world.setGravity(btVector3(0, 0, -kGravity));
     world.getSolverInfo().m_numIterations = kSolverIterations;
-    world.getSolverInfo().m_splitImpulse = 1;  // penetrations resolved without adding energy
+    // Penetrations of any depth are resolved apart from velocities: they add no energy, and a held
+    // object resting a little deep in a table does not load the grip.
+    world.getSolverInfo().m_splitImpulse = 1;
+
   }
 
   double dt;
@@ -83,7 +94,11 @@ struct PhysicsWorld::Impl {
     double mass = 0.0;
     bool enabled = true;
     int holder = -1;
-    btTransform held_offset;  ///< pose in the holder's frame while held
+    std::unique_ptr<btFixedConstraint> hold;  ///< the grasp's joint while held
+    std::unique_ptr<btJointFeedback> hold_feedback;  ///< on the heap: the joint keeps its address
+    /// Bodies it does not collide with: the hand that holds it, and after a release that hand until
+    /// they no longer overlap (fingers closed into it would kick it away).
+    std::vector<int> hand;
   };
   std::vector<Body> bodies;
 
@@ -146,6 +161,26 @@ struct PhysicsWorld::Impl {
     double nearest_;
   };
 
+  /// A released body collides with the hand again once no part of it overlaps the body.
+  void let_go(Body& released) {
+    for (const int part : released.hand) {
+      Body& hand = bodies[part];
+      NearestResult nearest;
+      world.contactPairTest(released.body.get(), hand.body.get(), nearest);
+      if (nearest.distance < 0.0) return;
+    }
+    for (const int part : released.hand) released.body->setIgnoreCollisionCheck(bodies[part].body.get(), false);
+    released.hand.clear();
+  }
+
+  struct NearestResult : public btCollisionWorld::ContactResultCallback {
+    double distance = 1.0;
+    btScalar addSingleResult(btManifoldPoint& point, const btCollisionObjectWrapper*, int, int, const btCollisionObjectWrapper*, int, int) override {
+      distance = std::min(distance, static_cast<double>(point.getDistance()));
+      return 0;
+    }
+  };
+
   Body& at(int id) {
     if (id < 0 || id >= static_cast<int>(bodies.size())) throw core::Error(core::ErrorCode::internal, "no physics body " + std::to_string(id));
     return bodies[id];
@@ -154,6 +189,9 @@ struct PhysicsWorld::Impl {
 
 PhysicsWorld::PhysicsWorld(double dt) : impl_(std::make_unique<Impl>(dt)) {}
 PhysicsWorld::~PhysicsWorld() {
+  for (auto& body : impl_->bodies) {
+    if (body.hold) impl_->world.removeConstraint(body.hold.get());
+  }
   for (auto& body : impl_->bodies) {
     if (body.enabled) impl_->world.removeRigidBody(body.body.get());
   }
@@ -235,44 +273,53 @@ void PhysicsWorld::set_enabled(int body, bool enabled) {
   }
 }
 
-void PhysicsWorld::attach(int body, int holder) {
+void PhysicsWorld::set_friction(int body, double friction) { impl_->at(body).body->setFriction(friction); }
+
+void PhysicsWorld::attach(int body, int holder, std::span<const int> hand) {
   Impl::Body& held = impl_->at(body);
-  const Impl::Body& by = impl_->at(holder);
+  Impl::Body& by = impl_->at(holder);
+  if (held.holder >= 0) detach(body);
   held.holder = holder;
-  held.held_offset = by.body->getWorldTransform().inverse() * held.body->getWorldTransform();
-  // Held, the body moves with its holder: kinematic until released.
-  impl_->world.removeRigidBody(held.body.get());
-  held.body->setMassProps(0.0, btVector3(0, 0, 0));
-  held.body->setCollisionFlags(held.body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-  held.body->setActivationState(DISABLE_DEACTIVATION);
-  held.body->setLinearVelocity(btVector3(0, 0, 0));
-  held.body->setAngularVelocity(btVector3(0, 0, 0));
-  impl_->insert(held);
+  // The joint's frames: the held body's pose as it is now, in each body's frame.
+  held.hold = std::make_unique<btFixedConstraint>(*by.body, *held.body, by.body->getWorldTransform().inverse() * held.body->getWorldTransform(),
+                                                  btTransform::getIdentity());
+  held.hold_feedback = std::make_unique<btJointFeedback>();
+  clear(*held.hold_feedback);
+  held.hold->setJointFeedback(held.hold_feedback.get());
+  impl_->world.addConstraint(held.hold.get(), true);
+  for (const int part : held.hand) held.body->setIgnoreCollisionCheck(impl_->at(part).body.get(), false);  // a hand still letting go
+  held.hand.assign(hand.begin(), hand.end());
+  for (const int finger : held.hand) held.body->setIgnoreCollisionCheck(impl_->at(finger).body.get(), true);
+  // Contacts with the hand found before are dropped with the body's pairs; the next step pairs it anew.
+  impl_->world.getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(held.body->getBroadphaseHandle(), &impl_->dispatcher);
+  held.body->forceActivationState(DISABLE_DEACTIVATION);
 }
 
 void PhysicsWorld::detach(int body) {
   Impl::Body& held = impl_->at(body);
   if (held.holder < 0) return;
   held.holder = -1;
-  impl_->world.removeRigidBody(held.body.get());
-  btVector3 inertia(0, 0, 0);
-  held.shape->calculateLocalInertia(held.mass, inertia);
-  held.body->setMassProps(held.mass, inertia);
-  held.body->setCollisionFlags(held.body->getCollisionFlags() & ~btCollisionObject::CF_KINEMATIC_OBJECT);
+  impl_->world.removeConstraint(held.hold.get());
+  held.hold.reset();
+  held.hold_feedback.reset();
   held.body->forceActivationState(ACTIVE_TAG);
-  held.body->setLinearVelocity(btVector3(0, 0, 0));
-  held.body->setAngularVelocity(btVector3(0, 0, 0));
-  impl_->insert(held);
 }
 
 int PhysicsWorld::holder(int body) const { return impl_->at(body).holder; }
 
+Wrench PhysicsWorld::hold_load(int body) const {
+  const Impl::Body& held = impl_->at(body);
+  if (held.holder < 0) return {};
+  const btJointFeedback& load = *held.hold_feedback;
+  return {Eigen::Vector3d(load.m_appliedForceBodyB.x(), load.m_appliedForceBodyB.y(), load.m_appliedForceBodyB.z()),
+          Eigen::Vector3d(load.m_appliedTorqueBodyB.x(), load.m_appliedTorqueBodyB.y(), load.m_appliedTorqueBodyB.z())};
+}
+
 void PhysicsWorld::step() {
   for (Impl::Body& body : impl_->bodies) {
-    if (body.holder < 0) continue;
-    const btTransform pose = impl_->bodies[body.holder].body->getWorldTransform() * body.held_offset;
-    body.motion->setWorldTransform(pose);
-    body.body->setWorldTransform(pose);
+    // The solver adds each step's joint forces to the feedback.
+    if (body.hold) clear(*body.hold_feedback);
+    if (body.holder < 0 && !body.hand.empty()) impl_->let_go(body);
   }
   // One fixed step of dt, no interpolation substeps: the same work every tick.
   impl_->world.stepSimulation(impl_->dt, 0, impl_->dt);
@@ -297,6 +344,64 @@ std::vector<std::pair<int, int>> PhysicsWorld::touching() const {
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   return pairs;
+}
+
+Wrench PhysicsWorld::external_wrench(std::span<const int> bodies, const Eigen::Vector3d& point) const {
+  const auto to_eigen = [](const btVector3& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); };
+  const auto in_group = [&](int body) { return std::find(bodies.begin(), bodies.end(), body) != bodies.end(); };
+  Wrench wrench;
+  const auto add = [&](const Eigen::Vector3d& force, const Eigen::Vector3d& at) {
+    wrench.force += force;
+    wrench.torque += (at - point).cross(force);
+  };
+  btDispatcher& dispatcher = impl_->dispatcher;
+  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+    const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+    const bool first = in_group(manifold->getBody0()->getUserIndex()), second = in_group(manifold->getBody1()->getUserIndex());
+    if (first == second) continue;
+    for (int c = 0; c < manifold->getNumContacts(); ++c) {
+      const btManifoldPoint& contact = manifold->getContactPoint(c);
+      // The solver's impulses push the manifold's first body along these directions, its second against them.
+      const btVector3 impulse = contact.m_normalWorldOnB * contact.getAppliedImpulse() + contact.m_lateralFrictionDir1 * contact.m_appliedImpulseLateral1 +
+                                contact.m_lateralFrictionDir2 * contact.m_appliedImpulseLateral2;
+      const Eigen::Vector3d force = to_eigen(impulse) / impl_->dt;
+      add(first ? force : Eigen::Vector3d(-force), to_eigen(first ? contact.getPositionWorldOnA() : contact.getPositionWorldOnB()));
+    }
+  }
+  for (std::size_t b = 0; b < impl_->bodies.size(); ++b) {
+    const Impl::Body& held = impl_->bodies[b];
+    if (held.holder < 0 || !in_group(held.holder) || in_group(static_cast<int>(b))) continue;
+    // The holder receives the opposite of what its joint applies to the held body.
+    const Wrench load = hold_load(static_cast<int>(b));
+    const Eigen::Vector3d centre = to_eigen(held.body->getWorldTransform().getOrigin());
+    add(-load.force, centre);
+    wrench.torque -= load.torque;
+  }
+  return wrench;
+}
+
+std::optional<ContactPoint> PhysicsWorld::deepest_contact(int a, int on) {
+  // Bullet's normal lies on the second body of a result and points to its first.
+  class Deepest : public btCollisionWorld::ContactResultCallback {
+   public:
+    explicit Deepest(const btCollisionObject* on) : on_(on) { m_closestDistanceThreshold = kContactDistance; }
+    btScalar addSingleResult(btManifoldPoint& point, const btCollisionObjectWrapper*, int, int, const btCollisionObjectWrapper* second, int, int) override {
+      if (point.getDistance() > kContactDistance || (found && point.getDistance() >= found->distance)) return 0;
+      const bool on_second = second->getCollisionObject() == on_;
+      const btVector3 normal = on_second ? point.m_normalWorldOnB : -point.m_normalWorldOnB;
+      const btVector3& at = on_second ? point.getPositionWorldOnB() : point.getPositionWorldOnA();
+      found = ContactPoint{Eigen::Vector3d(at.x(), at.y(), at.z()), Eigen::Vector3d(normal.x(), normal.y(), normal.z()), point.getDistance()};
+      return 0;
+    }
+    std::optional<ContactPoint> found;
+
+   private:
+    const btCollisionObject* on_;
+  };
+  const Impl::Body& surface = impl_->at(on);
+  Deepest deepest(surface.body.get());
+  impl_->world.contactPairTest(impl_->at(a).body.get(), surface.body.get(), deepest);
+  return deepest.found;
 }
 
 }  // namespace hrisim::physics

@@ -5,6 +5,7 @@
 // added in scenario order, a fixed time step, Bullet's double-precision build. Bullet's headers stay
 // inside physics_world.cpp.
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -31,6 +32,19 @@ struct BodyOwner {
   bool operator==(const BodyOwner&) const = default;
 };
 
+/// Where two bodies touch: a point on the second body's surface and that surface's outward normal.
+struct ContactPoint {
+  Eigen::Vector3d point;
+  Eigen::Vector3d normal;
+  double distance = 0.0;  ///< m; negative: overlap
+};
+
+/// A force and a torque (N, N·m; world frame).
+struct Wrench {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();
+};
+
 class PhysicsWorld {
  public:
   explicit PhysicsWorld(double dt);
@@ -52,11 +66,19 @@ class PhysicsWorld {
   /// Takes a body out of the world (a person who left) or puts it back.
   void set_enabled(int body, bool enabled);
 
-  /// Holds a dynamic body rigidly to another, as it is now (a grasp), until released.
-  void attach(int body, int holder);
+  /// Sets a body's friction coefficient (Bullet multiplies those of two bodies in contact).
+  void set_friction(int body, double friction);
+
+  /// Holds a dynamic body to another, as it is now, by a rigid joint (a grasp) until released. The
+  /// held body stays dynamic: what it bumps into pushes on the joint (see hold_load). It does not
+  /// collide with the `hand` bodies (the fingers that hold it).
+  void attach(int body, int holder, std::span<const int> hand = {});
   void detach(int body);
   /// The body holding this one, -1 when free.
   int holder(int body) const;
+  /// What the holder's joint applied to a held body during the last step: the force, and the torque
+  /// about the body's centre of mass. Zero when the body is free.
+  Wrench hold_load(int body) const;
 
   /// The smallest signed distance (m; negative: overlap) from `body`, placed at `pose`, to what is
   /// solid for it — the map (not the floor), doors, people and other robots' links; not movable
@@ -71,6 +93,14 @@ class PhysicsWorld {
   const BodyOwner& owner(int body) const;
   /// Pairs of bodies (lower id first) touching after the last step, sorted.
   std::vector<std::pair<int, int>> touching() const;
+  /// Where body `a` touches or overlaps body `on` most deeply as they are placed now (not after the
+  /// last step): a point on `on`'s surface and its outward normal there; none when they are farther
+  /// apart than kContactDistance.
+  std::optional<ContactPoint> deepest_contact(int a, int on);
+  /// What the world applied to a group of bodies during the last step, about `point`: the contact
+  /// forces the solver resolved (pushing, being pushed) and the loads of the objects they hold.
+  /// Contacts among the group do not count.
+  Wrench external_wrench(std::span<const int> bodies, const Eigen::Vector3d& point) const;
 
  private:
   struct Impl;

@@ -178,6 +178,15 @@ std::vector<int> RobotDescription::finger_joints() const {
   return fingers;
 }
 
+std::vector<int> RobotDescription::links_from(const std::string& link) const {
+  std::vector<int> beyond{find_link(link)};
+  // Joints come parents first, so one pass collects the whole subtree.
+  for (const Joint& joint : joints) {
+    if (std::find(beyond.begin(), beyond.end(), find_link(joint.parent)) != beyond.end()) beyond.push_back(find_link(joint.child));
+  }
+  return beyond;
+}
+
 const Sensor* RobotDescription::find_sensor(std::string_view name) const {
   for (const Sensor& sensor : sensors) {
     if (sensor.name == name) return &sensor;
@@ -240,7 +249,8 @@ LoadedRobot load_robot_description(const json& document) {
   for (const auto& [group, joints] : groups.items()) robot->groups[group] = joints.get<std::vector<std::string>>();
   if (document.contains("gripper")) {
     const json& gripper = document["gripper"];
-    robot->gripper = Gripper{gripper["joint"], gripper["open"], gripper["closed"]};
+    robot->gripper = Gripper{gripper["joint"], gripper["open"], gripper["closed"], gripper.value("payload", kDefaultGripperPayload),
+                             gripper.value("friction", kDefaultGripperFriction)};
   }
   check_references(document, *robot, loaded.errors);
   if (!loaded.errors.empty()) return loaded;

@@ -59,7 +59,7 @@ struct Joint {
 
 struct Sensor {
   std::string name;
-  std::string type;  ///< laser, rgbd_camera, camera, infrared, microphone, bumper
+  std::string type;  ///< laser, rgbd_camera, camera, infrared, microphone, bumper, imu, force_torque
   std::string link;
   Pose3 origin;      ///< sensor frame in the link frame (x forward, z up; cameras look along x)
   nlohmann::json settings = nlohmann::json::object();  ///< type-specific, read by the sensors module
@@ -70,10 +70,18 @@ struct Drive {
   std::string left_wheel, right_wheel;  ///< joint names
 };
 
+/// Named defaults of a gripper (docs/robots/description-format.md): the HSR's, seed 003.
+inline constexpr double kDefaultGripperPayload = 1.3;   ///< kg: Table 3.1's maximum payload
+inline constexpr double kDefaultGripperFriction = 0.5;  ///< static and dynamic, §4.1 ("set frictions")
+
 struct Gripper {
   std::string joint;
   double open = 0.0;    ///< joint position when open
   double closed = 0.0;  ///< joint position when fully closed (nothing held)
+  /// The heaviest object it holds still against gravity, kg: its fingers squeeze with the force whose
+  /// friction carries this weight.
+  double payload = kDefaultGripperPayload;
+  double friction = kDefaultGripperFriction;  ///< Coulomb coefficient of its fingers' material
 };
 
 struct RobotDescription {
@@ -93,6 +101,8 @@ struct RobotDescription {
   int find_link(std::string_view name) const;   ///< -1 when absent
   /// The gripper's finger joints (its own and those mimicking it), by index; empty without a gripper.
   std::vector<int> finger_joints() const;
+  /// A link and every link beyond it (its joints' children, theirs, …), as indices, by name.
+  std::vector<int> links_from(const std::string& link) const;
   const Sensor* find_sensor(std::string_view name) const;
 };
 

@@ -88,6 +88,12 @@ void Robot::set_gripper(bool closed) {
   command_position(description_->find_joint(gripper.joint), closed ? gripper.closed : gripper.open);
 }
 
+void Robot::stop_gripper_at(double position) {
+  const Gripper& gripper = description_->gripper.value();
+  Motor& motor = *motors_[description_->find_joint(gripper.joint)];
+  if ((motor.position() - position) * (gripper.closed - gripper.open) > 0.0) motor.stop_at(position, 0.0);
+}
+
 void Robot::step(core::Random& random) {
   for (auto& motor : motors_) {
     if (motor) motor->step(random);
@@ -139,6 +145,12 @@ Configuration Robot::configuration() const {
   Configuration configuration{pose_, std::vector<double>(description_->joints.size(), 0.0)};
   for (std::size_t j = 0; j < configuration.joints.size(); ++j) configuration.joints[j] = joint_position(static_cast<int>(j));
   return configuration;
+}
+
+Configuration Robot::configuration_with_gripper_at(double position) const {
+  Robot moved = *this;
+  moved.motors_[description_->find_joint(description_->gripper.value().joint)]->stop_at(position, 0.0);
+  return moved.configuration();
 }
 
 void Robot::stop_at(const Configuration& from, double t) {

@@ -50,6 +50,8 @@ class Robot {
   /// Opens or closes the gripper (throws conflict when the robot has none).
   void set_gripper(bool closed);
   bool gripper_closed() const { return gripper_closed_; }
+  /// The fingers rest on something held at gripper joint position `position`: they close no further.
+  void stop_gripper_at(double position);
 
   /// Advances the motors one tick and moves the base by the twist its wheels actually turn.
   void step(core::Random& random);
@@ -72,6 +74,8 @@ class Robot {
   /// The same for another configuration of this robot.
   std::vector<Eigen::Isometry3d> link_poses(const Configuration& configuration) const;
   Configuration configuration() const;
+  /// The configuration as it is but with the gripper joint, and the joints that mimic it, at `position`.
+  Configuration configuration_with_gripper_at(double position) const;
   /// Something solid stopped the last step a share `t` of the way from `from`: the base and the joints
   /// go back to that point, and the wheels', joints' and base's velocities become the share they achieved.
   void stop_at(const Configuration& from, double t);

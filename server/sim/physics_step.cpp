@@ -44,37 +44,149 @@ void store_object_poses(State& state, const PhysicsBodies& physics) {
   for (std::size_t o = 0; o < physics.objects.size(); ++o) state.object_poses[o] = physics.world->pose(physics.objects[o]);
 }
 
-/// Grasping: a closed gripper holds an object both its fingers touch, until it opens.
-void update_grasps(const scenario::Model& model, State& state, PhysicsBodies& physics) {
+/// The two finger contacts of a grasp, on the object's surface; none unless both fingers touch it.
+std::optional<std::pair<physics::ContactPoint, physics::ContactPoint>> finger_contacts(physics::PhysicsWorld& world, std::span<const int> fingers,
+                                                                                      int object) {
+  const std::optional<physics::ContactPoint> first = world.deepest_contact(fingers[0], object);
+  if (!first) return std::nullopt;
+  const std::optional<physics::ContactPoint> second = world.deepest_contact(fingers[1], object);
+  if (!second) return std::nullopt;
+  return std::pair{*first, *second};
+}
+
+/// Whether two fingers pressing at these contacts hold the object by friction: the line between them
+/// lies within both friction cones (an antipodal grasp; Nguyen 1988).
+bool within_friction_cones(const physics::ContactPoint& a, const physics::ContactPoint& b, double friction) {
+  const Eigen::Vector3d line = b.point - a.point;
+  if (line.norm() < kMinGraspWidth) return false;
+  const Eigen::Vector3d u = line.normalized();
+  const double cos_cone = std::cos(std::atan(friction));
+  // Each finger pushes into the object along the line, against its outward normal there.
+  return u.dot(-a.normal) >= cos_cone && u.dot(b.normal) >= cos_cone;
+}
+
+/// Whether a held object's load exceeds what the grip's friction carries: the force across the grasp
+/// line beyond the payload's weight, or the torque about it beyond the finger pads' torsional friction.
+bool grip_overloaded(const physics::Wrench& load, const Eigen::Vector3d& from, const Eigen::Vector3d& to, const Eigen::Vector3d& centre,
+                     const robots::Gripper& gripper) {
+  const Eigen::Vector3d u = (to - from).normalized();
+  const double across = (load.force - u * u.dot(load.force)).norm();
+  const double twist = std::abs(u.dot(load.torque + (centre - 0.5 * (from + to)).cross(load.force)));
+  const double capacity = gripper.payload * physics::kGravity;
+  return across > capacity || twist > capacity * kFingerPadRadius;
+}
+
+/// The gripper's palm and finger bodies of a robot (index into State::robots).
+struct Hand {
+  int palm = -1;
+  std::vector<int> fingers;       ///< bodies
+  std::vector<int> finger_links;  ///< their links in the description
+};
+
+Hand hand_of(const RobotRuntime& runtime, const std::vector<int>& links) {
+  const robots::RobotDescription& description = runtime.robot.description();
+  Hand hand;
+  hand.palm = links[description.find_link(description.joints[description.find_joint(description.gripper->joint)].parent)];
+  for (const int joint : description.finger_joints()) {
+    hand.finger_links.push_back(description.find_link(description.joints[joint].child));
+    hand.fingers.push_back(links[hand.finger_links.back()]);
+  }
+  return hand;
+}
+
+/// Places the fingers' bodies as they are with the gripper joint at `position`.
+void place_fingers(physics::PhysicsWorld& world, const robots::Robot& robot, const Hand& hand, double position) {
+  const std::vector<Eigen::Isometry3d> poses = robot.link_poses(robot.configuration_with_gripper_at(position));
+  for (std::size_t f = 0; f < hand.fingers.size(); ++f) {
+    const robots::Link& link = robot.description().links[hand.finger_links[f]];
+    world.set_kinematic_pose(hand.fingers[f], poses[hand.finger_links[f]] * robots::to_isometry(link.collision_origin));
+  }
+}
+
+/// Where between the gripper's position a tick ago and now both fingers first touch `object`, to
+/// within kGripResolution: a tick of fast fingers would otherwise end deep in it, where the contacts'
+/// normals are the fingers' faces, not the object's surface. The fingers' bodies are left there.
+double first_touch(physics::PhysicsWorld& world, const robots::Robot& robot, const Hand& hand, int object, double dt) {
+  const int joint = robot.joint_index(robot.description().gripper->joint);
+  double touching = robot.joint_position(joint), apart = touching - robot.joint_velocity(joint) * dt;
+  while (std::abs(touching - apart) > kGripResolution) {
+    const double middle = 0.5 * (touching + apart);
+    place_fingers(world, robot, hand, middle);
+    const bool both = std::all_of(hand.fingers.begin(), hand.fingers.end(), [&](int finger) { return world.deepest_contact(finger, object).has_value(); });
+    (both ? touching : apart) = middle;
+  }
+  place_fingers(world, robot, hand, touching);
+  return touching;
+}
+
+/// Before the world steps, with the links where the robots moved them: an open gripper lets go, and a
+/// closing one takes an object both its fingers reach within their friction cones — before the solver
+/// would push it out from between them.
+void grasp_and_release(const scenario::Model& model, State& state, PhysicsBodies& physics) {
   physics::PhysicsWorld& world = *physics.world;
-  const auto touching = world.touching();
-  auto touch = [&](int a, int b) { return std::binary_search(touching.begin(), touching.end(), std::pair{std::min(a, b), std::max(a, b)}); };
   for (std::size_t r = 0; r < state.robots.size(); ++r) {
     RobotRuntime& runtime = state.robots[r];
-    const std::vector<int>& links = physics.robot_links[r];
-    const robots::RobotDescription& description = runtime.robot.description();
-    if (!description.gripper) continue;
+    if (!runtime.robot.description().gripper || !state.agents[runtime.agent].active) continue;
+    const robots::Gripper& gripper = *runtime.robot.description().gripper;
     const std::string& id = model.agents[runtime.agent].id;
-    if (runtime.held_object >= 0 && !runtime.robot.gripper_closed()) {
+    if (!runtime.robot.gripper_closed()) {
+      runtime.slipped = false;
+      if (runtime.held_object < 0) continue;
       world.detach(physics.objects[runtime.held_object]);
       emit(model, state, "release", id, {{"object", model.objects[runtime.held_object].name}});
       runtime.held_object = -1;
+      continue;
     }
-    if (runtime.held_object >= 0 || !runtime.robot.gripper_closed()) continue;
-    const robots::Joint& motor = description.joints[description.find_joint(description.gripper->joint)];
-    std::vector<int> fingers;
-    for (const int joint : description.finger_joints()) fingers.push_back(links[description.find_link(description.joints[joint].child)]);
-    const int palm = links[description.find_link(motor.parent)];
-    for (std::size_t o = 0; o < physics.objects.size() && palm >= 0; ++o) {
-      if (world.holder(physics.objects[o]) >= 0) continue;
-      const bool gripped =
-          fingers.size() >= 2 && std::all_of(fingers.begin(), fingers.end(), [&](int finger) { return finger >= 0 && touch(finger, physics.objects[o]); });
-      if (!gripped) continue;
-      world.attach(physics.objects[o], palm);
+    const Hand hand = hand_of(runtime, physics.robot_links[r]);
+    if (runtime.held_object >= 0 || runtime.slipped || hand.palm < 0 || hand.fingers.size() != 2 ||
+        std::find(hand.fingers.begin(), hand.fingers.end(), -1) != hand.fingers.end()) {
+      continue;
+    }
+    for (std::size_t o = 0; o < physics.objects.size(); ++o) {
+      const int object = physics.objects[o];
+      if (world.holder(object) >= 0 || !finger_contacts(world, hand.fingers, object)) continue;
+      const double touch = first_touch(world, runtime.robot, hand, object, model.dt);
+      const auto contacts = finger_contacts(world, hand.fingers, object);
+      if (!contacts || !within_friction_cones(contacts->first, contacts->second, gripper.friction)) {
+        place_fingers(world, runtime.robot, hand, runtime.robot.joint_position(runtime.robot.joint_index(gripper.joint)));
+        continue;
+      }
+      runtime.robot.stop_gripper_at(touch);
+      std::vector<int> holding = hand.fingers;
+      holding.push_back(hand.palm);
+      world.attach(object, hand.palm, holding);
+      const Eigen::Isometry3d palm_inverse = world.pose(hand.palm).inverse();
       runtime.held_object = static_cast<int>(o);
+      runtime.grasped_at = state.tick;
+      runtime.grip_position = touch;
+      runtime.grip_from = palm_inverse * contacts->first.point;
+      runtime.grip_to = palm_inverse * contacts->second.point;
       emit(model, state, "grasp", id, {{"object", model.objects[o].name}});
       break;
     }
+  }
+}
+
+/// After the world stepped: a held object whose load the grip alone cannot carry slips out. While it
+/// touches anything besides the hand (resting on a table, pushed against a wall), what it touches
+/// shares the load, and the grip is not checked: contact forces are not a grip load.
+void check_grips(const scenario::Model& model, State& state, PhysicsBodies& physics) {
+  physics::PhysicsWorld& world = *physics.world;
+  for (std::size_t r = 0; r < state.robots.size(); ++r) {
+    RobotRuntime& runtime = state.robots[r];
+    if (runtime.held_object < 0) continue;
+    const int held = physics.objects[runtime.held_object];
+    const Eigen::Isometry3d palm = world.pose(hand_of(runtime, physics.robot_links[r]).palm);
+    const auto touching = world.touching();
+    const bool supported = std::any_of(touching.begin(), touching.end(), [&](const auto& pair) { return pair.first == held || pair.second == held; });
+    if (supported || static_cast<double>(state.tick - runtime.grasped_at) * model.dt < kGripSettleTime || !grip_overloaded(world.hold_load(held), palm * runtime.grip_from, palm * runtime.grip_to, world.pose(held).translation(),
+                         *runtime.robot.description().gripper)) {
+      continue;
+    }
+    world.detach(held);
+    emit(model, state, "slip", model.agents[runtime.agent].id, {{"object", model.objects[runtime.held_object].name}});
+    runtime.held_object = -1;
+    runtime.slipped = true;
   }
 }
 
@@ -134,6 +246,13 @@ PhysicsBodies build_physics(const scenario::Model& model, State& state, const Hu
       links.push_back(link.collision ? world.add_kinematic(*link.collision, poses[l] * robots::to_isometry(link.collision_origin),
                                                            {BodyOwner::Kind::robot, runtime.agent, link.name})
                                      : -1);
+    }
+    // The fingers are of the gripper's material.
+    if (description.gripper) {
+      for (const int joint : description.finger_joints()) {
+        const int finger = links[description.find_link(description.joints[joint].child)];
+        if (finger >= 0) world.set_friction(finger, description.gripper->friction);
+      }
     }
   }
   for (std::size_t o = 0; o < model.objects.size(); ++o) {
@@ -231,6 +350,7 @@ void step_physics(const scenario::Model& model, State& state, PhysicsBodies& phy
     if (!active) {
       if (runtime.held_object >= 0) world.detach(physics.objects[runtime.held_object]);  // it drops what it held
       runtime.held_object = -1;
+      runtime.slipped = false;
       continue;
     }
     const auto poses = runtime.robot.link_poses();
@@ -239,8 +359,9 @@ void step_physics(const scenario::Model& model, State& state, PhysicsBodies& phy
       if (links[l] >= 0) world.set_kinematic_pose(links[l], poses[l] * robots::to_isometry(description[l].collision_origin));
     }
   }
+  grasp_and_release(model, state, physics);
   world.step();
-  update_grasps(model, state, physics);
+  check_grips(model, state, physics);
   store_object_poses(state, physics);
 }
 

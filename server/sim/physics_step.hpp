@@ -1,7 +1,8 @@
 #pragma once
 // The Bullet world of a session: people's capsules, robots' links and discs as kinematic bodies that
 // follow them, closed doors as slabs, movable objects as dynamic bodies; grasps are made when both of
-// a closed gripper's fingers touch an object and released when it opens.
+// a closed gripper's fingers touch an object within their friction cones, and the object stays
+// dynamic, held by a joint, until its load exceeds the grip (it slips) or the gripper opens.
 #include <array>
 #include <memory>
 #include <vector>
@@ -27,6 +28,20 @@ inline constexpr double kSweepStep = 0.02;
 /// Where a robot stops is found to within this much of its links' travel, m (it ends this close to
 /// what stopped it, well inside physics::kContactDistance, so the contact is still reported).
 inline constexpr double kStopResolution = 1e-4;
+
+/// Where closing fingers first touch an object is found to within this much of the gripper joint's
+/// travel (rad or m).
+inline constexpr double kGripResolution = 1e-3;
+/// Two finger contacts closer than this hold nothing between them, m.
+inline constexpr double kMinGraspWidth = 0.005;
+/// Radius of a finger pad's contact patch, m (hrisim's own): its torsional friction, soft-finger
+/// style, resists the held object turning about the grasp line up to the payload's weight × this.
+inline constexpr double kFingerPadRadius = 0.01;
+
+/// For this long after a grasp its load is not checked, s (hrisim's own): the fingers settle on the
+/// object, and the impact of catching it (it may be moving, pushed by the first finger) is not a load
+/// the grip must carry.
+inline constexpr double kGripSettleTime = 0.1;
 
 /// The world and which body stands for what (fixed once built).
 struct PhysicsBodies {

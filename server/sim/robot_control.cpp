@@ -74,6 +74,7 @@ void move_robots(const scenario::Model& model, State& state, PhysicsBodies& phys
     runtime.robot.step(runtime.motor_random);
     const double share = free_share(physics, r, runtime.robot, before);
     if (share < 1.0) runtime.robot.stop_at(before, share);
+    if (runtime.held_object >= 0) runtime.robot.stop_gripper_at(runtime.grip_position);
     const Pose2& pose = runtime.robot.pose();
     self.position = pose.position();
     self.heading = pose.theta;

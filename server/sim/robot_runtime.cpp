@@ -16,6 +16,13 @@ RobotRuntime::RobotRuntime(int agent_index, const scenario::AgentDef& def, doubl
       odometry(def.odometry),
       odometry_schedule{1.0 / def.odometry.rate, 0} {
   for (const robots::Sensor& mount : def.robot_model->sensors) {
+    if (mount.type == "imu") {
+      const Eigen::Isometry3d at = robot.sensor_pose(mount);
+      ImuReading reading;
+      reading.sensor = mount.name;
+      imus.push_back({&mount, at, Eigen::Vector3d::Zero(), std::move(reading)});
+    }
+    if (mount.type == "force_torque") force_torque_sensors.push_back({&mount, def.robot_model->links_from(mount.link), {mount.name, -1, {}, {}}});
     if (mount.type != "laser" && mount.type != "infrared") continue;
     const sensors::LaserParams params =
         sensors::read_laser_params(mount.settings, mount.type == "laser" ? sensors::LaserParams{} : sensors::infrared_defaults());
@@ -40,9 +47,21 @@ void RobotRuntime::hash(core::StateHasher& hasher) const {
   for (const std::uint64_t word : sensor_random.state()) hasher.add(word);
   odometry.hash(hasher);
   for (const LaserSensor& sensor : lasers) hasher.add(sensor.schedule.next_tick);
+  const auto add = [&](const Eigen::Vector3d& v) { hasher.add(v.x()).add(v.y()).add(v.z()); };
+  for (const ImuSensor& imu : imus) {
+    add(imu.last_pose.translation());
+    add(imu.last_velocity);
+    add(imu.reading.angular_velocity);
+    add(imu.reading.linear_acceleration);
+  }
+  for (const ForceTorqueSensor& sensor : force_torque_sensors) {
+    add(sensor.reading.force);
+    add(sensor.reading.torque);
+  }
   hasher.add(people_schedule.next_tick).add(odometry_schedule.next_tick);
   for (const Contact& contact : contacts) hasher.add(contact.agent).add(contact.object).add(std::string_view(contact.part));
-  hasher.add(held_object);
+  hasher.add(held_object).add(grasped_at).add(grip_position).add(slipped);
+  for (const Eigen::Vector3d* point : {&grip_from, &grip_to}) hasher.add(point->x()).add(point->y()).add(point->z());
   // What the controller and the sensors hold: the latest readings are state too.
   hasher.add(static_cast<int>(controller.kind)).add(controller.goal.has_value());
   for (const LaserSensor& sensor : lasers) {

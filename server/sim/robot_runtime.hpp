@@ -48,6 +48,30 @@ struct OdometryReading {
   robots::Twist twist;
 };
 
+/// Named defaults of the inertial and force sensors (docs/robots/sensors.md): hrisim's own, of a
+/// MEMS IMU and a 6-axis wrist sensor's order of magnitude (the HSR's models are not published).
+inline constexpr double kImuAccelerationNoise = 0.02;  ///< m/s², standard deviation per reading
+inline constexpr double kImuGyroNoise = 0.002;         ///< rad/s
+inline constexpr double kForceNoise = 0.05;            ///< N
+inline constexpr double kTorqueNoise = 0.002;          ///< N·m
+
+/// An IMU's reading in its own frame (REP 145): the specific force (gravity included, +9.81 m/s²
+/// along its up axis at rest) and the angular velocity, over the last tick; its orientation in the map.
+struct ImuReading {
+  std::string sensor;
+  std::int64_t tick = -1;
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero(), linear_acceleration = Eigen::Vector3d::Zero();
+};
+
+/// A force/torque sensor's reading in its own frame: the wrench the links beyond it receive from
+/// outside — a held object's load and the contacts the physics world resolves — about its origin.
+struct ForceTorqueReading {
+  std::string sensor;
+  std::int64_t tick = -1;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+};
+
 /// Something the robot's body touches.
 struct Contact {
   int agent = -1;    ///< the human or robot touched, or -1
@@ -73,12 +97,26 @@ struct RobotRuntime {
     LaserReading reading;
   };
 
+  struct ImuSensor {
+    const robots::Sensor* mount;
+    Eigen::Isometry3d last_pose;     ///< where it was a tick ago
+    Eigen::Vector3d last_velocity;   ///< m/s, map frame, over the tick before
+    ImuReading reading;
+  };
+  struct ForceTorqueSensor {
+    const robots::Sensor* mount;
+    std::vector<int> links;  ///< its link and every link beyond it
+    ForceTorqueReading reading;
+  };
+
   int agent;
   robots::Robot robot;
   scenario::RobotController controller;
   robots::Twist command;  ///< teleoperation (or an external controller): held until changed
   core::Random motor_random, sensor_random;
   std::vector<LaserSensor> lasers;  ///< laser and infrared sensors, in description order
+  std::vector<ImuSensor> imus;
+  std::vector<ForceTorqueSensor> force_torque_sensors;
   std::optional<sensors::PeopleDetector> people_detector;
   Schedule people_schedule;
   PeopleReading people;
@@ -87,6 +125,13 @@ struct RobotRuntime {
   OdometryReading odometry_reading;
   std::vector<Contact> contacts;  ///< what the body touches now
   int held_object = -1;           ///< the object its gripper holds
+  /// The grasp it holds the object by: where the gripper joint came to rest on it, and the line
+  /// between the two fingers' contacts (in the palm body's frame).
+  std::int64_t grasped_at = 0;  ///< tick
+  double grip_position = 0.0;
+  Eigen::Vector3d grip_from = Eigen::Vector3d::Zero(), grip_to = Eigen::Vector3d::Zero();
+  /// Its grip slipped: it grasps again only after opening.
+  bool slipped = false;
 
   void hash(core::StateHasher& hasher) const;
 };

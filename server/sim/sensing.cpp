@@ -30,6 +30,43 @@ std::vector<Contact> contacts_of(const physics::PhysicsWorld& world, int robot_a
   return contacts;
 }
 
+Eigen::Vector3d noise(core::Random& random, double deviation) {
+  return {random.normal(0.0, deviation), random.normal(0.0, deviation), random.normal(0.0, deviation)};
+}
+
+/// The IMUs from how their mounts moved over the last two ticks.
+void read_imus(const scenario::Model& model, const State& state, RobotRuntime& runtime) {
+  for (RobotRuntime::ImuSensor& imu : runtime.imus) {
+    const Eigen::Isometry3d now = runtime.robot.sensor_pose(*imu.mount);
+    const Eigen::Vector3d velocity = (now.translation() - imu.last_pose.translation()) / model.dt;
+    const Eigen::Vector3d acceleration = (velocity - imu.last_velocity) / model.dt;
+    const Eigen::AngleAxisd turn(imu.last_pose.rotation().transpose() * now.rotation());
+    imu.reading.tick = state.tick;
+    imu.reading.orientation = Eigen::Quaterniond(now.rotation());
+    imu.reading.angular_velocity = turn.axis() * (turn.angle() / model.dt) + noise(runtime.sensor_random, kImuGyroNoise);
+    // An accelerometer at rest feels the floor pushing up: the specific force, gravity included.
+    imu.reading.linear_acceleration = now.rotation().transpose() * (acceleration + Eigen::Vector3d(0.0, 0.0, physics::kGravity)) +
+                                      noise(runtime.sensor_random, kImuAccelerationNoise);
+    imu.last_pose = now;
+    imu.last_velocity = velocity;
+  }
+}
+
+/// The force/torque sensors from what the physics world applied to the links beyond them.
+void read_force_torque(const State& state, const physics::PhysicsWorld& world, const std::vector<int>& link_bodies, RobotRuntime& runtime) {
+  for (RobotRuntime::ForceTorqueSensor& sensor : runtime.force_torque_sensors) {
+    std::vector<int> bodies;
+    for (const int link : sensor.links) {
+      if (link_bodies[link] >= 0) bodies.push_back(link_bodies[link]);
+    }
+    const Eigen::Isometry3d at = runtime.robot.sensor_pose(*sensor.mount);
+    const physics::Wrench wrench = world.external_wrench(bodies, at.translation());
+    sensor.reading.tick = state.tick;
+    sensor.reading.force = at.rotation().transpose() * wrench.force + noise(runtime.sensor_random, kForceNoise);
+    sensor.reading.torque = at.rotation().transpose() * wrench.torque + noise(runtime.sensor_random, kTorqueNoise);
+  }
+}
+
 }  // namespace
 
 sensors::RayScene range_scene(const scenario::Model& model, const State& state, const HumanBodies& bodies, double height, int robot_agent) {
@@ -77,9 +114,12 @@ sensors::RayScene range_scene(const scenario::Model& model, const State& state, 
 }
 
 void sense(const scenario::Model& model, State& state, const PhysicsBodies& physics, const HumanBodies& bodies) {
-  for (RobotRuntime& runtime : state.robots) {
+  for (std::size_t r = 0; r < state.robots.size(); ++r) {
+    RobotRuntime& runtime = state.robots[r];
     if (!state.agents[runtime.agent].active) continue;
     const std::string& id = model.agents[runtime.agent].id;
+    read_imus(model, state, runtime);
+    read_force_torque(state, *physics.world, physics.robot_links[r], runtime);
     if (runtime.robot.description().drive) {
       runtime.odometry.update(runtime.robot.twist(), model.dt, runtime.sensor_random);
       if (due(runtime.odometry_schedule, state.tick, model.dt)) runtime.odometry_reading = {state.tick, runtime.odometry.pose(), runtime.odometry.twist()};

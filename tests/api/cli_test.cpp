@@ -249,7 +249,7 @@ TEST(CliRender, AStoredEpisodeReplaysToAVideo) {
   EXPECT_EQ(run_command(kHrisim + " render no-such-episode --db " + db + " --out " + video).exit_status, 1);
   const CommandResult camera = run_command(kHrisim + " render " + episode + " --db " + db + " --camera ceiling --out " + video);
   EXPECT_EQ(camera.exit_status, 1);
-  EXPECT_NE(camera.output.find("no camera 'ceiling' (overview, follow, robot.head_rgbd)"), std::string::npos) << camera.output;
+  EXPECT_NE(camera.output.find("no camera 'ceiling' (overview, follow, robot.head_rgbd, robot.hand_camera)"), std::string::npos) << camera.output;
 }
 
 TEST(Cli, GatesDecideTheExitStatusAndJUnitListsThem) {

@@ -588,11 +588,11 @@ TEST(SessionFrames, CamerasGiveColourDepthAndSegmentationInEveryFormat) {
   const std::uint16_t port = server.port();
   const std::string id = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 1})"))["id"];
   const std::string base = "/api/v1/sessions/" + id + "/frames/";
-  // The cameras: the overview ones and the HSR's head RGB-D camera with its description's intrinsics.
+  // The cameras: the overview ones, the HSR's head RGB-D camera with its description's intrinsics and its hand camera.
   const json cameras = json_of(http(port, "GET", "/api/v1/sessions/" + id + "/cameras"));
   std::vector<std::string> names;
   for (const json& camera : cameras["cameras"]) names.push_back(camera["name"]);
-  EXPECT_EQ(names, (std::vector<std::string>{"overview", "follow", "robot.head_rgbd"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"overview", "follow", "robot.head_rgbd", "robot.hand_camera"}));
   const json& head = cameras["cameras"][2];
   EXPECT_EQ(head["width"], 640);
   EXPECT_NEAR(head["fx"].get<double>(), 320.0 / std::tan(1.047 / 2), 1e-6) << "from the horizontal field of view";

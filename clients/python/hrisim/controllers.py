@@ -173,20 +173,17 @@ def _near_polygon(gx, gy, polygon, clearance):
 
 
 # Arm targets [arm_lift m, arm_flex, arm_roll, wrist_flex, wrist_roll, base_roll rad] for the HSR in
-# scenarios/pick_and_place.json: the arm stretched forward, the base roll joint turning it to the
-# cup (0.12 rad right, where the arm's sideways offset puts the fingertips on the cup) and to the
-# target table on the left.
-ARM_ABOVE_CUP = [0.30, -1.5708, 0.0, 0.0, 0.0, -0.1186]
+# scenarios/pick_and_place.json, which starts with the arm stretched forward 16 cm above the cup and
+# the hand open: the base roll joint turns the arm to the cup (0.12 rad right, where the arm's
+# sideways offset puts the cup between the fingers) and to the target table on the left.
 ARM_AT_CUP = [0.141, -1.5708, 0.0, 0.0, 0.0, -0.1186]
-ARM_ABOVE_TARGET = [0.30, -1.5708, 0.0, 0.0, 0.0, 1.5708 - 0.1186]
-ARM_AT_TARGET = [0.141, -1.5708, 0.0, 0.0, 0.0, 1.5708 - 0.1186]
-#: Gripper steps (8 ticks each) until the HSR's fingers (1 rad/s) have closed on the cup.
-CLOSING_STEPS = 10
+#: 1 cm higher than the grasp, so the cup does not drag on the table top on its way.
+ARM_AT_TARGET = [0.151, -1.5708, 0.0, 0.0, 0.0, 1.5708 - 0.1186]
 
 
 class ScriptedGrasp:
-    """pick_and_place: open, above the cup, down, close, lift, over the target, down, open. The
-    seed's 256 ticks end while the fingers close; a longer episode (max_episode_length) completes it."""
+    """pick_and_place in the seed's 256 ticks (§5.3.4): down to the cup (an arm step, 120 ticks),
+    close (a gripper step, 8), carry it over the target (120), open (8)."""
 
     def __init__(self):
         def arm(targets):
@@ -195,8 +192,7 @@ class ScriptedGrasp:
         def gripper(close):
             return [1.0, 1.0 if close else -1.0] + [0.0] * 6
 
-        self.script = ([gripper(False), arm(ARM_ABOVE_CUP), arm(ARM_AT_CUP)] + [gripper(True)] * CLOSING_STEPS
-                       + [arm(ARM_ABOVE_CUP), arm(ARM_ABOVE_TARGET), arm(ARM_AT_TARGET), gripper(False)])
+        self.script = [arm(ARM_AT_CUP), gripper(True), arm(ARM_AT_TARGET), gripper(False)]
         self.step = 0
 
     def reset(self):

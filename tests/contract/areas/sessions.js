@@ -367,13 +367,13 @@ describe('sessions', () => {
     assert.equal((await api.delete(at(`/snapshots/${taken.json.snapshot}`))).status, 404);
   });
 
-  it('GET /api/v1/sessions/{id}/cameras: overview, follow and the HSR\'s head camera where they are; the segmentation legend', async () => {
+  it('GET /api/v1/sessions/{id}/cameras: overview, follow and the HSR\'s head and hand cameras where they are; the segmentation legend', async () => {
     const reply = await api.get(at('/cameras'));
     assert.equal(reply.status, 200);
     assert.equal(reply.json.id, session.id);
     const { cameras, segmentation } = reply.json;
     assert.deepEqual(cameras.map((camera) => [camera.name, camera.kind]),
-      [['overview', 'orthographic'], ['follow', 'perspective'], ['robot.head_rgbd', 'rgbd_camera']]);
+      [['overview', 'orthographic'], ['follow', 'perspective'], ['robot.head_rgbd', 'rgbd_camera'], ['robot.hand_camera', 'camera']]);
     const [overview, follow, head] = cameras;
     for (const camera of cameras) {
       assert.ok(Math.abs(Math.hypot(...camera.pose.orientation) - 1) < 1e-9, `${camera.name}: a unit quaternion`);
@@ -709,19 +709,30 @@ describe('a session with a cup in the HSR\'s open hand', () => {
     scenario = uploaded.json.summary.id;
   });
 
-  it('GET /robots/{robot}/sensors: the fingers touch the cup at the first tick', async () => {
+  it('GET /robots/{robot}/sensors: the open hand touches nothing; holding the cup up, the wrist feels its weight and the IMU gravity', async () => {
     const cup = await createSession(scenario);
-    await api.post(`/api/v1/sessions/${cup.id}/step`, { n: 1 });
-    const { contacts } = (await api.get(`/api/v1/sessions/${cup.id}/robots/hsr/sensors`)).json;
-    assert.deepEqual(contacts, [{ with: 'cup', part: 'cup' }]);
-    await api.delete(`/api/v1/sessions/${cup.id}`);
+    const at = (suffix) => `/api/v1/sessions/${cup.id}${suffix}`;
+    await api.post(at('/step'), { n: 1 });
+    const first = (await api.get(at('/robots/hsr/sensors'))).json;
+    assert.deepEqual(first.contacts, []);
+    assert.deepEqual(first.imu.map((imu) => imu.sensor), ['base_imu']);
+    assert.ok(Math.abs(first.imu[0].linear_acceleration[2] - 9.81) < 0.1, `at rest: ${first.imu[0].linear_acceleration}`);
+    await api.post(at('/commands'), { commands: [{ robot: 'hsr', gripper: 'close' }] });
+    await api.post(at('/step'), { n: 20 });
+    await api.post(at('/commands'), { commands: [{ robot: 'hsr', joints: { group: 'arm', positions: [0.4, -1.5708, 0, 0, 0, 0] } }] });
+    await api.post(at('/step'), { n: 120 });
+    const { force_torque: [wrist] } = (await api.get(at('/robots/hsr/sensors'))).json;
+    assert.equal(wrist.sensor, 'wrist_ft');
+    const weight = Math.hypot(...wrist.force);
+    assert.ok(Math.abs(weight - 0.2 * 9.81) < 0.4, `a 0.2 kg cup: ${wrist.force} N`);
+    await api.delete(at(''));
   });
 
   it('GET .../cameras: the cup is a movable object of the segmentation legend', async () => {
     const cup = await createSession(scenario);
     const { cameras, segmentation } = (await api.get(`/api/v1/sessions/${cup.id}/cameras`)).json;
     await api.delete(`/api/v1/sessions/${cup.id}`);
-    assert.deepEqual(cameras.map((camera) => camera.name), ['overview', 'follow', 'hsr.head_rgbd']);
+    assert.deepEqual(cameras.map((camera) => camera.name), ['overview', 'follow', 'hsr.head_rgbd', 'hsr.hand_camera']);
     assert.deepEqual(byId(segmentation), byId(await expectedLegend(scenario)));
     assert.deepEqual(segmentation.find((label) => label.kind === 'object'), { id: 3000, kind: 'object', name: 'cup' });
   });

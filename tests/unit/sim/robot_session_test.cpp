@@ -239,41 +239,124 @@ TEST(RobotSession, BundledElevatorRobotRidesUpAndRequestsTheButton) {
 namespace hrisim::sim {
 namespace {
 
-// The HSR's hand points forward over a table with a cup between its open fingers: closing the gripper
-// holds the cup (both fingers touch it), lifting the arm lifts it, and after putting it down, opening
-// the gripper leaves it standing there.
-TEST(RobotSession, GripperGraspsLiftsAndReleasesACup) {
+/// The HSR's hand points forward over a side table with a cup of this mass standing between its
+/// open fingers, its centre 1.75 cm short of the fingertips, or `farther` beyond that (m).
+Session hand_around_a_cup(double mass, double farther) {
   json scenario = testing::room_scenario(json::parse(R"({
     "world": {"obstacles": [{"name": "table", "box": {"x": 5, "y": 5, "length": 1.2, "width": 0.8}},
                             {"name": "side_table", "box": {"x": 2.75, "y": 2.078, "length": 0.3, "width": 0.4}, "height": 0.556}]},
     "humans": [{"id": "ana", "start": {"x": 8.5, "y": 8.5}}],
-    "steps": [{"name": "wait", "actions": [{"agent": "ana", "wait": {"duration": 55}}]}],
-    "objects": [{"name": "cup", "shape": {"kind": "cylinder", "radius": 0.03, "length": 0.1}, "mass": 0.2,
-                 "pose": {"x": 2.685, "y": 2.078, "z": 0.606}}]})"));
+    "steps": [{"name": "wait", "actions": [{"agent": "ana", "wait": {"duration": 55}}]}]})"));
+  scenario["objects"] = json::array({{{"name", "cup"}, {"shape", {{"kind", "cylinder"}, {"radius", 0.03}, {"length", 0.1}}}, {"mass", mass},
+                                      {"pose", {{"x", 2.685 + farther}, {"y", 2.078}, {"z", 0.606}}}}});
   // arm_lift 0.3 m, arm horizontal, wrist straight: the hand points along +x at 0.606 m, its fingers
   // open either side of y = 2.078.
   scenario["robots"] = json::array({{{"id", "hsr"}, {"model", "hsr"}, {"start", {{"x", 2}, {"y", 2}}},
                                      {"joints", {{"arm_lift_joint", 0.3}, {"arm_flex_joint", -1.5708}, {"hand_motor_joint", 1.2}}}}});
   Session session(testing::load_valid(scenario), 1);
-  const AgentId hsr = session.agent_id("hsr");
   for (int i = 0; i < 30; ++i) session.tick();
   EXPECT_NEAR(session.object_pose(0).translation().z(), 0.606, 0.005) << "resting on the side table";
+  return session;
+}
+
+// Closing the gripper holds the cup (both fingers touch it within their friction cones), lifting the
+// arm lifts it, and after putting it down, opening the gripper leaves it standing there.
+TEST(RobotSession, GripperGraspsLiftsAndReleasesACup) {
+  Session session = hand_around_a_cup(0.2, 0.0);
+  const AgentId hsr = session.agent_id("hsr");
   session.command_robot_gripper(hsr, true);
-  for (int i = 0; i < 120 && events_of(session, "grasp").empty(); ++i) session.tick();
-  ASSERT_EQ(events_of(session, "grasp").size(), 1u);
+  for (int i = 0; i < 8 && events_of(session, "grasp").empty(); ++i) session.tick();
+  ASSERT_EQ(events_of(session, "grasp").size(), 1u) << "within the seed's 8-tick gripper step";
   EXPECT_EQ(events_of(session, "grasp")[0]->data["object"], "cup");
+  const RobotRuntime& runtime = *session.robot_runtime(hsr);
+  const robots::Robot& robot = runtime.robot;
+  const int gripper = robot.joint_index("hand_motor_joint");
+  for (int i = 0; i < 30; ++i) session.tick();
+  EXPECT_DOUBLE_EQ(robot.joint_position(gripper), runtime.grip_position) << "the fingers rest on the cup";
+  EXPECT_GT(robot.joint_position(gripper), robot.description().gripper->closed + 0.5);
   session.command_robot_joints(hsr, "arm", {0.5, -1.5708, 0.0, 0.0, 0.0, 0.0});
   for (int i = 0; i < 120; ++i) session.tick();
   EXPECT_GT(session.object_pose(0).translation().z(), 0.606 + 0.15) << "lifted with the arm";
-  // Put it back down and let go: it stands on the table again.
+  // Put it back down and let go: it stands on the table again, not kicked by the opening fingers.
   session.command_robot_joints(hsr, "arm", {0.3, -1.5708, 0.0, 0.0, 0.0, 0.0});
   for (int i = 0; i < 120; ++i) session.tick();
   EXPECT_TRUE(events_of(session, "release").empty()) << "held until the gripper opens";
+  EXPECT_TRUE(events_of(session, "slip").empty());
+  const Eigen::Vector3d put_down = session.object_pose(0).translation();
   session.command_robot_gripper(hsr, false);
   for (int i = 0; i < 120; ++i) session.tick();
   ASSERT_EQ(events_of(session, "release").size(), 1u);
   EXPECT_EQ(events_of(session, "release")[0]->data["object"], "cup");
   EXPECT_NEAR(session.object_pose(0).translation().z(), 0.606, 0.01) << "standing on the side table";
+  EXPECT_LT((session.object_pose(0).translation() - put_down).head<2>().norm(), 0.01) << "where it was put down";
+}
+
+// A cup heavier than the HSR's payload (1.3 kg) is gripped, but slips out once the arm lifts it.
+TEST(RobotSession, ACupHeavierThanThePayloadSlipsOutOfTheGrip) {
+  Session session = hand_around_a_cup(1.6, 0.0);
+  const AgentId hsr = session.agent_id("hsr");
+  session.command_robot_gripper(hsr, true);
+  for (int i = 0; i < 30; ++i) session.tick();
+  ASSERT_EQ(events_of(session, "grasp").size(), 1u);
+  session.command_robot_joints(hsr, "arm", {0.5, -1.5708, 0.0, 0.0, 0.0, 0.0});
+  for (int i = 0; i < 120; ++i) session.tick();
+  ASSERT_EQ(events_of(session, "slip").size(), 1u);
+  EXPECT_EQ(events_of(session, "slip")[0]->data["object"], "cup");
+  EXPECT_EQ(session.robot_runtime(hsr)->held_object, -1);
+  EXPECT_EQ(events_of(session, "grasp").size(), 1u) << "no new grasp until the gripper opens";
+  EXPECT_LT(session.object_pose(0).translation().z(), 0.606 + 0.02) << "it stayed on the table or fell";
+}
+
+// The wrist sensor weighs what the hand holds; the base IMU feels gravity at rest and the base's turn.
+TEST(RobotSession, WristSensorWeighsTheHeldCup) {
+  Session session = hand_around_a_cup(0.2, 0.0);
+  const AgentId hsr = session.agent_id("hsr");
+  const RobotRuntime& runtime = *session.robot_runtime(hsr);
+  ASSERT_EQ(runtime.imus.size(), 1u);
+  ASSERT_EQ(runtime.force_torque_sensors.size(), 1u);
+  const ImuReading& imu = runtime.imus[0].reading;
+  const ForceTorqueReading& wrist = runtime.force_torque_sensors[0].reading;
+  EXPECT_EQ(imu.tick, session.state().tick);
+  EXPECT_NEAR(imu.linear_acceleration.z(), 9.81, 0.1) << "gravity, felt as the floor pushing up";
+  EXPECT_NEAR(imu.linear_acceleration.head<2>().norm(), 0.0, 0.1);
+  EXPECT_NEAR(imu.angular_velocity.norm(), 0.0, 0.01);
+  EXPECT_NEAR(wrist.force.norm(), 0.0, 0.2) << "an empty hand";
+  session.command_robot_gripper(hsr, true);
+  for (int i = 0; i < 20; ++i) session.tick();
+  session.command_robot_joints(hsr, "arm", {0.4, -1.5708, 0.0, 0.0, 0.0, 0.0});
+  for (int i = 0; i < 120; ++i) session.tick();
+  ASSERT_EQ(runtime.held_object, 0);
+  // In the map frame the hand bears the cup's weight, 0.2 kg × 9.81 m/s² down, 9.5 cm ahead of the
+  // sensor (the arm's jitter and the sensor's noise averaged over 30 ticks).
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 30; ++i) {
+    session.tick();
+    const Eigen::Matrix3d to_map = runtime.robot.sensor_pose(*runtime.force_torque_sensors[0].mount).rotation();
+    force += to_map * wrist.force / 30.0;
+    torque += to_map * wrist.torque / 30.0;
+  }
+  EXPECT_NEAR(force.z(), -0.2 * 9.81, 0.1);
+  EXPECT_NEAR(force.head<2>().norm(), 0.0, 0.1);
+  EXPECT_NEAR(torque.norm(), 0.2 * 9.81 * 0.095, 0.03) << "the weight's moment about the wrist";
+  session.command_robot_twist(hsr, {0.0, 0.5});
+  for (int i = 0; i < 60; ++i) session.tick();
+  EXPECT_NEAR(imu.angular_velocity.z(), 0.5, 0.05) << "turning at 0.5 rad/s";
+}
+
+// Grasped at the fingertips, the fingers meet the cup (radius 3 cm) where the line between them leaves
+// the friction cones (μ 0.5: 26.6° from the surface normal): with its centre 2.25 cm beyond the tips
+// the fingers' corners touch it 49° off, and it is squeezed out; 0.25 cm beyond, 5° off, it is held.
+TEST(RobotSession, FingersHoldACupOnlyWithinTheirFrictionCones) {
+  for (const auto& [farther, held] : {std::pair{0.04, false}, std::pair{0.02, true}}) {
+    Session session = hand_around_a_cup(0.2, farther);
+    const AgentId hsr = session.agent_id("hsr");
+    session.command_robot_gripper(hsr, true);
+    for (int i = 0; i < 60; ++i) session.tick();
+    EXPECT_EQ(events_of(session, "grasp").size(), held ? 1u : 0u) << farther;
+    session.command_robot_joints(hsr, "arm", {0.5, -1.5708, 0.0, 0.0, 0.0, 0.0});
+    for (int i = 0; i < 120; ++i) session.tick();
+    EXPECT_EQ(session.object_pose(0).translation().z() > 0.606 + 0.15, held) << "lifted with the arm: " << farther;
+  }
 }
 
 }  // namespace
