@@ -76,7 +76,7 @@ bool grip_overloaded(const physics::Wrench& load, const Eigen::Vector3d& from, c
   return across > capacity || twist > capacity * kFingerPadRadius;
 }
 
-/// The gripper's palm and finger bodies of a robot (index into State::robots).
+/// A robot gripper's palm and finger bodies in the physics world.
 struct Hand {
   int palm = -1;
   std::vector<int> fingers;       ///< bodies
