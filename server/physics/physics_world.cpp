@@ -161,26 +161,6 @@ struct PhysicsWorld::Impl {
     double nearest_;
   };
 
-  /// A released body collides with the hand again once no part of it overlaps the body.
-  void let_go(Body& released) {
-    for (const int part : released.hand) {
-      Body& hand = bodies[part];
-      NearestResult nearest;
-      world.contactPairTest(released.body.get(), hand.body.get(), nearest);
-      if (nearest.distance < 0.0) return;
-    }
-    for (const int part : released.hand) released.body->setIgnoreCollisionCheck(bodies[part].body.get(), false);
-    released.hand.clear();
-  }
-
-  struct NearestResult : public btCollisionWorld::ContactResultCallback {
-    double distance = 1.0;
-    btScalar addSingleResult(btManifoldPoint& point, const btCollisionObjectWrapper*, int, int, const btCollisionObjectWrapper*, int, int) override {
-      distance = std::min(distance, static_cast<double>(point.getDistance()));
-      return 0;
-    }
-  };
-
   Body& at(int id) {
     if (id < 0 || id >= static_cast<int>(bodies.size())) throw core::Error(core::ErrorCode::internal, "no physics body " + std::to_string(id));
     return bodies[id];
@@ -319,7 +299,18 @@ void PhysicsWorld::step() {
   for (Impl::Body& body : impl_->bodies) {
     // The solver adds each step's joint forces to the feedback.
     if (body.hold) clear(*body.hold_feedback);
-    if (body.holder < 0 && !body.hand.empty()) impl_->let_go(body);
+  }
+  for (std::size_t b = 0; b < impl_->bodies.size(); ++b) {
+    Impl::Body& released = impl_->bodies[b];
+    if (released.holder >= 0 || released.hand.empty()) continue;
+    // A released body collides with the hand again once no part of it overlaps the body.
+    const bool overlaps = std::any_of(released.hand.begin(), released.hand.end(), [&](int part) {
+      const std::optional<ContactPoint> contact = deepest_contact(part, static_cast<int>(b));
+      return contact && contact->distance < 0.0;
+    });
+    if (overlaps) continue;
+    for (const int part : released.hand) released.body->setIgnoreCollisionCheck(impl_->bodies[part].body.get(), false);
+    released.hand.clear();
   }
   // One fixed step of dt, no interpolation substeps: the same work every tick.
   impl_->world.stepSimulation(impl_->dt, 0, impl_->dt);

@@ -174,12 +174,12 @@ void check_grips(const scenario::Model& model, State& state, PhysicsBodies& phys
   physics::PhysicsWorld& world = *physics.world;
   for (std::size_t r = 0; r < state.robots.size(); ++r) {
     RobotRuntime& runtime = state.robots[r];
-    if (runtime.held_object < 0) continue;
+    if (runtime.held_object < 0 || static_cast<double>(state.tick - runtime.grasped_at) * model.dt < kGripSettleTime) continue;
     const int held = physics.objects[runtime.held_object];
-    const Eigen::Isometry3d palm = world.pose(hand_of(runtime, physics.robot_links[r]).palm);
     const auto touching = world.touching();
-    const bool supported = std::any_of(touching.begin(), touching.end(), [&](const auto& pair) { return pair.first == held || pair.second == held; });
-    if (supported || static_cast<double>(state.tick - runtime.grasped_at) * model.dt < kGripSettleTime || !grip_overloaded(world.hold_load(held), palm * runtime.grip_from, palm * runtime.grip_to, world.pose(held).translation(),
+    if (std::any_of(touching.begin(), touching.end(), [&](const auto& pair) { return pair.first == held || pair.second == held; })) continue;
+    const Eigen::Isometry3d palm = world.pose(hand_of(runtime, physics.robot_links[r]).palm);
+    if (!grip_overloaded(world.hold_load(held), palm * runtime.grip_from, palm * runtime.grip_to, world.pose(held).translation(),
                          *runtime.robot.description().gripper)) {
       continue;
     }
@@ -249,8 +249,7 @@ PhysicsBodies build_physics(const scenario::Model& model, State& state, const Hu
     }
     // The fingers are of the gripper's material.
     if (description.gripper) {
-      for (const int joint : description.finger_joints()) {
-        const int finger = links[description.find_link(description.joints[joint].child)];
+      for (const int finger : hand_of(runtime, links).fingers) {
         if (finger >= 0) world.set_friction(finger, description.gripper->friction);
       }
     }
