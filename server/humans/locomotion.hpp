@@ -47,9 +47,10 @@ inline constexpr double kPersonalSpaceFromRobots = 0.45;
 /// (Hackney, Vallis & Cinelli 2013).
 inline constexpr double kPersonalSpaceFromPeople = 0.30;
 
-/// Squeezing past a robot, people still keep this much from its footprint, m: their swinging hands
-/// and feet reach this far beyond the disc that stands for their body.
-inline constexpr double kLimbClearance = 0.1;
+/// Squeezing past a robot, or sharing a cabin or a queue with it, people still keep this much from its
+/// footprint, m: at full stride an adult's feet reach this far beyond the 0.3 m disc that stands for
+/// their body (measured on hrisim's walking body, tests/unit/humans/body_test.cpp).
+inline constexpr double kLimbClearance = 0.25;
 
 /// Margins people keep beyond touching, surface to surface. Where two are already closer (people
 /// placed close together, a crowded scene) the gap they have is the one they keep: nobody is pushed

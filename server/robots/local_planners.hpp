@@ -43,9 +43,10 @@ inline constexpr double kRobotWallMargin = 0.05;
 /// DWA and ORCA: the gap the robot keeps from people beyond touching, m (the margin people keep from
 /// robots, humans::kPersonalSpaceFromRobots)...
 inline constexpr double kRobotPersonalSpace = humans::kPersonalSpaceFromRobots;
-/// ...or, on its way to or in a place it shares with people (a cabin, a queue), only what their limbs
-/// need (humans::kLimbClearance), as people there keep from it.
-inline constexpr double kRobotPlaceClearance = humans::kLimbClearance;
+/// ...or, on its way to or in a place it shares with people (a cabin, a queue), this little: a person
+/// standing is inside their disc, and one walking keeps their stride's reach from the robot
+/// (humans::kLimbClearance); more would leave the robot no way into a cabin with three riders.
+inline constexpr double kRobotPlaceClearance = 0.1;
 /// ORCA and social force: the velocity they choose is safe in its own direction only, so the base turns
 /// on the spot towards it when it points further away than this, rad.
 inline constexpr double kPlannerTurnOnTheSpotAngle = 0.3;

@@ -83,6 +83,9 @@ inline constexpr double kElevatorDoorSpeed = 0.5;
 inline constexpr double kElevatorOpenTime = 10.0;
 inline constexpr double kElevatorTravelTime = 3.0;
 inline constexpr double kElevatorSettleTime = 1.0;
+/// The doorway's light curtain sees a body this close to the door's leaves (or nearer), in metres: an
+/// open door does not start closing, and a closing door opens again.
+inline constexpr double kElevatorCurtainReach = 0.02;
 /// A door reopened for someone standing in the doorway stays open at least this long, in seconds.
 inline constexpr double kElevatorReopenHold = 2.0;
 /// An open door waits up to this long past its open time for someone still on their way to a place in

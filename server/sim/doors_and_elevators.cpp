@@ -32,7 +32,7 @@ bool someone_in_doorway(const scenario::Model& model, const State& state, int do
   for (std::size_t a = 0; a < state.agents.size(); ++a) {
     if (!state.agents[a].active) continue;
     const Vec2& p = state.agents[a].position;
-    const double clearance = model.agents[a].radius + geometry.thickness / 2;
+    const double clearance = model.agents[a].radius + geometry.thickness / 2 + scenario::kElevatorCurtainReach;
     if ((core::closest_point_on_segment(p, geometry.from, geometry.to) - p).norm() < clearance) return true;
   }
   return false;
@@ -99,7 +99,8 @@ void update_elevator(const scenario::Model& model, State& state, int index) {
       const bool due = state.tick >= cabin.until_tick || (!cabin.queue.empty() && state.tick >= cabin.reopened_until_tick);
       const bool held = due && state.tick < cabin.until_tick + ticks(model, scenario::kElevatorPassengerHold) &&
                         rider_on_the_way(model, elevator, state, door);
-      if (due && !held) {
+      // The light curtain: a door does not start closing on someone standing in it.
+      if (due && !held && !someone_in_doorway(model, state, door)) {
         cabin.phase = Phase::closing;
         set_door(model, state, door, DoorPhase::closing);
       }

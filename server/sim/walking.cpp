@@ -61,13 +61,16 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
       // straight way is free (local avoidance keeps the agent off the walls), else plan again.
       const Vec2& waypoint = self.path[self.path_index];
       const Vec2 nearest = core::closest_point_on_segment(self.position, self.leg_start, waypoint);
-      if ((nearest - self.position).norm() > model.replan_distance) {
+      const bool robot = model.agents[i].robot_model != nullptr;
+      if ((nearest - self.position).norm() > (robot ? std::min(model.replan_distance, kRobotRejoinDistance) : model.replan_distance)) {
         // A robot's body would hit a wall its footprint grazes: it rejoins only with its whole radius free.
-        const double clearance = (model.agents[i].robot_model ? 1.0 : kRejoinClearance) * model.agents[i].radius;
+        const double clearance = (robot ? 1.0 : kRejoinClearance) * model.agents[i].radius;
         const world::Rejoin rejoin =
             model.planner.rejoin(self.position, self.leg_start, waypoint, clearance, blocked_door_cells(model, state, clearance));
         self.planned_tick = state.tick;
-        if (rejoin == world::Rejoin::replan) {
+        // A robot's follower counts a corner it is beyond along the next leg as passed, so it would skip
+        // the corner it should return to: it plans again instead.
+        if (rejoin == world::Rejoin::replan || (robot && rejoin == world::Rejoin::back_to_corner)) {
           plan_path(model, state, static_cast<int>(i));
         } else {
           if (rejoin == world::Rejoin::back_to_corner) {

@@ -37,6 +37,9 @@ inline constexpr double kStuckReplanInterval = 2.0;
 /// their radius would pass; otherwise they plan again (waypoints hug the inflated walls, so the full
 /// radius would fail needlessly). A robot, whose body walls stop, needs its full radius.
 inline constexpr double kRejoinClearance = 0.5;
+/// A robot's planner steers off the leg round people; once this far off it, whether the straight way
+/// on is still free is checked again (at most every kReplanInterval), as its body walls stop, m.
+inline constexpr double kRobotRejoinDistance = 0.1;
 /// A person held up by others (slower than kHeldUpSpeedShare of where they want to go) gives up their
 /// personal-space margins over this long, and takes them back over as long once walking freely, s.
 inline constexpr double kSqueezeTime = 3.0;

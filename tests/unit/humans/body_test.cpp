@@ -1,6 +1,7 @@
 // A person's solids and the pose an activity gives: they stand on the floor and reach the body's
 // height, follow the joints, and blend between standing, walking and motion primitives.
 #include "humans/body.hpp"
+#include "humans/locomotion.hpp"
 
 #include <gtest/gtest.h>
 
@@ -91,6 +92,37 @@ TEST(Body, ActivitiesBlendFromStandingToWalkingAndInAndOutOfMotions) {
   EXPECT_TRUE(same(body_pose(waving), wave.sample(1.0)));
   waving.since_release = kMotionBlendTime / 4;
   EXPECT_TRUE(same(body_pose(waving), blend(idle.sample(0.0), wave.sample(1.0), 0.75)));
+}
+
+TEST(Body, AWalkersLimbsReachKLimbClearanceBeyondTheirDisc) {
+  // The margin people keep from a robot they share a place with is what their stride needs: over a
+  // whole gait cycle at full gait, or turning briskly on the spot, an adult's feet and hands stay
+  // within the default disc plus kLimbClearance, and at full stride reach all but 2 cm of it.
+  const Skeleton adult(kAdultBody);
+  const double disc = CrowdAgent{}.radius;
+  const auto reach = [&](const Activity& activity) {
+    double farthest = 0.0;
+    for (const Capsule& c : body_capsules(adult, forward_kinematics(adult, body_pose(activity)))) {
+      farthest = std::max({farthest, c.from.head<2>().norm() + c.radius, c.to.head<2>().norm() + c.radius});
+    }
+    return farthest;
+  };
+  const MotionClip& walk = *builtin_motion("walk");
+  double walking = 0.0, turning = 0.0;
+  for (double distance = 0.0; distance < walk.speed() * walk.duration(); distance += 0.01) {
+    Activity stride;
+    stride.speed = 1.34;
+    stride.gait_distance = distance;
+    walking = std::max(walking, reach(stride));
+    stride.speed = 0.0;
+    stride.turn_rate = 3.0;
+    turning = std::max(turning, reach(stride));
+  }
+  EXPECT_LE(walking, disc + kLimbClearance);
+  EXPECT_GT(walking, disc + kLimbClearance - 0.02);
+  EXPECT_LE(turning, disc + kLimbClearance);
+  Activity standing;
+  EXPECT_LE(reach(standing), disc) << "standing, the body is within its disc";
 }
 
 }  // namespace

@@ -161,24 +161,48 @@ TEST(Elevator, DoorWaitsForARiderOnTheWay) {
   EXPECT_LT(closing, boarded + 1.0);
 }
 
-TEST(Elevator, DoorReopensForSomeoneInTheDoorway) {
-  episode::Episode session_run(testing::load_valid(elevator_scenario(R"({
+TEST(Elevator, DoorDoesNotStartClosingOnSomeoneInTheDoorway) {
+  Session session(testing::load_valid(elevator_scenario(R"({
     "humans": [{"id": "ann", "start": {"x": 2, "y": 1}}, {"id": "bo", "start": {"x": 3, "y": -0.5}}],
     "steps": [{"name": "call", "actions": [{"agent": "ann", "publish": {"topic": "/elevator/request", "message": "door1"}},
                                            {"agent": "ann", "wait": {"topic": "/elevator/door1_state", "message": "open"}}]},
               {"name": "block", "actions": [{"agent": "bo", "goto": {"pose": {"x": 1.3, "y": 0}, "radius": 0.05}},
-                                            {"agent": "bo", "wait": {"duration": 30}}]}]})")),
+                                            {"agent": "bo", "wait": {"duration": 20}},
+                                            {"agent": "bo", "goto": {"pose": {"x": 3, "y": -0.5}}}]}]})")),
+                  1);
+  const int bo = session.index_of(session.agent_id("bo"));
+  // The last time bo was within the light curtain's sight of the door's leaves (1.3 ± 0.05 m).
+  const double sight = session.model().agents[bo].radius + 0.05 + scenario::kElevatorCurtainReach;
+  double in_doorway_until = -1.0;
+  while (session.time() < 40.0 && session.state().topics.at("/elevator/door1_state") != "closing") {
+    session.tick();
+    if (std::abs(session.state().agents[bo].position.x() - 1.3) < sight) in_doorway_until = session.time();
+  }
+  const Timeline timeline = timeline_of(session);
+  ASSERT_EQ(timeline.door_states.size(), 3u);
+  ASSERT_EQ(timeline.door_states[2].second, "door1 closing");
+  // The door stayed open while bo stood in it, well past its open time, and not a tick longer.
+  EXPECT_GT(timeline.door_states[2].first, timeline.door_states[1].first + scenario::kElevatorOpenTime + 5.0);
+  EXPECT_NEAR(timeline.door_states[2].first, in_doorway_until + kTick, kTick / 2);
+}
+
+TEST(Elevator, DoorReopensForARobotDrivenIntoItAsItCloses) {
+  episode::Episode session_run(testing::load_valid(elevator_scenario(R"({
+    "humans": [{"id": "ann", "start": {"x": 4, "y": 1}}],
+    "robots": [{"id": "hsr", "model": "hsr", "start": {"x": 2.0, "y": 0, "theta": 3.14159}, "controller": {"type": "teleop"}}],
+    "steps": [{"name": "call", "actions": [{"agent": "ann", "publish": {"topic": "/elevator/request", "message": "door1"}},
+                                           {"agent": "ann", "wait": {"duration": 60}}]}]})")),
                   1);
   Session& session = session_run.session();
-  session.set_time_limit(40.0);
-  session_run.run();
+  const AgentId hsr = session.agent_id("hsr");
+  while (session.state().topics.at("/elevator/door1_state") != "closing" && session.time() < 30.0) session.tick();
+  ASSERT_EQ(session.state().topics.at("/elevator/door1_state"), "closing");
+  session.command_robot_twist(hsr, {0.3, 0.0});
+  for (int i = 0; i < 600; ++i) session.tick();
   const Timeline timeline = timeline_of(session);
-  bool reopened = false;
-  for (std::size_t i = 1; i < timeline.door_states.size(); ++i) {
-    reopened |= timeline.door_states[i - 1].second == "door1 closing" && timeline.door_states[i].second == "door1 opening";
-  }
-  EXPECT_TRUE(reopened);
-  EXPECT_NE(session.state().topics.at("/elevator/door1_state"), "closed") << "bo still stands in the doorway";
+  ASSERT_GE(timeline.door_states.size(), 4u);
+  EXPECT_EQ(timeline.door_states[3].second, "door1 opening") << "the robot pressed into the closing door";
+  EXPECT_LT(session.state().agents[session.index_of(hsr)].position.x(), 1.3) << "it drove on into the cabin";
 }
 
 }  // namespace
