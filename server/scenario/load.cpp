@@ -85,6 +85,7 @@ class Loader {
     read_locomotion(*model);
     read_places(*model);
     read_elevators(*model);
+    model->activity_models = read_activity_models(member(doc_, "activity_models"), names_.locations, errors_);
     read_agents(*model);
     read_objects(*model);
     collect_task_names(*model);
@@ -343,6 +344,7 @@ class Loader {
                           : entry["avoidance"] == "social_force" ? humans::LocalAvoidance::social_force
                                                                  : humans::LocalAvoidance::orca;
         agent.type = entry.value("type", "adult");
+        if (entry.contains("activity_model")) agent.activity_model = find_activity_model(model, entry["activity_model"], pointer + "/activity_model");
         if (names_.agents.contains(agent.id)) {
           error(pointer + "/id", "agent id '" + agent.id + "' is used twice");
         }
@@ -355,6 +357,14 @@ class Loader {
         model.agents.push_back(std::move(agent));
       }
     }
+  }
+
+  int find_activity_model(const Model& model, const std::string& name, const std::string& pointer) {
+    for (std::size_t m = 0; m < model.activity_models.size(); ++m) {
+      if (model.activity_models[m].name == name) return static_cast<int>(m);
+    }
+    error(pointer, "unknown activity model '" + name + "'");
+    return -1;
   }
 
   /// A robot's model, controller and sensors; its disc is its model's footprint.

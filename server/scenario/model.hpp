@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/math.hpp"
+#include "scenario/activity_models.hpp"
 #include "humans/locomotion.hpp"
 #include "robots/description.hpp"
 #include "sensors/odometry.hpp"
@@ -140,6 +141,7 @@ struct AgentDef {
   std::optional<double> preferred_speed;  ///< drawn per session when absent
   humans::LocalAvoidance avoidance = humans::LocalAvoidance::orca;
   std::string type = "adult";
+  int activity_model = -1;  ///< a human living by an activity model once the choreography is over, or -1
   // Robots with a model (a robot without one is a disc moved by choreography or velocity commands).
   std::shared_ptr<const robots::RobotDescription> robot_model;
   RobotController controller;
@@ -315,6 +317,7 @@ struct Model {
   std::vector<Step> steps;
   std::vector<int> async_routines;  ///< routines humans run when a robot requests them
   std::vector<Request> requests;  ///< scripted robot requests, by time
+  std::vector<ActivityModel> activity_models;
 
   std::optional<TaskSettings> task;  ///< a benchmark task; the episode then ends by it or its length
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/activities.hpp"
 #include "sim/events.hpp"
 #include "sim/walking.hpp"
 
@@ -203,7 +204,9 @@ void finish_action(State& state, int agent) {
 /// Works through the agent's program as far as this tick allows.
 void advance_agent(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
-  for (int guard = 0; guard < kMaxActionsPerTick && !self.program.empty(); ++guard) {
+  for (int guard = 0; guard < kMaxActionsPerTick; ++guard) {
+    start_next_activity(model, state, agent);
+    if (self.program.empty()) return;
     const PendingAction pending = self.program.front();
     const Action& action = action_of(model, state, pending);
     if (action.kind == Kind::run_routine) {
@@ -225,6 +228,7 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
 
 const Action& action_of(const scenario::Model& model, const State& state, const PendingAction& pending) {
   if (pending.routine == kCommandedAction) return state.commanded[pending.index];
+  if (pending.routine == kActivityAction) return state.agents[pending.index].activity_action;
   return pending.routine >= 0 ? model.routines[pending.routine].actions[pending.index] : model.steps[pending.step].actions[pending.index];
 }
 
@@ -318,7 +322,7 @@ void update_choreography(const scenario::Model& model, State& state) {
     const int step = state.current_step;
     if (step >= static_cast<int>(model.steps.size())) {
       // A benchmark task's episode ends by the task or its length.
-      if (!state.finished && !model.task && !robot_on_its_way(state)) {
+      if (!state.finished && !model.task && !robot_on_its_way(state) && !anyone_lives_on(model)) {
         state.finished = true;
         state.termination = "scenario_end";
         emit(model, state, "scenario_finished", model.name);

@@ -27,6 +27,9 @@ using core::Vec2;
 /// An action waiting or running for one agent; routines are expanded when they start.
 /// PendingAction::routine of an action given by a command (index into State::commanded).
 inline constexpr int kCommandedAction = -2;
+/// PendingAction::routine of the activity a person's activity model chose (index: the person, whose
+/// AgentState::activity_action it is).
+inline constexpr int kActivityAction = -3;
 
 struct PendingAction {
   int routine = -1; ///< routine the action belongs to, -1 for a step action, kCommandedAction
@@ -88,12 +91,16 @@ struct AgentState {
   /// Share (0…1) of their personal-space margins a person keeps: it falls while others hold them up
   /// and comes back once they walk freely (squeezing past in a narrow place).
   double personal_space = 1.0;
+  // Living by an activity model: the activity under way (-1 before the first) and what it asks for.
+  int activity = -1;
+  scenario::Action activity_action;
+  core::Random activity_random;  ///< the person's own stream, so that nobody else's choices change theirs
   const humans::MotionClip* motion = nullptr;  ///< a shipped primitive (its pose held once it ends)
   std::int64_t motion_tick = 0;                ///< when it started
   std::int64_t motion_released_tick = -1;      ///< when the person walked off (it blends out), -1 before
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, motion, motion_tick, motion_released_tick); }
+  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, activity, activity_action, activity_random, motion, motion_tick, motion_released_tick); }
 };
 
 struct Event {
