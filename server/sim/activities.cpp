@@ -24,7 +24,7 @@ int draw_next(const std::vector<double>& row, core::Random& random) {
   return last;  // a row adding up to a hair under 1
 }
 
-scenario::Action action_for(const scenario::ActivityModel& model, const Activity& activity, int agent, core::Random& random) {
+scenario::Action action_for(const scenario::ActivityModel& model, const Activity& activity, const State& state, int agent, core::Random& random) {
   scenario::Action action;
   action.agent = agent;
   action.pointer = "/activity_models/" + model.name + "/activities/" + activity.name;
@@ -36,9 +36,22 @@ scenario::Action action_for(const scenario::ActivityModel& model, const Activity
       action.value = duration;
       break;
     case Activity::Kind::walk: {
+      // A place holds one person: the walk draws among those nobody else holds, or waits a moment.
+      std::vector<int> free;
+      for (const int location : activity.locations) {
+        const bool held = std::any_of(state.agents.begin(), state.agents.end(), [&](const AgentState& other) {
+          return &other != &state.agents[agent] && other.reserved_location == location;
+        });
+        if (!held) free.push_back(location);
+      }
+      const double u = random.uniform();
+      if (free.empty()) {
+        action.kind = Kind::wait_duration;
+        action.value = kPlacesTakenWait;
+        break;
+      }
       action.kind = Kind::go_to_location;
-      const auto choice = static_cast<std::size_t>(random.uniform() * static_cast<double>(activity.locations.size()));
-      action.target = activity.locations[std::min(choice, activity.locations.size() - 1)];
+      action.target = free[std::min(static_cast<std::size_t>(u * static_cast<double>(free.size())), free.size() - 1)];
       break;
     }
     case Activity::Kind::wait:
@@ -62,10 +75,11 @@ void start_next_activity(const scenario::Model& model, State& state, int agent) 
   const scenario::ActivityModel& living = model.activity_models[def.activity_model];
   self.activity = self.activity < 0 ? living.start : draw_next(living.transitions_for(def.type)[self.activity], self.activity_random);
   const Activity& activity = living.activities[self.activity];
-  self.activity_action = action_for(living, activity, agent, self.activity_random);
+  self.activity_action = action_for(living, activity, state, agent, self.activity_random);
   self.program.push_back({kActivityAction, agent, -1});
   nlohmann::json data{{"activity", activity.name}, {"model", living.name}};
   if (self.activity_action.kind == Kind::go_to_location) data["location"] = model.locations[self.activity_action.target].name;
+  if (activity.kind == Activity::Kind::walk && self.activity_action.kind == Kind::wait_duration) data["waiting"] = "every place is taken";
   emit(model, state, "activity_started", def.id, std::move(data));
 }
 

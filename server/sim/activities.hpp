@@ -6,6 +6,9 @@
 
 namespace hrisim::sim {
 
+/// A walk whose places are all held by others is a pause this long instead, s.
+inline constexpr double kPlacesTakenWait = 1.0;
+
 /// Whether anyone in the scenario lives by an activity model: its episode then runs to its time
 /// limit (or its task's end) rather than ending with the choreography.
 bool anyone_lives_on(const scenario::Model& model);
