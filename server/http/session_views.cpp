@@ -81,7 +81,8 @@ json state_of(const Live& live, std::int64_t events_since_tick) {
                       {"vy", agent.velocity.y()},
                       {"busy", !agent.program.empty()},
                       {"path", path_ahead(agent)},
-                      {"motion", agent.motion ? json(agent.motion->name()) : json()}});
+                      {"motion", agent.motion ? json(agent.motion->name()) : json()},
+                      {"activity", agent.activity >= 0 ? json(session.model().activity_models[def.activity_model].activities[agent.activity].name) : json()}});
   }
   json requests = json::array();
   for (const sim::OpenRequest& open : state.requests) {

@@ -31,16 +31,18 @@ const MAX_BACKLOG_S = 0.5;
 export async function loadSession(id) {
   const session = `/api/v1/sessions/${encodeURIComponent(id)}`;
   const status = await api.get(session);
-  const [world, scenario, cameras, actionSpace] = await Promise.all([
+  const [world, scenario, cameras] = await Promise.all([
     api.get(`/api/v1/scenarios/${encodeURIComponent(status.scenario)}/world`),
     api.get(`/api/v1/scenarios/${encodeURIComponent(status.scenario)}`),
     api.get(`${session}/cameras`),
-    // 409 for a robot without a drive: then it cannot be driven by keys.
-    api.get(`${session}/action_space`).catch((error) => {
+  ]);
+  // Only a session with a robot has an action space (asked otherwise, the browser logs the 409); 409
+  // also for a robot without a drive: then it cannot be driven by keys.
+  const actionSpace = !world.agents.some((agent) => agent.kind === 'robot') ? null
+    : await api.get(`${session}/action_space`).catch((error) => {
       if (error instanceof ApiError && error.status === 409) return null;
       throw error;
-    }),
-  ]);
+    });
   return { driver: new SessionDriver(id, status), world, scenario, cameras, actionSpace };
 }
 

@@ -142,6 +142,41 @@ describe('session', () => {
     }
   });
 
+  it('shows what a person living by an activity model is doing', async () => {
+    const living = {
+      name: 'living room ui', time_limit: 120, steps: [],
+      world: { bounds: { min: [-0.5, -0.5], max: [6.5, 6.5] },
+        walls: [{ from: [0, 0], to: [6, 0] }, { from: [6, 0], to: [6, 6] }, { from: [6, 6], to: [0, 6] }, { from: [0, 6], to: [0, 0] }] },
+      locations: { sofa: { x: 1.5, y: 1.5 }, shelf: { x: 4.5, y: 4.5 } },
+      activity_models: { home: { start: 'browse', activities: { browse: { wait: 0.5 }, walk: { walk: ['sofa', 'shelf'] } },
+        transitions: { browse: { walk: 1 }, walk: { browse: 1 } } } },
+      humans: [{ id: 'ada', start: { x: 3, y: 3 }, activity_model: 'home' }],
+    };
+    const uploaded = await call('POST', '/api/v1/scenarios', living);
+    assert.equal(uploaded.status, 201, JSON.stringify(uploaded.body));
+    const id = await createSession({ scenario: uploaded.body.summary.id, seed: 1 });
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open(`/sessions/${id}`);
+      await tab.page.waitForSelector('.agent-table tr[data-agent=ada]');
+      assert.match(await tab.page.textContent('.agent-table thead'), /Doing/);
+      await tab.page.click('button.play');
+      // She pauses, then walks to the sofa or the shelf: both show in her row as they come.
+      const seen = new Set();
+      for (let i = 0; i < 100 && seen.size < 2; i++) {
+        const doing = await tab.page.textContent('.agent-table tr[data-agent=ada] td.doing');
+        if (doing) seen.add(doing);  // empty before the first tick
+        await tab.page.waitForTimeout(50);
+      }
+      await tab.page.click('button.play');
+      assert.ok(seen.has('browse') && seen.has('walk'), `her activities: ${[...seen].join(', ')}`);
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+      await call('DELETE', `/api/v1/sessions/${id}`);
+    }
+  });
+
   it('drives the robot with the arrow keys under teleop, and ends the session', async () => {
     const id = await createSession({ scenario: 'elevator', controller: { type: 'teleop' } });
     const tab = await newPage(context.browser, context.server.port);
