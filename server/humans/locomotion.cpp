@@ -218,7 +218,7 @@ double Crowd::margin(const CrowdAgent& agent, const CrowdAgent& other) const {
   if (other.controlled) {
     // A robot sharing the place (riding the cabin too) is as close as the place has it.
     const bool shared = agent.place >= 0 && agent.place == other.place;
-    wanted = shared ? limbs : std::max(agent.personal_space * personal_space_.from_robots, limbs);
+    wanted = shared || agent.robots_as_obstacles ? limbs : std::max(agent.personal_space * personal_space_.from_robots, limbs);
   } else if (!(agent.group >= 0 && agent.group == other.group) && !(agent.place >= 0 && agent.place == other.place)) {
     wanted = agent.personal_space * personal_space_.from_people;
   }

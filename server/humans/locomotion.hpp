@@ -74,6 +74,7 @@ struct CrowdAgent {
   double personal_space = 1.0;  ///< share of the PersonalSpace margins this agent keeps now
   int group = -1;  ///< members of one group keep no margin between them
   int place = -1;  ///< people sharing a place (a cabin, a queue) keep none either, nor from a robot sharing it
+  bool robots_as_obstacles = false;  ///< HuNavSim's impassive: keeps from robots only what limbs need
 };
 
 /// One half-plane of permitted velocities: points left of the directed line (RVO2's Line).

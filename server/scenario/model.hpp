@@ -9,6 +9,7 @@
 
 #include "core/math.hpp"
 #include "scenario/activity_models.hpp"
+#include "humans/behaviour.hpp"
 #include "humans/locomotion.hpp"
 #include "robots/description.hpp"
 #include "sensors/odometry.hpp"
@@ -142,6 +143,7 @@ struct AgentDef {
   humans::LocalAvoidance avoidance = humans::LocalAvoidance::orca;
   std::string type = "adult";
   int activity_model = -1;  ///< a human living by an activity model once the choreography is over, or -1
+  humans::Behaviour behaviour;  ///< how a human reacts to a robot in view (HuNavSim)
   // Robots with a model (a robot without one is a disc moved by choreography or velocity commands).
   std::shared_ptr<const robots::RobotDescription> robot_model;
   RobotController controller;
@@ -178,6 +180,7 @@ struct Action {
     stop_and_look,       ///< target: robot; value: duration; radius: distance that stops the human
     request,             ///< target: routine a robot asks a human to run
     play_motion,         ///< motion: a shipped motion primitive; value: seconds it plays
+    set_behaviour,       ///< target: a humans::BehaviourType, taken with its defaults (a command)
   };
   Kind kind = Kind::wait_duration;
   int agent = -1;   ///< acting agent in steps; -1 in routines (the invoker acts) and group actions

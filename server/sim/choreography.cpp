@@ -140,6 +140,12 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       self.motion_released_tick = -1;
       self.wait_until_tick = state.tick + ticks(model, action.value);
       return true;
+    case Kind::set_behaviour:
+      self.behaviour = humans::default_behaviour(static_cast<humans::BehaviourType>(action.target));
+      self.behaviour_seen = 0.0;
+      self.behaviour_spent = false;
+      self.reacting_to = -1;
+      return true;
     case Kind::wait_message:
     case Kind::run_routine:
       return true;
@@ -182,6 +188,7 @@ bool action_done(const State& state, int agent, const Action& action) {
     case Kind::form_group:
     case Kind::dismantle_group:
     case Kind::stop_and_look:
+    case Kind::set_behaviour:
       return true;
   }
   return true;

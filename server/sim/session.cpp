@@ -40,6 +40,7 @@ State initial_state(const scenario::Model& model, std::uint64_t seed) {
     } else {
       agent.preferred_speed = def.preferred_speed.value_or(kScriptedRobotSpeed);
     }
+    agent.behaviour = def.behaviour;
     if (def.activity_model >= 0) agent.activity_random = state.random.stream("humans.activities." + def.id);
     state.agents.push_back(std::move(agent));
     if (def.robot_model) state.robots.emplace_back(static_cast<int>(state.agents.size() - 1), def, model.dt, state.random);
@@ -235,9 +236,16 @@ scenario::Action Session::parse_human_command(AgentId human, std::string_view te
       action.value = number("seconds");
       if (action.value <= 0.0) throw core::Error(core::ErrorCode::bad_request, "motion: seconds must be > 0");
     }
+  } else if (verb == "behaviour") {
+    std::string name;
+    in >> name;
+    const std::optional<humans::BehaviourType> type = humans::behaviour_type(name);
+    if (!type) throw core::Error(core::ErrorCode::bad_request, "behaviour: which? (regular, impassive, surprised, scared, curious, threatening)");
+    action.kind = Kind::set_behaviour;
+    action.target = static_cast<int>(*type);
   } else {
     throw core::Error(core::ErrorCode::bad_request,
-                      "unknown command '" + verb + "' (walk X Y, wait S, turn_to RAD, look_at NAME, motion NAME [S])");
+                      "unknown command '" + verb + "' (walk X Y, wait S, turn_to RAD, look_at NAME, motion NAME [S], behaviour NAME)");
   }
   std::string extra;
   if (in >> extra) throw core::Error(core::ErrorCode::bad_request, verb + ": unexpected '" + extra + "'");

@@ -91,6 +91,12 @@ struct AgentState {
   /// Share (0…1) of their personal-space margins a person keeps: it falls while others hold them up
   /// and comes back once they walk freely (squeezing past in a narrow place).
   double personal_space = 1.0;
+  // Reacting to robots (HuNavSim's behaviours): the behaviour, how long a robot has been in view
+  // during the reaction under way, whether a once-only reaction is spent, and the robot reacted to.
+  humans::Behaviour behaviour;
+  double behaviour_seen = 0.0;
+  bool behaviour_spent = false;
+  int reacting_to = -1;
   // Living by an activity model: the activity under way (-1 before the first) and what it asks for.
   int activity = -1;
   scenario::Action activity_action;
@@ -100,7 +106,7 @@ struct AgentState {
   std::int64_t motion_released_tick = -1;      ///< when the person walked off (it blends out), -1 before
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, activity, activity_action, activity_random, motion, motion_tick, motion_released_tick); }
+  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, motion, motion_tick, motion_released_tick); }
 };
 
 struct Event {

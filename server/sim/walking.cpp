@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/portable_math.hpp"
+#include "sim/behaviours.hpp"
 #include "sim/choreography.hpp"
 #include "sim/doors_and_elevators.hpp"
 #include "sim/events.hpp"
@@ -123,6 +124,7 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
     if (back.norm() > kHoldTolerance) preferred = back.normalized() * std::min(kHoldSpeed, self.preferred_speed);
   }
   if (self.look_at_agent >= 0) self.target_heading = core::direction_to(self.position, state.agents[self.look_at_agent].position);
+  if (model.agents[i].kind == AgentKind::human) preferred = react_to_robots(model, state, static_cast<int>(i), preferred, watching_heading);
   return preferred;
 }
 
@@ -159,6 +161,7 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     crowd.controlled = def.kind == AgentKind::robot || self.rooted;  // a controlled agent keeps its velocity
     crowd.preferred_velocity = preferred;
     crowd.personal_space = self.personal_space;
+    crowd.robots_as_obstacles = self.behaviour.type == humans::BehaviourType::impassive;
     // Members of one group, and people sharing a place (a cabin, a queue), stand as close as it has them.
     crowd.group = group_of(state, static_cast<int>(i));
     crowd.place = self.reserved_space;
