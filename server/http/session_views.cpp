@@ -82,7 +82,9 @@ json state_of(const Live& live, std::int64_t events_since_tick) {
                       {"busy", !agent.program.empty()},
                       {"path", path_ahead(agent)},
                       {"motion", agent.motion ? json(agent.motion->name()) : json()},
-                      {"activity", agent.activity >= 0 ? json(session.model().activity_models[def.activity_model].activities[agent.activity].name) : json()}});
+                      {"activity", agent.activity >= 0 ? json(session.model().activity_models[def.activity_model].activities[agent.activity].name) : json()},
+                      {"behaviour", def.kind == scenario::AgentKind::human ? json(humans::behaviour_name(agent.behaviour.type)) : json()},
+                      {"reacting_to", agent.reacting_to >= 0 ? json(session.model().agents[agent.reacting_to].id) : json()}});
   }
   json requests = json::array();
   for (const sim::OpenRequest& open : state.requests) {

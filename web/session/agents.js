@@ -1,5 +1,6 @@
 // The agents panel: each agent's pose, speed, what a person is doing (the activity of their activity
-// model, else the motion they play) and whether it is busy, as of the driver's last state
+// model, else the motion they play), their behaviour (and the robot they react to) and whether it is
+// busy, as of the driver's last state
 // (rows of inactive agents hidden), and the robots' open requests.
 import { h } from '../lib/ui.js';
 
@@ -7,12 +8,12 @@ export function agentsPanel(driver, agents) {
   const rows = new Map();
   const table = h('table', { class: 'agent-table' },
     h('thead', {}, h('tr', {}, h('th', {}, 'Agent'), h('th', { class: 'number' }, 'x (m)'), h('th', { class: 'number' }, 'y (m)'),
-      h('th', { class: 'number' }, 'θ (rad)'), h('th', { class: 'number' }, 'speed (m/s)'), h('th', {}, 'Doing'), h('th', {}, 'Actions left'))),
+      h('th', { class: 'number' }, 'θ (rad)'), h('th', { class: 'number' }, 'speed (m/s)'), h('th', {}, 'Doing'), h('th', {}, 'Behaviour'), h('th', {}, 'Actions left'))),
     h('tbody', {}, agents.map((agent) => {
       const cells = { x: h('td', { class: 'number' }), y: h('td', { class: 'number' }), theta: h('td', { class: 'number' }),
-        speed: h('td', { class: 'number' }), doing: h('td', { class: 'doing' }), busy: h('td', {}) };
+        speed: h('td', { class: 'number' }), doing: h('td', { class: 'doing' }), behaviour: h('td', { class: 'behaviour' }), busy: h('td', {}) };
       const row = h('tr', { 'data-agent': agent.id, 'data-kind': agent.kind },
-        h('th', { scope: 'row' }, h('span', { class: `ss-dot ${agent.kind}` }), agent.id), cells.x, cells.y, cells.theta, cells.speed, cells.doing, cells.busy);
+        h('th', { scope: 'row' }, h('span', { class: `ss-dot ${agent.kind}` }), agent.id), cells.x, cells.y, cells.theta, cells.speed, cells.doing, cells.behaviour, cells.busy);
       rows.set(agent.id, { row, cells });
       return row;
     })));
@@ -30,6 +31,7 @@ export function agentsPanel(driver, agents) {
       entry.cells.theta.textContent = agent.theta.toFixed(2);
       entry.cells.speed.textContent = Math.hypot(agent.vx, agent.vy).toFixed(2);
       entry.cells.doing.textContent = agent.activity ?? agent.motion ?? '';
+      entry.cells.behaviour.textContent = agent.behaviour ? `${agent.behaviour}${agent.reacting_to ? ` (reacting to ${agent.reacting_to})` : ''}` : '';
       entry.cells.busy.textContent = agent.busy ? 'yes' : 'no';
     }
     openRequests.textContent = state.requests.length

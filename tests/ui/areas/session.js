@@ -142,7 +142,7 @@ describe('session', () => {
     }
   });
 
-  it('shows what a person living by an activity model is doing', async () => {
+  it('shows what a person living by an activity model is doing, and their behaviour', async () => {
     const living = {
       name: 'living room ui', time_limit: 120, steps: [],
       world: { bounds: { min: [-0.5, -0.5], max: [6.5, 6.5] },
@@ -150,7 +150,7 @@ describe('session', () => {
       locations: { sofa: { x: 1.5, y: 1.5 }, shelf: { x: 4.5, y: 4.5 } },
       activity_models: { home: { start: 'browse', activities: { browse: { wait: 0.5 }, walk: { walk: ['sofa', 'shelf'] } },
         transitions: { browse: { walk: 1 }, walk: { browse: 1 } } } },
-      humans: [{ id: 'ada', start: { x: 3, y: 3 }, activity_model: 'home' }],
+      humans: [{ id: 'ada', start: { x: 3, y: 3 }, activity_model: 'home', behaviour: 'curious' }],
     };
     const uploaded = await call('POST', '/api/v1/scenarios', living);
     assert.equal(uploaded.status, 201, JSON.stringify(uploaded.body));
@@ -159,7 +159,8 @@ describe('session', () => {
     try {
       await tab.open(`/sessions/${id}`);
       await tab.page.waitForSelector('.agent-table tr[data-agent=ada]');
-      assert.match(await tab.page.textContent('.agent-table thead'), /Doing/);
+      assert.match(await tab.page.textContent('.agent-table thead'), /Doing.*Behaviour/);
+      await tab.page.waitForSelector('.agent-table tr[data-agent=ada] td.behaviour:text-is("curious")');
       await tab.page.click('button.play');
       // She pauses, then walks to the sofa or the shelf: both show in her row as they come.
       const seen = new Set();
