@@ -1,6 +1,7 @@
 #include "humans/behaviour.hpp"
 
 #include <array>
+#include <string>
 #include <utility>
 
 namespace hrisim::humans {
@@ -58,6 +59,19 @@ Behaviour default_behaviour(BehaviourType type) {
       behaviour.distance = 1.4;
       break;
   }
+  return behaviour;
+}
+
+Behaviour read_behaviour(const nlohmann::json& entry) {
+  const std::string name = entry.is_string() ? entry.get<std::string>() : entry.at("type").get<std::string>();
+  Behaviour behaviour = default_behaviour(behaviour_type(name).value_or(BehaviourType::regular));  // the schema knows the names
+  if (!entry.is_object()) return behaviour;
+  behaviour.detection_distance = entry.value("detection_distance", behaviour.detection_distance);
+  behaviour.duration = entry.value("duration", behaviour.duration);
+  behaviour.once = entry.value("once", behaviour.once);
+  behaviour.speed = entry.value("speed", behaviour.speed);
+  behaviour.distance = entry.value("distance", behaviour.distance);
+  behaviour.force_factor = entry.value("force_factor", behaviour.force_factor);
   return behaviour;
 }
 

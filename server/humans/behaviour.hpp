@@ -3,6 +3,7 @@
 // 2023, robotics-upo/hunav_sim, hunav_agent_manager: the behaviour trees BT<X>Nav.xml and
 // AgentManager's lookAtTheRobot, approximateRobot, avoidRobot and blockRobot). Every number is
 // HuNavSim's default configuration; docs/behaviours.md gives each one's source.
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string_view>
 #include <tuple>
@@ -47,5 +48,9 @@ struct Behaviour {
 
 /// HuNavSim's defaults for a type (hunav_loader.cpp's default configuration and the trees' values).
 Behaviour default_behaviour(BehaviourType type);
+
+/// A scenario's `behaviour` (checked against the schema): a name takes the defaults for it, an object
+/// overrides any of them.
+Behaviour read_behaviour(const nlohmann::json& entry);
 
 }  // namespace hrisim::humans

@@ -344,7 +344,7 @@ class Loader {
                           : entry["avoidance"] == "social_force" ? humans::LocalAvoidance::social_force
                                                                  : humans::LocalAvoidance::orca;
         agent.type = entry.value("type", "adult");
-        if (entry.contains("behaviour")) agent.behaviour = read_behaviour(entry["behaviour"]);
+        if (entry.contains("behaviour")) agent.behaviour = humans::read_behaviour(entry["behaviour"]);
         if (entry.contains("activity_model")) agent.activity_model = find_activity_model(model, entry["activity_model"], pointer + "/activity_model");
         if (names_.agents.contains(agent.id)) {
           error(pointer + "/id", "agent id '" + agent.id + "' is used twice");
@@ -358,20 +358,6 @@ class Loader {
         model.agents.push_back(std::move(agent));
       }
     }
-  }
-
-  /// A behaviour by name takes HuNavSim's defaults for it; an object overrides any of them.
-  static humans::Behaviour read_behaviour(const json& entry) {
-    const std::string name = entry.is_string() ? entry.get<std::string>() : entry.at("type").get<std::string>();
-    humans::Behaviour behaviour = humans::default_behaviour(*humans::behaviour_type(name));  // the schema knows the names
-    if (!entry.is_object()) return behaviour;
-    behaviour.detection_distance = entry.value("detection_distance", behaviour.detection_distance);
-    behaviour.duration = entry.value("duration", behaviour.duration);
-    behaviour.once = entry.value("once", behaviour.once);
-    behaviour.speed = entry.value("speed", behaviour.speed);
-    behaviour.distance = entry.value("distance", behaviour.distance);
-    behaviour.force_factor = entry.value("force_factor", behaviour.force_factor);
-    return behaviour;
   }
 
   int find_activity_model(const Model& model, const std::string& name, const std::string& pointer) {

@@ -94,10 +94,8 @@ Vec2 react_to_robots(const scenario::Model& model, State& state, int agent, cons
     }
     case BehaviourType::threatening: {
       const Vec2 spot = other.position + core::heading_vector(other.heading) * behaviour.distance;
-      const Vec2 to_spot = spot - self.position;
-      if (to_spot.norm() <= humans::kThreateningFaceDistance) watching_heading = core::direction_to(self.position, other.position);
-      if (to_spot.norm() <= 0.1) return Vec2::Zero();
-      return to_spot.normalized() * std::min(behaviour.speed, to_spot.norm() / kArrivalSlowdown * behaviour.speed);
+      if ((spot - self.position).norm() <= humans::kThreateningFaceDistance) watching_heading = core::direction_to(self.position, other.position);
+      return into_the_way(self, other, behaviour.distance, behaviour.speed);
     }
   }
   return preferred;

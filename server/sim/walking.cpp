@@ -105,10 +105,7 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
   }
   if (self.harass_robot >= 0) {
     const AgentState& robot = state.agents[self.harass_robot];
-    const Vec2 in_the_way = robot.position + core::heading_vector(robot.heading) * self.harass_distance;
-    const Vec2 to_spot = in_the_way - self.position;
-    preferred = to_spot.norm() > 0.1 ? Vec2(to_spot.normalized() * std::min(self.preferred_speed, to_spot.norm() / kArrivalSlowdown * self.preferred_speed))
-                                    : Vec2::Zero();
+    preferred = into_the_way(self, robot, self.harass_distance, self.preferred_speed);
     self.target_heading = core::direction_to(self.position, robot.position);
   }
   if (self.watched_robot >= 0 && state.tick < self.watch_until_tick) {
@@ -129,6 +126,12 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
 }
 
 }  // namespace
+
+Vec2 into_the_way(const AgentState& self, const AgentState& robot, double distance, double speed) {
+  const Vec2 to_spot = robot.position + core::heading_vector(robot.heading) * distance - self.position;
+  if (to_spot.norm() <= kInTheWayTolerance) return Vec2::Zero();
+  return to_spot.normalized() * std::min(speed, to_spot.norm() / kArrivalSlowdown * speed);
+}
 
 std::optional<Vec2> nearest_obstacle(const scenario::Model& model, const State& state, const Vec2& p, double range) {
   std::optional<Vec2> nearest = model.field.nearest_obstacle(model.grid, p);

@@ -60,6 +60,12 @@ struct WalkingBuffers {
   std::vector<std::optional<double>> watching_headings;  ///< per agent: facing a watched robot
 };
 
+/// Standing in a robot's way (harass, HuNavSim's threatening): there within this, m...
+inline constexpr double kInTheWayTolerance = 0.1;
+/// ...the velocity that takes a person to the spot `distance` in front of `robot` at up to `speed`,
+/// slowing over the last kArrivalSlowdown.
+Vec2 into_the_way(const AgentState& self, const AgentState& robot, double distance, double speed);
+
 /// The nearest point of the static map or of a closed door to `p`, when within `range`: the obstacle
 /// people's crowd model and the robots' local planners avoid. Map points are the centres of blocked
 /// cells, half a cell inside the obstacle.
