@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "http/frames.hpp"
 #include "render/image_codec.hpp"
+#include "sim/activities.hpp"
 
 namespace hrisim::http {
 
@@ -28,6 +29,26 @@ static json events_since(const sim::Session& session, std::int64_t first) {
 }
 
 /// Status of a session (its lock held).
+namespace {
+
+/// The activity a person living on their own is doing, or null.
+json activity_name(const sim::Session& session, int agent) {
+  const sim::AgentState& self = session.state().agents[agent];
+  const scenario::ActivityModel* living = sim::activity_model_of(session.model(), session.state(), agent);
+  return living && self.activity >= 0 ? json(living->activities[self.activity].name) : json();
+}
+
+/// The scenario clock's time of day and day, when the scenario keeps one.
+json clock_reading(const sim::Session& session) {
+  const auto& clock = session.model().clock;
+  if (!clock) return nullptr;
+  return {{"time_of_day", scenario::format_time_of_day(scenario::time_of_day(*clock, session.time()))},
+          {"day", scenario::day_of(*clock, session.time())},
+          {"speed", clock->speed}};
+}
+
+}  // namespace
+
 json status_of(const Live& live) {
   const sim::Session& session = live.session();
   const sim::State& state = session.state();
@@ -43,6 +64,7 @@ json status_of(const Live& live) {
           {"tick", state.tick},
           {"time", session.time()},
           {"dt", session.model().dt},
+          {"clock", clock_reading(session)},
           {"status", state.finished ? "finished" : "running"},
           {"termination", state.finished ? json(state.termination) : json()},
           {"current_step", current_step},
@@ -82,7 +104,8 @@ json state_of(const Live& live, std::int64_t events_since_tick) {
                       {"busy", !agent.program.empty()},
                       {"path", path_ahead(agent)},
                       {"motion", agent.motion ? json(agent.motion->name()) : json()},
-                      {"activity", agent.activity >= 0 ? json(session.model().activity_models[def.activity_model].activities[agent.activity].name) : json()},
+                      {"activity", activity_name(session, static_cast<int>(i))},
+                      {"room", agent.room >= 0 ? json(session.model().rooms[agent.room].name) : json()},
                       {"behaviour", def.kind == scenario::AgentKind::human ? json(humans::behaviour_name(agent.behaviour.type)) : json()},
                       {"reacting_to", agent.reacting_to >= 0 ? json(session.model().agents[agent.reacting_to].id) : json()}});
   }

@@ -86,6 +86,7 @@ class Loader {
     read_places(*model);
     read_elevators(*model);
     model->activity_models = read_activity_models(member(doc_, "activity_models"), names_.locations, errors_);
+    read_daily_life(*model);
     read_agents(*model);
     read_objects(*model);
     collect_task_names(*model);
@@ -346,6 +347,10 @@ class Loader {
         agent.type = entry.value("type", "adult");
         if (entry.contains("behaviour")) agent.behaviour = humans::read_behaviour(entry["behaviour"]);
         if (entry.contains("activity_model")) agent.activity_model = find_activity_model(model, entry["activity_model"], pointer + "/activity_model");
+        if (entry.contains("daily_schedule")) agent.daily_schedule = find_daily_schedule(model, entry["daily_schedule"], pointer + "/daily_schedule");
+        if (agent.activity_model >= 0 && agent.daily_schedule >= 0) {
+          error(pointer, "human '" + agent.id + "' has both an activity_model and a daily_schedule: a schedule chooses the model in each room, give one of them");
+        }
         if (names_.agents.contains(agent.id)) {
           error(pointer + "/id", "agent id '" + agent.id + "' is used twice");
         }
@@ -358,6 +363,21 @@ class Loader {
         model.agents.push_back(std::move(agent));
       }
     }
+  }
+
+  int find_daily_schedule(const Model& model, const std::string& name, const std::string& pointer) {
+    for (std::size_t s = 0; s < model.daily_schedules.size(); ++s) {
+      if (model.daily_schedules[s].name == name) return static_cast<int>(s);
+    }
+    error(pointer, "unknown daily schedule '" + name + "'");
+    return -1;
+  }
+
+  void read_daily_life(Model& model) {
+    if (doc_.contains("clock")) model.clock = read_clock(doc_["clock"], errors_);
+    model.rooms = read_rooms(member(doc_, "rooms"), names_.locations, errors_);
+    model.daily_schedules = read_daily_schedules(member(doc_, "daily_schedules"), model.rooms, model.activity_models, errors_);
+    if (!model.daily_schedules.empty() && !model.clock) error("/daily_schedules", "daily schedules need the scenario's 'clock' (its start time of day and speed)");
   }
 
   int find_activity_model(const Model& model, const std::string& name, const std::string& pointer) {

@@ -9,6 +9,7 @@
 
 #include "core/math.hpp"
 #include "scenario/activity_models.hpp"
+#include "scenario/daily_schedules.hpp"
 #include "humans/behaviour.hpp"
 #include "humans/locomotion.hpp"
 #include "robots/description.hpp"
@@ -143,6 +144,7 @@ struct AgentDef {
   humans::LocalAvoidance avoidance = humans::LocalAvoidance::orca;
   std::string type = "adult";
   int activity_model = -1;  ///< a human living by an activity model once the choreography is over, or -1
+  int daily_schedule = -1;  ///< a human living by a daily schedule once the choreography is over, or -1
   humans::Behaviour behaviour;  ///< how a human reacts to a robot in view (HuNavSim)
   // Robots with a model (a robot without one is a disc moved by choreography or velocity commands).
   std::shared_ptr<const robots::RobotDescription> robot_model;
@@ -321,6 +323,9 @@ struct Model {
   std::vector<int> async_routines;  ///< routines humans run when a robot requests them
   std::vector<Request> requests;  ///< scripted robot requests, by time
   std::vector<ActivityModel> activity_models;
+  std::optional<Clock> clock;  ///< the time of day, when the scenario keeps one
+  std::vector<Room> rooms;
+  std::vector<DailySchedule> daily_schedules;
 
   std::optional<TaskSettings> task;  ///< a benchmark task; the episode then ends by it or its length
 

@@ -1,6 +1,7 @@
 #include "sim/activities.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "sim/events.hpp"
 
@@ -62,17 +63,15 @@ scenario::Action action_for(const scenario::ActivityModel& model, const Activity
   return action;
 }
 
-}  // namespace
-
-bool anyone_lives_on(const scenario::Model& model) {
-  return std::any_of(model.agents.begin(), model.agents.end(), [](const scenario::AgentDef& def) { return def.activity_model >= 0; });
+/// The posture a person is in between activities: the end of the motion they hold, if any.
+scenario::Posture posture_of(const AgentState& self) {
+  if (!self.motion || self.motion_released_tick >= 0) return scenario::Posture::standing;
+  return scenario::posture_at(*self.motion, self.motion->duration());
 }
 
-void start_next_activity(const scenario::Model& model, State& state, int agent) {
+void begin_activity(const scenario::Model& model, State& state, int agent, const scenario::ActivityModel& living) {
   const scenario::AgentDef& def = model.agents[agent];
   AgentState& self = state.agents[agent];
-  if (def.activity_model < 0 || !self.active || !self.program.empty() || state.current_step < static_cast<int>(model.steps.size())) return;
-  const scenario::ActivityModel& living = model.activity_models[def.activity_model];
   self.activity = self.activity < 0 ? living.start : draw_next(living.transitions_for(def.type)[self.activity], self.activity_random);
   const Activity& activity = living.activities[self.activity];
   self.activity_action = action_for(living, activity, state, agent, self.activity_random);
@@ -81,6 +80,132 @@ void start_next_activity(const scenario::Model& model, State& state, int agent) 
   if (self.activity_action.kind == Kind::go_to_location) data["location"] = model.locations[self.activity_action.target].name;
   if (activity.kind == Activity::Kind::walk && self.activity_action.kind == Kind::wait_duration) data["waiting"] = "every place is taken";
   emit(model, state, "activity_started", def.id, std::move(data));
+}
+
+/// Gives the person one action of their own (the activity's slot in the program).
+void push_own_action(State& state, int agent, scenario::Action action) {
+  action.agent = agent;
+  state.agents[agent].activity_action = std::move(action);
+  state.agents[agent].program.push_back({kActivityAction, agent, -1});
+}
+
+/// The clock's reading, in seconds since midnight of its first day, at the current tick.
+double clock_seconds(const scenario::Model& model, const State& state) {
+  return model.clock->start + model.clock->speed * static_cast<double>(state.tick) * model.dt;
+}
+
+/// A stay whose time is up ends a pause or a walk under way at once; a motion plays to its end.
+void end_stay_if_due(State& state, int agent) {
+  AgentState& self = state.agents[agent];
+  if (self.room < 0 || state.tick < self.stay_until_tick || self.program.empty()) return;
+  const PendingAction& front = self.program.front();
+  if (front.routine != kActivityAction || self.activity_action.kind == Kind::play_motion) return;
+  if (self.activity_action.kind == Kind::go_to_location) {
+    self.navigating = false;
+    self.path.clear();
+    self.in_room = false;
+  }
+  self.program.pop_front();
+  self.action_started = false;
+}
+
+/// Draws the next stay's room from the hour's row of presence probabilities and its length.
+void begin_stay(const scenario::Model& model, State& state, int agent, const scenario::DailySchedule& schedule) {
+  AgentState& self = state.agents[agent];
+  const double now = clock_seconds(model, state);
+  const int hour = static_cast<int>(scenario::time_of_day(*model.clock, static_cast<double>(state.tick) * model.dt) / scenario::kSecondsPerHour);
+  const int room = draw_next(schedule.presence[static_cast<std::size_t>(hour)], self.activity_random);
+  const double hour_ends = (std::floor(now / scenario::kSecondsPerHour) + 1.0) * scenario::kSecondsPerHour;
+  const double ends = std::min(now + self.activity_random.uniform(schedule.min_stay, schedule.max_stay), hour_ends);
+  self.stay_until_tick = state.tick + std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil((ends - now) / (model.clock->speed * model.dt))));
+  if (room != self.room) {
+    self.room = room;
+    self.in_room = false;
+    self.activity = -1;
+  }
+  emit(model, state, "stay_started", model.agents[agent].id,
+       {{"room", model.rooms[room].name}, {"until", scenario::format_time_of_day(std::fmod(ends, scenario::kSecondsPerDay))}});
+}
+
+/// Sets off to a free spot of the stay's room, standing up first if need be.
+void set_off(const scenario::Model& model, State& state, int agent) {
+  AgentState& self = state.agents[agent];
+  scenario::Action action;
+  const scenario::Posture posture = posture_of(self);
+  if (posture != scenario::Posture::standing) {
+    action.kind = Kind::play_motion;
+    action.motion = posture == scenario::Posture::seated ? "stand_up" : "get_up";
+    action.value = humans::builtin_motion(action.motion)->duration();
+    action.pointer = "daily schedule: stand up before leaving";
+    push_own_action(state, agent, std::move(action));
+    return;
+  }
+  const scenario::Room& room = model.rooms[self.room];
+  for (const int spot : room.spots) {
+    const bool held = std::any_of(state.agents.begin(), state.agents.end(), [&](const AgentState& other) {
+      return &other != &self && other.reserved_location == spot;
+    });
+    if (held) continue;
+    action.kind = Kind::go_to_location;
+    action.target = spot;
+    action.pointer = "daily schedule: to " + room.name;
+    self.in_room = true;
+    push_own_action(state, agent, std::move(action));
+    return;
+  }
+  action.kind = Kind::wait_duration;  // every spot taken: try again in a moment
+  action.value = kPlacesTakenWait;
+  action.pointer = "daily schedule: every spot in " + room.name + " is taken";
+  push_own_action(state, agent, std::move(action));
+}
+
+void follow_schedule(const scenario::Model& model, State& state, int agent) {
+  const scenario::DailySchedule& schedule = model.daily_schedules[model.agents[agent].daily_schedule];
+  AgentState& self = state.agents[agent];
+  end_stay_if_due(state, agent);
+  if (!self.program.empty()) return;
+  if (self.room < 0 || state.tick >= self.stay_until_tick) begin_stay(model, state, agent, schedule);
+  if (!self.in_room) {
+    set_off(model, state, agent);
+    return;
+  }
+  const int living = schedule.activities[static_cast<std::size_t>(self.room)];
+  if (living >= 0) {
+    begin_activity(model, state, agent, model.activity_models[living]);
+    return;
+  }
+  scenario::Action stand;  // a room without a model: stand there until the stay is over
+  stand.kind = Kind::wait_duration;
+  stand.value = static_cast<double>(self.stay_until_tick - state.tick) * model.dt;
+  stand.pointer = "daily schedule: in " + model.rooms[self.room].name;
+  push_own_action(state, agent, std::move(stand));
+}
+
+}  // namespace
+
+bool anyone_lives_on(const scenario::Model& model) {
+  return std::any_of(model.agents.begin(), model.agents.end(),
+                     [](const scenario::AgentDef& def) { return def.activity_model >= 0 || def.daily_schedule >= 0; });
+}
+
+const scenario::ActivityModel* activity_model_of(const scenario::Model& model, const State& state, int agent) {
+  const scenario::AgentDef& def = model.agents[agent];
+  if (def.activity_model >= 0) return &model.activity_models[def.activity_model];
+  const AgentState& self = state.agents[agent];
+  if (def.daily_schedule < 0 || self.room < 0) return nullptr;
+  const int living = model.daily_schedules[def.daily_schedule].activities[static_cast<std::size_t>(self.room)];
+  return living >= 0 ? &model.activity_models[living] : nullptr;
+}
+
+void start_next_activity(const scenario::Model& model, State& state, int agent) {
+  const scenario::AgentDef& def = model.agents[agent];
+  AgentState& self = state.agents[agent];
+  if (!self.active || state.current_step < static_cast<int>(model.steps.size())) return;
+  if (def.daily_schedule >= 0) {
+    follow_schedule(model, state, agent);
+  } else if (def.activity_model >= 0 && self.program.empty()) {
+    begin_activity(model, state, agent, model.activity_models[def.activity_model]);
+  }
 }
 
 }  // namespace hrisim::sim

@@ -41,7 +41,7 @@ State initial_state(const scenario::Model& model, std::uint64_t seed) {
       agent.preferred_speed = def.preferred_speed.value_or(kScriptedRobotSpeed);
     }
     agent.behaviour = def.behaviour;
-    if (def.activity_model >= 0) agent.activity_random = state.random.stream("humans.activities." + def.id);
+    if (def.activity_model >= 0 || def.daily_schedule >= 0) agent.activity_random = state.random.stream("humans.activities." + def.id);
     state.agents.push_back(std::move(agent));
     if (def.robot_model) state.robots.emplace_back(static_cast<int>(state.agents.size() - 1), def, model.dt, state.random);
   }

@@ -101,12 +101,17 @@ struct AgentState {
   int activity = -1;
   scenario::Action activity_action;
   core::Random activity_random;  ///< the person's own stream, so that nobody else's choices change theirs
+  // Living by a daily schedule: the room of the stay under way (-1 before the first), whether the
+  // person has set off to it (a spot reserved), and the tick the stay ends.
+  int room = -1;
+  bool in_room = false;
+  std::int64_t stay_until_tick = -1;
   const humans::MotionClip* motion = nullptr;  ///< a shipped primitive (its pose held once it ends)
   std::int64_t motion_tick = 0;                ///< when it started
   std::int64_t motion_released_tick = -1;      ///< when the person walked off (it blends out), -1 before
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, motion, motion_tick, motion_released_tick); }
+  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick); }
 };
 
 struct Event {

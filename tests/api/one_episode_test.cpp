@@ -115,7 +115,7 @@ TEST_P(OneEpisode, EveryWayOfDrivingItGivesTheSameMetricsAndFinalState) {
 
 INSTANTIATE_TEST_SUITE_P(Bundled, OneEpisode,
                          ::testing::Values("apartment", "approach_human", "approach_human_apartment", "conversation_group", "corridor_passing",
-                                           "elevator", "follow_human", "mirror_gesture", "pair_walking", "perpendicular_crossing",
+                                           "elevator", "family_day", "follow_human", "mirror_gesture", "pair_walking", "perpendicular_crossing",
                                            "pick_and_place", "queue"));
 
 }  // namespace

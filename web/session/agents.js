@@ -1,7 +1,7 @@
-// The agents panel: each agent's pose, speed, what a person is doing (the activity of their activity
-// model, else the motion they play), their behaviour (and the robot they react to) and whether it is
-// busy, as of the driver's last state
-// (rows of inactive agents hidden), and the robots' open requests.
+// The agents panel: the scenario clock's time of day (when it keeps one), each agent's pose, speed,
+// what a person is doing (the activity of their activity model and the room of their daily
+// schedule, else the motion they play), their behaviour (and the robot they react to) and whether it
+// is busy, as of the driver's last state (rows of inactive agents hidden), and the robots' open requests.
 import { h } from '../lib/ui.js';
 
 export function agentsPanel(driver, agents) {
@@ -18,7 +18,10 @@ export function agentsPanel(driver, agents) {
       return row;
     })));
   const openRequests = h('p', { class: 'muted open-requests' });
+  const clock = h('p', { class: 'muted scenario-clock', hidden: true });
   driver.on('state', (state) => {
+    clock.hidden = !state.clock;
+    if (state.clock) clock.textContent = `Time of day ${state.clock.time_of_day}, day ${state.clock.day + 1} (clock ×${state.clock.speed})`;
     for (const agent of state.agents) {
       const entry = rows.get(agent.id);
       if (!entry) continue;
@@ -30,12 +33,13 @@ export function agentsPanel(driver, agents) {
       entry.cells.y.textContent = agent.y.toFixed(2);
       entry.cells.theta.textContent = agent.theta.toFixed(2);
       entry.cells.speed.textContent = Math.hypot(agent.vx, agent.vy).toFixed(2);
-      entry.cells.doing.textContent = agent.activity ?? agent.motion ?? '';
+      const doing = agent.activity ?? agent.motion ?? '';
+      entry.cells.doing.textContent = agent.room ? (doing ? `${doing} in ${agent.room}` : `in ${agent.room}`) : doing;
       entry.cells.behaviour.textContent = agent.behaviour ? `${agent.behaviour}${agent.reacting_to ? ` (reacting to ${agent.reacting_to})` : ''}` : '';
       entry.cells.busy.textContent = agent.busy ? 'yes' : 'no';
     }
     openRequests.textContent = state.requests.length
       ? `Open requests: ${state.requests.map((r) => `${r.robot} → ${r.routine}`).join(', ')}` : '';
   });
-  return h('section', { class: 'panel agents-panel', 'aria-label': 'Agents' }, h('h2', {}, 'Agents'), table, openRequests);
+  return h('section', { class: 'panel agents-panel', 'aria-label': 'Agents' }, h('h2', {}, 'Agents'), clock, table, openRequests);
 }

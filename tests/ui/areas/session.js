@@ -178,6 +178,27 @@ describe('session', () => {
     }
   });
 
+  it('shows the scenario clock and the room each person of a daily schedule is in', async () => {
+    const id = await createSession({ scenario: 'family_day', seed: 1 });
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open(`/sessions/${id}`);
+      await tab.page.waitForSelector('.scenario-clock:not([hidden])');
+      assert.match(await tab.page.textContent('.scenario-clock'), /^Time of day 06:00:00, day 1 \(clock ×60\)$/);
+      await tab.page.click('button.play');
+      // Anna starts her day in the bedroom; the clock runs a minute per simulated second.
+      await tab.page.waitForFunction(() => /in (bedroom|bathroom|kitchen|child_room|living_room|study)$/
+        .test(document.querySelector('.agent-table tr[data-agent=anna] td.doing')?.textContent ?? ''));
+      await tab.page.waitForFunction(() => !/06:00:00/.test(document.querySelector('.scenario-clock').textContent));
+      await tab.page.click('button.play');
+      assert.match(await tab.page.textContent('.scenario-clock'), /^Time of day 06:\d\d:\d\d, day 1/);
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+      await call('DELETE', `/api/v1/sessions/${id}`);
+    }
+  });
+
   it('drives the robot with the arrow keys under teleop, and ends the session', async () => {
     const id = await createSession({ scenario: 'elevator', controller: { type: 'teleop' } });
     const tab = await newPage(context.browser, context.server.port);

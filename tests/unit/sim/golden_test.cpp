@@ -24,7 +24,7 @@ constexpr int kGoldenTicks = 600;
 const std::string kGoldenFile = std::string(HRISIM_SOURCE_DIR) + "/tests/golden/state_hashes.json";
 const char* const kScenarios[] = {"apartment",          "approach_human",     "approach_human_apartment", "conversation_group",
                                   "corridor_navigation", "corridor_passing",   "crossing_navigation",      "elevator",
-                                  "follow_human",        "mirror_gesture",     "pair_walking",             "perpendicular_crossing",
+                                  "family_day",          "follow_human",        "mirror_gesture",     "pair_walking",             "perpendicular_crossing",
                                   "pick_and_place",      "queue"};
 
 std::string hash_after_golden_ticks(const std::string& scenario, std::uint64_t seed, episode::Settings settings = {}) {
