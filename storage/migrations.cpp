@@ -65,6 +65,8 @@ void migrate(Database& db, std::span<const Migration> migrations) {
   for (const Migration& migration : migrations) {
     if (migration.version <= current) continue;
     Transaction transaction(db);
+    // Another process opening the same new file may have applied it while this one waited for the lock.
+    if (db.scalar_integer("PRAGMA user_version") >= migration.version) continue;
     try {
       db.exec(migration.sql);
     } catch (const core::Error& e) {

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <limits>
+#include <thread>
 
 #include "core/error.hpp"
 #include "storage/sqlite.hpp"
@@ -285,6 +287,29 @@ TEST(Migrations, NewerFileIsRefusedUntouched) {
   Database raw(dir / "db");
   EXPECT_EQ(raw.scalar_integer("PRAGMA user_version"), 999);
   EXPECT_EQ(raw.scalar_integer("SELECT count(*) FROM sqlite_schema"), 0);
+}
+
+TEST(Migrations, AFileMigratedByAnotherProcessMeanwhileIsNotMigratedTwice) {
+  // Two processes opening one new file (a CLI run and a server, say): the second reads version 0,
+  // waits for the first one's write lock, and must then find the schema there.
+  TempDir dir;
+  Database first(dir / "db");
+  first.exec("BEGIN IMMEDIATE");
+  std::string second_failed;
+  std::thread second([&] {
+    try {
+      Store store(dir / "db");
+    } catch (const core::Error& e) {
+      second_failed = e.what();
+    }
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the second reads version 0 and waits
+  for (const Migration& migration : schema_migrations()) first.exec(migration.sql);
+  first.exec("PRAGMA user_version = " + std::to_string(schema_migrations().back().version));
+  first.exec("COMMIT");
+  second.join();
+  EXPECT_EQ(second_failed, "");
+  EXPECT_EQ(first.scalar_integer("PRAGMA user_version"), schema_migrations().back().version);
 }
 
 TEST(Migrations, ShippedListIsNumberedFromOne) {
