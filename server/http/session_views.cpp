@@ -40,11 +40,11 @@ json activity_name(const sim::Session& session, int agent) {
 
 /// The scenario clock's time of day and day, when the scenario keeps one.
 json clock_reading(const sim::Session& session) {
-  const auto& clock = session.model().clock;
-  if (!clock) return nullptr;
-  return {{"time_of_day", scenario::format_time_of_day(scenario::time_of_day(*clock, session.time()))},
-          {"day", scenario::day_of(*clock, session.time())},
-          {"speed", clock->speed}};
+  if (!session.model().clock) return nullptr;
+  const scenario::Clock clock = sim::session_clock(session.model(), session.state());
+  return {{"time_of_day", scenario::format_time_of_day(scenario::time_of_day(clock, session.time()))},
+          {"day", scenario::day_of(clock, session.time())},
+          {"speed", clock.speed}};
 }
 
 }  // namespace
@@ -168,7 +168,7 @@ json sensors_of(const sim::Session& session, const std::string& name) {
   json people = json::array();
   for (const sensors::Detection& person : runtime->people.people) {
     people.push_back({{"id", session.model().agents[person.agent].id}, {"x", person.position.x()}, {"y", person.position.y()},
-                      {"vx", person.velocity.x()}, {"vy", person.velocity.y()}, {"range", person.range}, {"bearing", person.bearing}});
+                      {"vx", person.velocity.x()}, {"vy", person.velocity.y()}, {"range", person.range}, {"bearing", person.bearing}, {"face_visible", person.face_visible}});
   }
   json joints = json::array();
   const auto& description = runtime->robot.description();

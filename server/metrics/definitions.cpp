@@ -15,7 +15,8 @@ constexpr std::string_view kTask = "task_and_path", kProximity = "proximity", kC
 constexpr std::array kDefinitions{
     Definition{"success", "bool", kTask, Better::higher,
                "1 when the episode reached its goal condition: the robot's navigation goal reached with no robot-human collision; "
-               "for a scenario without a robot goal, its choreography completed with no collision",
+               "for a searching robot, the person found with no collision; for a scenario without either, its choreography completed "
+               "with no collision",
                "recent social-navigation benchmarks"},
     Definition{"spl", "ratio", kTask, Better::higher,
                "success weighted by path length: success x shortest / max(path length, shortest), the shortest path on the map's "
@@ -26,6 +27,10 @@ constexpr std::array kDefinitions{
                "HuNavSim"},
     Definition{"time_to_goal", "s", kTask, Better::lower,
                "simulation time at which the robot was first within its goal radius; null if never", "HuNavSim"},
+    Definition{"time_to_find", "s", kTask, Better::lower,
+               "simulation time at which a searching robot's people detector first saw the person's face; null without a search "
+               "or if never",
+               "seed 000 (apartment search)"},
     Definition{"path_length", "m", kTask, Better::none, "length of the robot's path: sum of the distances between consecutive steps",
                "HuNavSim"},
     Definition{"path_efficiency", "ratio", kTask, Better::higher,

@@ -159,6 +159,19 @@ void goal_metrics(const Recording& r, bool collided, Values& values) {
   set(values, "failure_to_progress", !success && progress < kProgressDistance ? 1.0 : 0.0);
 }
 
+/// A search: when the person was found (the event "person_found"), and success.
+void search_metrics(const Recording& r, bool collided, Values& values) {
+  if (!r.searching) {
+    set_null(values, "time_to_find", "the robot does not search for anyone");
+    return;
+  }
+  const auto found = std::find_if(r.events.begin(), r.events.end(), [](const RecordedEvent& event) { return event.kind == "person_found"; });
+  std::optional<double> found_at;
+  if (found != r.events.end()) found_at = static_cast<double>(found->tick - r.samples.front().tick) * r.dt;
+  set_optional(values, "time_to_find", found_at, "the robot never saw the person's face");
+  if (!r.goal) set(values, "success", found_at && !collided ? 1.0 : 0.0);
+}
+
 /// Hall's bands for the closest group's centre (the centre: members' mean position plus
 /// kGroupCentreAhead ahead of each).
 void group_metrics(const Recording& r, Values& values) {
@@ -452,7 +465,8 @@ std::vector<MetricValue> compute_episode_metrics(const Recording& recording) {
     proximity_metrics(recording, values);
     force_metrics(recording, values);
     goal_metrics(recording, collided, values);
-    if (!recording.goal) {
+    search_metrics(recording, collided, values);
+    if (!recording.goal && !recording.searching) {
       if (recording.has_choreography) {
         set(values, "success", recording.choreography_completed && !collided ? 1.0 : 0.0);
       } else {

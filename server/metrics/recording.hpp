@@ -52,6 +52,7 @@ struct Recording {
   /// Length of the shortest collision-free path from the start to the goal on the map's grid inflated
   /// by the robot's radius, people ignored; empty without a goal or a path.
   std::optional<double> shortest_path_length;
+  bool searching = false;  ///< the robot's controller searches for a person
   bool has_choreography = false;
   bool choreography_completed = false;
   std::string termination;  ///< goal, collision, timeout, scenario_end, cancelled, error

@@ -28,14 +28,14 @@ unsigned bit(Posture posture) { return 1u << static_cast<unsigned>(posture); }
 
 /// The posture an activity needs to begin, if it needs one (a pause keeps whatever the body is in).
 std::optional<Posture> needs(const Activity& activity) {
-  if (activity.kind == Activity::Kind::walk) return Posture::standing;
+  if (activity.kind == Activity::Kind::walk || activity.kind == Activity::Kind::turn) return Posture::standing;
   if (activity.kind == Activity::Kind::motion) return posture_at(*humans::builtin_motion(activity.motion), 0.0);
   return std::nullopt;
 }
 
 /// The postures an activity leaves the body in, begun in any of `entered`.
 unsigned leaves(const Activity& activity, unsigned entered) {
-  if (activity.kind == Activity::Kind::walk) return bit(Posture::standing);
+  if (activity.kind == Activity::Kind::walk || activity.kind == Activity::Kind::turn) return bit(Posture::standing);
   if (activity.kind == Activity::Kind::motion) {
     const humans::MotionClip& clip = *humans::builtin_motion(activity.motion);
     return bit(posture_at(clip, clip.duration()));
@@ -115,6 +115,13 @@ class ModelReader {
         }
         activity.locations.push_back(locations_.at(place));
       }
+    }
+    if (definition.contains("turn")) {
+      activity.kind = Activity::Kind::turn;
+      const json& range = definition["turn"];
+      activity.min_angle = range.is_array() ? range.at(0).get<double>() : range.get<double>();
+      activity.max_angle = range.is_array() ? range.at(1).get<double>() : activity.min_angle;
+      if (activity.max_angle < activity.min_angle) error(at + "/turn", "the largest angle is smaller than the smallest");
     }
     const char* key = definition.contains("wait") ? "wait" : "duration";
     if (definition.contains(key)) {

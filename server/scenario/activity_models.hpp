@@ -24,13 +24,15 @@ inline constexpr double kLyingRootDrop = 0.6;
 Posture posture_at(const humans::MotionClip& clip, double time);
 
 struct Activity {
-  enum class Kind { motion, walk, wait };
+  enum class Kind { motion, walk, wait, turn };
   std::string name;
   Kind kind = Kind::wait;
   std::string motion;          ///< motion: a shipped primitive
   std::vector<int> locations;  ///< walk: one is drawn, each equally likely
   double min_duration = 0.0;   ///< motion, wait: the duration is drawn uniformly in [min, max], s
   double max_duration = 0.0;
+  double min_angle = 0.0;      ///< turn: the angle is drawn uniformly in [min, max], rad (positive: to the left)
+  double max_angle = 0.0;
 };
 
 /// Transition probabilities: row i gives the next activity's probabilities after activity i.

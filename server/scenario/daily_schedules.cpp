@@ -158,12 +158,18 @@ std::vector<int> DailySchedule::rooms_by_presence(int hour) const {
 Clock read_clock(const nlohmann::json& clock, Errors& errors) {
   Clock result;
   result.speed = clock.value("speed", 1.0);
-  const std::string start = clock.value("start", "00:00");
-  const auto seconds = parse_time_of_day(start);
-  if (!seconds) {
-    errors.push_back({"/clock/start", "'" + start + "' is not a time of day: write HH:MM or HH:MM:SS (00:00 to 23:59:59)"});
+  const json start = clock.value("start", json("00:00"));
+  const auto read = [&](const json& text, const std::string& at) {
+    const auto seconds = parse_time_of_day(text.get<std::string>());
+    if (!seconds) errors.push_back({at, "'" + text.get<std::string>() + "' is not a time of day: write HH:MM or HH:MM:SS (00:00 to 23:59:59)"});
+    return seconds.value_or(0.0);
+  };
+  if (start.is_array()) {
+    result.start = read(start[0], "/clock/start/0");
+    result.latest_start = read(start[1], "/clock/start/1");
+    if (result.latest_start < result.start) errors.push_back({"/clock/start", "the latest start is earlier than the earliest: the clock does not run over midnight here"});
   } else {
-    result.start = *seconds;
+    result.start = result.latest_start = read(start, "/clock/start");
   }
   return result;
 }

@@ -25,6 +25,8 @@ inline constexpr double kSecondsPerDay = kHoursPerDay * kSecondsPerHour;
 struct Clock {
   double start = 0.0;  ///< s after midnight
   double speed = 1.0;
+  /// A start drawn per session, uniformly in [start, latest_start] (equal: a fixed start), s.
+  double latest_start = 0.0;
 };
 
 /// Seconds after midnight (in [0, 86400)) at simulated time `time`.

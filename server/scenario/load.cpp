@@ -37,7 +37,7 @@ RobotController::Kind controller_kind(std::string_view type) {
   using Kind = RobotController::Kind;
   static constexpr std::pair<std::string_view, Kind> kKinds[] = {
       {"idle", Kind::idle}, {"goal", Kind::goal}, {"social", Kind::social}, {"teleop", Kind::teleop},
-      {"dwa", Kind::dwa},   {"orca", Kind::orca}, {"social_force", Kind::social_force}};
+      {"dwa", Kind::dwa},   {"orca", Kind::orca}, {"social_force", Kind::social_force}, {"search", Kind::search}};
   for (const auto& [name, kind] : kKinds) {
     if (name == type) return kind;
   }
@@ -365,6 +365,29 @@ class Loader {
     }
   }
 
+  /// The search controller's person and strategy, and what it needs: a people detector, and rooms
+  /// with lookouts (and, to search by presence, the person's daily schedule).
+  void read_search(const Model& model, const json& controller, const std::string& pointer, AgentDef& robot) {
+    RobotController& search = robot.controller;
+    search.search_strategy = controller.value("strategy", "presence") == "sweep" ? RobotController::SearchStrategy::sweep
+                                                                                : RobotController::SearchStrategy::presence;
+    const std::string person = controller.value("person", "");
+    const auto found = names_.agents.find(person);
+    if (found == names_.agents.end() || model.agents[found->second].kind != AgentKind::human) {
+      error(pointer + "/person", "the search controller looks for a human of the scenario; '" + person + "' is none");
+    } else {
+      search.search_person = found->second;
+      if (search.search_strategy == RobotController::SearchStrategy::presence && model.agents[found->second].daily_schedule < 0) {
+        error(pointer + "/strategy", "searching by presence needs '" + person + "' to live by a daily schedule (or use \"strategy\": \"sweep\")");
+      }
+    }
+    if (!robot.people_detector) error(pointer, "the search controller finds people with the robot's people_detector: give the robot one");
+    if (model.rooms.empty()) error(pointer, "the search controller looks into the scenario's rooms: declare them in 'rooms'");
+    for (const Room& room : model.rooms) {
+      if (room.lookout < 0) error("/rooms/" + core::pointer_token(room.name), "the search controller looks into every room from its lookout: give '" + room.name + "' one");
+    }
+  }
+
   int find_daily_schedule(const Model& model, const std::string& name, const std::string& pointer) {
     for (std::size_t s = 0; s < model.daily_schedules.size(); ++s) {
       if (model.daily_schedules[s].name == name) return static_cast<int>(s);
@@ -429,6 +452,7 @@ class Loader {
       }
     }
     if (entry.contains("people_detector")) agent.people_detector = sensors::read_people_detector_params(entry["people_detector"]);
+    if (agent.controller.kind == RobotController::Kind::search) read_search(model, entry["controller"], pointer + "/controller", agent);
     if (entry.contains("joints")) {
       if (!agent.robot_model) error(pointer + "/joints", "only a robot with a model has joints");
       for (const auto& [joint, position] : entry["joints"].items()) {

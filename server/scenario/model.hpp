@@ -129,10 +129,15 @@ struct Group {
 /// teleop drives to its goal, if it has one, and along the choreography's gotos: goal by blind pure
 /// pursuit, social, dwa, orca and social_force each with their local planner (docs/robots/controllers.md).
 struct RobotController {
-  enum class Kind { idle, goal, social, teleop, dwa, orca, social_force };
+  enum class Kind { idle, goal, social, teleop, dwa, orca, social_force, search };
+  /// How the search controller orders the rooms: by the person's presence probability at the
+  /// current hour, or the nearest unvisited room next (a sweep that knows nothing of the person).
+  enum class SearchStrategy { presence, sweep };
   Kind kind = Kind::idle;
   std::optional<Pose2> goal;  ///< where to drive, if anywhere
   double goal_radius = kDefaultGoalRadius;
+  int search_person = -1;  ///< search: the human to find
+  SearchStrategy search_strategy = SearchStrategy::presence;
 };
 
 struct AgentDef {

@@ -26,6 +26,8 @@ PeopleDetectorParams read_people_detector_params(const nlohmann::json& settings,
   params.velocity_noise = settings.value("velocity_noise", params.velocity_noise);
   params.miss_probability = settings.value("miss_probability", params.miss_probability);
   params.rate = settings.value("rate", params.rate);
+  params.face_range = settings.value("face_range", params.face_range);
+  params.face_max_yaw = settings.value("face_max_yaw", params.face_max_yaw);
   return params;
 }
 
@@ -54,6 +56,8 @@ void PeopleDetector::detect(const RayScene& scene, const Vec2& origin, double he
     const Vec2 seen = detection.position - origin;
     detection.range = seen.norm();
     detection.bearing = core::wrap_angle(core::polynomial_atan2(seen.y(), seen.x()) - heading);
+    const double yaw = core::wrap_angle(core::polynomial_atan2(-offset.y(), -offset.x()) - person.heading);
+    detection.face_visible = distance <= params_.face_range && std::abs(yaw) <= params_.face_max_yaw;
     detections.push_back(detection);
   }
 }

@@ -59,14 +59,12 @@ scenario::Action action_for(const scenario::ActivityModel& model, const Activity
       action.kind = Kind::wait_duration;
       action.value = duration;
       break;
+    case Activity::Kind::turn:
+      action.kind = Kind::turn_by;
+      action.value = random.uniform(activity.min_angle, activity.max_angle);
+      break;
   }
   return action;
-}
-
-/// The posture a person is in between activities: the end of the motion they hold, if any.
-scenario::Posture posture_of(const AgentState& self) {
-  if (!self.motion || self.motion_released_tick >= 0) return scenario::Posture::standing;
-  return scenario::posture_at(*self.motion, self.motion->duration());
 }
 
 void begin_activity(const scenario::Model& model, State& state, int agent, const scenario::ActivityModel& living) {
@@ -91,7 +89,7 @@ void push_own_action(State& state, int agent, scenario::Action action) {
 
 /// The clock's reading, in seconds since midnight of its first day, at the current tick.
 double clock_seconds(const scenario::Model& model, const State& state) {
-  return model.clock->start + model.clock->speed * static_cast<double>(state.tick) * model.dt;
+  return state.clock_start + model.clock->speed * static_cast<double>(state.tick) * model.dt;
 }
 
 /// A stay whose time is up ends a pause or a walk under way at once; a motion plays to its end.
@@ -113,7 +111,7 @@ void end_stay_if_due(State& state, int agent) {
 void begin_stay(const scenario::Model& model, State& state, int agent, const scenario::DailySchedule& schedule) {
   AgentState& self = state.agents[agent];
   const double now = clock_seconds(model, state);
-  const int hour = static_cast<int>(scenario::time_of_day(*model.clock, static_cast<double>(state.tick) * model.dt) / scenario::kSecondsPerHour);
+  const int hour = static_cast<int>(scenario::time_of_day(session_clock(model, state), static_cast<double>(state.tick) * model.dt) / scenario::kSecondsPerHour);
   const int room = draw_next(schedule.presence[static_cast<std::size_t>(hour)], self.activity_random);
   const double hour_ends = (std::floor(now / scenario::kSecondsPerHour) + 1.0) * scenario::kSecondsPerHour;
   const double ends = std::min(now + self.activity_random.uniform(schedule.min_stay, schedule.max_stay), hour_ends);
@@ -124,7 +122,9 @@ void begin_stay(const scenario::Model& model, State& state, int agent, const sce
     self.activity = -1;
   }
   emit(model, state, "stay_started", model.agents[agent].id,
-       {{"room", model.rooms[room].name}, {"until", scenario::format_time_of_day(std::fmod(ends, scenario::kSecondsPerDay))}});
+       {{"room", model.rooms[room].name},
+        {"at", scenario::format_time_of_day(std::fmod(now, scenario::kSecondsPerDay))},
+        {"until", scenario::format_time_of_day(std::fmod(ends, scenario::kSecondsPerDay))}});
 }
 
 /// Sets off to a free spot of the stay's room, standing up first if need be.
@@ -182,6 +182,17 @@ void follow_schedule(const scenario::Model& model, State& state, int agent) {
 }
 
 }  // namespace
+
+scenario::Posture posture_of(const AgentState& self) {
+  if (!self.motion || self.motion_released_tick >= 0) return scenario::Posture::standing;
+  return scenario::posture_at(*self.motion, self.motion->duration());
+}
+
+scenario::Clock session_clock(const scenario::Model& model, const State& state) {
+  scenario::Clock clock = *model.clock;
+  clock.start = clock.latest_start = state.clock_start;
+  return clock;
+}
 
 bool anyone_lives_on(const scenario::Model& model) {
   return std::any_of(model.agents.begin(), model.agents.end(),

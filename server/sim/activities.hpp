@@ -14,6 +14,14 @@ inline constexpr double kPlacesTakenWait = 1.0;
 /// limit (or its task's end) rather than ending with the choreography.
 bool anyone_lives_on(const scenario::Model& model);
 
+/// The posture a person's motion leaves them in (standing without one): seated or lying people hold it
+/// until they stand up, and others walk round them.
+scenario::Posture posture_of(const AgentState& self);
+
+/// The scenario's clock as this session keeps it (its start drawn when the scenario gives a range);
+/// the scenario must have a clock.
+scenario::Clock session_clock(const scenario::Model& model, const State& state);
+
 /// The activity model a person lives by now: their own, or their daily schedule's for the room they
 /// are in; null for anyone else.
 const scenario::ActivityModel* activity_model_of(const scenario::Model& model, const State& state, int agent);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "sim/activities.hpp"
+#include "sim/search.hpp"
 #include "sim/events.hpp"
 #include "sim/walking.hpp"
 
@@ -316,6 +317,7 @@ void update_requests(const scenario::Model& model, State& state) {
 /// A robot still driving to its own controller's goal: the scenario waits for it, so a navigation
 /// episode ends when the robot arrives (or at the time limit), not when the people are done.
 bool robot_on_its_way(const State& state) {
+  if (anyone_searching(state)) return true;
   return std::any_of(state.robots.begin(), state.robots.end(), [&state](const RobotRuntime& runtime) {
     const AgentState& self = state.agents[runtime.agent];
     return runtime.controller.goal && self.active && self.navigating && self.goal == runtime.controller.goal->position();

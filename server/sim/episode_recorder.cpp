@@ -32,6 +32,7 @@ EpisodeRecorder::EpisodeRecorder(const Session& session, RecorderLimits limits)
   recording_.has_robot = robot_ >= 0;
   if (robot_ >= 0) {
     const scenario::RobotController& controller = model.agents[robot_].controller;
+    recording_.searching = controller.kind == scenario::RobotController::Kind::search;
     if (controller.goal && controller.kind != scenario::RobotController::Kind::idle) {
       recording_.goal = controller.goal->position();
       recording_.goal_radius = controller.goal_radius;

@@ -5,6 +5,7 @@
 #include "robots/controllers.hpp"
 #include "robots/local_planners.hpp"
 #include "sim/events.hpp"
+#include "sim/search.hpp"
 #include "sim/walking.hpp"
 
 namespace hrisim::sim {
@@ -34,7 +35,8 @@ robots::Twist follow_path(const scenario::Model& model, const State& state, cons
       for (const robots::Person& person : people) positions.push_back(person.position);
       return robots::follow_velocity(pose, robots::social_velocity(pose, path, speed, positions, motion.radius));
     }
-    case Kind::dwa: return robots::dynamic_window(motion, path, speed, around);
+    case Kind::dwa:
+    case Kind::search: return robots::dynamic_window(motion, path, speed, around);
     case Kind::orca: return robots::follow_velocity(pose, robots::orca_velocity(motion, path, speed, around, model.dt), robots::kPlannerTurnOnTheSpotAngle);
     case Kind::social_force:
       return robots::follow_velocity(pose, robots::social_force_velocity(motion, path, speed, around, model.dt), robots::kPlannerTurnOnTheSpotAngle);
@@ -50,7 +52,10 @@ void decide_robots(const scenario::Model& model, State& state) {
     const AgentState& self = state.agents[runtime.agent];
     const Pose2 pose = runtime.robot.pose();
     robots::Twist command = runtime.command;  // teleoperation, or an external controller
-    if (runtime.controller.kind == Kind::teleop) {
+    const std::optional<robots::Twist> searching = runtime.controller.kind == Kind::search ? search_command(model, state, runtime) : std::nullopt;
+    if (searching) {
+      command = *searching;
+    } else if (runtime.controller.kind == Kind::teleop) {
       // Under external control: its commands drive the robot, even along a choreography's goto.
     } else if (self.navigating && !self.path.empty()) {
       command = follow_path(model, state, runtime, std::vector<Vec2>(self.path.begin() + static_cast<std::ptrdiff_t>(self.path_index), self.path.end()));

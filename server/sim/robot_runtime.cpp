@@ -64,6 +64,10 @@ void RobotRuntime::hash(core::StateHasher& hasher) const {
   for (const Eigen::Vector3d* point : {&grip_from, &grip_to}) hasher.add(point->x()).add(point->y()).add(point->z());
   // What the controller and the sensors hold: the latest readings are state too.
   hasher.add(static_cast<int>(controller.kind)).add(controller.goal.has_value());
+  hasher.add(static_cast<std::uint64_t>(search.looked_into.size()));
+  for (const std::uint8_t done : search.looked_into) hasher.add(done != 0);
+  hasher.add(search.room).add(search.scanning).add(search.turned).add(search.last_heading);
+  hasher.add(search.closest).add(search.closer_tick).add(search.found);
   for (const LaserSensor& sensor : lasers) {
     hasher.add(sensor.reading.tick).add(sensor.reading.pose.x).add(sensor.reading.pose.y).add(sensor.reading.pose.theta).add(sensor.reading.height);
     hasher.add(std::span<const double>(sensor.reading.ranges));
@@ -71,7 +75,7 @@ void RobotRuntime::hash(core::StateHasher& hasher) const {
   hasher.add(people.tick).add(static_cast<std::uint64_t>(people.people.size()));
   for (const sensors::Detection& person : people.people) {
     hasher.add(person.agent).add(person.position.x()).add(person.position.y()).add(person.velocity.x()).add(person.velocity.y());
-    hasher.add(person.range).add(person.bearing);
+    hasher.add(person.range).add(person.bearing).add(person.face_visible);
   }
   hasher.add(odometry_reading.tick).add(odometry_reading.pose.x).add(odometry_reading.pose.y).add(odometry_reading.pose.theta);
   hasher.add(odometry_reading.twist.linear).add(odometry_reading.twist.angular);

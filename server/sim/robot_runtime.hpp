@@ -132,6 +132,17 @@ struct RobotRuntime {
   Eigen::Vector3d grip_from = Eigen::Vector3d::Zero(), grip_to = Eigen::Vector3d::Zero();
   /// Its grip slipped: it grasps again only after opening.
   bool slipped = false;
+  /// The search controller's progress: the rooms looked into, the room it goes to or looks around in,
+  /// how far it has turned there, and whether it found the person.
+  struct Search {
+    std::vector<std::uint8_t> looked_into;
+    int room = -1;
+    bool scanning = false;
+    double turned = 0.0, last_heading = 0.0;
+    double closest = 0.0;              ///< to the lookout so far, m
+    std::int64_t closer_tick = 0;      ///< when it last came kSearchProgress closer
+    bool found = false;
+  } search;
 
   void hash(core::StateHasher& hasher) const;
 };

@@ -148,7 +148,7 @@ void sense(const scenario::Model& model, State& state, const PhysicsBodies& phys
       std::vector<sensors::PersonTruth> people;
       for (std::size_t i = 0; i < state.agents.size(); ++i) {
         if (state.agents[i].active && model.agents[i].kind == scenario::AgentKind::human) {
-          people.push_back({static_cast<int>(i), state.agents[i].position, state.agents[i].velocity, kPersonRadius});
+          people.push_back({static_cast<int>(i), state.agents[i].position, state.agents[i].velocity, kPersonRadius, state.agents[i].heading});
         }
       }
       runtime.people_detector->detect(scene, from.position(), from.theta, people, runtime.sensor_random, runtime.people.people);

@@ -10,6 +10,7 @@
 #include "sim/choreography.hpp"
 #include "sim/doors_and_elevators.hpp"
 #include "sim/robot_control.hpp"
+#include "sim/search.hpp"
 #include "sim/sensing.hpp"
 
 namespace hrisim::sim {
@@ -27,6 +28,10 @@ State initial_state(const scenario::Model& model, std::uint64_t seed) {
   State state;
   state.random = core::Random(seed);
   state.time_limit = model.time_limit;
+  if (model.clock) {
+    core::Random clock = state.random.stream("clock");
+    state.clock_start = model.clock->latest_start > model.clock->start ? clock.uniform(model.clock->start, model.clock->latest_start) : model.clock->start;
+  }
   core::Random speeds = state.random.stream("humans.preferred_speed");
   for (const scenario::AgentDef& def : model.agents) {
     AgentState agent;
@@ -121,6 +126,7 @@ void Session::tick() {
   ++state_.tick;
   if (physics_.world) step_physics(model, state_, physics_);  // the state after this tick: its events carry the new tick, as sensors do
   sense(model, state_, physics_, bodies_);
+  notice_people_found(model, state_);
   end_at_time_limit();
 }
 

@@ -209,11 +209,12 @@ struct State {
   /// What the planner searched already: later plans to the same goal follow its field.
   world::PlanningHistory planning_history;
   double time_limit = 0.0;  ///< s of simulation time; the episode ends there
+  double clock_start = 0.0;  ///< the scenario clock's time of day at t = 0 (drawn when the scenario says), s
   bool finished = false;
   std::string termination;  ///< "scenario_end", "timeout" or "goal" once finished
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, requests, next_request_id, scheduled, events, events_digest, commanded, random, robots, object_poses, planning_history, time_limit, finished, termination); }
+  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, requests, next_request_id, scheduled, events, events_digest, commanded, random, robots, object_poses, planning_history, time_limit, clock_start, finished, termination); }
 };
 
 /// Hash of everything in the state, bit for bit.

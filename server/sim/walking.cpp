@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/portable_math.hpp"
+#include "sim/activities.hpp"
 #include "sim/behaviours.hpp"
 #include "sim/choreography.hpp"
 #include "sim/doors_and_elevators.hpp"
@@ -161,7 +162,10 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     crowd.position = self.position;
     crowd.radius = def.radius;
     crowd.avoidance = def.avoidance;
-    crowd.controlled = def.kind == AgentKind::robot || self.rooted;  // a controlled agent keeps its velocity
+    // A controlled agent keeps its velocity: robots, and people held in place (rooted, or seated or
+    // lying where they are going nowhere: others walk round them).
+    const bool held = self.rooted || (!self.navigating && self.motion && posture_of(self) != scenario::Posture::standing);
+    crowd.controlled = def.kind == AgentKind::robot || held;
     crowd.preferred_velocity = preferred;
     crowd.personal_space = self.personal_space;
     crowd.robots_as_obstacles = self.behaviour.type == humans::BehaviourType::impassive;
@@ -170,7 +174,7 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     crowd.place = self.reserved_space;
     crowd.max_speed = std::max(self.preferred_speed * humans::kMaxSpeedFactor, 1e-3);
     crowd.velocity = !crowd.controlled ? self.velocity
-                     : self.rooted     ? Vec2::Zero()
+                     : held            ? Vec2::Zero()
                      : def.robot_model ? self.velocity  // where its base is taking it
                      : self.navigating ? preferred
                                        : self.commanded_velocity;

@@ -99,6 +99,10 @@ TEST(DailySchedules, RoomsModelsAndTheClockMustExist) {
   EXPECT_EQ(error_at(home({{"clock", nullptr}}), "/daily_schedules"), "daily schedules need the scenario's 'clock' (its start time of day and speed)");
   EXPECT_EQ(error_at(home({{"clock", {{"start", "25:00"}}}}), "/clock/start"),
             "'25:00' is not a time of day: write HH:MM or HH:MM:SS (00:00 to 23:59:59)");
+  EXPECT_EQ(error_at(home({{"clock", {{"start", {"20:00", "08:00"}}}}}), "/clock/start"),
+            "the latest start is earlier than the earliest: the clock does not run over midnight here");
+  EXPECT_EQ(error_at(home({{"clock", {{"start", {"08:00", "8h"}}}}}), "/clock/start/1"),
+            "'8h' is not a time of day: write HH:MM or HH:MM:SS (00:00 to 23:59:59)");
   EXPECT_EQ(error_at(home({{"humans", {{{"id", "ada"}, {"start", {{"x", 5}, {"y", 8}}}, {"daily_schedule", "bob"}}}}}), "/humans/0/daily_schedule"),
             "unknown daily schedule 'bob'");
   EXPECT_EQ(error_at(home({{"daily_schedules", {{"ada", {{"stay", {30, 10}}}}}}}), "/daily_schedules/ada/stay"),

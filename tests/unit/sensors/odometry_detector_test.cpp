@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <numbers>
 
 #include "sensors/odometry.hpp"
@@ -92,6 +93,38 @@ TEST(PeopleDetector, MissesAndNoiseFollowTheParameters) {
   }
   EXPECT_NEAR(1.0 - static_cast<double>(seen) / trials, 0.05, 0.012);
   EXPECT_NEAR(std::sqrt(sum_squares / seen), 0.05, 0.003);
+}
+
+TEST(PeopleDetector, AFaceIsVisibleWhenThePersonFacesTheSensorWithinRange) {
+  PeopleDetectorParams params;
+  params.miss_probability = 0.0;
+  params.position_noise = params.velocity_noise = 0.0;
+  const PeopleDetector detector(params);
+  const double pi = std::numbers::pi;
+  // Everyone on the sensor's x axis or near it; headings relative to facing the sensor (pi at x > 0).
+  const std::vector<PersonTruth> people{
+      {0, {2.0, 0.0}, {0.0, 0.0}, 0.2, pi},                     // facing the sensor
+      {1, {2.0, 1.0}, {0.0, 0.0}, 0.2, pi},                     // looking past it, 26.6 degrees off: still frontal
+      {2, {3.0, -1.5}, {0.0, 0.0}, 0.2, pi / 2},                // turned 63 degrees away: a profile
+      {3, {-1.0, 2.5}, {0.0, 0.0}, 0.2, std::atan2(-2.5, 1.0)},  // facing the sensor, 2.7 m away
+      {4, {0.0, -3.0}, {0.0, 0.0}, 0.2, -pi / 2},               // its back to the sensor
+      {5, {4.0, -1.0}, {0.0, 0.0}, 0.2, std::atan2(1.0, -4.0)}};  // facing it, 4.1 m away: beyond the face range
+  RayScene scene;
+  for (const PersonTruth& person : people) scene.add(Circle{person.position, person.radius});
+  core::Random random(1);
+  std::vector<Detection> detections;
+  detector.detect(scene, {0.0, 0.0}, 0.0, people, random, detections);
+  std::map<int, bool> face;
+  for (const Detection& detection : detections) face[detection.agent] = detection.face_visible;
+  ASSERT_EQ(face.size(), 6u) << "every body is seen";
+  EXPECT_TRUE(face[0]);
+  EXPECT_TRUE(face[1]);
+  EXPECT_FALSE(face[2]);
+  EXPECT_TRUE(face[3]);
+  EXPECT_FALSE(face[4]);
+  EXPECT_FALSE(face[5]);
+  EXPECT_DOUBLE_EQ(params.face_range, kFaceRange);
+  EXPECT_DOUBLE_EQ(params.face_max_yaw, pi / 4);
 }
 
 }  // namespace

@@ -8,8 +8,10 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <set>
 
 #include "scenario/load.hpp"
+#include "sim/activities.hpp"
 #include "sim/session.hpp"
 #include "support/scenarios.hpp"
 
@@ -39,7 +41,7 @@ TEST(DailySchedules, AWeeksPresenceMatchesTheFamilysTables) {
   const auto model = testing::load_valid(family_day(7));
   ASSERT_TRUE(model);
   Session session(model, 2024);
-  const scenario::Clock& clock = *model->clock;
+  const scenario::Clock clock = session_clock(*model, session.state());
   struct Tally {
     std::map<std::vector<double>, std::vector<double>> by_row;  ///< a table row → how often in each room
     int samples = 0, at_a_spot = 0;
@@ -110,7 +112,7 @@ TEST(DailySchedules, StaysEndWithTheirHourAndNobodyWalksOffSeated) {
       if (event.kind != "stay_started") continue;
       stays += 1;
       // "until" is at most the next full hour of the clock.
-      const double now = scenario::time_of_day(*model->clock, event.time);
+      const double now = scenario::time_of_day(session_clock(*model, session.state()), event.time);
       const std::string until = event.data["until"];
       const double until_seconds = std::stoi(until.substr(0, 2)) * 3600.0 + std::stoi(until.substr(3, 2)) * 60.0 + std::stoi(until.substr(6, 2));
       const double next_hour = (std::floor(now / 3600.0) + 1.0) * 3600.0;
@@ -141,6 +143,23 @@ TEST(DailySchedules, TheSameSeedGivesTheSameDay) {
   }
   EXPECT_EQ(first.state_hash(), second.state_hash());
   EXPECT_NE(first.state_hash(), other.state_hash());
+}
+
+TEST(DailySchedules, AClockStartGivenAsARangeIsDrawnPerSession) {
+  json document = family_day(0.1);
+  document["clock"]["start"] = {"08:00", "20:00"};
+  const auto model = testing::load_valid(document);
+  ASSERT_TRUE(model);
+  std::set<double> starts;
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const Session session(model, seed);
+    const double start = session.state().clock_start;
+    EXPECT_GE(start, 8 * 3600.0);
+    EXPECT_LE(start, 20 * 3600.0);
+    EXPECT_EQ(start, Session(model, seed).state().clock_start) << "the same seed, the same start";
+    starts.insert(start);
+  }
+  EXPECT_EQ(starts.size(), 20u);
 }
 
 }  // namespace

@@ -22,7 +22,7 @@ using nlohmann::json;
 
 constexpr int kGoldenTicks = 600;
 const std::string kGoldenFile = std::string(HRISIM_SOURCE_DIR) + "/tests/golden/state_hashes.json";
-const char* const kScenarios[] = {"apartment",          "approach_human",     "approach_human_apartment", "conversation_group",
+const char* const kScenarios[] = {"apartment",          "apartment_search",   "approach_human",     "approach_human_apartment", "conversation_group",
                                   "corridor_navigation", "corridor_passing",   "crossing_navigation",      "elevator",
                                   "family_day",          "follow_human",        "mirror_gesture",     "pair_walking",             "perpendicular_crossing",
                                   "pick_and_place",      "queue"};
