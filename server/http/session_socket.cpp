@@ -30,7 +30,7 @@ class SessionSocket : public WebSocketPeer {
     Response (SessionSocket::*handle)(const std::shared_ptr<Live>&, json&);
     bool changes_session;
   };
-  static const std::array<MessageType, 9> kMessageTypes;
+  static const std::array<MessageType, 10> kMessageTypes;
 
   /// Holds no reference to the session: a deleted one is freed, and the socket then closes.
   SessionSocket(std::shared_ptr<Registry> registry, const std::shared_ptr<Live>& live, Caller caller)
@@ -141,6 +141,16 @@ class SessionSocket : public WebSocketPeer {
     });
   }
 
+  Response on_audio(const std::shared_ptr<Live>& live, json& body) {
+    refuse_unknown_keys(body, {"robot"});
+    if (!body.contains("robot") || !body["robot"].is_string()) {
+      throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
+    }
+    return answer_locked(live, [robot = body["robot"].get<std::string>()](Live& session) {
+      return Response{200, kBinaryContentType, audio_of(session.session(), robot), {}, {}};
+    });
+  }
+
   Response on_camera(const std::shared_ptr<Live>& live, json& body) {
     refuse_unknown_keys(body, {"camera", "width", "height", "ids"});
     if (!body.contains("camera") || !body["camera"].is_string()) {
@@ -233,7 +243,7 @@ class SessionSocket : public WebSocketPeer {
   std::uint64_t pushed_generation_ = 0;  ///< the session's resets when the last frame was pushed
 };
 
-const std::array<SessionSocket::MessageType, 9> SessionSocket::kMessageTypes{{
+const std::array<SessionSocket::MessageType, 10> SessionSocket::kMessageTypes{{
     {"step", &SessionSocket::on_step, true},
     {"commands", &SessionSocket::on_commands, true},
     {"snapshot", &SessionSocket::on_snapshot, true},
@@ -241,6 +251,7 @@ const std::array<SessionSocket::MessageType, 9> SessionSocket::kMessageTypes{{
     {"state", &SessionSocket::on_state, false},
     {"sensors", &SessionSocket::on_sensors, false},
     {"laser", &SessionSocket::on_laser, false},
+    {"audio", &SessionSocket::on_audio, false},
     {"camera", &SessionSocket::on_camera, false},
     {"subscribe", &SessionSocket::on_subscribe, false},
 }};

@@ -150,6 +150,23 @@ json space_json(const tasks::Space& space, const std::optional<tasks::ImageObser
 }
 
 /// A robot's latest sensor readings and its joints (the session's lock held).
+/// A listening robot's array: its last block's place in the audio stream and the direction of arrival
+/// (in the array link's frame and as a bearing in the map), null before the first reading or in silence.
+static json microphones_json(const sim::RobotRuntime& runtime) {
+  const sim::RobotRuntime::Hearing& hearing = *runtime.hearing;
+  json direction = nullptr;
+  if (hearing.reading) {
+    const auto& description = runtime.robot.description();
+    const Eigen::Isometry3d link = runtime.robot.link_poses()[static_cast<std::size_t>(description.find_link(hearing.microphones.array().link))];
+    const Eigen::Vector3d along = link.rotation() * Eigen::Vector3d(std::cos(hearing.reading->azimuth), std::sin(hearing.reading->azimuth), 0.0);
+    direction = {{"tick", hearing.reading_tick}, {"azimuth", hearing.reading->azimuth}, {"bearing", std::atan2(along.y(), along.x())},
+                 {"power", hearing.reading->power}};
+  }
+  return {{"link", hearing.microphones.array().link}, {"channels", hearing.block.channels}, {"sample_rate", sensors::kSampleRate},
+          {"first_sample", hearing.block.first_sample}, {"samples", hearing.block.samples}, {"direction", direction},
+          {"direction_tick", hearing.reading_tick}};
+}
+
 json sensors_of(const sim::Session& session, const std::string& name) {
   const int agent = session.model().find_agent(name);
   if (agent < 0) throw core::Error(core::ErrorCode::not_found, "no agent '" + name + "'", {{"name", name}});
@@ -198,6 +215,8 @@ json sensors_of(const sim::Session& session, const std::string& name) {
     force_torque.push_back({{"sensor", reading.sensor}, {"tick", reading.tick}, {"force", xyz(reading.force)}, {"torque", xyz(reading.torque)}});
   }
   const sim::OdometryReading& odometry = runtime->odometry_reading;
+  json microphones = nullptr;
+  if (runtime->hearing) microphones = microphones_json(*runtime);
   return {{"robot", name},
           {"tick", session.state().tick},
           {"lasers", lasers},
@@ -208,7 +227,8 @@ json sensors_of(const sim::Session& session, const std::string& name) {
           {"force_torque", force_torque},
           {"joints", joints},
           {"gripper_closed", runtime->robot.gripper_closed()},
-          {"contacts", contacts}};
+          {"contacts", contacts},
+          {"microphones", microphones}};
 }
 
 /// Every agent's and movable object's pose.
@@ -261,6 +281,33 @@ static std::string laser_frame(const sim::LaserReading& reading, double dt) {
   put(48, static_cast<float>(reading.range_max));
   put(52, static_cast<std::uint32_t>(reading.ranges.size()));
   for (std::size_t i = 0; i < reading.ranges.size(); ++i) put(56 + 4 * i, static_cast<float>(reading.ranges[i]));
+  return frame;
+}
+
+std::string audio_of(const sim::Session& session, const std::string& robot) {
+  static_assert(std::endian::native == std::endian::little, "binary frames are written in the host's byte order");
+  const int agent = session.model().find_agent(robot);
+  const sim::RobotRuntime* runtime = agent < 0 ? nullptr : session.robot_runtime(session.agent_id(robot));
+  if (!runtime) throw core::Error(core::ErrorCode::not_found, "no robot with a model named '" + robot + "'", {{"pointer", "/robot"}});
+  if (!runtime->hearing) {
+    throw core::Error(core::ErrorCode::not_found, "robot '" + robot + "' does not listen: give it \"microphones\" in the scenario", {{"pointer", "/robot"}});
+  }
+  const sensors::AudioBlock& block = runtime->hearing->block;
+  constexpr std::size_t kHeader = 48;
+  std::string frame(kHeader + 4 * block.data.size(), '\0');
+  char* out = frame.data();
+  const auto put = [&](std::size_t offset, auto value) { std::memcpy(out + offset, &value, sizeof value); };
+  std::memcpy(out, "HRAU", 4);
+  put(4, std::uint16_t{1});  // format version
+  put(6, static_cast<std::uint16_t>(kHeader));
+  put(8, std::int64_t{session.state().tick});
+  put(16, session.time());
+  put(24, std::int64_t{block.first_sample});
+  put(32, static_cast<std::uint32_t>(sensors::kSampleRate));
+  put(36, static_cast<std::uint32_t>(block.channels));
+  put(40, static_cast<std::uint32_t>(block.samples));
+  put(44, std::uint32_t{0});
+  if (!block.data.empty()) std::memcpy(out + kHeader, block.data.data(), 4 * block.data.size());
   return frame;
 }
 

@@ -41,6 +41,10 @@ void add_observation(const Live& live, nlohmann::json& reply);
 nlohmann::json snapshot_json(const std::string& id, const episode::Episode::Snapshot& snapshot);
 /// A robot's laser reading by sensor name (the first laser when empty), as a binary frame.
 std::string laser_of(const sim::Session& session, const std::string& robot, const std::string& sensor);
+/// A listening robot's last tick of audio as a binary frame: a 48-byte little-endian header "HRAU"
+/// (version, header size, tick, time, first sample, sample rate, channels, samples per channel), then
+/// float32 sound pressure in Pa, channel after channel (api/asyncapi.yaml, docs/sound.md).
+std::string audio_of(const sim::Session& session, const std::string& robot);
 /// A camera's name, kind, image size, intrinsics, range, rate and pose (position and quaternion x, y, z, w).
 nlohmann::json camera_json(const sim::CameraInfo& info);
 /// A binary RGB-D frame of a camera, as a deferred answer: the scene is taken now (the caller holds

@@ -158,6 +158,12 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     });
   });
 
+  router.add("GET", "/api/v1/sessions/{id}/robots/{robot}/audio", [registry](const Request& request) {
+    return locked(registry->find(request.path_params.at("id"), request.caller), [robot = request.path_params.at("robot")](Live& live) {
+      return Response{200, kBinaryContentType, audio_of(live.session(), robot), {}, {}};
+    });
+  });
+
   router.add("GET", "/api/v1/sessions/{id}/poses", [registry](const Request& request) {
     return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) { return Response::json(200, poses_of(live.session())); });
   });

@@ -12,6 +12,7 @@
 #include "core/text.hpp"
 #include "humans/motion.hpp"
 #include "core/files.hpp"
+#include "scenario/sound_settings.hpp"
 #include "world/ros_map.hpp"
 
 namespace hrisim::scenario {
@@ -87,7 +88,9 @@ class Loader {
     read_elevators(*model);
     model->activity_models = read_activity_models(member(doc_, "activity_models"), names_.locations, errors_);
     read_daily_life(*model);
+    model->clips = read_clips(member(doc_, "clips"), options_.map_search_path, options_.limits.confine_files, errors_);
     read_agents(*model);
+    model->heard = std::any_of(model->agents.begin(), model->agents.end(), [](const AgentDef& agent) { return agent.microphones.has_value(); });
     read_objects(*model);
     collect_task_names(*model);
     read_groups(*model);
@@ -452,6 +455,7 @@ class Loader {
       }
     }
     if (entry.contains("people_detector")) agent.people_detector = sensors::read_people_detector_params(entry["people_detector"]);
+    if (entry.contains("microphones")) read_microphones(entry["microphones"], pointer + "/microphones", agent, errors_);
     if (agent.controller.kind == RobotController::Kind::search) read_search(model, entry["controller"], pointer + "/controller", agent);
     if (entry.contains("joints")) {
       if (!agent.robot_model) error(pointer + "/joints", "only a robot with a model has joints");
@@ -661,6 +665,8 @@ class Loader {
         action.value = entry["motion"].value("duration", clip->duration());
       }
       if (action.agent >= 0 && model_for_checks_->agents[action.agent].kind != AgentKind::human) error(pointer + "/agent", "only a human plays motions");
+    } else if (entry.contains("say")) {
+      read_say(entry["say"], pointer + "/say", action);
     } else {
       action.kind = Action::Kind::run_routine;
       action.target = resolve(names_.routines, entry["task"], pointer + "/task", "task");
@@ -676,6 +682,27 @@ class Loader {
       }
     }
     return action;
+  }
+
+  /// Speech for `duration` s, or a clip for its own length (the scenario's `clips`).
+  void read_say(const json& say, const std::string& pointer, Action& action) {
+    action.kind = Action::Kind::say;
+    if (say.contains("clip")) {
+      const std::string name = say["clip"];
+      const auto& clips = model_for_checks_->clips;
+      const auto found = std::find_if(clips.begin(), clips.end(), [&](const auto& clip) { return clip.first == name; });
+      if (found == clips.end()) {
+        std::string known;
+        for (const auto& clip : clips) known += (known.empty() ? "" : ", ") + clip.first;
+        error(pointer + "/clip", "unknown clip '" + name + "'" + (known.empty() ? " (none in 'clips')" : " (known: " + known + ")"));
+        return;
+      }
+      action.target = static_cast<int>(found - clips.begin());
+      action.value = static_cast<double>(found->second->samples.size()) / found->second->sample_rate;
+    } else {
+      action.value = say["duration"];
+    }
+    if (action.agent >= 0 && model_for_checks_->agents[action.agent].kind != AgentKind::human) error(pointer, "only a human speaks");
   }
 
   void read_routines(Model& model) {

@@ -3,6 +3,7 @@
 // grid, distance field and planner, named locations and social spaces, the agents' definitions, the
 // compound tasks, the steps and the asynchronous responses (IMHuS semantics, DESIGN.md §1).
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,7 +15,9 @@
 #include "humans/locomotion.hpp"
 #include "robots/description.hpp"
 #include "sensors/odometry.hpp"
+#include "sensors/microphones.hpp"
 #include "sensors/people_detector.hpp"
+#include "sensors/sound_direction.hpp"
 #include "world/occupancy_grid.hpp"
 #include "world/outline.hpp"
 #include "world/path_planner.hpp"
@@ -155,6 +158,9 @@ struct AgentDef {
   std::shared_ptr<const robots::RobotDescription> robot_model;
   RobotController controller;
   std::optional<sensors::PeopleDetectorParams> people_detector;
+  /// Its description's microphone array listens (the scenario's `microphones`), with its direction of arrival.
+  std::optional<sensors::MicrophonesParams> microphones;
+  sensors::DoaParams sound_direction;
   sensors::OdometryParams odometry;
   std::map<std::string, double> initial_joints;  ///< overrides of the model's initial joint positions
 };
@@ -188,6 +194,7 @@ struct Action {
     request,             ///< target: routine a robot asks a human to run
     play_motion,         ///< motion: a shipped motion primitive; value: seconds it plays
     set_behaviour,       ///< target: a humans::BehaviourType, taken with its defaults (a command)
+    say,                 ///< value: seconds; target: a clip (the scenario's `clips`), or -1 for synthetic speech
   };
   Kind kind = Kind::wait_duration;
   int agent = -1;   ///< acting agent in steps; -1 in routines (the invoker acts) and group actions
@@ -331,6 +338,10 @@ struct Model {
   std::optional<Clock> clock;  ///< the time of day, when the scenario keeps one
   std::vector<Room> rooms;
   std::vector<DailySchedule> daily_schedules;
+  /// Sound clips people can say (WAV files, resampled to sensors::kSampleRate), by name.
+  std::vector<std::pair<std::string, std::shared_ptr<const sensors::AudioClip>>> clips;
+  /// Some robot listens: only then does the session keep the sounds people, doors and elevators make.
+  bool heard = false;
 
   std::optional<TaskSettings> task;  ///< a benchmark task; the episode then ends by it or its length
 

@@ -13,16 +13,19 @@ Vec3 MicrophoneArray::centre() const {
   return positions.empty() ? sum : Vec3(sum / static_cast<double>(positions.size()));
 }
 
-MicrophoneArray roman_microphones() {
-  return {"head_link",
-          {{0.1, 0.06, 0.2}, {0.1, -0.06, 0.2}, {0.0, 0.09, 0.15}, {0.0, -0.09, 0.15}, {-0.09, 0.0, 0.18}, {0.0, 0.0, 0.25}}};
-}
-
-MicrophoneArray hsr_microphones() {
-  constexpr double kRadius = 0.05, kHeight = 0.2;
-  constexpr double kDiagonal = 0.70710678118654752 * kRadius;  // radius × cos 45°
-  return {"head_tilt_link",
-          {{kDiagonal, kDiagonal, kHeight}, {-kDiagonal, kDiagonal, kHeight}, {-kDiagonal, -kDiagonal, kHeight}, {kDiagonal, -kDiagonal, kHeight}}};
+std::optional<MicrophoneArray> microphone_array(const robots::RobotDescription& robot) {
+  MicrophoneArray array;
+  for (const robots::Sensor& mount : robot.sensors) {
+    if (mount.type != "microphone") continue;
+    if (array.link.empty()) array.link = mount.link;
+    if (mount.link != array.link) {
+      throw core::Error(core::ErrorCode::bad_request, "robot '" + robot.name + "': microphone '" + mount.name + "' is on " + mount.link +
+                                                          ", the array's others on " + array.link + ": an array is on one link");
+    }
+    array.positions.emplace_back(mount.origin.x, mount.origin.y, mount.origin.z);
+  }
+  if (array.positions.empty()) return std::nullopt;
+  return array;
 }
 
 std::span<const float> AudioBlock::channel(int c) const {

@@ -4,6 +4,7 @@
 // float32 samples at kSampleRate, one block per tick. An AudioHistory keeps the last few ticks for
 // the direction of arrival (sound_direction.hpp).
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "core/random.hpp"
+#include "robots/description.hpp"
 #include "sensors/sound.hpp"
 
 namespace hrisim::sensors {
@@ -29,15 +31,12 @@ struct MicrophoneArray {
   Vec3 centre() const;
 };
 
-/// ROMAN's six microphones on head_link where assets/robots/roman.json puts them: front left and
-/// right (x 0.1, y ±0.06, z 0.2), left and right (y ±0.09, z 0.15), back (x −0.09, z 0.18) and top
-/// (z 0.25). Seed 000 says only that ROMAN has six microphones; the arrangement is hrisim's.
-MicrophoneArray roman_microphones();
-/// The HSR's head array on head_tilt_link: four microphones on a horizontal circle of radius 0.05 m
-/// at 45°, 135°, 225° and 315° (front left first, counter-clockwise), centred on the head's top
-/// (z 0.2). hrisim's choice: no published geometry was found (the HSR-B's URDF, hsrb_description,
-/// has no microphone link); a four-channel circular array of 0.1 m fits the head's 0.12 m depth.
-MicrophoneArray hsr_microphones();
+/// The array of a robot's microphone mounts (type "microphone" in its description), in description
+/// order; none without. They must share one link (core::Error(bad_request) otherwise). ROMAN's six are
+/// on its head (seed 000 says only that it has six: the arrangement is hrisim's); the HSR's four on a
+/// 0.05 m circle at the head's top (hrisim's: the HSR's array geometry is not published — its URDF,
+/// hsrb_description, has no microphone link).
+std::optional<MicrophoneArray> microphone_array(const robots::RobotDescription& robot);
 
 struct MicrophonesParams {
   double self_noise = kSelfNoise;   ///< Pa RMS per channel

@@ -5,6 +5,7 @@
 
 #include "sim/activities.hpp"
 #include "sim/search.hpp"
+#include "sim/sounds.hpp"
 #include "sim/events.hpp"
 #include "sim/walking.hpp"
 
@@ -135,6 +136,10 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       self.awaited_request = open ? id : 0;
       return true;
     }
+    case Kind::say:
+      start_speaking(model, state, agent, action);
+      self.wait_until_tick = state.tick + ticks(model, action.value);
+      return true;
     case Kind::play_motion:
       self.motion = humans::builtin_motion(action.motion);
       self.motion_tick = state.tick;
@@ -181,6 +186,7 @@ bool action_done(const State& state, int agent, const Action& action) {
       return !self.target_heading;
     case Kind::harass:
     case Kind::play_motion:
+    case Kind::say:
       return state.tick >= self.wait_until_tick;
     case Kind::request:
       return std::none_of(state.requests.begin(), state.requests.end(), [&](const OpenRequest& open) { return open.id == self.awaited_request; });

@@ -34,6 +34,18 @@ RobotRuntime::RobotRuntime(int agent_index, const scenario::AgentDef& def, doubl
     reading.range_max = params.max_range;
     lasers.push_back({&mount, sensors::Laser(params), {1.0 / params.rate, 0}, std::move(reading)});
   }
+  if (def.microphones) {
+    sensors::MicrophoneArray array = *sensors::microphone_array(*def.robot_model);
+    const std::vector<sensors::Vec3> positions = array.positions;
+    hearing.emplace(Hearing{sensors::Microphones(std::move(array), *def.microphones),
+                            sensors::DirectionOfArrival(positions, def.sound_direction),
+                            sensors::AudioHistory(static_cast<int>(positions.size()), def.sound_direction.window),
+                            {},
+                            {1.0 / def.sound_direction.rate, 0},
+                            std::nullopt,
+                            -1,
+                            session_random.stream("robot." + def.id + ".microphones")});
+  }
   if (def.people_detector) {
     people_detector.emplace(*def.people_detector);
     people_schedule = {1.0 / def.people_detector->rate, 0};
@@ -59,6 +71,13 @@ void RobotRuntime::hash(core::StateHasher& hasher) const {
     add(sensor.reading.torque);
   }
   hasher.add(people_schedule.next_tick).add(odometry_schedule.next_tick);
+  if (hearing) {
+    for (const float sample : hearing->history.samples()) hasher.add(static_cast<double>(sample));
+    hasher.add(hearing->block.first_sample).add(hearing->direction_schedule.next_tick).add(hearing->reading_tick);
+    hasher.add(hearing->reading.has_value());
+    if (hearing->reading) hasher.add(hearing->reading->azimuth).add(hearing->reading->power);
+    for (const std::uint64_t word : hearing->random.state()) hasher.add(word);
+  }
   for (const Contact& contact : contacts) hasher.add(contact.agent).add(contact.object).add(std::string_view(contact.part));
   hasher.add(held_object).add(grasped_at).add(grip_position).add(slipped);
   for (const Eigen::Vector3d* point : {&grip_from, &grip_to}) hasher.add(point->x()).add(point->y()).add(point->z());

@@ -14,6 +14,8 @@
 #include "robots/robot.hpp"
 #include "scenario/model.hpp"
 #include "sensors/laser.hpp"
+#include "sensors/microphones.hpp"
+#include "sensors/sound_direction.hpp"
 #include "sensors/odometry.hpp"
 #include "sensors/people_detector.hpp"
 
@@ -132,6 +134,19 @@ struct RobotRuntime {
   Eigen::Vector3d grip_from = Eigen::Vector3d::Zero(), grip_to = Eigen::Vector3d::Zero();
   /// Its grip slipped: it grasps again only after opening.
   bool slipped = false;
+  /// Its microphone array, when the scenario has it listen: the last tick's block, the recent samples
+  /// the direction of arrival reads, and its latest reading (in the array link's frame).
+  struct Hearing {
+    sensors::Microphones microphones;
+    sensors::DirectionOfArrival direction;
+    sensors::AudioHistory history;
+    sensors::AudioBlock block;
+    Schedule direction_schedule;
+    std::optional<sensors::DoaReading> reading;
+    std::int64_t reading_tick = -1;
+    core::Random random;
+  };
+  std::optional<Hearing> hearing;
   /// The search controller's progress: the rooms looked into, the room it goes to or looks around in,
   /// how far it has turned there, and whether it found the person.
   struct Search {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -12,6 +13,7 @@
 #include "sim/robot_control.hpp"
 #include "sim/search.hpp"
 #include "sim/sensing.hpp"
+#include "sim/sounds.hpp"
 
 namespace hrisim::sim {
 namespace {
@@ -114,6 +116,7 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
 void Session::tick() {
   if (state_.finished) return;
   const scenario::Model& model = *model_;
+  const std::size_t first_event = state_.events.size();
   make_scheduled_requests(model, state_);
   update_doors_and_elevators(model, state_);
   update_requests(model, state_);
@@ -123,9 +126,11 @@ void Session::tick() {
   walk(model, state_, walking_);
   if (physics_.world) place_people_and_doors(model, state_, physics_, bodies_);
   move_robots(model, state_, physics_);
+  make_sounds(model, state_, first_event);
   ++state_.tick;
   if (physics_.world) step_physics(model, state_, physics_);  // the state after this tick: its events carry the new tick, as sensors do
   sense(model, state_, physics_, bodies_);
+  listen(model, state_);
   notice_people_found(model, state_);
   end_at_time_limit();
 }
@@ -242,6 +247,21 @@ scenario::Action Session::parse_human_command(AgentId human, std::string_view te
       action.value = number("seconds");
       if (action.value <= 0.0) throw core::Error(core::ErrorCode::bad_request, "motion: seconds must be > 0");
     }
+  } else if (verb == "say") {
+    action.kind = Kind::say;
+    std::string what;
+    if (!(in >> what)) throw core::Error(core::ErrorCode::bad_request, "say: for how many seconds, or which clip?");
+    const auto clip = std::find_if(model_->clips.begin(), model_->clips.end(), [&](const auto& named) { return named.first == what; });
+    if (clip != model_->clips.end()) {
+      action.target = static_cast<int>(clip - model_->clips.begin());
+      action.value = static_cast<double>(clip->second->samples.size()) / clip->second->sample_rate;
+    } else {
+      char* end = nullptr;
+      action.value = std::strtod(what.c_str(), &end);
+      if (end != what.c_str() + what.size() || !std::isfinite(action.value) || action.value <= 0.0) {
+        throw core::Error(core::ErrorCode::bad_request, "say: '" + what + "' is neither seconds > 0 nor one of the scenario's clips");
+      }
+    }
   } else if (verb == "behaviour") {
     std::string name;
     in >> name;
@@ -251,7 +271,7 @@ scenario::Action Session::parse_human_command(AgentId human, std::string_view te
     action.target = static_cast<int>(*type);
   } else {
     throw core::Error(core::ErrorCode::bad_request,
-                      "unknown command '" + verb + "' (walk X Y, wait S, turn_to RAD, look_at NAME, motion NAME [S], behaviour NAME)");
+                      "unknown command '" + verb + "' (walk X Y, wait S, turn_to RAD, look_at NAME, motion NAME [S], say S|CLIP, behaviour NAME)");
   }
   std::string extra;
   if (in >> extra) throw core::Error(core::ErrorCode::bad_request, verb + ": unexpected '" + extra + "'");

@@ -16,6 +16,7 @@
 #include "core/math.hpp"
 #include "core/random.hpp"
 #include "humans/motion.hpp"
+#include "sensors/sound.hpp"
 #include "sim/robot_runtime.hpp"
 #include "world/path_planner.hpp"
 
@@ -109,9 +110,10 @@ struct AgentState {
   const humans::MotionClip* motion = nullptr;  ///< a shipped primitive (its pose held once it ends)
   std::int64_t motion_tick = 0;                ///< when it started
   std::int64_t motion_released_tick = -1;      ///< when the person walked off (it blends out), -1 before
+  double step_phase = 0.0;  ///< steps walked, for their footfalls (sensors::footfalls), when a robot listens
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick); }
+  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase); }
 };
 
 struct Event {
@@ -210,11 +212,15 @@ struct State {
   world::PlanningHistory planning_history;
   double time_limit = 0.0;  ///< s of simulation time; the episode ends there
   double clock_start = 0.0;  ///< the scenario clock's time of day at t = 0 (drawn when the scenario says), s
+  /// Sounds still audible somewhere, when a robot listens (Model::heard), and who says each (a
+  /// person's speech moves with them; -1 for other sounds).
+  std::vector<sensors::SoundSource> sounds;
+  std::vector<int> speakers;
   bool finished = false;
   std::string termination;  ///< "scenario_end", "timeout" or "goal" once finished
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, requests, next_request_id, scheduled, events, events_digest, commanded, random, robots, object_poses, planning_history, time_limit, clock_start, finished, termination); }
+  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, requests, next_request_id, scheduled, events, events_digest, commanded, random, robots, object_poses, planning_history, time_limit, clock_start, sounds, speakers, finished, termination); }
 };
 
 /// Hash of everything in the state, bit for bit.

@@ -472,6 +472,61 @@ TEST(SessionSensors, TheRobotsLatestReadingsOverRestAndWebSocket) {
 namespace hrisim::testing {
 namespace {
 
+TEST(SessionSensors, AListeningRobotsAudioOverRestAndWebSocket) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  // The HSR listens; Ada, 2 m to its left, speaks for 2 s.
+  const json scenario = json::parse(R"({
+    "name": "talk", "dt": 0.05, "time_limit": 10,
+    "world": {"bounds": {"min": [-0.5, -0.5], "max": [8.5, 8.5]},
+              "walls": [{"from": [0, 0], "to": [8, 0]}, {"from": [8, 0], "to": [8, 8]}, {"from": [8, 8], "to": [0, 8]}, {"from": [0, 8], "to": [0, 0]}]},
+    "humans": [{"id": "ada", "start": {"x": 4, "y": 6}}],
+    "robots": [{"id": "hsr", "model": "hsr", "start": {"x": 4, "y": 4, "theta": 0}, "microphones": {}}],
+    "steps": [{"name": "talk", "actions": [{"agent": "ada", "say": {"duration": 2}}]}]
+  })");
+  const HttpReply stored = http(port, "POST", "/api/v1/scenarios", scenario.dump());
+  ASSERT_EQ(stored.status, 201) << stored.body;
+  const std::string id = json_of(http(port, "POST", "/api/v1/sessions", json{{"scenario", json_of(stored)["summary"]["id"]}}.dump()))["id"];
+  http(port, "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 20})");
+  const json sensors = json_of(http(port, "GET", "/api/v1/sessions/" + id + "/robots/hsr/sensors"));
+  const json& microphones = sensors["microphones"];
+  EXPECT_EQ(microphones["channels"], 4);
+  EXPECT_EQ(microphones["samples"], 800);
+  EXPECT_EQ(microphones["first_sample"], 19 * 800);
+  ASSERT_TRUE(microphones["direction"].is_object()) << microphones.dump();
+  EXPECT_NEAR(microphones["direction"]["bearing"].get<double>(), 1.5708, 0.1745) << "she is to its left, within 10 degrees";
+
+  const HttpReply audio = http(port, "GET", "/api/v1/sessions/" + id + "/robots/hsr/audio");
+  ASSERT_EQ(audio.status, 200);
+  ASSERT_EQ(audio.body.size(), 48u + 4u * 4u * 800u);
+  const auto read = [](const std::string& frame, std::size_t offset, auto value) {
+    std::memcpy(&value, frame.data() + offset, sizeof value);
+    return value;
+  };
+  EXPECT_EQ(audio.body.substr(0, 4), "HRAU");
+  EXPECT_EQ(read(audio.body, 6, std::uint16_t{}), 48);
+  EXPECT_EQ(read(audio.body, 8, std::int64_t{}), 20);
+  EXPECT_EQ(read(audio.body, 24, std::int64_t{}), 19 * 800);
+  EXPECT_EQ(read(audio.body, 32, std::uint32_t{}), 16000u);
+  EXPECT_EQ(read(audio.body, 36, std::uint32_t{}), 4u);
+  EXPECT_EQ(read(audio.body, 40, std::uint32_t{}), 800u);
+  double energy = 0.0;
+  for (std::size_t k = 0; k < 4 * 800; ++k) energy += std::pow(read(audio.body, 48 + 4 * k, float{}), 2);
+  EXPECT_GT(std::sqrt(energy / 3200), 0.003) << "her voice, 2 m away, well above the microphones' 0.0006 Pa";
+
+  WebSocketClient client(port, "/api/v1/sessions/" + id + "/ws");
+  client.send({{"type", "audio"}, {"robot", "hsr"}});
+  bool binary = false;
+  EXPECT_EQ(client.next(&binary), audio.body);
+  EXPECT_TRUE(binary);
+  EXPECT_EQ(client.exchange({{"type", "audio"}})["error"]["details"]["pointer"], "/robot");
+  const std::string elevator = json_of(http(port, "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 1})"))["id"];
+  const HttpReply deaf = http(port, "GET", "/api/v1/sessions/" + elevator + "/robots/robot/audio");
+  EXPECT_EQ(deaf.status, 404);
+  EXPECT_NE(deaf.body.find("does not listen"), std::string::npos);
+  EXPECT_TRUE(json_of(http(port, "GET", "/api/v1/sessions/" + elevator + "/robots/robot/sensors"))["microphones"].is_null());
+}
+
 TEST(SessionGym, SpacesObservationsActionsAndReset) {
   TestServer server;
   const std::uint16_t port = server.port();

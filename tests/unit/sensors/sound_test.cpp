@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/portable_math.hpp"
+#include "robots/description.hpp"
 #include "sensors/microphones.hpp"
 #include "sensors/sound.hpp"
 #include "sensors/sound_direction.hpp"
@@ -124,10 +125,13 @@ TEST(Sound, SourcesAreSilentBeforeTheirStartAndFromTheirEnd) {
   EXPECT_TRUE(std::isinf(SoundSource::motor(1, 0.01).end()));
 }
 
+/// A built-in robot's microphone array, from its description's mounts.
+MicrophoneArray array_of(const char* robot) { return *microphone_array(*robots::builtin_robot(robot)); }
+
 AudioBlock record_once(std::uint64_t seed) {
   std::vector<SoundSource> sources{speaker_at({2.0, 1.0, 1.6}), SoundSource::door(4, 0.1), SoundSource::bell(0.2)};
   sources[1].position = {-1.0, 3.0, 1.0};
-  const Microphones microphones(hsr_microphones());
+  const Microphones microphones(array_of("hsr"));
   core::Random random(seed);
   AudioBlock block;
   const WallCount walls = [](const Vec3& source, const Vec3&) { return source.y() > 2.0 ? 1 : 0; };
@@ -310,8 +314,8 @@ double angle_error(double a, double b) { return std::abs(std::remainder(a - b, 2
 
 TEST(DirectionOfArrival, LocatesASpeakerWithinTenDegrees) {
   // The test: open space, 3 m, the microphones' self-noise and the robot's motors on.
-  const std::vector<std::pair<const char*, Robot>> robots{{"hsr", mount(hsr_microphones(), 0.95, 0.85)},
-                                                          {"roman", mount(roman_microphones(), 1.32, 0.5)}};
+  const std::vector<std::pair<const char*, Robot>> robots{{"hsr", mount(array_of("hsr"), 0.95, 0.85)},
+                                                          {"roman", mount(array_of("roman"), 1.32, 0.5)}};
   for (const auto& [name, mounted] : robots) {
     std::uint64_t voice = 0;
     for (const double degrees : {0.0, 45.0, 100.0, -135.0, 170.0}) {
@@ -329,7 +333,7 @@ TEST(DirectionOfArrival, LocatesASpeakerWithinTenDegrees) {
 }
 
 TEST(DirectionOfArrival, SaysNothingInSilence) {
-  const Robot hsr = mount(hsr_microphones(), 0.95, 0.85);
+  const Robot hsr = mount(array_of("hsr"), 0.95, 0.85);
   const Microphones microphones(hsr.array);
   const DirectionOfArrival doa(hsr.array.positions);
   AudioHistory history(microphones.channels(), doa.params().window);
@@ -353,7 +357,7 @@ TEST(DirectionOfArrival, SaysNothingInSilence) {
 TEST(Microphones, MotorNoiseHasItsLevelAtTheArray) {
   MicrophonesParams params;
   params.self_noise = 0.0;
-  const Robot hsr = mount(hsr_microphones(), 0.95, 0.85);
+  const Robot hsr = mount(array_of("hsr"), 0.95, 0.85);
   const Microphones microphones(hsr.array, params);
   core::Random random(5);
   AudioBlock block;
