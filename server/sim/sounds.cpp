@@ -61,7 +61,8 @@ void sounds_of_events(const scenario::Model& model, State& state, std::size_t fi
 }  // namespace
 
 void start_speaking(const scenario::Model& model, State& state, int agent, const scenario::Action& action) {
-  if (!model.heard) return;
+  // A robot running a routine with a `say` in it stays silent: robots' voices are not modelled.
+  if (!model.heard || model.agents[agent].kind != scenario::AgentKind::human) return;
   const double now = static_cast<double>(state.tick) * model.dt;
   const std::string& id = model.agents[agent].id;
   SoundSource voice = action.target >= 0 ? SoundSource::clip(model.clips[action.target].second, now)

@@ -55,7 +55,7 @@ TEST_F(ScenariosApi, BundledScenariosAreListedWithSummaries) {
   EXPECT_EQ(elevator["humans"], 6);
   ASSERT_EQ(elevator["robots"].size(), 1u);
   EXPECT_EQ(elevator["robots"][0]["model"], "hsr");
-  EXPECT_EQ(elevator["steps"], 5);
+  EXPECT_EQ(elevator["steps"], 6);
   EXPECT_GT(elevator["duration"].get<double>(), 0.0);
   const json native = json_of(http(port(), "GET", "/api/v1/scenarios/elevator"));
   EXPECT_EQ(native["name"], "elevator");

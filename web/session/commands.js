@@ -23,7 +23,7 @@ export function humanCommandPanel(driver, humans) {
   h('div', { class: 'fields' }, h('label', {}, 'Human', who), h('label', { class: 'grow' }, 'Command', text), h('button', { type: 'submit' }, 'Send')),
   result);
   return h('section', { class: 'panel', 'aria-label': 'Command a human' }, h('h2', {}, 'Command a human'), form,
-    h('p', { class: 'muted session-note' }, 'walk X Y (m) · wait S (s) · turn_to RAD · look_at NAME · motion NAME [S]. The command goes first, then the choreography resumes.'));
+    h('p', { class: 'muted session-note' }, 'walk X Y (m) · wait S (s) · turn_to RAD · look_at NAME · motion NAME [S] · say S|CLIP · behaviour NAME. The command goes first, then the choreography resumes.'));
 }
 
 /** `routines` the robot may ask for; `answered` are those a human answers (the others are dropped at once). */

@@ -766,3 +766,58 @@ describe('a session with a cup in the HSR\'s open hand', () => {
     await api.delete(cupAt(''));
   });
 });
+
+describe('a session whose HSR listens to someone speaking', () => {
+  const talk = {
+    name: 'talk',
+    dt: 0.05,
+    time_limit: 10,
+    world: {
+      bounds: { min: [-0.5, -0.5], max: [8.5, 8.5] },
+      walls: [{ from: [0, 0], to: [8, 0] }, { from: [8, 0], to: [8, 8] }, { from: [8, 8], to: [0, 8] }, { from: [0, 8], to: [0, 0] }],
+    },
+    humans: [{ id: 'ada', start: { x: 4, y: 6 } }],
+    robots: [{ id: 'hsr', model: 'hsr', start: { x: 4, y: 4, theta: 0 }, microphones: {} }],
+    steps: [{ name: 'talk', actions: [{ agent: 'ada', say: { duration: 2 } }] }],
+  };
+  let session;
+  before(async () => {
+    const uploaded = await api.post('/api/v1/scenarios', talk);
+    assert.equal(uploaded.status, 201);
+    session = await createSession(uploaded.json.summary.id);
+    await api.post(`/api/v1/sessions/${session.id}/step`, { n: 20 });
+  });
+  after(async () => { await api.delete(`/api/v1/sessions/${session.id}`); });
+
+  it('GET .../robots/{robot}/audio: the last tick of 4 channels, as the sensors describe it; 404 for a robot that does not listen', async () => {
+    const at = (suffix) => `/api/v1/sessions/${session.id}${suffix}`;
+    const { microphones } = (await api.get(at('/robots/hsr/sensors'))).json;
+    assert.equal(microphones.channels, 4);
+    assert.ok(Math.abs(microphones.direction.bearing - Math.PI / 2) < (10 * Math.PI) / 180, `she is to its left: ${microphones.direction.bearing}`);
+    const audio = await api.get(at('/robots/hsr/audio'));
+    assert.equal(audio.status, 200);
+    assert.equal(audio.headers['content-type'], 'application/octet-stream');
+    const frame = audio.bytes;
+    assert.equal(frame.toString('latin1', 0, 4), 'HRAU');
+    assert.equal(frame.readUInt16LE(6), 48);
+    assert.equal(Number(frame.readBigInt64LE(24)), microphones.first_sample);
+    assert.equal(frame.readUInt32LE(36), microphones.channels);
+    assert.equal(frame.readUInt32LE(40), microphones.samples);
+    assert.equal(frame.length, 48 + 4 * microphones.channels * microphones.samples);
+    assert.equal((await api.get(at('/robots/ada/audio'))).status, 404);
+    const deaf = await createSession('elevator');
+    const refused = await api.get(`/api/v1/sessions/${deaf.id}/robots/robot/audio`);
+    await api.delete(`/api/v1/sessions/${deaf.id}`);
+    assert.equal(refused.status, 404);
+    assert.match(refused.json.error.message, /does not listen/);
+  });
+
+  it('audio over the WebSocket answers the same bytes as a binary message', async () => {
+    const socket = await api.openSocket(session.id);
+    const frame = await socket.send({ type: 'audio', robot: 'hsr' });
+    const wrong = await socket.send({ type: 'audio' });
+    socket.close();
+    assert.deepEqual(frame, (await api.get(`/api/v1/sessions/${session.id}/robots/hsr/audio`)).bytes);
+    assert.equal(wrong.error.details.pointer, '/robot');
+  });
+});

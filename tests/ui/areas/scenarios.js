@@ -120,7 +120,7 @@ describe('scenarios', () => {
       const rows = await tab.page.$$eval('table.sc-timeline tbody tr', (trs) => trs.map((tr) => tr.dataset.agent));
       assert.deepEqual(rows, ['ada', 'ben', 'cleo', 'dev', 'eli', 'fay', 'robot']);
       const steps = await tab.page.$$eval('table.sc-timeline thead th', (ths) => ths.slice(1).map((th) => th.textContent));
-      assert.deepEqual(steps, ['1. gather', '2. ride_up', '3. swap', '4. ride_down', '5. afterwards']);
+      assert.deepEqual(steps, ['1. gather', '2. ride_up', '3. swap', '4. ride_down', '5. afterwards', '6. ride_back']);
       const eliSwap = await tab.page.textContent('tr[data-agent=eli] td:nth-of-type(3)');
       assert.match(eliSwap, /wait 4 s.*goto cabin/);
       assert.match(await tab.page.textContent('tr[data-agent=ada] td:nth-of-type(1)'), /task call_up.*goto button_floor1/);

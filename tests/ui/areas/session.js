@@ -56,7 +56,7 @@ describe('session', () => {
       assert.ok(await colours(tab.page, '.scene-box canvas') > 5, 'the WebGL scene shows the map');
       assert.ok(await colours(tab.page, '.camera-frame') > 5, 'the camera frame has content');
       assert.match(await tab.page.textContent('.camera-caption'), /robot\.head_rgbd · tick 0 · 320 × 240 px/);
-      assert.match(await tab.page.textContent('.step-name'), /step 1 of 5: gather/);
+      assert.match(await tab.page.textContent('.step-name'), /step 1 of 6: gather/);
 
       // A robot request (elevator answers call_elevator_floor2): its fate shows once the session steps.
       assert.equal(await tab.page.inputValue('.robot-request select'), 'call_elevator_floor2');

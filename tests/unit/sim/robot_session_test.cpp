@@ -208,9 +208,10 @@ TEST(RobotSession, RobotDefinitionsAreValidated) {
 namespace hrisim::sim {
 namespace {
 
-// The use case: the HSR rides up with three people and, on floor 2, asks for the button to
-// be pressed to call the cabin back; it boards the cabin when it comes.
-TEST(RobotSession, BundledElevatorRobotRidesUpAndRequestsTheButton) {
+// IMHuS's use case: the HSR rides up with three people and, on floor 2, asks for the button to be
+// pressed to call the cabin back; it boards the cabin when it comes, asks to be sent down, and drives
+// out on floor 1.
+TEST(RobotSession, BundledElevatorRobotRidesUpAndBackDown) {
   const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/elevator.json");
   ASSERT_TRUE(loaded.model);
   Session session(loaded.model, 3);
@@ -219,15 +220,22 @@ TEST(RobotSession, BundledElevatorRobotRidesUpAndRequestsTheButton) {
   bool on_floor2 = false;
   while (!session.state().finished) {
     session.tick();
-    // The cabin spans x from -1.2 to 1.3; floor 2 is the room at x < -1.2.
+    // The cabin spans x from -1.2 to 1.3; floor 2 is the room at x < -1.2, floor 1 the one at x > 1.3.
     on_floor2 |= session.state().agents[session.index_of(robot)].position.x() < -1.5;
   }
   EXPECT_EQ(session.state().termination, "scenario_end");
   EXPECT_TRUE(on_floor2);
-  ASSERT_EQ(events_of(session, "request_accepted").size(), 1u);
-  EXPECT_EQ(events_of(session, "request_accepted")[0]->data["robot"], "robot");
+  std::vector<std::string> story;
+  for (const Event& event : session.state().events) {
+    if (event.kind == "request_accepted") story.push_back(event.data["routine"].get<std::string>());
+    if (event.kind == "elevator_arrived") story.push_back("arrived at " + std::to_string(event.data["floor"].get<int>()));
+  }
+  ASSERT_GE(story.size(), 4u);
+  EXPECT_EQ(std::vector<std::string>(story.end() - 4, story.end()),
+            (std::vector<std::string>{"call_elevator_floor2", "arrived at 2", "send_elevator_floor1", "arrived at 1"}));
+  for (const Event* accepted : events_of(session, "request_accepted")) EXPECT_EQ(accepted->data["robot"], "robot");
   const Vec2 end = session.state().agents[session.index_of(robot)].position;
-  EXPECT_TRUE(end.x() > -1.2 && end.x() < 1.3 && std::abs(end.y()) < 1.1) << "in the cabin: " << end.transpose();
+  EXPECT_GT(end.x(), 2.3) << "out of the cabin on floor 1: " << end.transpose();
   const RobotRuntime& runtime = *session.robot_runtime(robot);
   EXPECT_GT(runtime.lasers.front().reading.tick, 0);
   EXPECT_GE(runtime.people.tick, session.state().tick - 6) << "10 Hz";
