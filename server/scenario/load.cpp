@@ -624,6 +624,8 @@ class Loader {
       } else if (look.contains("agent")) {
         action.kind = Action::Kind::look_at_agent;
         action.target = resolve(names_.agents, look["agent"], pointer + "/look_at/agent", "agent");
+      } else if (look.contains("object")) {
+        read_look_at_object(look["object"], pointer + "/look_at/object", action);
       } else {
         action.kind = Action::Kind::look_at_location;
         action.target = resolve(names_.locations, look["location"], pointer + "/look_at/location", "location");
@@ -675,13 +677,24 @@ class Loader {
       const AgentDef& agent = model_for_checks_->agents[action.agent];
       using K = Action::Kind;
       const bool moves = action.kind == K::go_to_location || action.kind == K::go_to_social_space || action.kind == K::go_to_pose ||
-                         action.kind == K::look_at_angle || action.kind == K::look_at_agent || action.kind == K::look_at_location ||
+                         action.kind == K::look_at_angle || action.kind == K::look_at_agent || action.kind == K::look_at_location || action.kind == K::look_at_object ||
                          action.kind == K::turn_by || action.kind == K::turn_to;
       if (moves && agent.robot_model && !agent.robot_model->drive) {
         error(pointer + "/agent", "robot '" + agent.id + "' (model " + agent.robot_model->name + ") has no drive: it cannot move or turn");
       }
     }
     return action;
+  }
+
+  void read_look_at_object(const json& name, const std::string& pointer, Action& action) {
+    const std::optional<Action> look = model_for_checks_->look_at_object(name.get<std::string>());
+    if (!look) {
+      error(pointer, "no movable object or obstacle named '" + name.get<std::string>() + "'");
+      return;
+    }
+    action.kind = look->kind;
+    action.target = look->target;
+    action.pose = look->pose;
   }
 
   /// Speech for `duration` s, or a clip for its own length (the scenario's `clips`).
@@ -976,6 +989,25 @@ int Model::find_agent(const std::string& id) const {
     if (agents[i].id == id) return static_cast<int>(i);
   }
   return -1;
+}
+
+std::optional<Action> Model::look_at_object(const std::string& name) const {
+  Action look;
+  look.kind = Action::Kind::look_at_object;
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    if (objects[o].name != name) continue;
+    look.target = static_cast<int>(o);
+    return look;
+  }
+  for (const Obstacle& obstacle : obstacles) {
+    if (obstacle.name != name || obstacle.polygon.empty()) continue;
+    Vec2 centre = Vec2::Zero();
+    for (const Vec2& corner : obstacle.polygon) centre += corner;
+    centre /= static_cast<double>(obstacle.polygon.size());
+    look.pose = {centre.x(), centre.y(), 0.0};
+    return look;
+  }
+  return std::nullopt;
 }
 
 int Model::find_routine(const std::string& name) const {

@@ -183,6 +183,7 @@ struct Action {
     look_at_angle,       ///< value: heading
     look_at_agent,       ///< target: agent
     look_at_location,    ///< target: location
+    look_at_object,      ///< target: a movable object, or -1 and pose: a piece of furniture's centre
     turn_by,             ///< value: angle
     turn_to,             ///< value: heading
     publish,             ///< topic, message
@@ -352,6 +353,9 @@ struct Model {
 
   int find_agent(const std::string& id) const;
   int find_routine(const std::string& name) const;
+  /// IMHuS's LookAt an object: at a movable object (followed where it has been moved) or at a piece of
+  /// furniture's (an obstacle's) centre; none by that name.
+  std::optional<Action> look_at_object(const std::string& name) const;
 };
 
 }  // namespace hrisim::scenario

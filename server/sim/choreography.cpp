@@ -99,6 +99,11 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
     case Kind::look_at_location:
       self.target_heading = core::direction_to(self.position, model.locations[action.target].pose.position());
       return true;
+    case Kind::look_at_object: {
+      const Vec2 object = action.target >= 0 ? Vec2(state.object_poses[action.target].translation().head<2>()) : action.pose.position();
+      self.target_heading = core::direction_to(self.position, object);
+      return true;
+    }
     case Kind::look_at_agent:
       self.look_at_agent = action.target;
       self.target_heading = core::direction_to(self.position, state.agents[action.target].position);
@@ -181,6 +186,7 @@ bool action_done(const State& state, int agent, const Action& action) {
     case Kind::look_at_angle:
     case Kind::look_at_agent:
     case Kind::look_at_location:
+    case Kind::look_at_object:
     case Kind::turn_by:
     case Kind::turn_to:
       return !self.target_heading;

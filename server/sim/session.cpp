@@ -231,11 +231,16 @@ scenario::Action Session::parse_human_command(AgentId human, std::string_view te
     } else {
       const auto location = std::find_if(model_->locations.begin(), model_->locations.end(),
                                          [&](const scenario::Location& l) { return l.name == name; });
-      if (location == model_->locations.end()) {
-        throw core::Error(core::ErrorCode::bad_request, "look_at: no agent or location named '" + name + "'");
+      if (location != model_->locations.end()) {
+        action.kind = Kind::look_at_location;
+        action.target = static_cast<int>(location - model_->locations.begin());
+      } else if (const std::optional<Action> object = model_->look_at_object(name)) {
+        action.kind = object->kind;
+        action.target = object->target;
+        action.pose = object->pose;
+      } else {
+        throw core::Error(core::ErrorCode::bad_request, "look_at: no agent, location, object or obstacle named '" + name + "'");
       }
-      action.kind = Kind::look_at_location;
-      action.target = static_cast<int>(location - model_->locations.begin());
     }
   } else if (verb == "motion") {
     if (!(in >> action.motion) || !humans::builtin_motion(action.motion)) {

@@ -133,6 +133,7 @@ TEST(Session, WaitForAMessageSeesTheLatestOne) {
 std::pair<double, double> turn(const std::string& action) {
   episode::Episode session_run(model_of(R"({
     "locations": {"door": {"x": 2, "y": 8}},
+    "objects": [{"name": "ball", "shape": {"kind": "sphere", "radius": 0.1}, "mass": 0.4, "pose": {"x": 0.5, "y": 2, "z": 0.1}}],
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2, "theta": 0}}, {"id": "ben", "start": {"x": 8, "y": 8}}],
     "steps": [{"name": "turn", "actions": [{"agent": "ana", )" + action + R"(}]}]})"), 1);
   Session& session = session_run.session();
@@ -149,7 +150,18 @@ TEST(Session, TurnAndLookAt) {
   EXPECT_NEAR(turn(R"("look_at": {"angle": 3.0})").first, 3.0, 1e-9);
   EXPECT_NEAR(turn(R"("look_at": {"location": "door"})").first, std::numbers::pi / 2, 1e-9);
   EXPECT_NEAR(turn(R"("look_at": {"agent": "ben"})").first, std::numbers::pi / 4, 1e-9);
+  EXPECT_NEAR(std::abs(turn(R"("look_at": {"object": "ball"})").first), std::numbers::pi, 1e-6) << "IMHuS's LookAt an object: the ball";
+  EXPECT_NEAR(turn(R"("look_at": {"object": "table"})").first, std::numbers::pi / 4, 1e-9) << "...or the table's centre (5, 5)";
   EXPECT_NEAR(turn(R"("turn": {"by": 4.0})").first, 4.0 - 2 * std::numbers::pi, 1e-9) << "headings wrap into (-pi, pi]";
+}
+
+TEST(Session, LookingAtAnUnknownObjectIsRefusedWhereItIsWritten) {
+  const auto errors = scenario::load_scenario(testing::room_scenario(json::parse(R"({
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
+    "steps": [{"name": "look", "actions": [{"agent": "ana", "look_at": {"object": "vase"}}]}]})")), {}).errors;
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].pointer, "/steps/0/actions/0/look_at/object");
+  EXPECT_EQ(errors[0].message, "no movable object or obstacle named 'vase'");
 }
 
 TEST(Session, SocialSpaceSlotsAreTakenInOrder) {
@@ -512,11 +524,13 @@ TEST(Session, BadTextualCommandsSayWhatIsWrong) {
   EXPECT_NE(message(ana, "walk 50 5").find("not free floor"), std::string::npos) << "off the map";
   EXPECT_NE(message(ana, "wait -1").find("must not be negative"), std::string::npos);
   EXPECT_NE(message(ana, "wait 2 3").find("unexpected '3'"), std::string::npos);
-  EXPECT_NE(message(ana, "look_at nobody").find("no agent or location named 'nobody'"), std::string::npos);
+  EXPECT_NE(message(ana, "look_at nobody").find("no agent, location, object or obstacle named 'nobody'"), std::string::npos);
   EXPECT_NE(message(session.agent_id("bot"), "wait 1").find("is not a human"), std::string::npos);
   EXPECT_EQ(message(ana, "look_at door"), "accepted");
   EXPECT_EQ(message(ana, "look_at bot"), "accepted");
-  EXPECT_EQ(session.state().commanded.size(), 2u) << "refused commands leave nothing behind";
+  EXPECT_EQ(message(ana, "look_at table"), "accepted");
+  EXPECT_EQ(session.state().commanded.back().kind, scenario::Action::Kind::look_at_object);
+  EXPECT_EQ(session.state().commanded.size(), 3u) << "refused commands leave nothing behind";
 }
 
 }  // namespace
