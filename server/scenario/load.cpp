@@ -565,6 +565,10 @@ class Loader {
     return -1;
   }
 
+  /// What a group (a pair too) can be given: the whole group walks a goto in formation; every member
+  /// does the others, and runs a compound task's actions likewise, its gotos in formation.
+  static constexpr const char* kGroupActions[] = {"goto", "task", "wait", "look_at", "turn", "motion", "say"};
+
   Action read_action(const json& entry, const std::string& pointer, bool in_routine) {
     Action action;
     action.pointer = pointer;
@@ -576,8 +580,8 @@ class Loader {
         error(pointer + "/" + key, "actions of a compound task do not name an agent or group: whoever runs the task acts");
       } else if (entry.contains("agent")) {
         action.agent = resolve(names_.agents, entry["agent"], pointer + "/agent", "agent");
-      } else if (!entry.contains("goto")) {
-        error(pointer + "/group", "a group can be given a goto only");
+      } else if (!std::any_of(std::begin(kGroupActions), std::end(kGroupActions), [&](const char* kind) { return entry.contains(kind); })) {
+        error(pointer + "/group", "a group can be given goto, task, wait, look_at, turn, motion or say");
       } else {
         action.group = resolve(names_.groups, entry["group"], pointer + "/group", "group");
       }

@@ -50,10 +50,11 @@ bool slot_free(const scenario::Model& model, const State& state, int space, int 
 bool start_action(const scenario::Model& model, State& state, int agent, const Action& action, const PendingAction& pending) {
   AgentState& self = state.agents[agent];
   // A follower in a group goto to a place walks in formation beside or behind the leader.
-  if (action.group >= 0 && pending.role > 0 && action.kind != Kind::go_to_social_space) {
+  const bool to_a_place = action.kind == Kind::go_to_location || action.kind == Kind::go_to_pose;
+  if (pending.group >= 0 && pending.role > 0 && to_a_place && !state.groups[pending.group].empty()) {
     release_reservations(state, agent);
     self.hold.reset();
-    self.follow_leader = state.groups[action.group].front();
+    self.follow_leader = state.groups[pending.group].front();
     self.formation_offset = formation_offset(pending.role, pending.group_size);
     return true;
   }
@@ -164,12 +165,16 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
   return true;
 }
 
-bool action_done(const State& state, int agent, const Action& action) {
+bool action_done(const State& state, int agent, const Action& action, const PendingAction& pending) {
   const AgentState& self = state.agents[agent];
   if (self.follow_leader >= 0) {
-    // Done when the leader has arrived and this member stands at its spot beside it.
+    // Done when the leader has arrived — is past this goto, not merely yet to begin it — and this
+    // member stands at its spot beside it.
     const AgentState& leader = state.agents[self.follow_leader];
-    const bool leader_arrived = !leader.navigating && !leader.target_heading;
+    const bool leader_past = leader.program.empty() || leader.program.front().step != pending.step ||
+                             leader.program.front().routine != pending.routine || leader.program.front().index != pending.index ||
+                             leader.action_started;
+    const bool leader_arrived = leader_past && !leader.navigating && !leader.target_heading;
     return leader_arrived && (formation_target(state, agent) - self.position).norm() <= kHoldTolerance;
   }
   switch (action.kind) {
@@ -221,6 +226,20 @@ void finish_action(State& state, int agent) {
   if (self.program.empty()) self.answering_request = false;
 }
 
+/// A group running a compound task keeps together: a member begins the task's next action only once
+/// every member is done with the ones before it.
+bool group_ready(const State& state, int agent, const PendingAction& pending) {
+  if (pending.group < 0 || pending.routine < 0) return true;
+  for (const int member : state.groups[pending.group]) {
+    const AgentState& other = state.agents[member];
+    if (member == agent || !other.active || other.program.empty()) continue;
+    const PendingAction& theirs = other.program.front();
+    if (theirs.group != pending.group || theirs.step != pending.step) continue;
+    if (theirs.routine == -1 || (theirs.routine == pending.routine && theirs.index < pending.index)) return false;
+  }
+  return true;
+}
+
 /// Works through the agent's program as far as this tick allows.
 void advance_agent(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
@@ -232,14 +251,17 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
     if (action.kind == Kind::run_routine) {
       self.program.pop_front();
       const auto& actions = model.routines[action.target].actions;
-      for (std::size_t i = actions.size(); i-- > 0;) self.program.push_front({action.target, static_cast<int>(i), pending.step});
+      // A compound task given to a group: every member runs it, its gotos in formation.
+      for (std::size_t i = actions.size(); i-- > 0;) {
+        self.program.push_front({action.target, static_cast<int>(i), pending.step, pending.role, pending.group_size, pending.group});
+      }
       continue;
     }
     if (!self.action_started) {
-      if (!start_action(model, state, agent, action, pending)) return;
+      if (!group_ready(state, agent, pending) || !start_action(model, state, agent, action, pending)) return;
       self.action_started = true;
     }
-    if (!action_done(state, agent, action)) return;
+    if (!action_done(state, agent, action, pending)) return;
     finish_action(state, agent);
   }
 }
@@ -273,7 +295,7 @@ void start_step(const scenario::Model& model, State& state, int step) {
     const std::vector<int>& members = state.groups[action.group];
     if (members.empty()) emit(model, state, "group_empty", model.groups[action.group].name, {{"step", definition.name}});
     for (std::size_t role = 0; role < members.size(); ++role) {
-      state.agents[members[role]].program.push_back({-1, static_cast<int>(i), step, static_cast<int>(role), static_cast<int>(members.size())});
+      state.agents[members[role]].program.push_back({-1, static_cast<int>(i), step, static_cast<int>(role), static_cast<int>(members.size()), action.group});
     }
   }
 }

@@ -38,9 +38,10 @@ struct PendingAction {
   int step = -1;    ///< step it belongs to; -1 when it answers a robot request
   int role = 0;     ///< place in the group for a group action (0 leads)
   int group_size = 1;
+  int group = -1;   ///< the group acting (a group action, or a compound task given to a group), or -1
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(routine, index, step, role, group_size); }
+  auto fields() const { return std::tie(routine, index, step, role, group_size, group); }
 };
 
 struct AgentState {

@@ -284,7 +284,7 @@ TEST(LoadScenario, GroupsAndAttitudesAreChecked) {
   json document = room_scenario(kPeople);
   document["groups"] = json::parse(R"({"duo": {"members": ["ana", "zoe"]}})");
   document["steps"][0]["actions"] = json::parse(R"([
-    {"group": "duo", "wait": {"duration": 1}},
+    {"group": "duo", "publish": {"topic": "/t", "message": "m"}},
     {"group": "trio", "goto": {"location": "door"}},
     {"agent": "ana", "group": "duo", "goto": {"location": "door"}},
     {"agent": "ana", "harass": {"robot": "ben", "duration": 5}},
@@ -293,7 +293,7 @@ TEST(LoadScenario, GroupsAndAttitudesAreChecked) {
   ])");
   const auto errors = errors_of(document);
   EXPECT_TRUE(has_error(errors, "/groups/duo/members/1", "unknown agent 'zoe'"));
-  EXPECT_TRUE(has_error(errors, "/steps/0/actions/0/group", "a group can be given a goto only"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/0/group", "a group can be given goto, task, wait, look_at, turn, motion or say"));
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/group", "unknown group 'trio' (known: duo, new)"));
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/2", "an agent or a group, not both"));
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/3/harass/robot", "'ben' is not a robot"));

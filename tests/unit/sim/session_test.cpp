@@ -367,6 +367,36 @@ TEST(Groups, APairWalksSideBySide) {
   EXPECT_NEAR((bo - (ann + Vec2(0, -scenario::kFormationSpacing))).norm(), 0.0, kHoldTolerance);
 }
 
+TEST(Groups, APairRunsACompoundTaskTogether) {
+  // IMHuS's compound tasks given to a group: every member runs the task; its gotos are walked in
+  // formation, its other actions by each member.
+  episode::Episode session_run(model_of(R"({
+    "humans": [{"id": "ann", "start": {"x": 1.5, "y": 5, "theta": 0}}, {"id": "bo", "start": {"x": 1.5, "y": 4.3, "theta": 0}},
+               {"id": "cy", "start": {"x": 8, "y": 2}}],
+    "groups": {"pair": {"members": ["ann", "bo"]}},
+    "tasks": {"visit": [{"goto": {"pose": {"x": 3, "y": 8.5, "theta": 0}}}, {"look_at": {"agent": "cy"}}, {"wait": {"duration": 1}},
+                        {"goto": {"pose": {"x": 8, "y": 8.5, "theta": 0}}}]},
+    "steps": [{"name": "visit", "actions": [{"group": "pair", "task": "visit"}]},
+              {"name": "greet", "actions": [{"group": "pair", "look_at": {"agent": "cy"}}]}]})"), 1);
+  Session& session = session_run.session();
+  double farthest_apart = 0.0;
+  bool both_faced_cy = false;
+  while (!session.state().finished) {
+    session.tick();
+    const auto& agents = session.state().agents;
+    farthest_apart = std::max(farthest_apart, (agents[0].position - agents[1].position).norm());
+    // On the way, both look at cy (south-east of them) before the second goto.
+    const auto faces_cy = [&](int a) { return std::abs(core::wrap_angle(agents[a].heading - core::direction_to(agents[a].position, agents[2].position))) < 0.05; };
+    both_faced_cy |= agents[0].position.x() < 4 && faces_cy(0) && faces_cy(1);
+  }
+  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_TRUE(both_faced_cy) << "each member looks at cy";
+  EXPECT_LT(farthest_apart, 1.5) << "bo keeps beside ann on both legs";
+  const Vec2 ann = session.state().agents[0].position, bo = session.state().agents[1].position;
+  EXPECT_LE((ann - Vec2(8, 8.5)).norm(), 0.2 + 1e-9) << "the leader walked the task's last goto";
+  EXPECT_LT((bo - ann).norm(), scenario::kFormationSpacing + 0.3) << "and bo arrived beside her";
+}
+
 TEST(Groups, GroupsFormAndDismantleAndTakeSlots) {
   episode::Episode session_run(model_of(R"({
     "social_spaces": {"bench": {"x": 5, "y": 8, "slots": [{"x": -1, "y": 0}, {"x": 0, "y": 0}, {"x": 1, "y": 0}]}},
