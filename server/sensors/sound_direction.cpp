@@ -99,27 +99,64 @@ DirectionOfArrival::DirectionOfArrival(std::span<const Vec3> microphones, DoaPar
   cross_.resize(static_cast<std::size_t>(params.window) * static_cast<std::size_t>(params.upsampling));
 }
 
-void DirectionOfArrival::correlate(const Pair& pair, std::span<double> correlation) const {
+void DirectionOfArrival::correlate(const Pair& first, const Pair* second, std::span<double> first_correlation,
+                                   std::span<double> second_correlation) const {
   const int n = params_.window;
   const auto m = static_cast<int>(cross_.size());
   const int first_bin = std::max(1, static_cast<int>(std::ceil(params_.min_frequency * n / kSampleRate)));
-  const auto& x = spectra_[static_cast<std::size_t>(pair.first)];
-  const auto& y = spectra_[static_cast<std::size_t>(pair.second)];
   std::fill(cross_.begin(), cross_.end(), std::complex<double>());
-  int used = 0;
-  for (int k = first_bin; k < n / 2; ++k) {
-    const std::complex<double> product = times(x[static_cast<std::size_t>(k)], std::conj(y[static_cast<std::size_t>(k)]));
+  // The phase transform: every frequency counts alike, whatever its power.
+  const auto phase_transformed = [&](const Pair& pair, int k, int& used) {
+    const std::complex<double> product = times(spectra_[static_cast<std::size_t>(pair.first)][static_cast<std::size_t>(k)],
+                                               std::conj(spectra_[static_cast<std::size_t>(pair.second)][static_cast<std::size_t>(k)]));
     const double magnitude = std::sqrt(product.real() * product.real() + product.imag() * product.imag());
-    if (magnitude <= 0.0) continue;
-    // The phase transform: every frequency counts alike, whatever its power.
-    cross_[static_cast<std::size_t>(k)] = product / magnitude;
-    cross_[static_cast<std::size_t>(m - k)] = std::conj(product) / magnitude;
+    if (magnitude <= 0.0) return std::complex<double>();
     ++used;
+    return product / magnitude;
+  };
+  int used_first = 0, used_second = 0;
+  const std::complex<double> i(0.0, 1.0);
+  for (int k = first_bin; k < n / 2; ++k) {
+    const std::complex<double> a = phase_transformed(first, k, used_first);
+    const std::complex<double> b = second ? phase_transformed(*second, k, used_second) : std::complex<double>();
+    // Each spectrum is Hermitian (its correlation is real): A + iB at k, conj(A) + i conj(B) at m − k.
+    cross_[static_cast<std::size_t>(k)] = a + times(i, b);
+    cross_[static_cast<std::size_t>(m - k)] = std::conj(a) + times(i, std::conj(b));
   }
   upsampled_fft_.transform(cross_, true);
-  const double scale = used > 0 ? 0.5 / used : 0.0;  // 1 at a lag where every frequency agrees
+  const double first_scale = used_first > 0 ? 0.5 / used_first : 0.0;  // 1 at a lag where every frequency agrees
+  const double second_scale = used_second > 0 ? 0.5 / used_second : 0.0;
   for (int lag = -reach_; lag <= reach_; ++lag) {
-    correlation[static_cast<std::size_t>(lag + reach_)] = cross_[static_cast<std::size_t>((lag + m) % m)].real() * scale;
+    const std::complex<double>& value = cross_[static_cast<std::size_t>((lag + m) % m)];
+    first_correlation[static_cast<std::size_t>(lag + reach_)] = value.real() * first_scale;
+    if (second) second_correlation[static_cast<std::size_t>(lag + reach_)] = value.imag() * second_scale;
+  }
+}
+
+void DirectionOfArrival::transform_channels(std::span<const float> planar) const {
+  const auto n = static_cast<std::size_t>(params_.window);
+  const auto sample = [&](int c, std::size_t k) { return static_cast<double>(planar[static_cast<std::size_t>(c) * n + k]) * window_[k]; };
+  for (int c = 0; c < channels_; c += 2) {
+    auto& first = spectra_[static_cast<std::size_t>(c)];
+    if (c + 1 == channels_) {
+      for (std::size_t k = 0; k < n; ++k) first[k] = {sample(c, k), 0.0};
+      fft_.transform(first, false);
+      continue;
+    }
+    // Two real signals as one complex one, x + iy: X(k) = (Z(k) + conj Z(n − k)) / 2 and
+    // Y(k) = (Z(k) − conj Z(n − k)) / 2i.
+    auto& second = spectra_[static_cast<std::size_t>(c + 1)];
+    for (std::size_t k = 0; k < n; ++k) second[k] = {sample(c, k), sample(c + 1, k)};
+    fft_.transform(second, false);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::complex<double> z = second[k], mirror = std::conj(second[(n - k) % n]);
+      first[k] = 0.5 * (z + mirror);
+    }
+    for (std::size_t k = 0; k <= n / 2; ++k) {
+      const std::complex<double> z = second[k], mirror = std::conj(second[(n - k) % n]);
+      const std::complex<double> y = 0.5 * (z - mirror);
+      second[k] = {y.imag(), -y.real()};  // divided by i
+    }
   }
 }
 
@@ -133,14 +170,14 @@ std::optional<DoaReading> DirectionOfArrival::estimate(std::span<const float> pl
   for (const float sample : planar) energy += static_cast<double>(sample) * sample;
   if (std::sqrt(energy / static_cast<double>(planar.size())) < params_.silence) return std::nullopt;
 
-  for (int c = 0; c < channels_; ++c) {
-    auto& spectrum = spectra_[static_cast<std::size_t>(c)];
-    for (std::size_t i = 0; i < n; ++i) spectrum[i] = {planar[static_cast<std::size_t>(c) * n + i] * window_[i], 0.0};
-    fft_.transform(spectrum, false);
-  }
+  transform_channels(planar);
   const auto span = static_cast<std::size_t>(2 * reach_ + 1);
   correlations_.resize(pairs_.size() * span);
-  for (std::size_t p = 0; p < pairs_.size(); ++p) correlate(pairs_[p], std::span(correlations_).subspan(p * span, span));
+  const std::span<double> correlations(correlations_);
+  for (std::size_t p = 0; p < pairs_.size(); p += 2) {
+    const bool two = p + 1 < pairs_.size();
+    correlate(pairs_[p], two ? &pairs_[p + 1] : nullptr, correlations.subspan(p * span, span), two ? correlations.subspan((p + 1) * span, span) : std::span<double>());
+  }
 
   DoaReading best{0.0, -std::numeric_limits<double>::infinity()};
   for (int k = 0; k < azimuths_; ++k) {

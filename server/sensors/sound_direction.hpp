@@ -68,8 +68,12 @@ class DirectionOfArrival {
     int first, second;
     std::vector<double> lags;  ///< per azimuth: where the pair's correlation peaks, upsampled samples
   };
-  /// The pair's phase-transformed cross-correlation, upsampled, at lags [−reach_, reach_].
-  void correlate(const Pair& pair, std::span<double> correlation) const;
+  /// Two pairs' phase-transformed cross-correlations (the second may be null), upsampled, at lags
+  /// [−reach_, reach_]: both are real, so one inverse FFT gives the first as its real part and the
+  /// second as its imaginary part.
+  void correlate(const Pair& first, const Pair* second, std::span<double> first_correlation, std::span<double> second_correlation) const;
+  /// The spectra of every channel, two real channels per complex FFT.
+  void transform_channels(std::span<const float> planar) const;
 
   DoaParams params_;
   int channels_, reach_, azimuths_;
@@ -77,7 +81,7 @@ class DirectionOfArrival {
   Fft fft_, upsampled_fft_;
   std::vector<double> window_;  ///< Hann
   mutable std::vector<std::vector<std::complex<double>>> spectra_;  ///< scratch of estimate: per channel
-  mutable std::vector<std::complex<double>> cross_;                 ///< scratch: one pair's upsampled spectrum
+  mutable std::vector<std::complex<double>> cross_;                 ///< scratch: two pairs' upsampled spectra
   mutable std::vector<double> correlations_;                        ///< scratch: every pair's correlation near lag 0
 };
 
