@@ -156,9 +156,7 @@ static json microphones_json(const sim::RobotRuntime& runtime) {
   const sim::RobotRuntime::Hearing& hearing = *runtime.hearing;
   json direction = nullptr;
   if (hearing.reading) {
-    const auto& description = runtime.robot.description();
-    const Eigen::Isometry3d link = runtime.robot.link_poses()[static_cast<std::size_t>(description.find_link(hearing.microphones.array().link))];
-    const Eigen::Vector3d along = link.rotation() * Eigen::Vector3d(std::cos(hearing.reading->azimuth), std::sin(hearing.reading->azimuth), 0.0);
+    const Eigen::Vector3d along = runtime.microphones_pose().rotation() * Eigen::Vector3d(std::cos(hearing.reading->azimuth), std::sin(hearing.reading->azimuth), 0.0);
     direction = {{"tick", hearing.reading_tick}, {"azimuth", hearing.reading->azimuth}, {"bearing", std::atan2(along.y(), along.x())},
                  {"power", hearing.reading->power}};
   }

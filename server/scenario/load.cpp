@@ -706,16 +706,15 @@ class Loader {
     action.kind = Action::Kind::say;
     if (say.contains("clip")) {
       const std::string name = say["clip"];
-      const auto& clips = model_for_checks_->clips;
-      const auto found = std::find_if(clips.begin(), clips.end(), [&](const auto& clip) { return clip.first == name; });
-      if (found == clips.end()) {
+      const std::optional<Action> clip = model_for_checks_->say_clip(name);
+      if (!clip) {
         std::string known;
-        for (const auto& clip : clips) known += (known.empty() ? "" : ", ") + clip.first;
+        for (const auto& named : model_for_checks_->clips) known += (known.empty() ? "" : ", ") + named.first;
         error(pointer + "/clip", "unknown clip '" + name + "'" + (known.empty() ? " (none in 'clips')" : " (known: " + known + ")"));
         return;
       }
-      action.target = static_cast<int>(found - clips.begin());
-      action.value = static_cast<double>(found->second->samples.size()) / found->second->sample_rate;
+      action.target = clip->target;
+      action.value = clip->value;
     } else {
       action.value = say["duration"];
     }
@@ -993,6 +992,18 @@ int Model::find_agent(const std::string& id) const {
     if (agents[i].id == id) return static_cast<int>(i);
   }
   return -1;
+}
+
+std::optional<Action> Model::say_clip(const std::string& name) const {
+  for (std::size_t c = 0; c < clips.size(); ++c) {
+    if (clips[c].first != name) continue;
+    Action say;
+    say.kind = Action::Kind::say;
+    say.target = static_cast<int>(c);
+    say.value = static_cast<double>(clips[c].second->samples.size()) / clips[c].second->sample_rate;
+    return say;
+  }
+  return std::nullopt;
 }
 
 std::optional<Action> Model::look_at_object(const std::string& name) const {

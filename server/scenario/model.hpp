@@ -356,6 +356,8 @@ struct Model {
   /// IMHuS's LookAt an object: at a movable object (followed where it has been moved) or at a piece of
   /// furniture's (an obstacle's) centre; none by that name.
   std::optional<Action> look_at_object(const std::string& name) const;
+  /// Saying one of the scenario's clips, for its length; none by that name.
+  std::optional<Action> say_clip(const std::string& name) const;
 };
 
 }  // namespace hrisim::scenario

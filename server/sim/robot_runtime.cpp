@@ -52,6 +52,11 @@ RobotRuntime::RobotRuntime(int agent_index, const scenario::AgentDef& def, doubl
   }
 }
 
+Eigen::Isometry3d RobotRuntime::microphones_pose() const {
+  const int link = robot.description().find_link(hearing->microphones.array().link);
+  return robot.link_poses()[static_cast<std::size_t>(link)];
+}
+
 void RobotRuntime::hash(core::StateHasher& hasher) const {
   robot.hash(hasher);
   hasher.add(command.linear).add(command.angular);

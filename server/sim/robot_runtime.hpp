@@ -147,6 +147,8 @@ struct RobotRuntime {
     core::Random random;
   };
   std::optional<Hearing> hearing;
+  /// Where the microphone array's link is now (map frame); the robot must listen.
+  Eigen::Isometry3d microphones_pose() const;
   /// The search controller's progress: the rooms looked into, the room it goes to or looks around in,
   /// how far it has turned there, and whether it found the person.
   struct Search {

@@ -256,10 +256,9 @@ scenario::Action Session::parse_human_command(AgentId human, std::string_view te
     action.kind = Kind::say;
     std::string what;
     if (!(in >> what)) throw core::Error(core::ErrorCode::bad_request, "say: for how many seconds, or which clip?");
-    const auto clip = std::find_if(model_->clips.begin(), model_->clips.end(), [&](const auto& named) { return named.first == what; });
-    if (clip != model_->clips.end()) {
-      action.target = static_cast<int>(clip - model_->clips.begin());
-      action.value = static_cast<double>(clip->second->samples.size()) / clip->second->sample_rate;
+    if (const std::optional<Action> clip = model_->say_clip(what)) {
+      action.target = clip->target;
+      action.value = clip->value;
     } else {
       char* end = nullptr;
       action.value = std::strtod(what.c_str(), &end);

@@ -122,7 +122,6 @@ void listen(const scenario::Model& model, State& state) {
     const std::int64_t first = sensors::sample_index(static_cast<double>(state.tick - 1) * model.dt);
     const auto count = static_cast<int>(sensors::sample_index(static_cast<double>(state.tick) * model.dt) - first);
     const robots::RobotDescription& description = runtime.robot.description();
-    const Eigen::Isometry3d link = runtime.robot.link_poses()[static_cast<std::size_t>(description.find_link(hearing.microphones.array().link))];
     sensors::MotorNoise motors;
     motors.position = at_height(runtime.robot.pose().position(), kMotorHeight);
     if (description.drive) {
@@ -131,7 +130,7 @@ void listen(const scenario::Model& model, State& state) {
       motors.load = std::min(1.0, std::abs(twist.linear) / drive.max_linear_speed + std::abs(twist.angular) / drive.max_angular_speed);
     }
     const sensors::WallCount walls = [&](const Vec3& source, const Vec3& listener) { return walls_between(model, state, source, listener); };
-    hearing.microphones.record(state.sounds, walls, link, first, count, motors, hearing.random, hearing.block);
+    hearing.microphones.record(state.sounds, walls, runtime.microphones_pose(), first, count, motors, hearing.random, hearing.block);
     hearing.history.add(hearing.block);
     if (due(hearing.direction_schedule, state.tick, model.dt)) {
       hearing.reading = hearing.direction.estimate(hearing.history.samples());

@@ -35,4 +35,19 @@ inline std::shared_ptr<const scenario::Model> load_valid(const nlohmann::json& d
   return result.model;
 }
 
+/// The error a scenario gets at `pointer` (files may be anywhere, as in load_valid), or a failure
+/// naming every error there was.
+inline std::string error_at(const nlohmann::json& document, const std::string& pointer) {
+  scenario::LoadOptions options;
+  options.limits.confine_files = false;
+  const auto errors = scenario::load_scenario(document, options).errors;
+  for (const auto& error : errors) {
+    if (error.pointer == pointer) return error.message;
+  }
+  std::string all;
+  for (const auto& error : errors) all += "\n  " + error.pointer + ": " + error.message;
+  ADD_FAILURE() << "no error at " << pointer << "; errors:" << all;
+  return "";
+}
+
 }  // namespace hrisim::testing

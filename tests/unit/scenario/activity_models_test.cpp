@@ -28,18 +28,6 @@ json living_room(const json& model_patch) {
 
 std::vector<core::ValidationError> errors_of(const json& document) { return load_scenario(document, {}).errors; }
 
-/// The one error at `pointer`, or a failure naming what there was.
-std::string error_at(const json& document, const std::string& pointer) {
-  const auto errors = errors_of(document);
-  for (const auto& error : errors) {
-    if (error.pointer == pointer) return error.message;
-  }
-  std::string all;
-  for (const auto& error : errors) all += "\n  " + error.pointer + ": " + error.message;
-  ADD_FAILURE() << "no error at " << pointer << "; errors:" << all;
-  return "";
-}
-
 TEST(ActivityModels, PosturesAreWhereTheMotionsLeaveTheBody) {
   const auto posture = [](const char* name, bool at_end) {
     const humans::MotionClip& clip = *humans::builtin_motion(name);
@@ -72,7 +60,7 @@ TEST(ActivityModels, AValidModelIsReadWithItsChain) {
 }
 
 TEST(ActivityModels, ASeatedPersonMustStandUpBeforeWalking) {
-  const std::string message = error_at(living_room({{"transitions", {{"sit", {{"walk", 1}, {"stand_up", nullptr}}}}}}),
+  const std::string message = testing::error_at(living_room({{"transitions", {{"sit", {{"walk", 1}, {"stand_up", nullptr}}}}}}),
                                        "/activity_models/office/transitions/sit/walk");
   EXPECT_NE(message.find("'walk' begins standing, but 'sit' can leave the person seated"), std::string::npos) << message;
 }
@@ -82,54 +70,54 @@ TEST(ActivityModels, AFallenPersonGetsUpBeforeWalking) {
                                 {"get_up", {{"motion", "get_up"}}}}},
                 {"transitions", {{"stand", {{"walk", 0.5}, {"sit_down", 0.4}, {"fall", 0.1}}},
                                  {"fall", {{"lie", 1}}}, {"lie", {{"walk", 1}}}, {"get_up", {{"stand", 1}}}}}};
-  EXPECT_NE(error_at(living_room(patch), "/activity_models/office/transitions/lie/walk").find("lying"), std::string::npos);
+  EXPECT_NE(testing::error_at(living_room(patch), "/activity_models/office/transitions/lie/walk").find("lying"), std::string::npos);
   patch["transitions"]["lie"] = {{"get_up", 1}};
   EXPECT_TRUE(errors_of(living_room(patch)).empty());
 }
 
 TEST(ActivityModels, AnActivityThatCannotBeLeftIsNamed) {
   // Sitting for ever: the row goes back to itself only.
-  EXPECT_NE(error_at(living_room({{"transitions", {{"sit", {{"sit", 1}, {"stand_up", nullptr}}}}}}), "/activity_models/office/transitions/sit")
+  EXPECT_NE(testing::error_at(living_room({{"transitions", {{"sit", {{"sit", 1}, {"stand_up", nullptr}}}}}}), "/activity_models/office/transitions/sit")
                 .find("'sit' cannot be left"),
             std::string::npos);
   // A pair of activities that only lead to each other never returns to the start.
   json patch = {{"activities", {{"lie", {{"motion", "lie"}, {"duration", 2}}}, {"fall", {{"motion", "fall"}}}}},
                 {"transitions", {{"stand", {{"walk", 0.5}, {"sit_down", 0.4}, {"fall", 0.1}}}, {"fall", {{"lie", 1}}}, {"lie", {{"lie", 0.5}, {"fall", 0.5}}}}}};
-  const std::string message = error_at(living_room(patch), "/activity_models/office/transitions/lie");
+  const std::string message = testing::error_at(living_room(patch), "/activity_models/office/transitions/lie");
   EXPECT_NE(message.find("nothing after it leads back to 'stand'"), std::string::npos) << message;
   // An activity without a row at all.
-  EXPECT_NE(error_at(living_room({{"transitions", {{"stand_up", nullptr}}}}), "/activity_models/office/transitions")
+  EXPECT_NE(testing::error_at(living_room({{"transitions", {{"stand_up", nullptr}}}}), "/activity_models/office/transitions")
                 .find("'stand_up' has no transitions"),
             std::string::npos);
 }
 
 TEST(ActivityModels, BadValuesAreNamedWhereTheyStand) {
-  EXPECT_NE(error_at(living_room({{"transitions", {{"stand", {{"walk", 0.5}, {"sit_down", 0.4}}}}}}), "/activity_models/office/transitions/stand")
+  EXPECT_NE(testing::error_at(living_room({{"transitions", {{"stand", {{"walk", 0.5}, {"sit_down", 0.4}}}}}}), "/activity_models/office/transitions/stand")
                 .find("add up to 0.9"),
             std::string::npos);
-  EXPECT_NE(error_at(living_room({{"activities", {{"wave", {{"motion", "juggle"}}}}}}), "/activity_models/office/activities/wave/motion")
+  EXPECT_NE(testing::error_at(living_room({{"activities", {{"wave", {{"motion", "juggle"}}}}}}), "/activity_models/office/activities/wave/motion")
                 .find("unknown motion 'juggle'"),
             std::string::npos);
-  EXPECT_NE(error_at(living_room({{"activities", {{"walk", {{"walk", {"desk", "attic"}}}}}}}), "/activity_models/office/activities/walk/walk/1")
+  EXPECT_NE(testing::error_at(living_room({{"activities", {{"walk", {{"walk", {"desk", "attic"}}}}}}}), "/activity_models/office/activities/walk/walk/1")
                 .find("unknown location 'attic'"),
             std::string::npos);
-  EXPECT_NE(error_at(living_room({{"activities", {{"idle", {{"motion", "idle"}}}}}, {"transitions", {{"idle", {{"stand", 1}}}}}}),
+  EXPECT_NE(testing::error_at(living_room({{"activities", {{"idle", {{"motion", "idle"}}}}}, {"transitions", {{"idle", {{"stand", 1}}}}}}),
                      "/activity_models/office/activities/idle")
                 .find("loops: give a 'duration'"),
             std::string::npos);
-  EXPECT_NE(error_at(living_room({{"transitions", {{"stand", {{"dance", 0.5}, {"sit_down", nullptr}}}}}}), "/activity_models/office/transitions/stand/dance")
+  EXPECT_NE(testing::error_at(living_room({{"transitions", {{"stand", {{"dance", 0.5}, {"sit_down", nullptr}}}}}}), "/activity_models/office/transitions/stand/dance")
                 .find("not one of the model's activities"),
             std::string::npos);
-  EXPECT_NE(error_at(living_room({{"start", "nap"}}), "/activity_models/office/start").find("'nap'"), std::string::npos);
-  EXPECT_NE(error_at(living_room({{"transitions_by_type", {{"robot", json::object()}}}}), "/activity_models/office/transitions_by_type/robot")
+  EXPECT_NE(testing::error_at(living_room({{"start", "nap"}}), "/activity_models/office/start").find("'nap'"), std::string::npos);
+  EXPECT_NE(testing::error_at(living_room({{"transitions_by_type", {{"robot", json::object()}}}}), "/activity_models/office/transitions_by_type/robot")
                 .find("not a type of person"),
             std::string::npos);
-  EXPECT_NE(error_at(living_room({{"activities", {{"stand", {{"wait", {3, 1}}}}}}}), "/activity_models/office/activities/stand/wait")
+  EXPECT_NE(testing::error_at(living_room({{"activities", {{"stand", {{"wait", {3, 1}}}}}}}), "/activity_models/office/activities/stand/wait")
                 .find("shorter"),
             std::string::npos);
   json unknown = living_room({});
   unknown["humans"][0]["activity_model"] = "gardener";
-  EXPECT_NE(error_at(unknown, "/humans/0/activity_model").find("unknown activity model 'gardener'"), std::string::npos);
+  EXPECT_NE(testing::error_at(unknown, "/humans/0/activity_model").find("unknown activity model 'gardener'"), std::string::npos);
   json both = living_room({});
   both["activity_models"]["office"]["activities"]["stand"] = {{"wait", 1}, {"walk", {"desk"}}};
   EXPECT_FALSE(errors_of(both).empty()) << "an activity is one thing";
@@ -145,7 +133,7 @@ TEST(ActivityModels, ATypeOfPersonHasItsOwnChain) {
   EXPECT_EQ(&office.transitions_for("elder"), &office.transitions);
   // A type's chain is checked like the default one.
   document["activity_models"]["office"]["transitions_by_type"]["child"]["sit"] = {{"walk", 1}};
-  EXPECT_FALSE(error_at(document, "/activity_models/office/transitions_by_type/child/sit/walk").empty());
+  EXPECT_FALSE(testing::error_at(document, "/activity_models/office/transitions_by_type/child/sit/walk").empty());
 }
 
 }  // namespace

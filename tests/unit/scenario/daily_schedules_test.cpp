@@ -29,17 +29,6 @@ json home(const json& patch = json::object()) {
   return document;
 }
 
-std::string error_at(const json& document, const std::string& pointer) {
-  const auto errors = load_scenario(document, {}).errors;
-  for (const auto& error : errors) {
-    if (error.pointer == pointer) return error.message;
-  }
-  std::string all;
-  for (const auto& error : errors) all += "\n  " + error.pointer + ": " + error.message;
-  ADD_FAILURE() << "no error at " << pointer << "; errors:" << all;
-  return "";
-}
-
 TEST(DailySchedules, AValidDayIsReadHourByHour) {
   const auto model = testing::load_valid(home());
   ASSERT_TRUE(model);
@@ -72,40 +61,40 @@ TEST(DailySchedules, TheClockReadsTheTimeOfDay) {
 }
 
 TEST(DailySchedules, EveryHourOnceAndRowsThatAddUpToOne) {
-  EXPECT_EQ(error_at(home({{"daily_schedules", {{"ada", {{"presence", json::array({{{"hours", {0, 9}}, {"rooms", {{"lounge", 1}}}},
+  EXPECT_EQ(testing::error_at(home({{"daily_schedules", {{"ada", {{"presence", json::array({{{"hours", {0, 9}}, {"rooms", {{"lounge", 1}}}},
                                                                                    {{"hours", {10, 24}}, {"rooms", {{"lounge", 1}}}}})}}}}}}),
                      "/daily_schedules/ada/presence"),
             "hour 9 (9:00–10:00) is in no period: cover the whole day");
-  EXPECT_EQ(error_at(home({{"daily_schedules", {{"ada", {{"presence", json::array({{{"hours", {0, 10}}, {"rooms", {{"lounge", 1}}}},
+  EXPECT_EQ(testing::error_at(home({{"daily_schedules", {{"ada", {{"presence", json::array({{{"hours", {0, 10}}, {"rooms", {{"lounge", 1}}}},
                                                                                    {{"hours", {9, 24}}, {"rooms", {{"lounge", 1}}}}})}}}}}}),
                      "/daily_schedules/ada/presence/1/hours"),
             "hour 9 is already covered by period 0");
-  EXPECT_EQ(error_at(home({{"daily_schedules", {{"ada", {{"presence", json::array({{{"hours", {0, 24}}, {"rooms", {{"lounge", 0.5}, {"study", 0.3}}}}})}}}}}}),
+  EXPECT_EQ(testing::error_at(home({{"daily_schedules", {{"ada", {{"presence", json::array({{{"hours", {0, 24}}, {"rooms", {{"lounge", 0.5}, {"study", 0.3}}}}})}}}}}}),
                      "/daily_schedules/ada/presence/0/rooms"),
             "the probabilities add up to 0.8, not 1");
-  EXPECT_EQ(error_at(home({{"daily_schedules", {{"ada", {{"presence", json::array({{{"hours", {24, 0}}, {"rooms", {{"lounge", 1}}}}})}}}}}}),
+  EXPECT_EQ(testing::error_at(home({{"daily_schedules", {{"ada", {{"presence", json::array({{{"hours", {24, 0}}, {"rooms", {{"lounge", 1}}}}})}}}}}}),
                      "/daily_schedules/ada/presence/0/hours"),
             "the period ends (hour 0) before it begins (hour 24)");
 }
 
 TEST(DailySchedules, RoomsModelsAndTheClockMustExist) {
-  EXPECT_EQ(error_at(home({{"daily_schedules", {{"ada", {{"presence", json::array({{{"hours", {0, 24}}, {"rooms", {{"attic", 1}}}}})}}}}}}),
+  EXPECT_EQ(testing::error_at(home({{"daily_schedules", {{"ada", {{"presence", json::array({{{"hours", {0, 24}}, {"rooms", {{"attic", 1}}}}})}}}}}}),
                      "/daily_schedules/ada/presence/0/rooms/attic"),
             "unknown room 'attic'; the scenario's rooms are lounge, study");
-  EXPECT_EQ(error_at(home({{"daily_schedules", {{"ada", {{"activities", {{"study", "napping"}}}}}}}}), "/daily_schedules/ada/activities/study"),
+  EXPECT_EQ(testing::error_at(home({{"daily_schedules", {{"ada", {{"activities", {{"study", "napping"}}}}}}}}), "/daily_schedules/ada/activities/study"),
             "unknown activity model 'napping'");
-  EXPECT_EQ(error_at(home({{"rooms", {{"study", {{"spots", {"desk", "bed"}}}}}}}), "/rooms/study/spots/1"), "unknown location 'bed'");
-  EXPECT_EQ(error_at(home({{"rooms", {{"study", {{"lookout", "hall"}}}}}}), "/rooms/study/lookout"), "unknown location 'hall'");
-  EXPECT_EQ(error_at(home({{"clock", nullptr}}), "/daily_schedules"), "daily schedules need the scenario's 'clock' (its start time of day and speed)");
-  EXPECT_EQ(error_at(home({{"clock", {{"start", "25:00"}}}}), "/clock/start"),
+  EXPECT_EQ(testing::error_at(home({{"rooms", {{"study", {{"spots", {"desk", "bed"}}}}}}}), "/rooms/study/spots/1"), "unknown location 'bed'");
+  EXPECT_EQ(testing::error_at(home({{"rooms", {{"study", {{"lookout", "hall"}}}}}}), "/rooms/study/lookout"), "unknown location 'hall'");
+  EXPECT_EQ(testing::error_at(home({{"clock", nullptr}}), "/daily_schedules"), "daily schedules need the scenario's 'clock' (its start time of day and speed)");
+  EXPECT_EQ(testing::error_at(home({{"clock", {{"start", "25:00"}}}}), "/clock/start"),
             "'25:00' is not a time of day: write HH:MM or HH:MM:SS (00:00 to 23:59:59)");
-  EXPECT_EQ(error_at(home({{"clock", {{"start", {"20:00", "08:00"}}}}}), "/clock/start"),
+  EXPECT_EQ(testing::error_at(home({{"clock", {{"start", {"20:00", "08:00"}}}}}), "/clock/start"),
             "the latest start is earlier than the earliest: the clock does not run over midnight here");
-  EXPECT_EQ(error_at(home({{"clock", {{"start", {"08:00", "8h"}}}}}), "/clock/start/1"),
+  EXPECT_EQ(testing::error_at(home({{"clock", {{"start", {"08:00", "8h"}}}}}), "/clock/start/1"),
             "'8h' is not a time of day: write HH:MM or HH:MM:SS (00:00 to 23:59:59)");
-  EXPECT_EQ(error_at(home({{"humans", {{{"id", "ada"}, {"start", {{"x", 5}, {"y", 8}}}, {"daily_schedule", "bob"}}}}}), "/humans/0/daily_schedule"),
+  EXPECT_EQ(testing::error_at(home({{"humans", {{{"id", "ada"}, {"start", {{"x", 5}, {"y", 8}}}, {"daily_schedule", "bob"}}}}}), "/humans/0/daily_schedule"),
             "unknown daily schedule 'bob'");
-  EXPECT_EQ(error_at(home({{"daily_schedules", {{"ada", {{"stay", {30, 10}}}}}}}), "/daily_schedules/ada/stay"),
+  EXPECT_EQ(testing::error_at(home({{"daily_schedules", {{"ada", {{"stay", {30, 10}}}}}}}), "/daily_schedules/ada/stay"),
             "the longest stay is shorter than the shortest");
 }
 
@@ -114,14 +103,14 @@ TEST(DailySchedules, ARoomsModelKeepsThePersonInTheRoom) {
   document["activity_models"]["sitting"]["activities"]["leave"] = {{"walk", {"sofa"}}};
   document["activity_models"]["sitting"]["transitions"]["stand"] = {{"sit_down", 0.5}, {"leave", 0.5}};
   document["activity_models"]["sitting"]["transitions"]["leave"] = {{"stand", 1}};
-  EXPECT_EQ(error_at(document, "/daily_schedules/ada/activities/study"),
+  EXPECT_EQ(testing::error_at(document, "/daily_schedules/ada/activities/study"),
             "activity model 'sitting' walks ('leave'): a room's model keeps the person in the room");
 }
 
 TEST(DailySchedules, APersonLivesByAScheduleOrByAModelNotBoth) {
   json document = home();
   document["humans"][0]["activity_model"] = "sitting";
-  EXPECT_EQ(error_at(document, "/humans/0"),
+  EXPECT_EQ(testing::error_at(document, "/humans/0"),
             "human 'ada' has both an activity_model and a daily_schedule: a schedule chooses the model in each room, give one of them");
 }
 

@@ -104,31 +104,20 @@ TEST(Search, TheSameSeedGivesTheSameSearch) {
   EXPECT_EQ(first.state_hash(), second.state_hash());
 }
 
-std::string error_at(const json& document, const std::string& pointer) {
-  const auto errors = scenario::load_scenario(document, {}).errors;
-  for (const auto& error : errors) {
-    if (error.pointer == pointer) return error.message;
-  }
-  std::string all;
-  for (const auto& error : errors) all += "\n  " + error.pointer + ": " + error.message;
-  ADD_FAILURE() << "no error at " << pointer << "; errors:" << all;
-  return "";
-}
-
 TEST(Search, WhatTheSearchNeedsIsChecked) {
   json document = two_rooms("presence", 0.0);
   document["robots"][0]["controller"]["person"] = "bo";
-  EXPECT_EQ(error_at(document, "/robots/0/controller/person"), "the search controller looks for a human of the scenario; 'bo' is none");
+  EXPECT_EQ(testing::error_at(document, "/robots/0/controller/person"), "the search controller looks for a human of the scenario; 'bo' is none");
   document = two_rooms("presence", 0.0);
   document["humans"][0].erase("daily_schedule");
-  EXPECT_EQ(error_at(document, "/robots/0/controller/strategy"),
+  EXPECT_EQ(testing::error_at(document, "/robots/0/controller/strategy"),
             "searching by presence needs 'ada' to live by a daily schedule (or use \"strategy\": \"sweep\")");
   document = two_rooms("sweep", 0.0);
   document["robots"][0].erase("people_detector");
-  EXPECT_EQ(error_at(document, "/robots/0/controller"), "the search controller finds people with the robot's people_detector: give the robot one");
+  EXPECT_EQ(testing::error_at(document, "/robots/0/controller"), "the search controller finds people with the robot's people_detector: give the robot one");
   document = two_rooms("sweep", 0.0);
   document["rooms"]["west"].erase("lookout");
-  EXPECT_EQ(error_at(document, "/rooms/west"), "the search controller looks into every room from its lookout: give 'west' one");
+  EXPECT_EQ(testing::error_at(document, "/rooms/west"), "the search controller looks into every room from its lookout: give 'west' one");
 }
 
 }  // namespace

@@ -48,7 +48,8 @@ TEST(Sounds, ASpeakerIsLocatedWithinTenDegrees) {
     for (int tick = 0; tick < 30; ++tick) session.tick();  // 1.5 s: the direction's window is 0.26 s
     const RobotRuntime& hsr = *session.robot_runtime(session.agent_id("hsr"));
     ASSERT_TRUE(hsr.hearing->reading) << degrees << "°: she is speaking";
-    const Eigen::Isometry3d link = hsr.robot.link_poses()[static_cast<std::size_t>(hsr.robot.description().find_link("head_tilt_link"))];
+    const Eigen::Isometry3d link = hsr.microphones_pose();
+    EXPECT_EQ(hsr.hearing->microphones.array().link, "head_tilt_link");
     const Eigen::Vector3d heard = link.rotation() * Eigen::Vector3d(std::cos(hsr.hearing->reading->azimuth), std::sin(hsr.hearing->reading->azimuth), 0);
     const Vec2 to_her = session.state().agents[session.agent_id("ada").index].position - Vec2(link.translation().x(), link.translation().y());
     const double error = std::abs(core::wrap_angle(std::atan2(heard.y(), heard.x()) - std::atan2(to_her.y(), to_her.x())));
@@ -162,29 +163,19 @@ TEST(Sounds, APersonSaysAClipAndTheSayCommandWorks) {
   EXPECT_THROW(session.command_human(session.agent_id("ada"), "say"), core::Error);
 }
 
-std::string error_at(const json& document, const std::string& pointer) {
-  scenario::LoadOptions options;
-  options.limits.confine_files = false;
-  for (const auto& error : scenario::load_scenario(document, options).errors) {
-    if (error.pointer == pointer) return error.message;
-  }
-  ADD_FAILURE() << "no error at " << pointer;
-  return "";
-}
-
 TEST(Sounds, WhatTheSoundSettingsRefuse) {
   json document = talking({{"x", 5}, {"y", 5}});
   document["robots"][0]["model"] = "artos";
-  EXPECT_EQ(error_at(document, "/robots/0/microphones"), "robot model 'artos' has no microphones (hsr and roman have)");
+  EXPECT_EQ(testing::error_at(document, "/robots/0/microphones"), "robot model 'artos' has no microphones (hsr and roman have)");
   document = talking({{"x", 5}, {"y", 5}});
   document["steps"][0]["actions"][0]["say"] = {{"clip", "hello"}};
-  EXPECT_EQ(error_at(document, "/steps/0/actions/0/say/clip"), "unknown clip 'hello' (none in 'clips')");
+  EXPECT_EQ(testing::error_at(document, "/steps/0/actions/0/say/clip"), "unknown clip 'hello' (none in 'clips')");
   document["clips"] = {{"hello", "/nowhere/hello.wav"}};
-  EXPECT_NE(error_at(document, "/clips/hello").find("not found"), std::string::npos);
+  EXPECT_NE(testing::error_at(document, "/clips/hello").find("not found"), std::string::npos);
   testing::TempDir dir;
   std::ofstream(dir / "bad.wav", std::ios::binary) << "RIFF0000WAVEjunk";
   document["clips"] = {{"hello", (dir / "bad.wav").string()}};
-  EXPECT_NE(error_at(document, "/clips/hello").find("WAV"), std::string::npos);
+  EXPECT_NE(testing::error_at(document, "/clips/hello").find("WAV"), std::string::npos);
   document = talking({{"x", 5}, {"y", 5}});
   document["steps"][0]["actions"][0]["say"] = {{"duration", -1}};
   EXPECT_FALSE(scenario::load_scenario(document, {}).errors.empty()) << "a duration is > 0";
