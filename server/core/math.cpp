@@ -4,9 +4,11 @@
 
 namespace hrisim::core {
 
-std::string point_text(const Vec2& p) {
+std::string point_text(const Vec2& p) { return number_text(p.x()) + ", " + number_text(p.y()); }
+
+std::string number_text(double value) {
   std::ostringstream out;
-  out << p.x() << ", " << p.y();
+  out << value;
   return out.str();
 }
 

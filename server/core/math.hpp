@@ -45,6 +45,8 @@ inline Vec2 left_normal(const Vec2& v) { return {-v.y(), v.x()}; }
 
 /// "x, y" with up to six significant digits, for messages: "9, 1", "2.5, -0.333333".
 std::string point_text(const Vec2& p);
+/// A number with up to six significant digits, for messages: "1.21", "-0.333333".
+std::string number_text(double value);
 
 /// 2D cross product (z of the 3D one).
 /// Heading of the direction from `from` to `to`, rad.

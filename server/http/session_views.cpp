@@ -9,6 +9,7 @@
 #include "http/frames.hpp"
 #include "render/image_codec.hpp"
 #include "sim/activities.hpp"
+#include "sim/seats.hpp"
 
 namespace hrisim::http {
 
@@ -107,7 +108,9 @@ json state_of(const Live& live, std::int64_t events_since_tick) {
                       {"activity", activity_name(session, static_cast<int>(i))},
                       {"room", agent.room >= 0 ? json(session.model().rooms[agent.room].name) : json()},
                       {"behaviour", def.kind == scenario::AgentKind::human ? json(humans::behaviour_name(agent.behaviour.type)) : json()},
-                      {"reacting_to", agent.reacting_to >= 0 ? json(session.model().agents[agent.reacting_to].id) : json()}});
+                      {"reacting_to", agent.reacting_to >= 0 ? json(session.model().agents[agent.reacting_to].id) : json()},
+                      {"seat", sim::held_by_seat(agent) ? json(session.model().seats[agent.seat].name) : json()},
+                      {"carrying", agent.carried_object >= 0 ? json(session.model().objects[agent.carried_object].name) : json()}});
   }
   json requests = json::array();
   for (const sim::OpenRequest& open : state.requests) {

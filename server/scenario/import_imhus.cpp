@@ -248,8 +248,10 @@ class ImhusImporter {
         return std::nullopt;
       }
       if (groups_.contains(entity)) {
-        if (tag != "goto_action") {
-          reader_.fail(action, "a group (" + std::string(entity) + ") can be given a goto_action only");
+        // What the native format lets a group do: walk in formation, wait, look, or run a compound task.
+        const bool compound_task = action->Attribute("taskID") && !kPrimitiveActions.contains(tag) && tag != "request_action";
+        if (tag != "goto_action" && tag != "wait_action" && tag != "lookat_action" && !compound_task) {
+          reader_.fail(action, "a group (" + std::string(entity) + ") can be given a goto_action, wait_action, lookat_action or a compound task (taskID)");
           return std::nullopt;
         }
         native["group"] = entity;

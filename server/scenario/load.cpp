@@ -12,6 +12,7 @@
 #include "core/text.hpp"
 #include "humans/motion.hpp"
 #include "core/files.hpp"
+#include "scenario/reaching.hpp"
 #include "scenario/sound_settings.hpp"
 #include "world/ros_map.hpp"
 
@@ -215,6 +216,12 @@ class Loader {
       for (const Obstacle& obstacle : obstacles) world::append_edges(obstacle.polygon, model->outline, obstacle.height);
     }
     model->obstacles = std::move(obstacles);
+    for (std::size_t o = 0; o < model->obstacles.size(); ++o) {
+      const Obstacle& obstacle = model->obstacles[o];
+      for (const auto& [anchor, pose] : obstacle.anchors) {
+        model->seats.push_back({anchor == kDefaultSeatAnchor ? obstacle.name : obstacle.name + "/" + anchor, static_cast<int>(o), pose});
+      }
+    }
     const json& doors = member(world, "doors");
     for (std::size_t i = 0; i < doors.size(); ++i) {
       scenario::Door door{doors[i]["name"], read_point(doors[i]["from"]), read_point(doors[i]["to"]),
@@ -670,9 +677,15 @@ class Loader {
       } else {
         action.value = entry["motion"].value("duration", clip->duration());
       }
-      if (action.agent >= 0 && model_for_checks_->agents[action.agent].kind != AgentKind::human) error(pointer + "/agent", "only a human plays motions");
+      require_human(action, "plays motions");
     } else if (entry.contains("say")) {
       read_say(entry["say"], pointer + "/say", action);
+    } else if (entry.contains("sit_on")) {
+      read_sit_on(entry["sit_on"], pointer + "/sit_on", action);
+    } else if (entry.contains("pick_up")) {
+      read_pick_up(entry["pick_up"], pointer + "/pick_up", action);
+    } else if (entry.contains("put_down")) {
+      read_put_down(entry["put_down"], pointer + "/put_down", action);
     } else {
       action.kind = Action::Kind::run_routine;
       action.target = resolve(names_.routines, entry["task"], pointer + "/task", "task");
@@ -719,6 +732,86 @@ class Loader {
       action.value = say["duration"];
     }
     if (action.agent >= 0 && model_for_checks_->agents[action.agent].kind != AgentKind::human) error(pointer, "only a human speaks");
+  }
+
+  /// The radius of the person acting, as far as the action tells (a compound task's: the default).
+  double acting_radius(const Action& action) const {
+    return action.agent >= 0 ? model_for_checks_->agents[action.agent].radius : kDefaultAgentRadius;
+  }
+
+  void require_human(const Action& action, const char* what) {
+    if (action.agent >= 0 && model_for_checks_->agents[action.agent].kind != AgentKind::human) error(action.pointer + "/agent", std::string("only a human ") + what);
+  }
+
+  /// An obstacle's anchor, or an error at `pointer` naming those it has.
+  std::optional<Pose2> anchor_of(const Obstacle& obstacle, const std::string& anchor, const std::string& pointer) {
+    const auto found = obstacle.anchors.find(anchor);
+    if (found != obstacle.anchors.end()) return found->second;
+    std::string known;
+    for (const auto& [name, unused] : obstacle.anchors) known += (known.empty() ? "" : ", ") + name;
+    error(pointer, "obstacle '" + obstacle.name + "' has no anchor '" + anchor + "'" + (known.empty() ? " (it has none)" : " (it has: " + known + ")"));
+    return std::nullopt;
+  }
+
+  const Obstacle* obstacle_named(const std::string& name, const std::string& pointer) {
+    for (const Obstacle& obstacle : model_for_checks_->obstacles) {
+      if (obstacle.name == name) return &obstacle;
+    }
+    error(pointer, "no obstacle named '" + name + "'");
+    return nullptr;
+  }
+
+  /// Sitting on an obstacle's anchor, whose front a person can reach.
+  void read_sit_on(const json& sit, const std::string& pointer, Action& action) {
+    action.kind = Action::Kind::sit_on;
+    require_human(action, "sits");
+    const Obstacle* obstacle = obstacle_named(sit["obstacle"], pointer + "/obstacle");
+    const std::string anchor = sit.value("anchor", kDefaultSeatAnchor);
+    if (!obstacle || !anchor_of(*obstacle, anchor, pointer + (sit.contains("anchor") ? "/anchor" : "/obstacle"))) return;
+    action.target = model_for_checks_->find_seat(obstacle->name, anchor);
+    const Seat& seat = model_for_checks_->seats[action.target];
+    if (!seat_approach(*model_for_checks_, seat, acting_radius(action))) {
+      error(pointer, "seat '" + seat.name + "' cannot be reached: its front (facing " + core::number_text(seat.pose.theta) +
+                         " rad) is blocked within " + core::number_text(sit_down_travel() + kSeatApproachReach) + " m");
+    }
+  }
+
+  void read_pick_up(const json& pick, const std::string& pointer, Action& action) {
+    action.kind = Action::Kind::pick_up;
+    require_human(action, "picks things up");
+    const std::string name = pick["object"];
+    for (std::size_t o = 0; o < model_for_checks_->objects.size(); ++o) {
+      if (model_for_checks_->objects[o].name == name) action.target = static_cast<int>(o);
+    }
+    if (action.target < 0) {
+      std::string known;
+      for (const MovableObject& object : model_for_checks_->objects) known += (known.empty() ? "" : ", ") + object.name;
+      error(pointer + "/object", "no movable object named '" + name + "'" + (known.empty() ? " (none in 'objects')" : " (known: " + known + ")"));
+    }
+  }
+
+  /// Where a carried object goes: on an obstacle's top (an anchor or its centre) or on the floor.
+  void read_put_down(const json& put, const std::string& pointer, Action& action) {
+    action.kind = Action::Kind::put_down;
+    require_human(action, "puts things down");
+    if (put.contains("at")) {
+      if (put.contains("anchor")) error(pointer + "/anchor", "an anchor belongs to an obstacle: give it with 'on'");
+      const Vec2 at = read_point(put["at"]);
+      action.pose = {at.x(), at.y(), 0.0};
+      check_free(*model_for_checks_, at, pointer + "/at", "put_down point");
+    } else {
+      const Obstacle* obstacle = obstacle_named(put["on"], pointer + "/on");
+      if (!obstacle) return;
+      action.value = obstacle->height;
+      action.pose = obstacle->frame;
+      if (put.contains("anchor")) {
+        const std::optional<Pose2> anchor = anchor_of(*obstacle, put["anchor"], pointer + "/anchor");
+        if (anchor) action.pose = *anchor;
+      }
+    }
+    if (!reach_spot(*model_for_checks_, action.pose.position(), action.pose.position(), acting_radius(action))) {
+      error(pointer, "nobody can stand within " + core::number_text(kMaxHandReach) + " m of (" + core::point_text(action.pose.position()) + ") to put something there");
+    }
   }
 
   void read_routines(Model& model) {
@@ -1004,6 +1097,14 @@ std::optional<Action> Model::say_clip(const std::string& name) const {
     return say;
   }
   return std::nullopt;
+}
+
+int Model::find_seat(const std::string& obstacle, const std::string& anchor) const {
+  const std::string name = anchor.empty() || anchor == kDefaultSeatAnchor ? obstacle : obstacle + "/" + anchor;
+  for (std::size_t s = 0; s < seats.size(); ++s) {
+    if (seats[s].name == name) return static_cast<int>(s);
+  }
+  return -1;
 }
 
 std::optional<Action> Model::look_at_object(const std::string& name) const {

@@ -74,6 +74,17 @@ struct Obstacle {
   double length = 0.0, width = 0.0;
 };
 
+/// A place to sit: an obstacle's anchor (a chair's seat), its pose the seat's centre on the floor plan
+/// and the way a person seated there faces. Every anchor of every obstacle is one, named
+/// "obstacle/anchor" (just "obstacle" for an anchor named "seat").
+struct Seat {
+  std::string name;
+  int obstacle = -1;
+  Pose2 pose;
+};
+/// The anchor a sit_on action takes when it names only the obstacle.
+inline constexpr const char* kDefaultSeatAnchor = "seat";
+
 /// A door: a segment with thickness that blocks agents and paths while not fully open.
 struct Door {
   std::string name;
@@ -196,6 +207,9 @@ struct Action {
     play_motion,         ///< motion: a shipped motion primitive; value: seconds it plays
     set_behaviour,       ///< target: a humans::BehaviourType, taken with its defaults (a command)
     say,                 ///< value: seconds; target: a clip (the scenario's `clips`), or -1 for synthetic speech
+    sit_on,              ///< target: a seat (Model::seats)
+    pick_up,             ///< target: a movable object
+    put_down,            ///< pose: where the carried object goes (x, y); value: the height of the surface it rests on
   };
   Kind kind = Kind::wait_duration;
   int agent = -1;   ///< acting agent in steps; -1 in routines (the invoker acts) and group actions
@@ -319,6 +333,7 @@ struct Model {
   world::DistanceField field;
   world::PathPlanner planner;  ///< refers to grid and field above
   std::vector<Obstacle> obstacles;
+  std::vector<Seat> seats;  ///< every obstacle's anchors, in the obstacles' order
   /// The static map as segments for range sensors: the obstacles' exact edges, or for a map from an
   /// image the outline of its occupied cells.
   std::vector<world::Segment> outline;
@@ -356,6 +371,8 @@ struct Model {
   /// IMHuS's LookAt an object: at a movable object (followed where it has been moved) or at a piece of
   /// furniture's (an obstacle's) centre; none by that name.
   std::optional<Action> look_at_object(const std::string& name) const;
+  /// The seat an obstacle's anchor gives (kDefaultSeatAnchor when `anchor` is empty), or -1.
+  int find_seat(const std::string& obstacle, const std::string& anchor) const;
   /// Saying one of the scenario's clips, for its length; none by that name.
   std::optional<Action> say_clip(const std::string& name) const;
 };

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "sim/activities.hpp"
+#include "sim/carrying.hpp"
+#include "sim/seats.hpp"
 #include "sim/search.hpp"
 #include "sim/sounds.hpp"
 #include "sim/events.hpp"
@@ -147,10 +149,14 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       self.wait_until_tick = state.tick + ticks(model, action.value);
       return true;
     case Kind::play_motion:
+      self.wait_until_tick = state.tick + ticks(model, action.value);
+      if (action.motion == "stand_up" && posture_of(self) == scenario::Posture::standing) {
+        self.wait_until_tick = state.tick;  // already up (off a seat too: see leaves_seat)
+        return true;
+      }
       self.motion = humans::builtin_motion(action.motion);
       self.motion_tick = state.tick;
       self.motion_released_tick = -1;
-      self.wait_until_tick = state.tick + ticks(model, action.value);
       return true;
     case Kind::set_behaviour:
       self.behaviour = humans::default_behaviour(static_cast<humans::BehaviourType>(action.target));
@@ -158,6 +164,11 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       self.behaviour_spent = false;
       self.reacting_to = -1;
       return true;
+    case Kind::sit_on:
+      return start_sitting(model, state, agent, action.target);
+    case Kind::pick_up:
+    case Kind::put_down:
+      return start_reaching(model, state, agent, action);
     case Kind::wait_message:
     case Kind::run_routine:
       return true;
@@ -199,6 +210,11 @@ bool action_done(const State& state, int agent, const Action& action, const Pend
     case Kind::play_motion:
     case Kind::say:
       return state.tick >= self.wait_until_tick;
+    case Kind::sit_on:
+      return sitting_done(state, agent, action.target);
+    case Kind::pick_up:
+    case Kind::put_down:
+      return reaching_done(state, agent);
     case Kind::request:
       return std::none_of(state.requests.begin(), state.requests.end(), [&](const OpenRequest& open) { return open.id == self.awaited_request; });
     case Kind::publish:
@@ -218,6 +234,7 @@ void finish_action(State& state, int agent) {
   self.action_started = false;
   self.look_at_agent = -1;
   self.harass_robot = -1;
+  self.reach_phase = ReachPhase::none;
   if (self.follow_leader >= 0) {
     self.hold = self.position;
     self.target_heading = state.agents[self.follow_leader].heading;
@@ -243,6 +260,7 @@ bool group_ready(const State& state, int agent, const PendingAction& pending) {
 /// Works through the agent's program as far as this tick allows.
 void advance_agent(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
+  tend_seat(model, state, agent);
   for (int guard = 0; guard < kMaxActionsPerTick; ++guard) {
     start_next_activity(model, state, agent);
     if (self.program.empty()) return;
@@ -258,8 +276,17 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
       continue;
     }
     if (!self.action_started) {
-      if (!group_ready(state, agent, pending) || !start_action(model, state, agent, action, pending)) return;
+      if (!group_ready(state, agent, pending)) return;
+      if (leaves_seat(action, self) && !clear_of_seat(state, agent)) return;
+      if (!start_action(model, state, agent, action, pending)) return;
       self.action_started = true;
+    }
+    if (action.kind == Kind::pick_up || action.kind == Kind::put_down) {
+      tend_reaching(model, state, agent, action);
+      if (self.reach_phase == ReachPhase::none) {
+        self.action_started = false;
+        return;
+      }
     }
     if (!action_done(state, agent, action, pending)) return;
     finish_action(state, agent);

@@ -5,6 +5,7 @@
 #include <optional>
 #include <span>
 
+#include "sim/carrying.hpp"
 #include "sim/doors_and_elevators.hpp"
 #include "sim/events.hpp"
 
@@ -144,7 +145,7 @@ void grasp_and_release(const scenario::Model& model, State& state, PhysicsBodies
     }
     for (std::size_t o = 0; o < physics.objects.size(); ++o) {
       const int object = physics.objects[o];
-      if (world.holder(object) >= 0 || !finger_contacts(world, hand.fingers, object)) continue;
+      if (physics.carried[o] || world.holder(object) >= 0 || !finger_contacts(world, hand.fingers, object)) continue;
       const double touch = first_touch(world, runtime.robot, hand, object, model.dt);
       const auto contacts = finger_contacts(world, hand.fingers, object);
       if (!contacts || !within_friction_cones(contacts->first, contacts->second, gripper.friction)) {
@@ -187,6 +188,37 @@ void check_grips(const scenario::Model& model, State& state, PhysicsBodies& phys
     emit(model, state, "slip", model.agents[runtime.agent].id, {{"object", model.objects[runtime.held_object].name}});
     runtime.held_object = -1;
     runtime.slipped = true;
+  }
+}
+
+/// Objects people carry leave the world while carried; one put down (placed by the choreography) or
+/// dropped by a person who left rejoins it where it is, at rest.
+void hand_over_carried(const scenario::Model& model, State& state, PhysicsBodies& physics, const HumanBodies& bodies) {
+  std::vector<bool> carried(physics.objects.size(), false);
+  for (std::size_t a = 0; a < state.agents.size(); ++a) {
+    AgentState& person = state.agents[a];
+    if (person.carried_object < 0) continue;
+    if (!person.active) {
+      state.object_poses[person.carried_object] = carried_pose(model, state, bodies, static_cast<int>(a));
+      emit(model, state, "dropped", model.agents[a].id, {{"object", model.objects[person.carried_object].name}});
+      person.carried_object = -1;
+      continue;
+    }
+    carried[person.carried_object] = true;
+  }
+  for (std::size_t o = 0; o < physics.objects.size(); ++o) {
+    if (carried[o] == physics.carried[o]) continue;
+    if (!carried[o]) physics.world->place(physics.objects[o], state.object_poses[o]);
+    physics.world->set_enabled(physics.objects[o], !carried[o]);
+  }
+  physics.carried = std::move(carried);
+}
+
+/// After the world stepped: a carried object is where the hand is.
+void place_carried(const scenario::Model& model, State& state, const HumanBodies& bodies) {
+  for (std::size_t a = 0; a < state.agents.size(); ++a) {
+    const AgentState& person = state.agents[a];
+    if (person.carried_object >= 0) state.object_poses[person.carried_object] = carried_pose(model, state, bodies, static_cast<int>(a));
   }
 }
 
@@ -258,6 +290,7 @@ PhysicsBodies build_physics(const scenario::Model& model, State& state, const Hu
     const scenario::MovableObject& object = model.objects[o];
     physics.objects.push_back(world.add_dynamic(object.shape, object.mass, robots::to_isometry(object.pose), {BodyOwner::Kind::object, static_cast<int>(o), object.name}));
   }
+  physics.carried.assign(physics.objects.size(), false);
   store_object_poses(state, physics);
   return physics;
 }
@@ -337,7 +370,7 @@ double free_share(PhysicsBodies& physics, std::size_t robot, const robots::Robot
   return 1.0;
 }
 
-void step_physics(const scenario::Model& model, State& state, PhysicsBodies& physics) {
+void step_physics(const scenario::Model& model, State& state, PhysicsBodies& physics, const HumanBodies& bodies) {
   physics::PhysicsWorld& world = *physics.world;
   for (std::size_t r = 0; r < state.robots.size(); ++r) {
     RobotRuntime& runtime = state.robots[r];
@@ -358,10 +391,12 @@ void step_physics(const scenario::Model& model, State& state, PhysicsBodies& phy
       if (links[l] >= 0) world.set_kinematic_pose(links[l], poses[l] * robots::to_isometry(description[l].collision_origin));
     }
   }
+  hand_over_carried(model, state, physics, bodies);
   grasp_and_release(model, state, physics);
   world.step();
   check_grips(model, state, physics);
   store_object_poses(state, physics);
+  place_carried(model, state, bodies);
 }
 
 }  // namespace hrisim::sim

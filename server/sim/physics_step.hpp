@@ -50,6 +50,7 @@ struct PhysicsBodies {
   std::vector<int> doors;
   std::vector<int> disc_robots;               ///< per agent: the body of a robot without a model, else -1
   std::vector<int> objects;
+  std::vector<bool> carried;  ///< per object: a person carried it at the last step (its body left out)
   std::vector<std::vector<int>> robot_links;  ///< per robot with a model: each link's body, -1 without a shape
 };
 
@@ -65,8 +66,9 @@ void place_people_and_doors(const scenario::Model& model, const State& state, Ph
 /// people, other robots — by more than kPenetrationSlop (or, when it already overlaps, more than it does).
 double free_share(PhysicsBodies& physics, std::size_t robot, const robots::Robot& moved, const robots::Configuration& from);
 
-/// The tick's physics phase: robots' links follow them, the world steps, grasps change, and the
-/// objects' poses go to the state.
-void step_physics(const scenario::Model& model, State& state, PhysicsBodies& physics);
+/// The tick's physics phase: robots' links follow them, objects people put down or let go of rejoin
+/// the world, the world steps, grasps change, and the objects' poses go to the state — a carried
+/// object's from the hand that carries it.
+void step_physics(const scenario::Model& model, State& state, PhysicsBodies& physics, const HumanBodies& bodies);
 
 }  // namespace hrisim::sim

@@ -128,7 +128,7 @@ void Session::tick() {
   move_robots(model, state_, physics_);
   make_sounds(model, state_, first_event);
   ++state_.tick;
-  if (physics_.world) step_physics(model, state_, physics_);  // the state after this tick: its events carry the new tick, as sensors do
+  if (physics_.world) step_physics(model, state_, physics_, bodies_);  // the state after this tick: its events carry the new tick, as sensors do
   sense(model, state_, physics_, bodies_);
   listen(model, state_);
   notice_people_found(model, state_);

@@ -44,6 +44,13 @@ struct PendingAction {
   auto fields() const { return std::tie(routine, index, step, role, group_size, group); }
 };
 
+/// Where a person is in sitting on a seat (scenario::Seat) or leaving it: walking to the free spot in
+/// front of it, stepping back onto the seat's spot, sitting down, seated, standing up, stepping off.
+enum class SeatPhase { none, approaching, stepping_in, sitting, seated, standing_up, stepping_out };
+
+/// Where a person is in a pick_up or put_down: walking to a spot within reach, reaching, done.
+enum class ReachPhase { none, walking, reaching, done };
+
 struct AgentState {
   bool active = true;  ///< false once removed from the session
   Vec2 position = Vec2::Zero();
@@ -112,9 +119,18 @@ struct AgentState {
   std::int64_t motion_tick = 0;                ///< when it started
   std::int64_t motion_released_tick = -1;      ///< when the person walked off (it blends out), -1 before
   double step_phase = 0.0;  ///< steps walked, for their footfalls (sensors::footfalls), when a robot listens
+  // Sitting: the seat walked to, sat on or being left (-1: none), how far along, and the free spot in
+  // front of it the person came from and steps back to.
+  int seat = -1;
+  SeatPhase seat_phase = SeatPhase::none;
+  Vec2 seat_front = Vec2::Zero();
+  // Carrying: the movable object in the right hand (-1: none), and how far along a pick_up or
+  // put_down under way is.
+  int carried_object = -1;
+  ReachPhase reach_phase = ReachPhase::none;
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase); }
+  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase, seat, seat_phase, seat_front, carried_object, reach_phase); }
 };
 
 struct Event {

@@ -9,6 +9,7 @@
 #include "sim/choreography.hpp"
 #include "sim/doors_and_elevators.hpp"
 #include "sim/events.hpp"
+#include "sim/seats.hpp"
 
 namespace hrisim::sim {
 namespace {
@@ -39,8 +40,10 @@ void advance_body(const scenario::Model& model, const State& state, AgentState& 
   const humans::MotionClip& walk = *humans::builtin_motion("walk");
   self.gait_distance = std::fmod(self.gait_distance + speed * model.dt + humans::kTurnStepRadius * std::abs(turned), walk.speed() * walk.duration());
   if (!self.motion) return;
-  const bool playing =
-      !self.program.empty() && self.action_started && action_of(model, state, self.program.front()).kind == scenario::Action::Kind::play_motion;
+  // A primitive played for an action (a motion, a reach, sitting down or standing up) is not left for
+  // a push.
+  const bool playing = self.reach_phase == ReachPhase::reaching || held_by_seat(self) ||
+                       (!self.program.empty() && self.action_started && action_of(model, state, self.program.front()).kind == scenario::Action::Kind::play_motion);
   if (self.motion_released_tick < 0 && !playing && speed > kMotionReleaseSpeed) self.motion_released_tick = state.tick;
   if (self.motion_released_tick >= 0 && static_cast<double>(state.tick - self.motion_released_tick) * model.dt >= humans::kMotionBlendTime) {
     self.motion = nullptr;
@@ -162,10 +165,13 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     crowd.position = self.position;
     crowd.radius = def.radius;
     crowd.avoidance = def.avoidance;
-    // A controlled agent keeps its velocity: robots, and people held in place (rooted, or seated or
-    // lying where they are going nowhere: others walk round them).
-    const bool held = self.rooted || (!self.navigating && self.motion && posture_of(self) != scenario::Posture::standing);
-    crowd.controlled = def.kind == AgentKind::robot || held;
+    // A controlled agent keeps its velocity: robots, people held in place (rooted, on a seat, or
+    // seated or lying where they are going nowhere: others walk round them), and people stepping onto
+    // or off a seat's spot, where the furniture is too close for avoidance.
+    const bool held = self.rooted || held_by_seat(self) || (!self.navigating && self.motion && posture_of(self) != scenario::Posture::standing);
+    const std::optional<Vec2> stepping = seat_step_velocity(model, state, static_cast<int>(i));
+    if (stepping) buffers.watching_headings[i] = model.seats[self.seat].pose.theta;  // backing onto the seat, facing its way
+    crowd.controlled = def.kind == AgentKind::robot || held || stepping;
     crowd.preferred_velocity = preferred;
     crowd.personal_space = self.personal_space;
     crowd.robots_as_obstacles = self.behaviour.type == humans::BehaviourType::impassive;
@@ -174,6 +180,7 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     crowd.place = self.reserved_space;
     crowd.max_speed = std::max(self.preferred_speed * humans::kMaxSpeedFactor, 1e-3);
     crowd.velocity = !crowd.controlled ? self.velocity
+                     : stepping        ? *stepping
                      : held            ? Vec2::Zero()
                      : def.robot_model ? self.velocity  // where its base is taking it
                      : self.navigating ? preferred

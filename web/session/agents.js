@@ -1,6 +1,6 @@
 // The agents panel: the scenario clock's time of day (when it keeps one), each agent's pose, speed,
 // what a person is doing (the activity of their activity model and the room of their daily
-// schedule, else the motion they play), their behaviour (and the robot they react to) and whether it
+// schedule, else the motion they play; the seat they sit on and what they carry), their behaviour (and the robot they react to) and whether it
 // is busy, as of the driver's last state (rows of inactive agents hidden), and the robots' open requests.
 import { h } from '../lib/ui.js';
 
@@ -33,7 +33,8 @@ export function agentsPanel(driver, agents) {
       entry.cells.y.textContent = agent.y.toFixed(2);
       entry.cells.theta.textContent = agent.theta.toFixed(2);
       entry.cells.speed.textContent = Math.hypot(agent.vx, agent.vy).toFixed(2);
-      const doing = agent.activity ?? agent.motion ?? '';
+      const doing = [agent.activity ?? agent.motion ?? '', agent.seat ? `on ${agent.seat}` : '', agent.carrying ? `carrying ${agent.carrying}` : '']
+        .filter(Boolean).join(' ');
       entry.cells.doing.textContent = agent.room ? (doing ? `${doing} in ${agent.room}` : `in ${agent.room}`) : doing;
       entry.cells.behaviour.textContent = agent.behaviour ? `${agent.behaviour}${agent.reacting_to ? ` (reacting to ${agent.reacting_to})` : ''}` : '';
       entry.cells.busy.textContent = agent.busy ? 'yes' : 'no';

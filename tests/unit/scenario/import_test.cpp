@@ -386,13 +386,30 @@ TEST(ImportImhus, GroupsAndARobotChoreographyBesideTheScenario) {
   EXPECT_EQ(session.state().termination, "scenario_end");
 }
 
-TEST(ImportImhus, GroupsTakeGotoOnly) {
-  std::string xml = read(kFixtures / "imhus/duo.xml");
-  xml.replace(xml.find(R"(<goto_action entityID="pair" poseID="far_end"/>)"), 47, R"(<wait_action entityID="pair" duration="1"/>)");
+TEST(ImportImhus, GroupsTakeGotoWaitLookAtAndCompoundTasks) {
+  const std::string duo = read(kFixtures / "imhus/duo.xml");
+  const std::string group_goto = R"(<goto_action entityID="pair" poseID="far_end"/>)";
+  const auto with = [&](const std::string& instead) {
+    std::string xml = duo;
+    return xml.replace(xml.find(group_goto), group_goto.size(), instead);
+  };
+  // IMHuS's compound tasks for groups and pairs: every member runs the task, keeping together.
+  const ImportResult task = import_imhus(with(R"(<together entityID="pair" taskID="wave"/>)"), bundled());
+  ASSERT_TRUE(task.errors.empty()) << task.errors.front().message;
+  const auto model = load_imported(task);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->steps[1].actions[0].group, 0);
+  EXPECT_EQ(model->steps[1].actions[0].kind, Action::Kind::run_routine);
+  EXPECT_EQ(model->routines[model->steps[1].actions[0].target].name, "wave");
+  const ImportResult wait = import_imhus(with(R"(<wait_action entityID="pair" duration="1"/>)"), bundled());
+  EXPECT_TRUE(wait.errors.empty());
+  EXPECT_EQ(wait.scenario["steps"][1]["actions"][0]["group"], "pair");
+
+  std::string xml = with(R"(<publish_action entityID="pair" topic="/bell" msg="ring"/>)");
   xml.replace(xml.find(R"(members="ann bo")"), 16, R"(members="ann zed")");
   const ImportResult result = import_imhus(xml, bundled());
   EXPECT_TRUE(has_message(result.errors, 11, "unknown member 'zed' of group 'pair'"));
-  EXPECT_TRUE(has_message(result.errors, 38, "a group (pair) can be given a goto_action only"));
+  EXPECT_TRUE(has_message(result.errors, 38, "a group (pair) can be given a goto_action, wait_action, lookat_action or a compound task (taskID)"));
 }
 
 }  // namespace
