@@ -12,7 +12,8 @@
 #include "core/text.hpp"
 #include "humans/motion.hpp"
 #include "core/files.hpp"
-#include "scenario/reaching.hpp"
+#include "scenario/load_context.hpp"
+#include "scenario/read_actions.hpp"
 #include "scenario/sound_settings.hpp"
 #include "world/ros_map.hpp"
 
@@ -25,14 +26,11 @@ extern const int kEmbeddedCount;
 namespace {
 
 using nlohmann::json;
-using Errors = std::vector<core::ValidationError>;
+using loading::Errors;
+using loading::member;
+using loading::read_point;
+using loading::read_pose;
 
-/// The member, or an empty value when absent (a reference that stays valid, unlike json::value()).
-const json& member(const json& object, const char* key) {
-  static const json kEmpty = json::object();
-  const auto found = object.find(key);
-  return found == object.end() ? kEmpty : *found;
-}
 
 /// A controller's `type` (the schema admits only these names).
 RobotController::Kind controller_kind(std::string_view type) {
@@ -46,8 +44,6 @@ RobotController::Kind controller_kind(std::string_view type) {
   return Kind::idle;
 }
 
-Pose2 read_pose(const json& j) { return {j.at("x").get<double>(), j.at("y").get<double>(), j.value("theta", 0.0)}; }
-Vec2 read_point(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>()}; }
 
 std::vector<Vec2> rectangle(const Pose2& centre, double length, double width) {
   std::vector<Vec2> corners;
@@ -66,16 +62,11 @@ std::vector<Vec2> wall_polygon(const Vec2& from, const Vec2& to, double thicknes
   return rectangle({middle.x(), middle.y(), theta}, std::max(length, thickness), thickness);
 }
 
-/// Names of everything the scenario declares, for resolving references.
-struct Names {
-  std::map<std::string, int> locations, social_spaces, agents, routines, doors, groups;
-  std::set<std::string> robots;
-};
 
 class Loader {
  public:
   Loader(const json& document, const LoadOptions& options, Errors& errors, Errors& warnings)
-      : doc_(document), options_(options), errors_(errors), warnings_(warnings) {}
+      : doc_(document), options_(options), errors_(errors), warnings_(warnings), context_(errors) {}
 
   std::shared_ptr<Model> load() {
     auto model = build_world();
@@ -87,7 +78,7 @@ class Loader {
     read_locomotion(*model);
     read_places(*model);
     read_elevators(*model);
-    model->activity_models = read_activity_models(member(doc_, "activity_models"), names_.locations, errors_);
+    model->activity_models = read_activity_models(member(doc_, "activity_models"), context_.names.locations, errors_);
     read_daily_life(*model);
     model->clips = read_clips(member(doc_, "clips"), options_.map_search_path, options_.limits.confine_files, errors_);
     read_agents(*model);
@@ -104,14 +95,13 @@ class Loader {
       check_episode_ticks(model->time_limit, model->dt, options_.limits.max_episode_ticks,
                           model->task ? "task.max_episode_length" : "time_limit");
     } catch (const core::Error& e) {
-      error(model->task ? "/task/max_episode_length" : "/time_limit", e.what());
+      context_.error(model->task ? "/task/max_episode_length" : "/time_limit", e.what());
     }
     warn_about_social_force_goals(*model);
     return errors_.empty() ? model : nullptr;
   }
 
  private:
-  void error(const std::string& pointer, const std::string& message) { errors_.push_back({pointer, message}); }
 
   std::shared_ptr<Model> build_world() {
     const json& world = doc_.at("world");
@@ -120,7 +110,7 @@ class Loader {
       const std::string name = world["map"];
       const auto path = core::find_file(options_.map_search_path, name, options_.limits.confine_files);
       if (!path) {
-        error("/world/map", "map '" + name + "' not found (a relative path, looked up next to the scenario and among the bundled scenarios)");
+        context_.error("/world/map", "map '" + name + "' not found (a relative path, looked up next to the scenario and among the bundled scenarios)");
         return nullptr;
       }
       try {
@@ -128,19 +118,19 @@ class Loader {
         if (options_.limits.confine_files) limits.folder = path->parent_path();
         grid = world::load_ros_map(*path, limits);
       } catch (const core::Error& e) {
-        error("/world/map", e.what());
+        context_.error("/world/map", e.what());
         return nullptr;
       }
     } else if (world.contains("bounds")) {
       const Vec2 low = read_point(world["bounds"]["min"]), high = read_point(world["bounds"]["max"]);
       const double resolution = world.value("resolution", world::kDefaultGridResolution);
       if (!(high.x() > low.x() && high.y() > low.y())) {
-        error("/world/bounds", "max must be greater than min in x and y");
+        context_.error("/world/bounds", "max must be greater than min in x and y");
         return nullptr;
       }
       const double cells = std::ceil((high.x() - low.x()) / resolution) * std::ceil((high.y() - low.y()) / resolution);
       if (!(cells <= static_cast<double>(options_.limits.max_grid_cells))) {
-        error("/world/resolution", "the bounds at this resolution make " + std::to_string(static_cast<long double>(cells)) + " cells; at most " +
+        context_.error("/world/resolution", "the bounds at this resolution make " + std::to_string(static_cast<long double>(cells)) + " cells; at most " +
                                        std::to_string(options_.limits.max_grid_cells) + " (--max-grid-cells)");
         return nullptr;
       }
@@ -148,11 +138,11 @@ class Loader {
         grid.emplace(resolution, low, static_cast<int>(std::ceil((high.x() - low.x()) / resolution)),
                      static_cast<int>(std::ceil((high.y() - low.y()) / resolution)));
       } catch (const core::Error& e) {
-        error("/world/bounds", e.what());
+        context_.error("/world/bounds", e.what());
         return nullptr;
       }
     } else {
-      error("/world", "needs either 'map' (a ROS map YAML file) or 'bounds'");
+      context_.error("/world", "needs either 'map' (a ROS map YAML file) or 'bounds'");
       return nullptr;
     }
 
@@ -178,7 +168,7 @@ class Loader {
       obstacle.name = entry["name"];
       obstacle.height = entry.value("height", kDefaultObstacleHeight);
       if (!names.insert(obstacle.name).second) {
-        error("/world/obstacles/" + std::to_string(i) + "/name", "obstacle name '" + obstacle.name + "' is used twice");
+        context_.error("/world/obstacles/" + std::to_string(i) + "/name", "obstacle name '" + obstacle.name + "' is used twice");
       }
       Pose2 frame;
       if (entry.contains("box")) {
@@ -226,10 +216,10 @@ class Loader {
     for (std::size_t i = 0; i < doors.size(); ++i) {
       scenario::Door door{doors[i]["name"], read_point(doors[i]["from"]), read_point(doors[i]["to"]),
                           doors[i].value("thickness", kDefaultWallThickness), doors[i].value("open", false)};
-      if (names_.doors.contains(door.name)) {
-        error("/world/doors/" + std::to_string(i) + "/name", "door name '" + door.name + "' is used twice");
+      if (context_.names.doors.contains(door.name)) {
+        context_.error("/world/doors/" + std::to_string(i) + "/name", "door name '" + door.name + "' is used twice");
       }
-      names_.doors[door.name] = static_cast<int>(model->doors.size());
+      context_.names.doors[door.name] = static_cast<int>(model->doors.size());
       model->doors.push_back(std::move(door));
     }
     return model;
@@ -262,35 +252,19 @@ class Loader {
     model.personal_space.from_people = personal_space.value("from_people", model.personal_space.from_people);
   }
 
-  /// Errors when p is outside the map or inside an obstacle, naming the obstacle when one contains it.
-  void check_free(const Model& model, const Vec2& p, const std::string& pointer, const std::string& what) {
-    if (!model.grid.in_bounds(model.grid.cell_of(p))) {
-      error(pointer, what + " at (" + core::point_text(p) + ") is outside the map");
-      return;
-    }
-    if (!model.grid.blocked(p)) return;
-    for (const Obstacle& obstacle : model.obstacles) {
-      if (world::contains(obstacle.polygon, p)) {
-        error(pointer, what + " at (" + core::point_text(p) + ") is inside obstacle \"" + obstacle.name + "\"");
-        return;
-      }
-    }
-    error(pointer, what + " at (" + core::point_text(p) + ") is on an occupied or unknown cell of the map");
-  }
-
   void read_places(Model& model) {
     for (const auto& [name, entry] : member(doc_, "locations").items()) {
-      names_.locations[name] = static_cast<int>(model.locations.size());
+      context_.names.locations[name] = static_cast<int>(model.locations.size());
       model.locations.push_back({name, read_pose(entry), entry.value("radius", kDefaultGoalRadius)});
-      check_free(model, model.locations.back().pose.position(), "/locations/" + core::pointer_token(name),
+      context_.check_free(model, model.locations.back().pose.position(), "/locations/" + core::pointer_token(name),
                  "location '" + name + "'");
     }
     for (const auto& [name, entry] : member(doc_, "social_spaces").items()) {
-      names_.social_spaces[name] = static_cast<int>(model.social_spaces.size());
+      context_.names.social_spaces[name] = static_cast<int>(model.social_spaces.size());
       SocialSpace space{name, read_pose(entry), {}};
       for (std::size_t i = 0; i < entry["slots"].size(); ++i) {
         space.slots.push_back(core::compose(space.centre, read_pose(entry["slots"][i])));
-        check_free(model, space.slots.back().position(),
+        context_.check_free(model, space.slots.back().position(),
                    "/social_spaces/" + core::pointer_token(name) + "/slots/" + std::to_string(i),
                    "slot " + std::to_string(i) + " of social space '" + name + "'");
       }
@@ -308,20 +282,20 @@ class Loader {
       elevator.name = entry["name"];
       elevator.topic = entry.value("topic", "/elevator");
       for (std::size_t d = 0; d < entry["doors"].size(); ++d) {
-        const int door = resolve(names_.doors, entry["doors"][d], pointer + "/doors/" + std::to_string(d), "door");
+        const int door = context_.resolve(context_.names.doors, entry["doors"][d], pointer + "/doors/" + std::to_string(d), "door");
         if (door >= 0 && !used_doors.insert(door).second) {
-          error(pointer + "/doors/" + std::to_string(d), "door '" + model.doors[door].name + "' already belongs to an elevator");
+          context_.error(pointer + "/doors/" + std::to_string(d), "door '" + model.doors[door].name + "' already belongs to an elevator");
         }
         elevator.doors.push_back(door);
       }
       const json& spaces = member(entry, "social_spaces");
       for (std::size_t s = 0; s < spaces.size(); ++s) {
         elevator.social_spaces.push_back(
-            resolve(names_.social_spaces, spaces[s], pointer + "/social_spaces/" + std::to_string(s), "social space"));
+            context_.resolve(context_.names.social_spaces, spaces[s], pointer + "/social_spaces/" + std::to_string(s), "social space"));
       }
       elevator.start_floor = entry.value("start_floor", 1) - 1;
       if (elevator.start_floor >= static_cast<int>(elevator.doors.size())) {
-        error(pointer + "/start_floor", "floor " + std::to_string(elevator.start_floor + 1) + " has no door (" +
+        context_.error(pointer + "/start_floor", "floor " + std::to_string(elevator.start_floor + 1) + " has no door (" +
                                             std::to_string(elevator.doors.size()) + " doors)");
       }
       elevator.door_speed = entry.value("door_speed", kElevatorDoorSpeed);
@@ -335,7 +309,7 @@ class Loader {
   void read_agents(Model& model) {
     const std::size_t people = doc_.value("humans", json::array()).size() + doc_.value("robots", json::array()).size();
     if (people > static_cast<std::size_t>(options_.limits.max_people)) {
-      error("/humans", std::to_string(people) + " humans and robots: at most " + std::to_string(options_.limits.max_people) +
+      context_.error("/humans", std::to_string(people) + " humans and robots: at most " + std::to_string(options_.limits.max_people) +
                            " in a scenario (--max-people)");
       return;
     }
@@ -359,17 +333,17 @@ class Loader {
         if (entry.contains("activity_model")) agent.activity_model = find_activity_model(model, entry["activity_model"], pointer + "/activity_model");
         if (entry.contains("daily_schedule")) agent.daily_schedule = find_daily_schedule(model, entry["daily_schedule"], pointer + "/daily_schedule");
         if (agent.activity_model >= 0 && agent.daily_schedule >= 0) {
-          error(pointer, "human '" + agent.id + "' has both an activity_model and a daily_schedule: a schedule chooses the model in each room, give one of them");
+          context_.error(pointer, "human '" + agent.id + "' has both an activity_model and a daily_schedule: a schedule chooses the model in each room, give one of them");
         }
-        if (names_.agents.contains(agent.id)) {
-          error(pointer + "/id", "agent id '" + agent.id + "' is used twice");
+        if (context_.names.agents.contains(agent.id)) {
+          context_.error(pointer + "/id", "agent id '" + agent.id + "' is used twice");
         }
-        names_.agents[agent.id] = static_cast<int>(model.agents.size());
+        context_.names.agents[agent.id] = static_cast<int>(model.agents.size());
         if (!is_human) {
-          names_.robots.insert(agent.id);
+          context_.names.robots.insert(agent.id);
           read_robot_model(model, entry, pointer, agent);
         }
-        check_free(model, agent.start.position(), pointer + "/start", std::string(is_human ? "human" : "robot") + " '" + agent.id + "'");
+        context_.check_free(model, agent.start.position(), pointer + "/start", std::string(is_human ? "human" : "robot") + " '" + agent.id + "'");
         model.agents.push_back(std::move(agent));
       }
     }
@@ -382,19 +356,19 @@ class Loader {
     search.search_strategy = controller.value("strategy", "presence") == "sweep" ? RobotController::SearchStrategy::sweep
                                                                                 : RobotController::SearchStrategy::presence;
     const std::string person = controller.value("person", "");
-    const auto found = names_.agents.find(person);
-    if (found == names_.agents.end() || model.agents[found->second].kind != AgentKind::human) {
-      error(pointer + "/person", "the search controller looks for a human of the scenario; '" + person + "' is none");
+    const auto found = context_.names.agents.find(person);
+    if (found == context_.names.agents.end() || model.agents[found->second].kind != AgentKind::human) {
+      context_.error(pointer + "/person", "the search controller looks for a human of the scenario; '" + person + "' is none");
     } else {
       search.search_person = found->second;
       if (search.search_strategy == RobotController::SearchStrategy::presence && model.agents[found->second].daily_schedule < 0) {
-        error(pointer + "/strategy", "searching by presence needs '" + person + "' to live by a daily schedule (or use \"strategy\": \"sweep\")");
+        context_.error(pointer + "/strategy", "searching by presence needs '" + person + "' to live by a daily schedule (or use \"strategy\": \"sweep\")");
       }
     }
-    if (!robot.people_detector) error(pointer, "the search controller finds people with the robot's people_detector: give the robot one");
-    if (model.rooms.empty()) error(pointer, "the search controller looks into the scenario's rooms: declare them in 'rooms'");
+    if (!robot.people_detector) context_.error(pointer, "the search controller finds people with the robot's people_detector: give the robot one");
+    if (model.rooms.empty()) context_.error(pointer, "the search controller looks into the scenario's rooms: declare them in 'rooms'");
     for (const Room& room : model.rooms) {
-      if (room.lookout < 0) error("/rooms/" + core::pointer_token(room.name), "the search controller looks into every room from its lookout: give '" + room.name + "' one");
+      if (room.lookout < 0) context_.error("/rooms/" + core::pointer_token(room.name), "the search controller looks into every room from its lookout: give '" + room.name + "' one");
     }
   }
 
@@ -402,22 +376,22 @@ class Loader {
     for (std::size_t s = 0; s < model.daily_schedules.size(); ++s) {
       if (model.daily_schedules[s].name == name) return static_cast<int>(s);
     }
-    error(pointer, "unknown daily schedule '" + name + "'");
+    context_.error(pointer, "unknown daily schedule '" + name + "'");
     return -1;
   }
 
   void read_daily_life(Model& model) {
     if (doc_.contains("clock")) model.clock = read_clock(doc_["clock"], errors_);
-    model.rooms = read_rooms(member(doc_, "rooms"), names_.locations, errors_);
+    model.rooms = read_rooms(member(doc_, "rooms"), context_.names.locations, errors_);
     model.daily_schedules = read_daily_schedules(member(doc_, "daily_schedules"), model.rooms, model.activity_models, errors_);
-    if (!model.daily_schedules.empty() && !model.clock) error("/daily_schedules", "daily schedules need the scenario's 'clock' (its start time of day and speed)");
+    if (!model.daily_schedules.empty() && !model.clock) context_.error("/daily_schedules", "daily schedules need the scenario's 'clock' (its start time of day and speed)");
   }
 
   int find_activity_model(const Model& model, const std::string& name, const std::string& pointer) {
     for (std::size_t m = 0; m < model.activity_models.size(); ++m) {
       if (model.activity_models[m].name == name) return static_cast<int>(m);
     }
-    error(pointer, "unknown activity model '" + name + "'");
+    context_.error(pointer, "unknown activity model '" + name + "'");
     return -1;
   }
 
@@ -427,15 +401,15 @@ class Loader {
       const std::string name = entry["model"];
       agent.robot_model = robots::builtin_robot(name);
       if (!agent.robot_model) {
-        error(pointer + "/model", "unknown robot model '" + name + "' (known: " + core::join(robots::builtin_robot_names()) + ")");
+        context_.error(pointer + "/model", "unknown robot model '" + name + "' (known: " + core::join(robots::builtin_robot_names()) + ")");
       } else if (entry.contains("radius")) {
-        error(pointer + "/radius", "a robot with a model has its model's footprint (" + std::to_string(agent.robot_model->footprint_radius) + " m)");
+        context_.error(pointer + "/radius", "a robot with a model has its model's footprint (" + std::to_string(agent.robot_model->footprint_radius) + " m)");
       } else {
         agent.radius = agent.robot_model->footprint_radius;
       }
     }
     for (const char* needs_model : {"controller", "people_detector", "odometry"}) {
-      if (entry.contains(needs_model) && !entry.contains("model")) error(pointer + "/" + needs_model, "only a robot with a model has one");
+      if (entry.contains(needs_model) && !entry.contains("model")) context_.error(pointer + "/" + needs_model, "only a robot with a model has one");
     }
     if (entry.contains("controller")) {
       const json& controller = entry["controller"];
@@ -444,41 +418,41 @@ class Loader {
       agent.controller.kind = controller_kind(type);
       const json goal = controller.value("goal", json::object());
       if (goal.contains("location")) {
-        const int location = resolve(names_.locations, goal["location"], pointer + "/controller/goal/location", "location");
+        const int location = context_.resolve(context_.names.locations, goal["location"], pointer + "/controller/goal/location", "location");
         if (location >= 0) agent.controller.goal = model.locations[location].pose;
-        if (goal.contains("pose")) error(pointer + "/controller/goal", "give either a location or a pose");
+        if (goal.contains("pose")) context_.error(pointer + "/controller/goal", "give either a location or a pose");
       } else if (goal.contains("pose")) {
         agent.controller.goal = read_pose(goal["pose"]);
-        check_free(model, agent.controller.goal->position(), pointer + "/controller/goal/pose", "goal of robot '" + agent.id + "'");
+        context_.check_free(model, agent.controller.goal->position(), pointer + "/controller/goal/pose", "goal of robot '" + agent.id + "'");
       }
       agent.controller.goal_radius = goal.value("radius", kDefaultGoalRadius);
       const bool drives = agent.controller.kind != Kind::idle && agent.controller.kind != Kind::teleop;
       if (drives && controller.contains("goal") && !goal.contains("location") && !goal.contains("pose")) {
-        error(pointer + "/controller/goal", "a goal is a location or a pose");
+        context_.error(pointer + "/controller/goal", "a goal is a location or a pose");
       }
-      if (!drives && controller.contains("goal")) error(pointer + "/controller/goal", "the " + type + " controller does not drive to a goal");
+      if (!drives && controller.contains("goal")) context_.error(pointer + "/controller/goal", "the " + type + " controller does not drive to a goal");
       if (agent.robot_model && !agent.robot_model->drive && agent.controller.kind != Kind::idle) {
-        error(pointer + "/controller/type", "robot model '" + agent.robot_model->name + "' has no drive");
+        context_.error(pointer + "/controller/type", "robot model '" + agent.robot_model->name + "' has no drive");
       }
     }
     if (entry.contains("people_detector")) agent.people_detector = sensors::read_people_detector_params(entry["people_detector"]);
     if (entry.contains("microphones")) read_microphones(entry["microphones"], pointer + "/microphones", agent, errors_);
     if (agent.controller.kind == RobotController::Kind::search) read_search(model, entry["controller"], pointer + "/controller", agent);
     if (entry.contains("joints")) {
-      if (!agent.robot_model) error(pointer + "/joints", "only a robot with a model has joints");
+      if (!agent.robot_model) context_.error(pointer + "/joints", "only a robot with a model has joints");
       for (const auto& [joint, position] : entry["joints"].items()) {
         const std::string at = pointer + "/joints/" + core::pointer_token(joint);
         const int index = agent.robot_model ? agent.robot_model->find_joint(joint) : -1;
         if (!agent.robot_model) continue;
         if (index < 0) {
-          error(at, "robot model '" + agent.robot_model->name + "' has no joint '" + joint + "'");
+          context_.error(at, "robot model '" + agent.robot_model->name + "' has no joint '" + joint + "'");
           continue;
         }
         const robots::Joint& def = agent.robot_model->joints[index];
-        if (def.type == robots::JointType::fixed || def.mimic) error(at, "joint '" + joint + "' has no motor of its own");
+        if (def.type == robots::JointType::fixed || def.mimic) context_.error(at, "joint '" + joint + "' has no motor of its own");
         const double value = position.get<double>();
         if ((def.limits.lower && value < *def.limits.lower) || (def.limits.upper && value > *def.limits.upper)) {
-          error(at, "outside the joint's limits");
+          context_.error(at, "outside the joint's limits");
         }
         agent.initial_joints[joint] = value;
       }
@@ -494,7 +468,7 @@ class Loader {
       const std::string pointer = "/objects/" + std::to_string(i);
       MovableObject object;
       object.name = entry["name"];
-      if (!names.insert(object.name).second) error(pointer + "/name", "object name '" + object.name + "' is used twice");
+      if (!names.insert(object.name).second) context_.error(pointer + "/name", "object name '" + object.name + "' is used twice");
       const json& shape = entry["shape"];
       const std::string kind = shape["kind"];
       object.shape.kind = kind == "box" ? robots::Shape::Kind::box
@@ -507,12 +481,12 @@ class Loader {
       const bool sized = object.shape.kind == robots::Shape::Kind::box ? shape.contains("size")
                          : object.shape.kind == robots::Shape::Kind::sphere ? shape.contains("radius")
                                                                              : shape.contains("radius") && shape.contains("length");
-      if (!sized) error(pointer + "/shape", "a " + kind + " needs " + (kind == "box" ? "size" : kind == "sphere" ? "radius" : "radius and length"));
+      if (!sized) context_.error(pointer + "/shape", "a " + kind + " needs " + (kind == "box" ? "size" : kind == "sphere" ? "radius" : "radius and length"));
       object.mass = entry["mass"];
       const json& pose = entry["pose"];
       object.pose = {pose["x"], pose["y"], pose.value("z", 0.0), pose.value("roll", 0.0), pose.value("pitch", 0.0), pose.value("yaw", 0.0)};
       if (!model.grid.in_bounds(model.grid.cell_of({object.pose.x, object.pose.y}))) {
-        error(pointer + "/pose", "object '" + object.name + "' is outside the map");
+        context_.error(pointer + "/pose", "object '" + object.name + "' is outside the map");
       }
       model.objects.push_back(std::move(object));
     }
@@ -520,7 +494,7 @@ class Loader {
 
   void collect_task_names(Model& model) {
     for (const auto& [name, unused] : member(doc_, "tasks").items()) {
-      names_.routines[name] = static_cast<int>(model.routines.size());
+      context_.names.routines[name] = static_cast<int>(model.routines.size());
       model.routines.push_back({name, {}});
     }
   }
@@ -528,15 +502,15 @@ class Loader {
   /// Declared groups, then the names that form_group actions create.
   void read_groups(Model& model) {
     for (const auto& [name, entry] : member(doc_, "groups").items()) {
-      Group group{name, members_of(entry["members"], "/groups/" + core::pointer_token(name) + "/members")};
-      names_.groups[name] = static_cast<int>(model.groups.size());
+      Group group{name, context_.members_of(entry["members"], "/groups/" + core::pointer_token(name) + "/members")};
+      context_.names.groups[name] = static_cast<int>(model.groups.size());
       model.groups.push_back(std::move(group));
     }
     auto collect = [&](const json& action) {
       if (action.contains("form_group")) {
         const std::string name = action["form_group"]["group"];
-        if (!names_.groups.contains(name)) {
-          names_.groups[name] = static_cast<int>(model.groups.size());
+        if (!context_.names.groups.contains(name)) {
+          context_.names.groups[name] = static_cast<int>(model.groups.size());
           model.groups.push_back({name, {}});
         }
       }
@@ -549,288 +523,24 @@ class Loader {
     }
   }
 
-  std::vector<int> members_of(const json& list, const std::string& pointer) {
-    std::vector<int> members;
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      const int agent = resolve(names_.agents, list[i], pointer + "/" + std::to_string(i), "agent");
-      if (agent < 0) continue;
-      if (std::find(members.begin(), members.end(), agent) != members.end()) {
-        error(pointer + "/" + std::to_string(i), "agent '" + list[i].get<std::string>() + "' is listed twice");
-      }
-      members.push_back(agent);
-    }
-    return members;
-  }
-
-  int resolve(const std::map<std::string, int>& table, const std::string& name, const std::string& pointer,
-              const std::string& what) {
-    const auto found = table.find(name);
-    if (found != table.end()) return found->second;
-    std::string known;
-    for (const auto& [candidate, unused] : table) known += (known.empty() ? "" : ", ") + candidate;
-    error(pointer, "unknown " + what + " '" + name + "'" + (known.empty() ? " (none defined)" : " (known: " + known + ")"));
-    return -1;
-  }
-
-  /// What a group (a pair too) can be given: the whole group walks a goto in formation; every member
-  /// does the others, and runs a compound task's actions likewise, its gotos in formation.
-  static constexpr const char* kGroupActions[] = {"goto", "task", "wait", "look_at", "turn", "motion", "say"};
-
-  Action read_action(const json& entry, const std::string& pointer, bool in_routine) {
-    Action action;
-    action.pointer = pointer;
-    if (entry.contains("agent") && entry.contains("group")) {
-      error(pointer, "an action names an agent or a group, not both");
-    } else if (entry.contains("agent") || entry.contains("group")) {
-      const char* key = entry.contains("agent") ? "agent" : "group";
-      if (in_routine) {
-        error(pointer + "/" + key, "actions of a compound task do not name an agent or group: whoever runs the task acts");
-      } else if (entry.contains("agent")) {
-        action.agent = resolve(names_.agents, entry["agent"], pointer + "/agent", "agent");
-      } else if (!std::any_of(std::begin(kGroupActions), std::end(kGroupActions), [&](const char* kind) { return entry.contains(kind); })) {
-        error(pointer + "/group", "a group can be given goto, task, wait, look_at, turn, motion or say");
-      } else {
-        action.group = resolve(names_.groups, entry["group"], pointer + "/group", "group");
-      }
-    } else if (!in_routine) {
-      error(pointer, "missing required key 'agent' (or 'group')");
-    }
-    auto robot = [&](const json& name, const std::string& at) {
-      const int agent = resolve(names_.agents, name, at, "agent");
-      if (agent >= 0 && !names_.robots.contains(name.get<std::string>())) {
-        error(at, "'" + name.get<std::string>() + "' is not a robot");
-      }
-      return agent;
-    };
-    if (entry.contains("goto")) {
-      const json& go = entry["goto"];
-      if (go.contains("location")) {
-        action.kind = Action::Kind::go_to_location;
-        action.target = resolve(names_.locations, go["location"], pointer + "/goto/location", "location");
-        if (go.contains("offset")) action.pose = read_pose(go["offset"]);
-      } else if (go.contains("social_space")) {
-        action.kind = Action::Kind::go_to_social_space;
-        action.target = resolve(names_.social_spaces, go["social_space"], pointer + "/goto/social_space", "social space");
-      } else {
-        action.kind = Action::Kind::go_to_pose;
-        action.pose = read_pose(go["pose"]);
-        action.radius = go.value("radius", kDefaultGoalRadius);
-        check_free(*model_for_checks_, action.pose.position(), pointer + "/goto/pose", "goal pose");
-      }
-    } else if (entry.contains("wait")) {
-      const json& wait = entry["wait"];
-      if (wait.contains("duration")) {
-        action.kind = Action::Kind::wait_duration;
-        action.value = wait["duration"];
-      } else {
-        action.kind = Action::Kind::wait_message;
-        action.topic = wait["topic"];
-        action.message = wait["message"];
-      }
-    } else if (entry.contains("look_at")) {
-      const json& look = entry["look_at"];
-      if (look.contains("angle")) {
-        action.kind = Action::Kind::look_at_angle;
-        action.value = look["angle"];
-      } else if (look.contains("agent")) {
-        action.kind = Action::Kind::look_at_agent;
-        action.target = resolve(names_.agents, look["agent"], pointer + "/look_at/agent", "agent");
-      } else if (look.contains("object")) {
-        read_look_at_object(look["object"], pointer + "/look_at/object", action);
-      } else {
-        action.kind = Action::Kind::look_at_location;
-        action.target = resolve(names_.locations, look["location"], pointer + "/look_at/location", "location");
-      }
-    } else if (entry.contains("turn")) {
-      action.kind = entry["turn"].contains("by") ? Action::Kind::turn_by : Action::Kind::turn_to;
-      action.value = entry["turn"].contains("by") ? entry["turn"]["by"] : entry["turn"]["to"];
-    } else if (entry.contains("publish")) {
-      action.kind = Action::Kind::publish;
-      action.topic = entry["publish"]["topic"];
-      action.message = entry["publish"]["message"];
-    } else if (entry.contains("form_group")) {
-      action.kind = Action::Kind::form_group;
-      action.target = names_.groups.at(entry["form_group"]["group"]);
-      action.members = members_of(entry["form_group"]["members"], pointer + "/form_group/members");
-    } else if (entry.contains("dismantle_group")) {
-      action.kind = Action::Kind::dismantle_group;
-      action.target = resolve(names_.groups, entry["dismantle_group"], pointer + "/dismantle_group", "group");
-    } else if (entry.contains("harass") || entry.contains("stop_and_look")) {
-      const bool harass = entry.contains("harass");
-      const json& attitude = entry[harass ? "harass" : "stop_and_look"];
-      action.kind = harass ? Action::Kind::harass : Action::Kind::stop_and_look;
-      action.target = robot(attitude["robot"], pointer + (harass ? "/harass/robot" : "/stop_and_look/robot"));
-      action.value = attitude["duration"];
-      action.radius = attitude.value("distance", harass ? kHarassDistance : kStopAndLookDistance);
-    } else if (entry.contains("request")) {
-      action.kind = Action::Kind::request;
-      action.target = resolve(names_.routines, entry["request"]["task"], pointer + "/request/task", "task");
-      if (action.agent >= 0 && !names_.robots.contains(model_for_checks_->agents[action.agent].id)) {
-        error(pointer + "/agent", "only a robot makes requests");
-      }
-    } else if (entry.contains("motion")) {
-      action.kind = Action::Kind::play_motion;
-      action.motion = entry["motion"]["name"];
-      const humans::MotionClip* clip = humans::builtin_motion(action.motion);
-      if (!clip) {
-        error(pointer + "/motion/name", "no motion primitive '" + action.motion + "' (" + core::join(humans::builtin_motion_names()) + ")");
-      } else {
-        action.value = entry["motion"].value("duration", clip->duration());
-      }
-      require_human(action, "plays motions");
-    } else if (entry.contains("say")) {
-      read_say(entry["say"], pointer + "/say", action);
-    } else if (entry.contains("sit_on")) {
-      read_sit_on(entry["sit_on"], pointer + "/sit_on", action);
-    } else if (entry.contains("pick_up")) {
-      read_pick_up(entry["pick_up"], pointer + "/pick_up", action);
-    } else if (entry.contains("put_down")) {
-      read_put_down(entry["put_down"], pointer + "/put_down", action);
-    } else {
-      action.kind = Action::Kind::run_routine;
-      action.target = resolve(names_.routines, entry["task"], pointer + "/task", "task");
-    }
-    if (action.agent >= 0) {
-      const AgentDef& agent = model_for_checks_->agents[action.agent];
-      using K = Action::Kind;
-      const bool moves = action.kind == K::go_to_location || action.kind == K::go_to_social_space || action.kind == K::go_to_pose ||
-                         action.kind == K::look_at_angle || action.kind == K::look_at_agent || action.kind == K::look_at_location || action.kind == K::look_at_object ||
-                         action.kind == K::turn_by || action.kind == K::turn_to;
-      if (moves && agent.robot_model && !agent.robot_model->drive) {
-        error(pointer + "/agent", "robot '" + agent.id + "' (model " + agent.robot_model->name + ") has no drive: it cannot move or turn");
-      }
-    }
-    return action;
-  }
-
-  void read_look_at_object(const json& name, const std::string& pointer, Action& action) {
-    const std::optional<Action> look = model_for_checks_->look_at_object(name.get<std::string>());
-    if (!look) {
-      error(pointer, "no movable object or obstacle named '" + name.get<std::string>() + "'");
-      return;
-    }
-    action.kind = look->kind;
-    action.target = look->target;
-    action.pose = look->pose;
-  }
-
-  /// Speech for `duration` s, or a clip for its own length (the scenario's `clips`).
-  void read_say(const json& say, const std::string& pointer, Action& action) {
-    action.kind = Action::Kind::say;
-    if (say.contains("clip")) {
-      const std::string name = say["clip"];
-      const std::optional<Action> clip = model_for_checks_->say_clip(name);
-      if (!clip) {
-        std::string known;
-        for (const auto& named : model_for_checks_->clips) known += (known.empty() ? "" : ", ") + named.first;
-        error(pointer + "/clip", "unknown clip '" + name + "'" + (known.empty() ? " (none in 'clips')" : " (known: " + known + ")"));
-        return;
-      }
-      action.target = clip->target;
-      action.value = clip->value;
-    } else {
-      action.value = say["duration"];
-    }
-    if (action.agent >= 0 && model_for_checks_->agents[action.agent].kind != AgentKind::human) error(pointer, "only a human speaks");
-  }
-
-  /// The radius of the person acting, as far as the action tells (a compound task's: the default).
-  double acting_radius(const Action& action) const {
-    return action.agent >= 0 ? model_for_checks_->agents[action.agent].radius : kDefaultAgentRadius;
-  }
-
-  void require_human(const Action& action, const char* what) {
-    if (action.agent >= 0 && model_for_checks_->agents[action.agent].kind != AgentKind::human) error(action.pointer + "/agent", std::string("only a human ") + what);
-  }
-
-  /// An obstacle's anchor, or an error at `pointer` naming those it has.
-  std::optional<Pose2> anchor_of(const Obstacle& obstacle, const std::string& anchor, const std::string& pointer) {
-    const auto found = obstacle.anchors.find(anchor);
-    if (found != obstacle.anchors.end()) return found->second;
-    std::string known;
-    for (const auto& [name, unused] : obstacle.anchors) known += (known.empty() ? "" : ", ") + name;
-    error(pointer, "obstacle '" + obstacle.name + "' has no anchor '" + anchor + "'" + (known.empty() ? " (it has none)" : " (it has: " + known + ")"));
-    return std::nullopt;
-  }
-
-  const Obstacle* obstacle_named(const std::string& name, const std::string& pointer) {
-    for (const Obstacle& obstacle : model_for_checks_->obstacles) {
-      if (obstacle.name == name) return &obstacle;
-    }
-    error(pointer, "no obstacle named '" + name + "'");
-    return nullptr;
-  }
-
-  /// Sitting on an obstacle's anchor, whose front a person can reach.
-  void read_sit_on(const json& sit, const std::string& pointer, Action& action) {
-    action.kind = Action::Kind::sit_on;
-    require_human(action, "sits");
-    const Obstacle* obstacle = obstacle_named(sit["obstacle"], pointer + "/obstacle");
-    const std::string anchor = sit.value("anchor", kDefaultSeatAnchor);
-    if (!obstacle || !anchor_of(*obstacle, anchor, pointer + (sit.contains("anchor") ? "/anchor" : "/obstacle"))) return;
-    action.target = model_for_checks_->find_seat(obstacle->name, anchor);
-    const Seat& seat = model_for_checks_->seats[action.target];
-    if (!seat_approach(*model_for_checks_, seat, acting_radius(action))) {
-      error(pointer, "seat '" + seat.name + "' cannot be reached: its front (facing " + core::number_text(seat.pose.theta) +
-                         " rad) is blocked within " + core::number_text(sit_down_travel() + kSeatApproachReach) + " m");
-    }
-  }
-
-  void read_pick_up(const json& pick, const std::string& pointer, Action& action) {
-    action.kind = Action::Kind::pick_up;
-    require_human(action, "picks things up");
-    const std::string name = pick["object"];
-    for (std::size_t o = 0; o < model_for_checks_->objects.size(); ++o) {
-      if (model_for_checks_->objects[o].name == name) action.target = static_cast<int>(o);
-    }
-    if (action.target < 0) {
-      std::string known;
-      for (const MovableObject& object : model_for_checks_->objects) known += (known.empty() ? "" : ", ") + object.name;
-      error(pointer + "/object", "no movable object named '" + name + "'" + (known.empty() ? " (none in 'objects')" : " (known: " + known + ")"));
-    }
-  }
-
-  /// Where a carried object goes: on an obstacle's top (an anchor or its centre) or on the floor.
-  void read_put_down(const json& put, const std::string& pointer, Action& action) {
-    action.kind = Action::Kind::put_down;
-    require_human(action, "puts things down");
-    if (put.contains("at")) {
-      if (put.contains("anchor")) error(pointer + "/anchor", "an anchor belongs to an obstacle: give it with 'on'");
-      const Vec2 at = read_point(put["at"]);
-      action.pose = {at.x(), at.y(), 0.0};
-      check_free(*model_for_checks_, at, pointer + "/at", "put_down point");
-    } else {
-      const Obstacle* obstacle = obstacle_named(put["on"], pointer + "/on");
-      if (!obstacle) return;
-      action.value = obstacle->height;
-      action.pose = obstacle->frame;
-      if (put.contains("anchor")) {
-        const std::optional<Pose2> anchor = anchor_of(*obstacle, put["anchor"], pointer + "/anchor");
-        if (anchor) action.pose = *anchor;
-      }
-    }
-    if (!reach_spot(*model_for_checks_, action.pose.position(), action.pose.position(), acting_radius(action))) {
-      error(pointer, "nobody can stand within " + core::number_text(kMaxHandReach) + " m of (" + core::point_text(action.pose.position()) + ") to put something there");
-    }
-  }
-
   void read_routines(Model& model) {
-    model_for_checks_ = &model;
+    loading::ActionReader reader(context_, model);
     for (const auto& [name, actions] : member(doc_, "tasks").items()) {
-      Routine& routine = model.routines[static_cast<std::size_t>(names_.routines[name])];
+      Routine& routine = model.routines[static_cast<std::size_t>(context_.names.routines[name])];
       for (std::size_t i = 0; i < actions.size(); ++i) {
-        routine.actions.push_back(read_action(actions[i], "/tasks/" + core::pointer_token(name) + "/" + std::to_string(i), true));
+        routine.actions.push_back(reader.read(actions[i], "/tasks/" + core::pointer_token(name) + "/" + std::to_string(i), true));
       }
     }
   }
 
   void read_steps(Model& model) {
+    loading::ActionReader reader(context_, model);
     const json& steps = doc_.at("steps");
     for (std::size_t s = 0; s < steps.size(); ++s) {
       Step step{steps[s]["name"], {}};
       for (std::size_t i = 0; i < steps[s]["actions"].size(); ++i) {
         const std::string pointer = "/steps/" + std::to_string(s) + "/actions/" + std::to_string(i);
-        step.actions.push_back(read_action(steps[s]["actions"][i], pointer, false));
+        step.actions.push_back(reader.read(steps[s]["actions"][i], pointer, false));
       }
       model.steps.push_back(std::move(step));
     }
@@ -851,11 +561,11 @@ class Loader {
     task.gripper_frames = entry.value("gripper_frames", task.gripper_frames);
     task.max_episode_length = entry.value("max_episode_length", task.max_episode_length);
     if (pick && task.gripper_frames > task.frame_skip) {
-      error("/task/gripper_frames", "gripper_frames (" + std::to_string(task.gripper_frames) + ") is more than frame_skip (" +
+      context_.error("/task/gripper_frames", "gripper_frames (" + std::to_string(task.gripper_frames) + ") is more than frame_skip (" +
                                         std::to_string(task.frame_skip) + ")");
     }
     if (doc_.contains("time_limit")) {
-      error("/time_limit", "a scenario with a task ends after task.max_episode_length ticks: give no time_limit");
+      context_.error("/time_limit", "a scenario with a task ends after task.max_episode_length ticks: give no time_limit");
     }
     model.time_limit = task.max_episode_length * model.dt;
 
@@ -864,7 +574,7 @@ class Loader {
       if (entry.contains(key)) {
         const int agent = model.find_agent(entry[key]);
         if (agent < 0 || model.agents[agent].kind != kind) {
-          error(pointer, "no " + std::string(kind == AgentKind::robot ? "robot" : "human") + " '" + entry[key].get<std::string>() + "'");
+          context_.error(pointer, "no " + std::string(kind == AgentKind::robot ? "robot" : "human") + " '" + entry[key].get<std::string>() + "'");
           return -1;
         }
         return agent;
@@ -872,7 +582,7 @@ class Loader {
       for (std::size_t a = 0; a < model.agents.size(); ++a) {
         if (model.agents[a].kind == kind) return static_cast<int>(a);
       }
-      error(pointer.substr(0, 5), "the task needs a " + std::string(kind == AgentKind::robot ? "robot" : "human"));
+      context_.error(pointer.substr(0, 5), "the task needs a " + std::string(kind == AgentKind::robot ? "robot" : "human"));
       return -1;
     };
     task.robot = agent_named("robot", AgentKind::robot);
@@ -882,7 +592,7 @@ class Loader {
       // The arm tasks need the gripper: pick and place closes it, gesture mirroring points with its palm.
       if (!robot_model || (navigation && !robot_model->drive) ||
           (!navigation && (!robot_model->groups.contains("arm") || !robot_model->gripper))) {
-        error("/task/robot", "robot '" + model.agents[task.robot].id + "' needs a model with " +
+        context_.error("/task/robot", "robot '" + model.agents[task.robot].id + "' needs a model with " +
                                  (navigation ? "a drive" : "an arm group and a gripper") + " for " + task.name);
       }
     }
@@ -891,7 +601,7 @@ class Loader {
     if (entry.contains("spawn")) {
       task.spawn_min = read_point(entry["spawn"]["min"]);
       task.spawn_max = read_point(entry["spawn"]["max"]);
-      if ((task.spawn_min.array() > task.spawn_max.array()).any()) error("/task/spawn", "min is above max");
+      if ((task.spawn_min.array() > task.spawn_max.array()).any()) context_.error("/task/spawn", "min is above max");
     }
     task.reach_distance = entry.value("reach_distance", task.reach_distance);
     task.collision_distance = entry.value("collision_distance", task.collision_distance);
@@ -902,14 +612,14 @@ class Loader {
       const std::string name = penalised[i];
       const bool obstacle = std::any_of(model.obstacles.begin(), model.obstacles.end(), [&](const Obstacle& o) { return o.name == name; });
       const bool object = std::any_of(model.objects.begin(), model.objects.end(), [&](const MovableObject& o) { return o.name == name; });
-      if (!obstacle && !object) error("/task/penalised/" + std::to_string(i), "no obstacle or object '" + name + "'");
+      if (!obstacle && !object) context_.error("/task/penalised/" + std::to_string(i), "no obstacle or object '" + name + "'");
       task.penalised.push_back(name);
     }
     task.walking_styles = default_walking_styles();
     if (entry.contains("walking_styles")) {
       task.walking_styles.clear();
       for (const auto& [name, speed] : entry["walking_styles"].items()) task.walking_styles.push_back({name, speed.get<double>()});
-      if (task.walking_styles.empty()) error("/task/walking_styles", "at least one walking style");
+      if (task.walking_styles.empty()) context_.error("/task/walking_styles", "at least one walking style");
     }
     task.lead_distance = entry.value("lead_distance", task.lead_distance);
     if (entry.contains("object")) {
@@ -917,15 +627,15 @@ class Loader {
       for (std::size_t o = 0; o < model.objects.size(); ++o) {
         if (model.objects[o].name == name) task.object = static_cast<int>(o);
       }
-      if (task.object < 0) error("/task/object", "no object '" + name + "'");
+      if (task.object < 0) context_.error("/task/object", "no object '" + name + "'");
     } else if (pick) {
-      error("/task", "pick_and_place needs the object to carry ('object')");
+      context_.error("/task", "pick_and_place needs the object to carry ('object')");
     }
     if (entry.contains("target")) {
       const json& target = entry["target"];
       task.target = {target["x"], target["y"], target.value("z", 0.0)};
     } else if (pick) {
-      error("/task", "pick_and_place needs where to put the object ('target')");
+      context_.error("/task", "pick_and_place needs where to put the object ('target')");
     }
     task.reward_range = entry.value("reward_range", task.reward_range);
     task.place_weight = entry.value("place_weight", task.place_weight);
@@ -939,7 +649,7 @@ class Loader {
       const bool found = std::any_of(sensors.begin(), sensors.end(), [&](const robots::Sensor& sensor) {
         return sensor.name == task.camera && (sensor.type == "camera" || sensor.type == "rgbd_camera");
       });
-      if (!found) error("/task/camera", "robot '" + model.agents[task.robot].id + "' has no camera '" + task.camera + "'");
+      if (!found) context_.error("/task/camera", "robot '" + model.agents[task.robot].id + "' has no camera '" + task.camera + "'");
     }
     model.task = std::move(task);
   }
@@ -948,7 +658,7 @@ class Loader {
     const json& async = member(doc_, "async");
     std::set<int> handled;
     for (std::size_t i = 0; i < async.size(); ++i) {
-      const int task = resolve(names_.routines, async[i]["task"], "/async/" + std::to_string(i) + "/task", "task");
+      const int task = context_.resolve(context_.names.routines, async[i]["task"], "/async/" + std::to_string(i) + "/task", "task");
       if (task >= 0) {
         model.async_routines.push_back(task);
         handled.insert(task);
@@ -959,21 +669,21 @@ class Loader {
       const std::string pointer = "/requests/" + std::to_string(i);
       Request request;
       request.time = requests[i]["time"];
-      request.routine = resolve(names_.routines, requests[i]["task"], pointer + "/task", "task");
+      request.routine = context_.resolve(context_.names.routines, requests[i]["task"], pointer + "/task", "task");
       if (request.routine >= 0 && !handled.contains(request.routine)) {
-        error(pointer + "/task", "no entry of 'async' answers task '" + requests[i]["task"].get<std::string>() + "'");
+        context_.error(pointer + "/task", "no entry of 'async' answers task '" + requests[i]["task"].get<std::string>() + "'");
       }
       if (requests[i].contains("robot")) {
         const std::string robot = requests[i]["robot"];
-        if (!names_.robots.contains(robot)) {
-          error(pointer + "/robot", "'" + robot + "' is not a robot of this scenario");
+        if (!context_.names.robots.contains(robot)) {
+          context_.error(pointer + "/robot", "'" + robot + "' is not a robot of this scenario");
         } else {
-          request.robot = names_.agents[robot];
+          request.robot = context_.names.agents[robot];
         }
-      } else if (names_.robots.empty()) {
-        error(pointer, "a request needs a robot, and the scenario has none");
+      } else if (context_.names.robots.empty()) {
+        context_.error(pointer, "a request needs a robot, and the scenario has none");
       } else {
-        request.robot = names_.agents[*names_.robots.begin()];
+        request.robot = context_.names.agents[*context_.names.robots.begin()];
         for (std::size_t a = 0; a < model.agents.size(); ++a) {
           if (model.agents[a].kind == AgentKind::robot) {
             request.robot = static_cast<int>(a);
@@ -996,7 +706,7 @@ class Loader {
       state[task] = 1;
       for (const Action& action : model.routines[task].actions) {
         if (action.kind == Action::Kind::run_routine && action.target >= 0 && visit(action.target)) {
-          error(action.pointer + "/task", "task '" + model.routines[task].name + "' calls itself through '" +
+          context_.error(action.pointer + "/task", "task '" + model.routines[task].name + "' calls itself through '" +
                                               model.routines[action.target].name + "'");
           state[task] = 2;
           return false;
@@ -1073,9 +783,8 @@ class Loader {
   const LoadOptions& options_;
   Errors& errors_;
   Errors& warnings_;
-  Names names_;
+  loading::Context context_;
   humans::LocalAvoidance default_avoidance_ = humans::LocalAvoidance::orca;
-  const Model* model_for_checks_ = nullptr;
 };
 
 }  // namespace

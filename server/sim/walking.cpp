@@ -201,9 +201,12 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     const bool held_up = wanted > 0.0 && self.velocity.norm() < kHeldUpSpeedShare * wanted;
     self.personal_space = std::clamp(self.personal_space + (held_up ? -1.0 : 1.0) * model.dt / kSqueezeTime, 0.0, 1.0);
     const double heading_before = self.heading;
-    std::optional<double> desired = watching ? watching : self.target_heading;
+    // A seated body faces the seat's way: a look or a turn asked of a seated person is over at once.
+    const bool seated = held_by_seat(self);
+    if (seated) self.target_heading.reset();
+    std::optional<double> desired = seated ? std::nullopt : watching ? watching : self.target_heading;
     // Walking direction, for every walker every tick: the polynomial (1e-5 rad) spares a libm call.
-    if (!desired && self.velocity.norm() > 0.05) desired = core::polynomial_atan2(self.velocity.y(), self.velocity.x());
+    if (!desired && !seated && self.velocity.norm() > 0.05) desired = core::polynomial_atan2(self.velocity.y(), self.velocity.x());
     if (desired) {
       const double difference = core::wrap_angle(*desired - self.heading);
       if (std::abs(difference) <= max_turn) {

@@ -116,7 +116,7 @@ TEST_P(OneEpisode, EveryWayOfDrivingItGivesTheSameMetricsAndFinalState) {
 INSTANTIATE_TEST_SUITE_P(Bundled, OneEpisode,
                          ::testing::Values("apartment", "apartment_search", "approach_human", "approach_human_apartment", "conversation_group", "corridor_passing",
                                            "elevator", "family_day", "follow_human", "mirror_gesture", "pair_walking", "perpendicular_crossing",
-                                           "pick_and_place", "queue"));
+                                           "pick_and_place", "queue", "tea_break"));
 
 }  // namespace
 }  // namespace hrisim::testing

@@ -29,6 +29,8 @@ describe('token', () => {
       await tab.page.fill('#token-input', TOKEN);
       await tab.page.click('#token-form button[type=submit]');
       await tab.page.waitForSelector('img[alt="elevator from above at its start"]');
+      // Thumbnails load lazily: scrolled through, every card's comes with the token.
+      await tab.page.evaluate(() => window.scrollTo(0, document.body.scrollHeight));
       await tab.page.waitForFunction(() => [...document.querySelectorAll('main img')].every((image) => image.complete && image.naturalWidth > 0));
       assert.equal(await tab.page.$('#token-form'), null, 'no question once the token is kept');
 

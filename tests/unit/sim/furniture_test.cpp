@@ -115,6 +115,20 @@ TEST(Sitting, StandUpMotionLeavesTheSeatAndIsNotPlayedTwice) {
   EXPECT_NEAR(static_cast<double>(up.finished_tick) * session.model().dt, stood, 2 * session.model().dt) << "the motion ends with leaving the seat";
 }
 
+TEST(Sitting, ASeatedPersonDoesNotTurnOnTheSeat) {
+  const json steps = json::parse(R"([
+    {"name": "sit", "actions": [{"agent": "p", "sit_on": {"obstacle": "chair"}}]},
+    {"name": "look", "actions": [{"agent": "p", "look_at": {"agent": "q"}}, {"agent": "p", "turn": {"by": 1.5}}]},
+    {"name": "stay", "actions": [{"agent": "p", "wait": {"duration": 2}}]}])");
+  Session session(testing::load_valid(furnished(json::array({person("p", 4, 5), person("q", 2, 8)}), steps)), 1);
+  const int p = session.index_of(session.agent_id("p"));
+  while (session.state().current_step < 2 && session.time() < 30) session.tick();
+  ASSERT_EQ(session.state().current_step, 2) << "looking and turning are over at once";
+  run_until(session, session.time() + 1);
+  EXPECT_EQ(session.state().agents[p].seat_phase, SeatPhase::seated);
+  EXPECT_NEAR(core::wrap_angle(session.state().agents[p].heading), 0.0, 1e-6) << "still facing the seat's way";
+}
+
 TEST(Sitting, SeatsAreCheckedAtLoad) {
   const json sit = json::parse(R"([{"name": "s", "actions": [{"agent": "p", "sit_on": {"obstacle": "sofa"}}]}])");
   const json humans = json::array({person("p", 8, 2)});

@@ -25,7 +25,7 @@ const std::string kGoldenFile = std::string(HRISIM_SOURCE_DIR) + "/tests/golden/
 const char* const kScenarios[] = {"apartment",          "apartment_search",   "approach_human",     "approach_human_apartment", "conversation_group",
                                   "corridor_navigation", "corridor_passing",   "crossing_navigation",      "elevator",
                                   "family_day",          "follow_human",        "mirror_gesture",     "pair_walking",             "perpendicular_crossing",
-                                  "pick_and_place",      "queue"};
+                                  "pick_and_place",      "queue",               "tea_break"};
 
 std::string hash_after_golden_ticks(const std::string& scenario, std::uint64_t seed, episode::Settings settings = {}) {
   const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/" + scenario + ".json");

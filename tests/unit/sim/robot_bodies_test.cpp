@@ -122,7 +122,7 @@ TEST_P(WallsStopRobots, AtTopSpeedIntoEveryFace) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Maps, WallsStopRobots,
-                         ::testing::Values("corridor_passing", "conversation_group", "queue", "elevator", "apartment", "pick_and_place", "family_day"));
+                         ::testing::Values("corridor_passing", "conversation_group", "queue", "elevator", "apartment", "pick_and_place", "family_day", "tea_break"));
 
 TEST(DoorsStopRobots, AClosedElevatorDoorStopsTheHsrAtItsSlab) {
   // The elevator's floor-1 door spans x = 1.3, y −0.6…0.6, and stays shut while nobody calls the cabin.
