@@ -35,7 +35,8 @@ struct ImportOptions {
 ImportResult import_imhus(std::string_view xml, const ImportOptions& options);
 ImportResult import_pedsim(std::string_view xml, const ImportOptions& options);
 
-/// "imhus" or "pedsim" from the document's content (Pedsim files have a single <scenario> root).
+/// "imhus" or "pedsim" from the document's content (Pedsim files have a single <scenario> root, or
+/// <welcome> as libpedsim's examples).
 std::string detect_xml_format(std::string_view xml);
 
 /// Reads a world for --map: a ROS map YAML becomes {"map": path}; a .json file is a world object.

@@ -81,7 +81,8 @@ std::string detect_xml_format(std::string_view xml) {
   tinyxml2::XMLDocument document;
   if (document.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS || !document.FirstChildElement()) return "imhus";
   const tinyxml2::XMLElement* root = document.FirstChildElement();
-  return std::string(root->Name()) == "scenario" && !root->NextSiblingElement() ? "pedsim" : "imhus";
+  const std::string name = root->Name();
+  return (name == "scenario" || name == "welcome") && !root->NextSiblingElement() ? "pedsim" : "imhus";
 }
 
 std::optional<nlohmann::ordered_json> world_from_file(const std::filesystem::path& file, std::string& error) {

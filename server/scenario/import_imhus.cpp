@@ -145,7 +145,12 @@ class ImhusImporter {
                                    {"y", reader_.optional_number(slot, "relativeY").value_or(0.0)},
                                    {"theta", reader_.optional_number(slot, "theta").value_or(0.0)}});
       }
-      if (native["slots"].empty()) reader_.fail(space, "social space '" + *id + "' has no slots");
+      if (native["slots"].empty()) {
+        // IMHuS's own files leave placeholders ("TODO define as elevator_door1"): harmless unless used.
+        reader_.warn(space, "social space '" + *id + "' has no slots and is left out");
+        empty_spaces_[*id] = space->GetLineNum();
+        continue;
+      }
       social_spaces_[*id] = native;
     }
   }
@@ -190,6 +195,11 @@ class ImhusImporter {
       tasks_[task] = actions;
     }
     steps_ = read_steps(chosen);
+    // Files keep agents' initial poses in a scenario of their own (IMHuS's `init`): an agent the chosen
+    // scenario does not place starts where another scenario's first step puts it.
+    for (const XMLElement* scenario : scenarios) {
+      if (scenario != chosen) note_initial_poses(scenario);
+    }
     // A robot choreography X_robot runs beside X: its step i joins step i of X.
     for (const XMLElement* scenario : scenarios) {
       if (std::string(scenario->Name()) != name_ + "_robot") continue;
@@ -331,6 +341,10 @@ class ImhusImporter {
       return true;
     }
     if (const char* space = action->Attribute("socialSpaceID")) {
+      if (const auto empty = empty_spaces_.find(space); empty != empty_spaces_.end()) {
+        reader_.fail(action, "social space '" + std::string(space) + "' has no slots (line " + std::to_string(empty->second) + ")");
+        return false;
+      }
       if (!social_spaces_.contains(space)) {
         reader_.fail(action, "unknown social space '" + std::string(space) + "'");
         return false;
@@ -348,6 +362,20 @@ class ImhusImporter {
     }
     reader_.fail(action, "goto_action needs poseID, socialSpaceID, or x and y");
     return false;
+  }
+
+  /// The poses another scenario's first step sends agents to with a poseID, as fallback starts.
+  void note_initial_poses(const XMLElement* scenario) {
+    const XMLElement* step = scenario->FirstChildElement();
+    while (step && std::string(step->Name()) == "AsyncActions") step = step->NextSiblingElement();
+    if (!step) return;
+    for (const XMLElement* action = step->FirstChildElement(); action; action = action->NextSiblingElement()) {
+      const char* entity = action->Attribute("entityID");
+      const char* pose = action->Attribute("poseID");
+      if (std::string(action->Name()) != "goto_action" || !entity || !pose || !poses_.contains(pose) || fallback_starts_.contains(entity)) continue;
+      const core::Pose2& p = poses_.at(pose);
+      fallback_starts_[entity] = {{"x", p.x}, {"y", p.y}, {"theta", p.theta}};
+    }
   }
 
   /// IMHuS agents appear at the pose of their first goto in the first step; hrisim starts them there.
@@ -416,6 +444,8 @@ class ImhusImporter {
       ordered_json start;
       if (starts_.contains(id)) {
         start = starts_[id];
+      } else if (acting_.contains(id) && fallback_starts_.contains(id)) {
+        start = fallback_starts_[id];
       } else if (!human && (poses_.contains("initial_pose_" + id) || poses_.contains("initial_pose_robot"))) {
         const core::Pose2& pose = poses_.at(poses_.contains("initial_pose_" + id) ? "initial_pose_" + id : "initial_pose_robot");
         start = {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}};
@@ -451,6 +481,8 @@ class ImhusImporter {
   ordered_json steps_ = ordered_json::array();
   ordered_json async_ = ordered_json::array();
   std::map<std::string, ordered_json> starts_;
+  std::map<std::string, ordered_json> fallback_starts_;  ///< from other scenarios' first steps
+  std::map<std::string, int> empty_spaces_;             ///< social spaces without slots, by their line
   std::set<std::string> acting_;  ///< agents some step action names
 };
 

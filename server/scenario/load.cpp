@@ -2,6 +2,7 @@
 
 #include "humans/motion.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -90,6 +91,7 @@ class Loader {
     read_steps(*model);
     read_async(*model);
     check_task_cycles(*model);
+    if (errors_.empty()) check_repeats(*model);
     read_task(*model);
     try {
       check_episode_ticks(model->time_limit, model->dt, options_.limits.max_episode_ticks,
@@ -716,6 +718,39 @@ class Loader {
       return false;
     };
     for (std::size_t t = 0; t < model.routines.size(); ++t) visit(static_cast<int>(t));
+  }
+
+  /// A task repeated forever must take time each round, or the person would run it without end in one tick.
+  void check_repeats(const Model& model) {
+    std::function<bool(int, std::set<int>&)> takes_time = [&](int task, std::set<int>& seen) {
+      if (task < 0 || !seen.insert(task).second) return false;
+      for (const Action& action : model.routines[task].actions) {
+        using K = Action::Kind;
+        switch (action.kind) {
+          case K::wait_duration:
+            if (action.value > 0.0) return true;
+            break;
+          case K::run_routine:
+            if (takes_time(action.target, seen)) return true;
+            break;
+          case K::go_to_location: case K::go_to_social_space: case K::go_to_pose: case K::wait_message: case K::harass:
+          case K::request: case K::play_motion: case K::say: case K::sit_on: case K::pick_up: case K::put_down:
+            return true;
+          default:
+            break;
+        }
+      }
+      return false;
+    };
+    const auto check = [&](const Action& action) {
+      std::set<int> seen;
+      if (action.kind == Action::Kind::run_routine && action.repeat && action.target >= 0 && !takes_time(action.target, seen)) {
+        context_.error(action.pointer + "/repeat", "task '" + model.routines[action.target].name +
+                                                       "' repeats forever without an action that takes time (a goto, a wait, a motion, …)");
+      }
+    };
+    for (const Routine& routine : model.routines) std::for_each(routine.actions.begin(), routine.actions.end(), check);
+    for (const Step& step : model.steps) std::for_each(step.actions.begin(), step.actions.end(), check);
   }
 
   /// Goals of social-force humans closer to an obstacle than such a human can get are reported: it

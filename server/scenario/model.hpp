@@ -222,6 +222,7 @@ struct Action {
   std::string topic;
   std::string message;
   std::string motion;   ///< play_motion: the primitive's name
+  bool repeat = false;  ///< run_routine: over and over until the episode ends (a Pedsim route, HuNavSim's cyclic goals)
   std::string pointer;  ///< where it stands in the scenario (JSON pointer), for events and errors
 };
 

@@ -130,6 +130,7 @@ Action ActionReader::read(const json& entry, const std::string& pointer, bool in
   } else {
     action.kind = Action::Kind::run_routine;
     action.target = context_.resolve(context_.names.routines, entry["task"], pointer + "/task", "task");
+    action.repeat = entry.value("repeat", false);
   }
   if (action.agent >= 0) {
     const AgentDef& agent = model_.agents[action.agent];

@@ -268,6 +268,7 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
     const Action& action = action_of(model, state, pending);
     if (action.kind == Kind::run_routine) {
       self.program.pop_front();
+      if (action.repeat) self.program.push_front(pending);  // it comes round again after the task's actions
       const auto& actions = model.routines[action.target].actions;
       // A compound task given to a group: every member runs it, its gotos in formation.
       for (std::size_t i = actions.size(); i-- > 0;) {

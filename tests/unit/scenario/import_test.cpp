@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <sstream>
 
@@ -269,7 +270,6 @@ TEST(ImportImhus, LiftFixtureCompletesWhenAHumanAnswersTheRobot) {
 
 TEST(ImportPedsim, OwnFixture) {
   const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/hall.xml"), bundled());
-  EXPECT_TRUE(has_message(imported.warnings, 10, "waypoint 'outside' at (20, 4) lies outside the walls"));
   EXPECT_TRUE(has_message(imported.warnings, 9, "waypoint 'right' is a sink"));
   EXPECT_TRUE(has_message(imported.warnings, 20, "unsupported element <attraction> ignored"));
   const auto model = load_imported(imported);
@@ -291,7 +291,10 @@ TEST(ImportPedsim, OwnFixture) {
   }
   EXPECT_EQ(model->agents[3].type, "elder");
   EXPECT_EQ(model->agents[4].kind, AgentKind::robot);
-  EXPECT_EQ(model->steps[0].actions.size(), 3u * 2 + 1) << "the outside waypoint is dropped from routes";
+  ASSERT_EQ(model->routines.size(), 2u);
+  EXPECT_EQ(model->routines[0].actions.size(), 3u) << "a waypoint beyond the walls is kept, as Pedsim keeps it";
+  EXPECT_EQ(model->steps[0].actions.size(), 3u + 1) << "each walker cycles through its cluster's route";
+  EXPECT_GE(imported.scenario["world"]["bounds"]["max"][0].get<double>(), 21.0) << "the map reaches the waypoint beyond the walls";
   const ImportResult again = import_pedsim(read(kFixtures / "pedsim/hall.xml"), bundled());
   EXPECT_EQ(again.scenario.dump(), imported.scenario.dump()) << "cluster placement is reproducible";
 }
@@ -307,21 +310,41 @@ TEST(ImportPedsim, ErrorsNameTheLine) {
   EXPECT_TRUE(has_message(result.errors, 17, "type must be 0 (adult), 1 (child), 2 (robot) or 3 (elder)"));
 }
 
+/// How many times each agent arrives at a location other than the one it last reached, over `seconds`
+/// of an episode (a Pedsim walker cycling through a route of two places makes more than two).
+std::vector<int> arrivals(const std::shared_ptr<const Model>& model, double seconds) {
+  episode::Episode run(model, 1);
+  sim::Session& session = run.session();
+  session.set_time_limit(seconds);
+  std::vector<int> count(model->agents.size(), 0), last(model->agents.size(), -1);
+  while (!run.over()) {
+    run.tick();
+    for (std::size_t a = 0; a < model->agents.size(); ++a) {
+      for (std::size_t l = 0; l < model->locations.size(); ++l) {
+        const Location& place = model->locations[l];
+        if (static_cast<int>(l) == last[a] || (session.state().agents[a].position - place.pose.position()).norm() > place.radius + 0.05) continue;
+        last[a] = static_cast<int>(l);
+        ++count[a];
+      }
+    }
+  }
+  EXPECT_EQ(session.state().termination, "timeout") << "a looping route runs to the time limit";
+  return count;
+}
+
 // Pedsim's published corridor (reference data, read in place).
 TEST(ImportPedsim, RealCorridorImportsAndRuns) {
   if (!std::filesystem::exists(kCorridor)) {
     GTEST_SKIP() << no_reference_file("pedsim/corridor.xml", "tests/fixtures/pedsim/passage.xml (ImportPedsim.PassageFixtureImportsAndRuns)");
   }
   const ImportResult imported = import_pedsim(read(kCorridor), bundled());
-  EXPECT_TRUE(has_message(imported.warnings, 13, "waypoint 'robot_goal'"));
+  EXPECT_TRUE(has_message(imported.warnings, 17, "the robot agent's route is not walked"));
   const auto model = load_imported(imported);
   ASSERT_TRUE(model);
   EXPECT_EQ(model->agents.size(), 9u);
-  episode::Episode session_run(model, 1);
-  sim::Session& session = session_run.session();
-  session.set_time_limit(120.0);
-  session_run.run();
-  EXPECT_EQ(session.state().termination, "scenario_end") << "the eight walkers reach east, then west";
+  EXPECT_EQ(model->locations.size(), 4u) << "robot_goal, beyond the walls, is kept";
+  const std::vector<int> reached = arrivals(model, 120.0);
+  for (int walker = 0; walker < 8; ++walker) EXPECT_GE(reached[walker], 3) << "walker " << walker << " goes east, west and east again";
 }
 
 // hrisim's own passage (tests/fixtures/pedsim/passage.xml) takes the importer paths of Pedsim's published
@@ -331,7 +354,7 @@ TEST(ImportPedsim, PassageFixtureImportsAndRuns) {
   const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/passage.xml"), bundled());
   EXPECT_TRUE(has_message(imported.warnings, 13, "waypoint 'far' is a sink"));
   EXPECT_TRUE(has_message(imported.warnings, 14, "waypoint 'back' is a source"));
-  EXPECT_TRUE(has_message(imported.warnings, 15, "waypoint 'dock' at (26, 4) lies outside the walls"));
+  EXPECT_TRUE(has_message(imported.warnings, 17, "the robot agent's route is not walked"));
   EXPECT_TRUE(has_message(imported.warnings, 22, "a source spawns its agents once"));
   EXPECT_EQ(imported.warnings.size(), 4u);
   const auto model = load_imported(imported);
@@ -350,14 +373,91 @@ TEST(ImportPedsim, PassageFixtureImportsAndRuns) {
   EXPECT_EQ(model->agents[6].id, "robot_0");
   EXPECT_EQ(model->agents[6].kind, AgentKind::robot);
   EXPECT_TRUE(model->agents[6].start.position().isApprox(Vec2(6, 7.2)));
-  EXPECT_EQ(model->locations.size(), 2u) << "far and back; dock is left out";
+  EXPECT_EQ(model->locations.size(), 3u) << "far, back, and dock beyond the walls";
   ASSERT_EQ(model->steps.size(), 1u);
-  EXPECT_EQ(model->steps[0].actions.size(), 6u * 2) << "far, then back, for each walker; the robot's route is not walked";
-  episode::Episode session_run(model, 1);
-  sim::Session& session = session_run.session();
-  session.set_time_limit(120.0);
-  session_run.run();
-  EXPECT_EQ(session.state().termination, "scenario_end") << "the six walkers reach far, then back";
+  EXPECT_EQ(model->steps[0].actions.size(), 6u) << "each walker cycles through its route (far, back); the robot's route is not walked";
+  ASSERT_EQ(model->routines.size(), 1u);
+  EXPECT_EQ(model->routines[0].actions.size(), 2u);
+  EXPECT_TRUE(model->steps[0].actions[0].repeat);
+  const std::vector<int> reached = arrivals(model, 120.0);
+  for (int walker = 0; walker < 6; ++walker) EXPECT_GE(reached[walker], 3) << "walker " << walker << " reaches far, back and far again";
+}
+
+/// Distance from p to the nearest of the file's walls (the native scenario's `walls`).
+double wall_distance(const nlohmann::ordered_json& scenario, const Vec2& p) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& wall : scenario["world"]["walls"]) {
+    const Vec2 a(wall["from"][0].get<double>(), wall["from"][1].get<double>()), b(wall["to"][0].get<double>(), wall["to"][1].get<double>());
+    nearest = std::min(nearest, (core::closest_point_on_segment(p, a, b) - p).norm());
+  }
+  return nearest;
+}
+
+// What real pedsim_ros files do that hrisim refused (issue 21), in hrisim's own fixture: a waypoint
+// centred on a wall, one without r, a queue as a waypoint and with addqueue, a cluster over a wall,
+// an agent and a waypoint beyond the outermost obstacle, a robot with a route.
+TEST(ImportPedsim, RealFilesHabitsImportAndRun) {
+  const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/bookshop.xml"), bundled());
+  EXPECT_TRUE(has_message(imported.warnings, 14, "queue 'info_desk' is walked to as a waypoint"));
+  EXPECT_TRUE(has_message(imported.warnings, 27, "the robot agent's route is not walked"));
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  const auto location = [&](const std::string& name) {
+    for (const Location& l : model->locations) {
+      if (l.name == name) return l;
+    }
+    ADD_FAILURE() << "no location " << name;
+    return Location{};
+  };
+  // The goal of the waypoint centred on the wall is the free point of its disc nearest the centre.
+  const Location exit = location("shop_exit");
+  EXPECT_GE(wall_distance(imported.scenario, exit.pose.position()), 0.4 - 1e-9);
+  EXPECT_LE((exit.pose.position() - Vec2(9, 3)).norm(), 0.45);
+  EXPECT_NEAR(location("till").radius, 0.2, 1e-12) << "no r: Pedsim's 0, reached within the least radius";
+  EXPECT_TRUE(location("info_desk").pose.position().isApprox(Vec2(3, 2)));
+  EXPECT_TRUE(location("yard").pose.position().isApprox(Vec2(16, 4))) << "beyond the outer wall, kept";
+  for (const AgentDef& agent : model->agents) {
+    if (agent.id == "agent_5") {
+      EXPECT_TRUE(agent.start.position().isApprox(Vec2(16, 4))) << "an agent beyond the outer wall is kept where it is";
+      continue;
+    }
+    EXPECT_GE(wall_distance(imported.scenario, agent.start.position()), 0.4 - 1e-9) << agent.id << " is drawn again off the wall";
+  }
+  EXPECT_EQ(model->steps[0].actions.size(), 4u + 1 + 1) << "each person cycles through their cluster's route; the robot's route is not walked";
+  const std::vector<int> reached = arrivals(model, 120.0);
+  for (int walker = 0; walker < 4; ++walker) EXPECT_GE(reached[walker], 4) << "agent_" << walker << " goes round shop_exit, till and info_desk more than once";
+}
+
+// libpedsim's own examples: a <welcome> root, no obstacles at all.
+TEST(ImportPedsim, WelcomeRootWithoutObstacles) {
+  const std::string xml = read(kFixtures / "pedsim/welcome.xml");
+  EXPECT_EQ(detect_xml_format(xml), "pedsim");
+  const ImportResult imported = import_pedsim(xml, bundled());
+  EXPECT_TRUE(has_message(imported.warnings, 1, "no <obstacle>: the map is open ground"));
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->agents.size(), 6u);
+  EXPECT_LE(imported.scenario["world"]["bounds"]["min"][0].get<double>(), -24.0) << "the map takes in the waypoints' discs";
+  const std::vector<int> reached = arrivals(model, 120.0);
+  for (int walker = 0; walker < 6; ++walker) EXPECT_GE(reached[walker], 3) << "walker " << walker << " goes between w1 and w2 more than once";
+}
+
+// A scene hundreds of metres across (pedsim_ros's airport) gets a grid coarse enough to build.
+TEST(ImportPedsim, LargeScenesGetACoarserGridWithAWarning) {
+  const std::string xml = R"(<scenario>
+  <obstacle x1="0" y1="0" x2="600" y2="0"/><obstacle x1="600" y1="0" x2="600" y2="400"/>
+  <obstacle x1="600" y1="400" x2="0" y2="400"/><obstacle x1="0" y1="400" x2="0" y2="0"/>
+  <waypoint id="far" x="590" y="390" r="5"/>
+  <agent x="10" y="10" n="1"><addwaypoint id="far"/></agent>
+</scenario>)";
+  const ImportResult imported = import_pedsim(xml, bundled());
+  EXPECT_TRUE(has_message(imported.warnings, 1, "the scene spans 602 x 402 m: its grid gets 0.25 m cells"));
+  EXPECT_EQ(imported.scenario["world"]["resolution"], 0.25);
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->grid.resolution(), 0.25);
+  const ImportResult small = import_pedsim(read(kFixtures / "pedsim/hall.xml"), bundled());
+  EXPECT_FALSE(small.scenario["world"].contains("resolution")) << "a room keeps the default 0.05 m";
 }
 
 TEST(DetectXmlFormat, PedsimHasOneScenarioRoot) {
@@ -365,6 +465,26 @@ TEST(DetectXmlFormat, PedsimHasOneScenarioRoot) {
   EXPECT_EQ(detect_xml_format(read(kFixtures / "imhus/office.xml")), "imhus");
 }
 
+
+// IMHuS's own files: a placeholder social space without slots (harmless unless used), and agents whose
+// initial poses are kept in a scenario of their own (`init`), their chosen scenario only waiting at first.
+TEST(ImportImhus, EmptySocialSpacesAndInitialPosesFromAnotherScenario) {
+  std::string xml = read(kFixtures / "imhus/office.xml");
+  xml.replace(xml.find("  </social_space>"), 0, "    <lobby id=\"lobby\" x=\"2\" y=\"2\">\n      <!-- TODO -->\n    </lobby>\n");
+  xml.replace(xml.find("    <solo>"), 0, "    <late>\n      <first>\n        <wait_action entityID=\"ann\" duration=\"1\"/>\n      </first>\n    </late>\n");
+  const ImportResult late = import_imhus(xml, bundled("late"));
+  EXPECT_TRUE(has_message(late.warnings, 25, "social space 'lobby' has no slots and is left out"));
+  const auto model = load_imported(late);
+  ASSERT_TRUE(model);
+  const int ann = model->find_agent("ann");
+  ASSERT_GE(ann, 0);
+  EXPECT_TRUE(model->agents[ann].start.position().isApprox(Vec2(4, -3))) << "where meeting's first step puts her";
+  EXPECT_EQ(model->find_agent("bo"), -1) << "bo takes no part in 'late'";
+
+  xml.replace(xml.find(R"(<goto_action entityID="bo" socialSpaceID="huddle"/>)"), 52, R"(<goto_action entityID="bo" socialSpaceID="lobby"/>)");
+  const ImportResult used = import_imhus(xml, bundled("meeting"));
+  EXPECT_TRUE(has_message(used.errors, 53, "social space 'lobby' has no slots (line 25)"));
+}
 
 TEST(ImportImhus, GroupsAndARobotChoreographyBesideTheScenario) {
   const ImportResult imported = import_imhus(read(kFixtures / "imhus/duo.xml"), bundled());

@@ -108,6 +108,32 @@ TEST(Session, CompoundTasksRunTheirActionsInOrder) {
   EXPECT_EQ(published[1]->subject, "ana");
 }
 
+TEST(Session, ARepeatedTaskRunsOverAndOverUntilTheTimeLimit) {
+  episode::Episode session_run(model_of(R"({
+    "time_limit": 20,
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
+    "tasks": {"round": [{"wait": {"duration": 1.5}}, {"publish": {"topic": "/lap", "message": "done"}}]},
+    "steps": [{"name": "s", "actions": [{"agent": "ana", "task": "round", "repeat": true}]}]})"), 1);
+  Session& session = session_run.session();
+  session_run.run();
+  const auto laps = events_of(session, "publish");
+  ASSERT_EQ(laps.size(), 13u) << "one lap every 1.5 s for 20 s";
+  for (std::size_t k = 0; k < laps.size(); ++k) EXPECT_NEAR(laps[k]->time, 1.5 * static_cast<double>(k + 1), 1e-9);
+  EXPECT_EQ(session.state().termination, "timeout") << "its step never ends";
+}
+
+TEST(Session, ATaskRepeatedForeverMustTakeTime) {
+  json document = testing::room_scenario(json::parse(R"({
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
+    "tasks": {"instant": [{"publish": {"topic": "/t", "message": "x"}}, {"wait": {"duration": 0}}],
+              "outer": [{"task": "instant", "repeat": true}]},
+    "steps": [{"name": "s", "actions": [{"agent": "ana", "task": "instant", "repeat": true}]}]})"));
+  EXPECT_EQ(testing::error_at(document, "/steps/0/actions/0/repeat"),
+            "task 'instant' repeats forever without an action that takes time (a goto, a wait, a motion, …)");
+  EXPECT_EQ(testing::error_at(document, "/tasks/outer/0/repeat"),
+            "task 'instant' repeats forever without an action that takes time (a goto, a wait, a motion, …)");
+}
+
 TEST(Session, WaitForAMessageSeesTheLatestOne) {
   episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 2, "y": 8}}],
