@@ -87,6 +87,7 @@ ParsedArgs parse_args(const std::vector<std::string>& args, const std::set<std::
 /// How an XML file is turned into a scenario.
 struct SourceOptions {
   std::string format;  ///< "imhus", "pedsim", or empty to detect
+  std::string dialect;  ///< Pedsim: "pedsim_ros", "libpedsim", or empty for the root element's
   std::string scenario;
   std::optional<std::filesystem::path> map;
 };
@@ -94,6 +95,10 @@ struct SourceOptions {
 SourceOptions source_options(const ParsedArgs& parsed) {
   SourceOptions source;
   source.format = parsed.last("--from").value_or("");
+  source.dialect = parsed.last("--dialect").value_or("");
+  if (!source.dialect.empty() && source.dialect != "pedsim_ros" && source.dialect != "libpedsim") {
+    usage_error("--dialect: expected pedsim_ros or libpedsim, got '" + source.dialect + "'");
+  }
   source.scenario = parsed.last("--scenario").value_or("");
   if (const auto map = parsed.last("--map")) source.map = *map;
   return source;
@@ -118,7 +123,7 @@ std::optional<scenario::ImportResult> import_file(const std::string& file, const
   const std::string format = source.format.empty() ? scenario::detect_xml_format(text.str()) : source.format;
   if (format != "imhus" && format != "pedsim") usage_error("--from: expected imhus or pedsim, got '" + format + "'");
   scenario::ImportOptions options{source.scenario, source.map, {bundled_scenarios_dir()},
-                                  std::filesystem::path(file).filename().string(), {}};
+                                  std::filesystem::path(file).filename().string(), {}, source.dialect};
   options.limits.confine_files = false;  // a user's own files, on their own machine
   scenario::ImportResult result = format == "imhus" ? scenario::import_imhus(text.str(), options)
                                                     : scenario::import_pedsim(text.str(), options);
@@ -150,7 +155,14 @@ LoadedFile load(const std::string& file, const SourceOptions& source = {}) {
   std::ostringstream text;
   text << in.rdbuf();
   loaded.text = text.str();
-  if (std::filesystem::path(file).extension() != ".xml") {
+  const std::string extension = std::filesystem::path(file).extension().string();
+  if (extension == ".yaml" || extension == ".yml") {
+    const bool hunav = loaded.text.find("hunav_loader") != std::string::npos || loaded.text.find("cyclic_goals") != std::string::npos;
+    loaded.result.errors = {{"", hunav ? "this is a HuNavSim agents file (hunav_loader): hrisim does not read HuNavSim files yet"
+                                      : "a YAML file is not a scenario: give hrisim's JSON, IMHuS XML or Pedsim XML (a ROS map YAML goes with --map)"}};
+    return loaded;
+  }
+  if (extension != ".xml" && source.format.empty()) {  // --from says a file is XML whatever its name
     loaded.result = scenario::load_scenario_text(loaded.text, loaded.load);
     if (loaded.result.model) loaded.document = nlohmann::json::parse(loaded.text);
     return loaded;
@@ -180,10 +192,25 @@ std::string bundled_scenarios_dir() {
 }
 
 int validate_command(const std::vector<std::string>& args) {
-  if (args.empty()) usage_error("usage: hrisim validate FILE...");
+  const std::string usage = "usage: hrisim validate FILE... [--from imhus|pedsim] [--dialect pedsim_ros|libpedsim] [--scenario NAME] [--map FILE]";
+  if (args.empty()) usage_error(usage);
+  // Files and the import options that apply to all of them.
+  std::vector<std::string> files, options;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--from" || args[i] == "--dialect" || args[i] == "--scenario" || args[i] == "--map") {
+      options.push_back(args[i]);
+      if (i + 1 < args.size()) options.push_back(args[++i]);
+    } else if (args[i] == "--help" || args[i] == "-h" || args[i].starts_with("--")) {
+      options.push_back(args[i]);
+    } else {
+      files.push_back(args[i]);
+    }
+  }
+  options.push_back(files.empty() ? std::string() : files.front());
+  const SourceOptions source = source_options(parse_args(options, {"--from", "--dialect", "--scenario", "--map"}, {}, usage));
   int status = 0;
-  for (const std::string& file : args) {
-    const scenario::LoadResult result = load(file).result;
+  for (const std::string& file : files) {
+    const scenario::LoadResult result = load(file, source).result;
     print_errors(file, result.warnings, "warning: ");
     if (!result.model) {
       print_errors(file, result.errors);
@@ -271,10 +298,10 @@ struct ScratchDatabase {
 
 int run_command(const std::vector<std::string>& args) {
   const ParsedArgs parsed = parse_args(
-      args, {"--seed", "--seeds", "--db", "--max-time", "--request", "--scenario", "--map", "--trajectory", "--gate", "--junit", "--controller", "--jobs"},
+      args, {"--seed", "--seeds", "--db", "--max-time", "--request", "--from", "--dialect", "--scenario", "--map", "--trajectory", "--gate", "--junit", "--controller", "--jobs"},
       {"--events", "--baseline-without-robot"},
       "usage: hrisim run FILE [--seed N | --seeds A-B|A,B,C] [--gate EXPR ...] [--junit FILE.xml] [--db FILE] [--jobs N] "
-      "[--controller JSON] [--baseline-without-robot] [--max-time S] [--events] [--request TIME:ROUTINE ...] [--scenario NAME] [--map FILE] "
+      "[--controller JSON] [--baseline-without-robot] [--max-time S] [--events] [--request TIME:ROUTINE ...] [--from imhus|pedsim] [--scenario NAME] [--map FILE] "
       "[--trajectory FILE.csv]");
   const std::string& file = parsed.file;
   std::uint64_t single_seed = 0;
@@ -488,14 +515,23 @@ int render_command(const std::vector<std::string>& args) {
 }
 
 int import_command(const std::vector<std::string>& args) {
-  const ParsedArgs parsed = parse_args(args, {"--from", "--scenario", "--map"}, {},
-                                       "usage: hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]");
+  const ParsedArgs parsed = parse_args(args, {"--from", "--dialect", "--scenario", "--map"}, {},
+                                       "usage: hrisim import [--from imhus|pedsim] [--dialect pedsim_ros|libpedsim] FILE [--scenario NAME] [--map FILE]");
   const std::string& file = parsed.file;
   const SourceOptions source = source_options(parsed);
   const auto imported = import_file(file, source);
   if (!imported) return 1;
   std::printf("%s\n", imported->scenario.dump(2).c_str());
-  return 0;
+  // The scenario written must also be one hrisim runs: what validation finds is an error of the import.
+  scenario::LoadOptions load_options{{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}, {}};
+  load_options.limits.confine_files = false;
+  const scenario::LoadResult checked = scenario::load_scenario(nlohmann::json::parse(imported->scenario.dump()), load_options);
+  print_errors(file, checked.warnings, "warning: ");
+  if (checked.model) return 0;
+  print_errors(file, checked.errors);
+  std::fprintf(stderr, "%s: the imported scenario does not validate (%zu error%s)\n", file.c_str(), checked.errors.size(),
+               checked.errors.size() == 1 ? "" : "s");
+  return 1;
 }
 
 }  // namespace hrisim::app

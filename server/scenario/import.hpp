@@ -30,7 +30,16 @@ struct ImportOptions {
   std::vector<std::filesystem::path> map_search_path;  ///< where IMHuS map names are looked up (maps/<name>.world.json)
   std::string source_name;                            ///< file name, for the description
   ScenarioLimits limits;                              ///< people and files, as for loading
+  /// Pedsim: whose social force parameters the people walk with, "pedsim_ros" or "libpedsim"; empty:
+  /// pedsim_ros's for a <scenario> file (pedsim_ros overrides libpedsim's defaults), libpedsim's for
+  /// a <welcome> file (libpedsim's own examples).
+  std::string dialect;
 };
+
+/// pedsim_ros's social force parameters where they differ from libpedsim's (pedsim_simulator's
+/// Config: obstacle σ 0.2 m instead of 0.8, social force factor 5.1 instead of 2.1).
+inline constexpr double kPedsimRosObstacleSigma = 0.2;
+inline constexpr double kPedsimRosSocialFactor = 5.1;
 
 ImportResult import_imhus(std::string_view xml, const ImportOptions& options);
 ImportResult import_pedsim(std::string_view xml, const ImportOptions& options);

@@ -30,6 +30,9 @@ constexpr double kWallClearance = 0.4;
 constexpr int kPlacementTries = 50;
 /// Goals are looked for within a waypoint's disc on rings this far apart, m.
 constexpr double kGoalRingStep = 0.1;
+/// A queue is reached within this distance of its head, m: its waiting line is not modelled, and a
+/// point everyone of a cluster heads for would jam them round it.
+constexpr double kQueueRadius = 1.0;
 /// Grid resolutions an imported scene may get, finest first, m: the finest whose grid has at most
 /// kImportGridCells cells (a scene hundreds of metres across gets a coarser grid, with a warning).
 constexpr double kImportResolutions[] = {0.05, 0.1, 0.2, 0.25, 0.5, 1.0};
@@ -96,6 +99,12 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
     return result;
   }
 
+  const std::string dialect = !options.dialect.empty() ? options.dialect : root_name == "welcome" ? "libpedsim" : "pedsim_ros";
+  if (dialect != "pedsim_ros" && dialect != "libpedsim") {
+    reader.fail(nullptr, "unknown Pedsim dialect '" + dialect + "' (pedsim_ros or libpedsim)");
+    return result;
+  }
+
   ordered_json walls = ordered_json::array();
   Walls geometry;
   Extent extent;
@@ -115,7 +124,7 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
       // pedsim_ros registers every queue as a waypoint too (its head, a point).
       const auto id = reader.text(element, "id");
       const auto x = reader.number(element, "x"), y = reader.number(element, "y");
-      const double radius = name == "waypoint" ? reader.optional_number(element, "r").value_or(0.0) : 0.0;
+      const double radius = name == "waypoint" ? reader.optional_number(element, "r").value_or(0.0) : kQueueRadius;
       if (!id || !x || !y) continue;
       if (const auto behaviour = reader.optional_number(element, "b"); behaviour && *behaviour != 0.0) {
         reader.warn(element, "waypoint '" + *id + "' is a " + (*behaviour == 1.0 ? "source" : "sink") +
@@ -255,12 +264,15 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
   out["description"] = "Imported from the Pedsim scenario " +
                        (options.source_name.empty() ? std::string("file") : options.source_name) +
                        ": every agent walks its route of waypoints over and over, as Pedsim's agents cycle through "
-                       "theirs, with the social force model.";
+                       "theirs, with the social force model and " + dialect + "'s parameters.";
   out["world"] = {{"bounds", {{"min", {map_low.x(), map_low.y()}}, {"max", {map_high.x(), map_high.y()}}}},
                   {"walls", walls}};
   if (resolution != kImportResolutions[0]) out["world"]["resolution"] = resolution;
   out["locations"] = locations;
   out["locomotion"] = {{"avoidance", "social_force"}};
+  if (dialect == "pedsim_ros") {
+    out["locomotion"]["social_force"] = {{"obstacle_sigma", kPedsimRosObstacleSigma}, {"social_factor", kPedsimRosSocialFactor}};
+  }
   out["humans"] = humans;
   out["robots"] = robots;
   if (!tasks.empty()) out["tasks"] = tasks;

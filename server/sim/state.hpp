@@ -72,6 +72,11 @@ struct AgentState {
   Vec2 leg_start = Vec2::Zero();     ///< where the leg towards path[path_index] began
   std::int64_t replan_at_tick = -1;  ///< when no path was found, try again at this tick
   std::int64_t planned_tick = 0;     ///< when the current path was planned
+  // Progress towards the goal: the nearest it has come, when it last came kStuckProgress closer, and
+  // whether "stuck" was said since.
+  double nearest_to_goal = 0.0;
+  std::int64_t progress_tick = 0;
+  bool stuck_reported = false;
 
   std::optional<Vec2> hold;  ///< where the agent arrived last; it steps back there when pushed away
 
@@ -130,7 +135,7 @@ struct AgentState {
   ReachPhase reach_phase = ReachPhase::none;
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase, seat, seat_phase, seat_front, carried_object, reach_phase); }
+  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, nearest_to_goal, progress_tick, stuck_reported, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase, seat, seat_phase, seat_front, carried_object, reach_phase); }
 };
 
 struct Event {

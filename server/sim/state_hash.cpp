@@ -13,7 +13,7 @@ using Hasher = core::StateHasher;
 // Adding a member to a state struct without listing it in its fields() would leave it out of the
 // hash: these sizes make that a compile error (x86-64, libstdc++). List the member, then update the size.
 static_assert(sizeof(PendingAction) == 24, "PendingAction changed: list every member in its fields()");
-static_assert(sizeof(AgentState) == 944, "AgentState changed: list every member in its fields()");
+static_assert(sizeof(AgentState) == 976, "AgentState changed: list every member in its fields()");
 static_assert(sizeof(OpenRequest) == 48, "OpenRequest changed: list every member in its fields()");
 static_assert(sizeof(ScheduledRequest) == 16, "ScheduledRequest changed: list every member in its fields()");
 static_assert(sizeof(StepRecord) == 16, "StepRecord changed: list every member in its fields()");

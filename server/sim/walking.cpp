@@ -51,6 +51,31 @@ void advance_body(const scenario::Model& model, const State& state, AgentState& 
   }
 }
 
+/// How far the agent still has to walk: along its planned path, or straight to the goal without one.
+double remaining_walk(const AgentState& self) {
+  if (self.path_index >= self.path.size()) return (self.goal - self.position).norm();
+  double length = (self.path[self.path_index] - self.position).norm();
+  for (std::size_t k = self.path_index + 1; k < self.path.size(); ++k) length += (self.path[k] - self.path[k - 1]).norm();
+  return length;
+}
+
+/// A person who has not come kStuckProgress closer to their goal (along their path: a detour round a
+/// wall is progress) for kStuckTime is stuck (an event).
+void note_progress(const scenario::Model& model, State& state, int agent) {
+  AgentState& self = state.agents[agent];
+  const double to_goal = remaining_walk(self);
+  if (to_goal <= self.nearest_to_goal - kStuckProgress) {
+    self.nearest_to_goal = to_goal;
+    self.progress_tick = state.tick;
+    self.stuck_reported = false;
+  } else if (!self.stuck_reported && state.tick - self.progress_tick >= ticks(model, kStuckTime)) {
+    self.stuck_reported = true;
+    emit(model, state, "stuck", model.agents[agent].id,
+         {{"x", self.position.x()}, {"y", self.position.y()}, {"goal_x", self.goal.x()}, {"goal_y", self.goal.y()}, {"goal_distance", to_goal},
+          {"for", static_cast<double>(state.tick - self.progress_tick) * model.dt}});
+  }
+}
+
 /// Where the agent wants to go this tick, before avoiding anyone; replans on the way when needed.
 Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t i, std::optional<double>& watching_heading) {
   AgentState& self = state.agents[i];
@@ -216,7 +241,10 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
         self.heading = core::wrap_angle(self.heading + std::copysign(max_turn, difference));
       }
     }
-    if (model.agents[i].kind == AgentKind::human) advance_body(model, state, self, core::wrap_angle(self.heading - heading_before));
+    if (model.agents[i].kind == AgentKind::human) {
+      advance_body(model, state, self, core::wrap_angle(self.heading - heading_before));
+      if (self.navigating) note_progress(model, state, static_cast<int>(i));
+    }
   }
 }
 
@@ -229,7 +257,10 @@ void go_to(const scenario::Model& model, State& state, int agent, const Pose2& g
   self.goal_heading = with_heading ? std::optional<double>(goal.theta) : std::nullopt;
   self.target_heading.reset();
   self.replan_at_tick = -1;
+  self.progress_tick = state.tick;
+  self.stuck_reported = false;
   plan_path(model, state, agent);
+  self.nearest_to_goal = remaining_walk(self);
 }
 
 bool plan_path(const scenario::Model& model, State& state, int agent) {

@@ -46,6 +46,11 @@ inline constexpr double kSqueezeTime = 3.0;
 inline constexpr double kHeldUpSpeedShare = 0.3;
 /// Without a path, planning is tried again after this long, s.
 inline constexpr double kReplanRetry = 1.0;
+/// A person walking to a goal who has not come this much closer to it... (m)
+inline constexpr double kStuckProgress = 0.5;
+/// ...for this long is stuck, s: an event says so ("stuck", once until they make progress again), so a
+/// jam is seen rather than silently waited out to the time limit.
+inline constexpr double kStuckTime = 10.0;
 /// A person holding a motion primitive's last pose walks off it (it blends out) above this speed, m/s.
 inline constexpr double kMotionReleaseSpeed = 0.2;
 

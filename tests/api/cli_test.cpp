@@ -104,6 +104,36 @@ TEST(CliImport, FormatIsDetectedAndErrorsCarryLines) {
   EXPECT_NE(broken.output.find("broken.xml:8: <goto_action>: unknown pose 'nowhere'"), std::string::npos) << broken.output;
 }
 
+TEST(CliImport, AScenarioThatDoesNotValidateIsAnImportError) {
+  TempDir dir;
+  // A lone agent standing on a wall: imported as written, refused when validated.
+  std::ofstream(dir / "on_wall.xml") << "<scenario>\n  <obstacle x1=\"0\" y1=\"0\" x2=\"10\" y2=\"0\"/>\n  <obstacle x1=\"0\" y1=\"0\" x2=\"0\" y2=\"10\"/>\n"
+                                        "  <agent x=\"0\" y=\"4\" n=\"1\"/>\n</scenario>\n";
+  const CommandResult result = run_command(kHrisim + " import " + (dir / "on_wall.xml").string());
+  EXPECT_EQ(result.exit_status, 1) << result.output;
+  EXPECT_NE(result.output.find("/humans/0/start: human 'agent_0' at (0, 4) is inside obstacle"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("on_wall.xml: the imported scenario does not validate (1 error)"), std::string::npos) << result.output;
+}
+
+TEST(CliImport, ValidateAndRunTakeTheImportOptions) {
+  const CommandResult late = run_command(kHrisim + " validate " + kFixtures + "/imhus/office.xml --scenario solo");
+  EXPECT_EQ(late.exit_status, 0) << late.output;
+  EXPECT_NE(late.output.find("office.xml: ok (1 humans, 1 robots, 1 steps)"), std::string::npos) << late.output;
+  TempDir dir;
+  std::filesystem::copy_file(kFixtures + "/pedsim/welcome.xml", dir / "welcome.txt");
+  const CommandResult run = run_command(kHrisim + " run --from pedsim " + (dir / "welcome.txt").string() + " --max-time 1", false);
+  ASSERT_EQ(run.exit_status, 0) << run.output;
+  EXPECT_EQ(nlohmann::json::parse(run.output)["termination"], "timeout");
+}
+
+TEST(CliImport, AHuNavSimFileIsNamedForWhatItIs) {
+  TempDir dir;
+  std::ofstream(dir / "agents.yaml") << "hunav_loader:\n  ros__parameters:\n    agents:\n      - agent1\n";
+  const CommandResult result = run_command(kHrisim + " validate " + (dir / "agents.yaml").string());
+  EXPECT_EQ(result.exit_status, 1);
+  EXPECT_NE(result.output.find("this is a HuNavSim agents file (hunav_loader)"), std::string::npos) << result.output;
+}
+
 TEST(CliImport, RunAcceptsXmlDirectly) {
   const CommandResult result = run_command(kHrisim + " run " + kFixtures + "/imhus/office.xml --request 1:fetch_coffee", false);
   ASSERT_EQ(result.exit_status, 0) << result.output;

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <limits>
+#include <tuple>
 #include <fstream>
 #include <sstream>
 
@@ -37,7 +38,7 @@ std::string no_reference_file(const std::string& file, const std::string& covere
 }
 
 ImportOptions bundled(std::string scenario = "") {
-  return {std::move(scenario), std::nullopt, {std::filesystem::path(HRISIM_SOURCE_DIR) / "scenarios"}, "test.xml", {}};
+  return {std::move(scenario), std::nullopt, {std::filesystem::path(HRISIM_SOURCE_DIR) / "scenarios"}, "test.xml", {}, ""};
 }
 
 std::shared_ptr<const Model> load_imported(const ImportResult& imported) {
@@ -440,6 +441,47 @@ TEST(ImportPedsim, WelcomeRootWithoutObstacles) {
   EXPECT_LE(imported.scenario["world"]["bounds"]["min"][0].get<double>(), -24.0) << "the map takes in the waypoints' discs";
   const std::vector<int> reached = arrivals(model, 120.0);
   for (int walker = 0; walker < 6; ++walker) EXPECT_GE(reached[walker], 3) << "walker " << walker << " goes between w1 and w2 more than once";
+}
+
+// pedsim_ros's parameters (obstacle σ 0.2 m, social factor 5.1) let a walker reach a waypoint 0.6 m
+// from a wall; with libpedsim's (σ 0.8 m) the wall holds it about 1.35 m off, and after 10 s without
+// progress it is reported stuck instead of stalling silently.
+TEST(ImportPedsim, PedsimRosParametersReachWaypointsByWallsAndAJamIsReported) {
+  const std::string xml = R"(<scenario>
+  <obstacle x1="0" y1="0" x2="10" y2="0"/><obstacle x1="10" y1="0" x2="10" y2="4"/>
+  <obstacle x1="10" y1="4" x2="0" y2="4"/><obstacle x1="0" y1="4" x2="0" y2="0"/>
+  <waypoint id="by_wall" x="5" y="0.6" r="0.3"/>
+  <waypoint id="middle" x="5" y="2.5" r="0.3"/>
+  <agent x="2" y="2" n="1"><addwaypoint id="by_wall"/><addwaypoint id="middle"/></agent>
+</scenario>)";
+  const auto walk = [&](const std::string& dialect) {
+    ImportOptions options = bundled();
+    options.dialect = dialect;
+    const ImportResult imported = import_pedsim(xml, options);
+    const auto model = load_imported(imported);
+    episode::Episode run(model, 1);
+    run.session().set_time_limit(40.0);
+    bool reached = false;
+    while (!run.over()) {
+      run.tick();
+      reached |= (run.session().state().agents[0].position - Vec2(5, 0.6)).norm() <= 0.3;
+    }
+    int stuck = 0;
+    for (const sim::Event& event : run.session().state().events) stuck += event.kind == "stuck";
+    return std::tuple{imported.scenario["locomotion"], reached, stuck};
+  };
+  const auto [ros_locomotion, ros_reached, ros_stuck] = walk("");
+  EXPECT_EQ(ros_locomotion["social_force"]["obstacle_sigma"], kPedsimRosObstacleSigma) << "pedsim_ros's, by default for <scenario>";
+  EXPECT_EQ(ros_locomotion["social_force"]["social_factor"], kPedsimRosSocialFactor);
+  EXPECT_TRUE(ros_reached);
+  EXPECT_EQ(ros_stuck, 0);
+  const auto [lib_locomotion, lib_reached, lib_stuck] = walk("libpedsim");
+  EXPECT_FALSE(lib_locomotion.contains("social_force")) << "libpedsim's own defaults";
+  EXPECT_FALSE(lib_reached) << "the wall holds the walker off";
+  EXPECT_EQ(lib_stuck, 1) << "reported once, not every tick";
+  ImportOptions unknown = bundled();
+  unknown.dialect = "menge";
+  EXPECT_TRUE(has_message(import_pedsim(xml, unknown).errors, 0, "unknown Pedsim dialect 'menge' (pedsim_ros or libpedsim)"));
 }
 
 // A scene hundreds of metres across (pedsim_ros's airport) gets a grid coarse enough to build.
