@@ -141,6 +141,7 @@ struct LoadedFile {
   nlohmann::json document;
   scenario::LoadOptions load;  ///< where its maps are found
   scenario::LoadResult result;
+  std::optional<scenario::ImportResult> imported;  ///< an XML file's import, for the lines its parts came from
 };
 
 LoadedFile load(const std::string& file, const SourceOptions& source = {}) {
@@ -174,14 +175,23 @@ LoadedFile load(const std::string& file, const SourceOptions& source = {}) {
   }
   loaded.document = imported->scenario;
   loaded.result = scenario::load_scenario(loaded.document, loaded.load);
+  loaded.imported = imported;
   return loaded;
 }
 
-void print_errors(const std::string& file, const std::vector<core::ValidationError>& errors, const char* kind = "") {
+/// Errors as `FILE: POINTER: message`; for an imported file `FILE:LINE: POINTER: message`, at the XML
+/// line the part at fault came from.
+void print_errors(const std::string& file, const std::vector<core::ValidationError>& errors, const char* kind = "",
+                  const scenario::ImportResult* imported = nullptr) {
   for (const auto& error : errors) {
-    std::fprintf(stderr, "%s: %s: %s%s\n", file.c_str(), error.pointer.empty() ? "(document)" : error.pointer.c_str(),
-                 kind, error.message.c_str());
+    const int line = imported ? scenario::origin_line(*imported, error.pointer) : 0;
+    std::fprintf(stderr, "%s:%s %s: %s%s\n", file.c_str(), line > 0 ? (std::to_string(line) + ":").c_str() : "",
+                 error.pointer.empty() ? "(document)" : error.pointer.c_str(), kind, error.message.c_str());
   }
+}
+
+void print_errors(const std::string& file, const LoadedFile& loaded) {
+  print_errors(file, loaded.result.errors, "", loaded.imported ? &*loaded.imported : nullptr);
 }
 
 }  // namespace
@@ -210,10 +220,11 @@ int validate_command(const std::vector<std::string>& args) {
   const SourceOptions source = source_options(parse_args(options, {"--from", "--dialect", "--scenario", "--map"}, {}, usage));
   int status = 0;
   for (const std::string& file : files) {
-    const scenario::LoadResult result = load(file, source).result;
-    print_errors(file, result.warnings, "warning: ");
+    const LoadedFile loaded = load(file, source);
+    const scenario::LoadResult& result = loaded.result;
+    print_errors(file, result.warnings, "warning: ", loaded.imported ? &*loaded.imported : nullptr);
     if (!result.model) {
-      print_errors(file, result.errors);
+      print_errors(file, loaded);
       std::fprintf(stderr, "%s: %zu error%s\n", file.c_str(), result.errors.size(), result.errors.size() == 1 ? "" : "s");
       status = 1;
       continue;
@@ -340,9 +351,9 @@ int run_command(const std::vector<std::string>& args) {
   }
 
   const LoadedFile loaded = load(file, source_options(parsed));
-  print_errors(file, loaded.result.warnings, "warning: ");
+  print_errors(file, loaded.result.warnings, "warning: ", loaded.imported ? &*loaded.imported : nullptr);
   if (!loaded.result.model) {
-    print_errors(file, loaded.result.errors);
+    print_errors(file, loaded);
     return 2;
   }
   request.document = loaded.document;
@@ -526,9 +537,9 @@ int import_command(const std::vector<std::string>& args) {
   scenario::LoadOptions load_options{{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}, {}};
   load_options.limits.confine_files = false;
   const scenario::LoadResult checked = scenario::load_scenario(nlohmann::json::parse(imported->scenario.dump()), load_options);
-  print_errors(file, checked.warnings, "warning: ");
+  print_errors(file, checked.warnings, "warning: ", &*imported);
   if (checked.model) return 0;
-  print_errors(file, checked.errors);
+  print_errors(file, checked.errors, "", &*imported);
   std::fprintf(stderr, "%s: the imported scenario does not validate (%zu error%s)\n", file.c_str(), checked.errors.size(),
                checked.errors.size() == 1 ? "" : "s");
   return 1;

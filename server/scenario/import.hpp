@@ -22,7 +22,13 @@ struct ImportResult {
   nlohmann::ordered_json scenario;  ///< native scenario; meaningful only without errors
   std::vector<ImportMessage> errors;
   std::vector<ImportMessage> warnings;
+  /// Where parts of the scenario come from: a JSON pointer into it and the XML line it was read from.
+  std::vector<std::pair<std::string, int>> origins;
 };
+
+/// The XML line the part of an imported scenario at `pointer` was read from (the longest recorded
+/// prefix of it), or 0 when none was recorded.
+int origin_line(const ImportResult& imported, std::string_view pointer);
 
 struct ImportOptions {
   std::string scenario;                               ///< IMHuS: which scenario of the file; the first when empty

@@ -1,10 +1,13 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <tuple>
+#include <vector>
 
 #include "core/files.hpp"
 #include "core/text.hpp"
@@ -16,6 +19,71 @@ namespace {
 
 std::string where(const tinyxml2::XMLElement* element) {
   return element ? "<" + std::string(element->Name()) + ">: " : "";
+}
+
+int line_at(std::string_view text, std::size_t offset) {
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(std::min(offset, text.size())), '\n'));
+}
+
+/// What is wrong with XML tinyxml2 refused, in words and at its line, found by following its tags:
+/// an element never closed (a closing tag that does not match comes first), a tag, comment or
+/// section never finished. None when the tags are sound (the fault is elsewhere: an attribute, an entity).
+std::optional<ImportMessage> explain_malformed(std::string_view xml) {
+  struct Open {
+    std::string name;
+    int line;
+  };
+  std::vector<Open> open;
+  const auto unfinished = [&](std::size_t at, const std::string& what) {
+    return ImportMessage{line_at(xml, at), what + " at line " + std::to_string(line_at(xml, at)) + " is never finished"};
+  };
+  for (std::size_t i = xml.find('<'); i != std::string_view::npos; i = xml.find('<', i + 1)) {
+    // Comments, CDATA, processing instructions and declarations hold no elements.
+    for (const auto& [start, end, what] : {std::tuple{"<!--", "-->", "a comment"}, {"<![CDATA[", "]]>", "a CDATA section"}, {"<?", "?>", "a processing instruction"}}) {
+      if (xml.substr(i).starts_with(start)) {
+        const std::size_t close = xml.find(end, i);
+        if (close == std::string_view::npos) return unfinished(i, what);
+        i = close;
+        goto next;
+      }
+    }
+    if (xml.substr(i).starts_with("<!")) {
+      const std::size_t close = xml.find('>', i);
+      if (close == std::string_view::npos) return unfinished(i, "a declaration");
+      i = close;
+      continue;
+    }
+    {
+      const bool closing = i + 1 < xml.size() && xml[i + 1] == '/';
+      std::size_t name_end = i + (closing ? 2 : 1);
+      while (name_end < xml.size() && !std::isspace(static_cast<unsigned char>(xml[name_end])) && xml[name_end] != '>' && xml[name_end] != '/') ++name_end;
+      const std::string name(xml.substr(i + (closing ? 2 : 1), name_end - i - (closing ? 2 : 1)));
+      // The tag's end, past quoted attribute values.
+      std::size_t end = name_end;
+      char quote = 0;
+      while (end < xml.size() && (quote || xml[end] != '>')) {
+        if (quote && xml[end] == quote) quote = 0;
+        else if (!quote && (xml[end] == '"' || xml[end] == '\'')) quote = xml[end];
+        ++end;
+      }
+      const int line = line_at(xml, i);
+      if (end >= xml.size()) return unfinished(i, "the tag <" + std::string(closing ? "/" : "") + name + ">");
+      if (closing) {
+        if (open.empty()) break;  // past the last element: TinyXML stops reading there too
+        if (open.back().name != name) {
+          return ImportMessage{open.back().line, "<" + open.back().name + "> opened at line " + std::to_string(open.back().line) +
+                                                     " is never closed (</" + name + "> at line " + std::to_string(line) + " comes first)"};
+        }
+        open.pop_back();
+      } else if (xml[end - 1] != '/') {
+        open.push_back({name, line});
+      }
+      i = end;
+    }
+  next:;
+  }
+  if (!open.empty()) return ImportMessage{open.back().line, "<" + open.back().name + "> opened at line " + std::to_string(open.back().line) + " is never closed"};
+  return std::nullopt;
 }
 
 }  // namespace
@@ -67,7 +135,16 @@ bool parse_xml(std::string_view xml, tinyxml2::XMLDocument& document, ImportResu
     return false;
   }
   if (document.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
-    result.errors.push_back({document.ErrorLineNum(), std::string("malformed XML: ") + document.ErrorStr()});
+    if (auto explained = explain_malformed(xml)) {
+      explained->message = "malformed XML: " + explained->message;
+      result.errors.push_back(std::move(*explained));
+    } else {
+      result.errors.push_back({document.ErrorLineNum(), "malformed XML at line " + std::to_string(document.ErrorLineNum()) + ": " +
+                                                            (document.ErrorID() == tinyxml2::XML_ERROR_PARSING_ATTRIBUTE ? "an attribute is not name=\"value\""
+                                                             : document.ErrorID() == tinyxml2::XML_ERROR_PARSING_TEXT ? "text that is not XML (an unescaped & or <?)"
+                                                             : document.ErrorID() == tinyxml2::XML_ERROR_EMPTY_DOCUMENT ? "the document is empty"
+                                                                                                                        : std::string(document.ErrorName()))});
+    }
     return false;
   }
   if (!document.FirstChildElement()) {
@@ -75,6 +152,19 @@ bool parse_xml(std::string_view xml, tinyxml2::XMLDocument& document, ImportResu
     return false;
   }
   return true;
+}
+
+int origin_line(const ImportResult& imported, std::string_view pointer) {
+  std::size_t longest = 0;
+  int line = 0;
+  for (const auto& [prefix, from] : imported.origins) {
+    const bool within = pointer.starts_with(prefix) && (pointer.size() == prefix.size() || pointer[prefix.size()] == '/');
+    if (within && prefix.size() >= longest) {
+      longest = prefix.size();
+      line = from;
+    }
+  }
+  return line;
 }
 
 std::string detect_xml_format(std::string_view xml) {

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/json_schema.hpp"
 #include "core/math.hpp"
 #include "core/files.hpp"
 #include "scenario/import.hpp"
@@ -83,6 +84,7 @@ class ImhusImporter {
       }
       if (!agent_kinds_.emplace(*id, kind).second) reader_.fail(agent, "agent '" + *id + "' is declared twice");
       agent_order_.push_back(*id);
+      agent_lines_[*id] = agent->GetLineNum();
     }
   }
 
@@ -125,6 +127,7 @@ class ImhusImporter {
       ordered_json location{{"x", *x}, {"y", *y}, {"theta", theta}};
       if (const auto radius = reader_.optional_number(pose, "radius")) location["radius"] = *radius;
       locations_[*id] = location;
+      reader_.result().origins.push_back({"/locations/" + core::pointer_token(*id), pose->GetLineNum()});
     }
   }
 
@@ -152,6 +155,10 @@ class ImhusImporter {
         continue;
       }
       social_spaces_[*id] = native;
+      reader_.result().origins.push_back({"/social_spaces/" + core::pointer_token(*id), space->GetLineNum()});
+      for (std::size_t k = 0; k < slots.size(); ++k) {
+        reader_.result().origins.push_back({"/social_spaces/" + core::pointer_token(*id) + "/slots/" + std::to_string(k), slots[k]->GetLineNum()});
+      }
     }
   }
 
@@ -318,6 +325,7 @@ class ImhusImporter {
       return std::nullopt;
     }
     if (first_step && native.contains("goto")) note_first_pose(native);
+    native[kLineKey] = action->GetLineNum();  // moved to the origins once the actions have their places
     return native;
   }
 
@@ -459,19 +467,35 @@ class ImhusImporter {
                                   (human ? "" : ", or define the pose initial_pose_robot"));
         continue;
       }
-      out[human ? "humans" : "robots"].push_back({{"id", id}, {"start", start}});
+      auto& list = out[human ? "humans" : "robots"];
+      reader_.result().origins.push_back({std::string(human ? "/humans/" : "/robots/") + std::to_string(list.size()), agent_lines_[id]});
+      list.push_back({{"id", id}, {"start", start}});
     }
     if (!groups_.empty()) out["groups"] = groups_;
     out["tasks"] = tasks_;
     out["steps"] = steps_;
     out["async"] = async_;
+    // Each action's line, now that it has its place (a robot choreography's steps join the scenario's).
+    const auto take_lines = [&](ordered_json& actions, const std::string& pointer) {
+      for (std::size_t a = 0; a < actions.size(); ++a) {
+        if (!actions[a].contains(kLineKey)) continue;
+        reader_.result().origins.push_back({pointer + "/" + std::to_string(a), actions[a][kLineKey].get<int>()});
+        actions[a].erase(kLineKey);
+      }
+    };
+    for (auto& [task, actions] : out["tasks"].items()) take_lines(actions, "/tasks/" + core::pointer_token(task));
+    for (std::size_t s = 0; s < out["steps"].size(); ++s) take_lines(out["steps"][s]["actions"], "/steps/" + std::to_string(s) + "/actions");
   }
+
+  /// Where an action was read, kept on it until it has its place in the scenario (not a native key).
+  static constexpr const char* kLineKey = "_xml_line";
 
   const ImportOptions& options_;
   XmlReader reader_;
   std::string name_;
   std::map<std::string, std::string> agent_kinds_;
   std::vector<std::string> agent_order_;
+  std::map<std::string, int> agent_lines_;
   std::map<std::string, core::Pose2> poses_;
   ordered_json locations_ = ordered_json::object();
   ordered_json social_spaces_ = ordered_json::object();

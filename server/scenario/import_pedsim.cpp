@@ -6,6 +6,7 @@
 #include <map>
 #include <numbers>
 
+#include "core/json_schema.hpp"
 #include "core/math.hpp"
 #include "core/random.hpp"
 #include "scenario/import.hpp"
@@ -116,6 +117,7 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
       const auto x1 = reader.number(element, "x1"), y1 = reader.number(element, "y1");
       const auto x2 = reader.number(element, "x2"), y2 = reader.number(element, "y2");
       if (!x1 || !y1 || !x2 || !y2) continue;
+      result.origins.push_back({"/world/walls/" + std::to_string(walls.size()), element->GetLineNum()});
       walls.push_back({{"from", {*x1, *y1}}, {"to", {*x2, *y2}}});
       geometry.segments.push_back({{*x1, *y1}, {*x2, *y2}});
       extent.add({*x1, *y1});
@@ -178,6 +180,7 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
     const double radius = std::max(waypoint.radius - (goal - centre).norm(), kMinWaypointRadius);
     goals[id] = {goal, radius};
     locations[id] = {{"x", goal.x()}, {"y", goal.y()}, {"radius", radius}};
+    result.origins.push_back({"/locations/" + core::pointer_token(id), waypoint.line});
   }
 
   core::Random random(kPlacementSeed);
@@ -208,7 +211,7 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
     if (std::string(cluster->Name()) == "source") {
       reader.warn(cluster, "a source spawns its agents once; Pedsim's respawning is not modelled");
     }
-    std::vector<std::string> route;
+    std::vector<std::pair<std::string, int>> route;  ///< waypoints, with the lines that add them
     for (const XMLElement* child = cluster->FirstChildElement(); child; child = child->NextSiblingElement()) {
       const std::string child_name = child->Name();
       if (child_name != "addwaypoint" && child_name != "addqueue") {
@@ -220,7 +223,7 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
       if (!waypoints.contains(*id)) {
         reader.fail(child, std::string("unknown ") + (child_name == "addqueue" ? "queue" : "waypoint") + " '" + *id + "'");
       } else {
-        route.push_back(*id);
+        route.push_back({*id, child->GetLineNum()});
       }
     }
     const std::string kind = kAgentTypes[static_cast<int>(type)];
@@ -233,11 +236,13 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
     const std::string task = "route_" + std::to_string(tasks.size() + 1);
     if (!robot && !route.empty() && n > 0) {
       ordered_json gotos = ordered_json::array();
-      for (const std::string& waypoint : route) {
+      for (const auto& [waypoint, line] : route) {
         const auto& [goal, radius] = goals[waypoint];
+        result.origins.push_back({"/tasks/" + task + "/" + std::to_string(gotos.size()), line});
         gotos.push_back({{"goto", {{"pose", {{"x", goal.x()}, {"y", goal.y()}}}, {"radius", radius}}}});
       }
       tasks[task] = gotos;
+      result.origins.push_back({"/tasks/" + task, cluster->GetLineNum()});
     }
     for (int i = 0; i < static_cast<int>(n); ++i) {
       const std::string id = (robot ? "robot_" : "agent_") + std::to_string(counter++);
@@ -249,13 +254,18 @@ ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
       }
       ordered_json agent{{"id", id}, {"start", {{"x", start.x()}, {"y", start.y()}}}};
       if (robot) {
+        result.origins.push_back({"/robots/" + std::to_string(robots.size()), cluster->GetLineNum()});
         robots.push_back(agent);
         continue;
       }
       agent["type"] = kind;
       agent["avoidance"] = "social_force";
+      result.origins.push_back({"/humans/" + std::to_string(humans.size()), cluster->GetLineNum()});
       humans.push_back(agent);
-      if (tasks.contains(task)) actions.push_back({{"agent", id}, {"task", task}, {"repeat", true}});
+      if (tasks.contains(task)) {
+        result.origins.push_back({"/steps/0/actions/" + std::to_string(actions.size()), cluster->GetLineNum()});
+        actions.push_back({{"agent", id}, {"task", task}, {"repeat", true}});
+      }
     }
   }
 

@@ -27,7 +27,9 @@ SourceFormat detect_source_format(std::string_view text) {
 }
 
 nlohmann::json SourceIssue::to_json() const {
-  nlohmann::json issue = line > 0 ? nlohmann::json{{"line", line}} : nlohmann::json{{"pointer", pointer}};
+  nlohmann::json issue = nlohmann::json::object();
+  if (line > 0) issue["line"] = line;
+  if (!pointer.empty() || line <= 0) issue["pointer"] = pointer;
   issue["message"] = message;
   return issue;
 }
@@ -58,6 +60,10 @@ CompiledSource compile_source(std::string_view text, SourceFormat format, const 
   if (!compiled.errors.empty()) return compiled;
   compiled.document = nlohmann::json::parse(imported.scenario.dump());
   adopt(load_scenario(compiled.document, options.load));
+  // What validation finds in an imported scenario is said at the XML line it came from too.
+  for (auto* issues : {&compiled.errors, &compiled.warnings}) {
+    for (SourceIssue& issue : *issues) issue.line = origin_line(imported, issue.pointer);
+  }
   return compiled;
 }
 

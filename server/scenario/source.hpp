@@ -28,7 +28,8 @@ struct SourceIssue {
   std::string pointer;
   int line = 0;
   std::string message;
-  /// {"pointer": …} or {"line": …}, with "message".
+  /// {"pointer": …}, {"line": …} or both (what validation found in an imported scenario, at the XML
+  /// line it came from), with "message".
   nlohmann::json to_json() const;
 };
 

@@ -111,7 +111,7 @@ TEST(CliImport, AScenarioThatDoesNotValidateIsAnImportError) {
                                         "  <agent x=\"0\" y=\"4\" n=\"1\"/>\n</scenario>\n";
   const CommandResult result = run_command(kHrisim + " import " + (dir / "on_wall.xml").string());
   EXPECT_EQ(result.exit_status, 1) << result.output;
-  EXPECT_NE(result.output.find("/humans/0/start: human 'agent_0' at (0, 4) is inside obstacle"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("on_wall.xml:4: /humans/0/start: human 'agent_0' at (0, 4) is inside obstacle"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("on_wall.xml: the imported scenario does not validate (1 error)"), std::string::npos) << result.output;
 }
 
