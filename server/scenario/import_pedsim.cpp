@@ -86,208 +86,245 @@ struct Extent {
   bool empty() const { return low.x() > high.x(); }
 };
 
+/// A cluster's route: its waypoints' ids, each with the line of the element that adds it.
+using Route = std::vector<std::pair<std::string, int>>;
+
+/// Reads one Pedsim file: its elements (walls, waypoints, clusters), the map's extent and grid, each
+/// waypoint's goal, the clusters' people and routes, then the native scenario.
+class PedsimImporter {
+ public:
+  PedsimImporter(const ImportOptions& options, ImportResult& result) : options_(options), result_(result), reader_(result) {}
+
+  void run(const tinyxml2::XMLDocument& document) {
+    const XMLElement* root = document.FirstChildElement();
+    const std::string root_name = root->Name();
+    if (root_name != "scenario" && root_name != "welcome") {
+      reader_.fail(root, "a Pedsim file has a <scenario> root element (or <welcome>, as libpedsim's examples)");
+      return;
+    }
+    dialect_ = !options_.dialect.empty() ? options_.dialect : root_name == "welcome" ? "libpedsim" : "pedsim_ros";
+    if (dialect_ != "pedsim_ros" && dialect_ != "libpedsim") {
+      reader_.fail(nullptr, "unknown Pedsim dialect '" + dialect_ + "' (pedsim_ros or libpedsim)");
+      return;
+    }
+    for (const XMLElement* element = root->FirstChildElement(); element; element = element->NextSiblingElement()) read_element(element);
+    if (extent_.empty()) {
+      reader_.fail(root, "the file places nothing: no <obstacle>, <waypoint> or <agent> with a position");
+      return;
+    }
+    if (walls_.empty()) reader_.warn(root, "no <obstacle>: the map is open ground around the waypoints and agents");
+    choose_resolution(root);
+    place_goals();
+    for (const XMLElement* cluster : clusters_) {
+      if (!read_cluster(cluster)) break;
+    }
+    write();
+  }
+
+ private:
+  void read_element(const XMLElement* element) {
+    const std::string name = element->Name();
+    if (name == "obstacle") {
+      const auto x1 = reader_.number(element, "x1"), y1 = reader_.number(element, "y1");
+      const auto x2 = reader_.number(element, "x2"), y2 = reader_.number(element, "y2");
+      if (!x1 || !y1 || !x2 || !y2) return;
+      result_.origins.push_back({"/world/walls/" + std::to_string(walls_.size()), element->GetLineNum()});
+      walls_.push_back({{"from", {*x1, *y1}}, {"to", {*x2, *y2}}});
+      geometry_.segments.push_back({{*x1, *y1}, {*x2, *y2}});
+      extent_.add({*x1, *y1});
+      extent_.add({*x2, *y2});
+    } else if (name == "waypoint" || name == "queue") {
+      // pedsim_ros registers every queue as a waypoint too (its head).
+      const auto id = reader_.text(element, "id");
+      const auto x = reader_.number(element, "x"), y = reader_.number(element, "y");
+      const double radius = name == "waypoint" ? reader_.optional_number(element, "r").value_or(0.0) : kQueueRadius;
+      if (!id || !x || !y) return;
+      if (const auto behaviour = reader_.optional_number(element, "b"); behaviour && *behaviour != 0.0) {
+        reader_.warn(element, "waypoint '" + *id + "' is a " + (*behaviour == 1.0 ? "source" : "sink") + "; hrisim treats it as a plain waypoint");
+      }
+      if (name == "queue") reader_.warn(element, "queue '" + *id + "' is walked to as a waypoint; its waiting line is not modelled");
+      waypoints_[*id] = {*x, *y, std::max(radius, 0.0), element->GetLineNum()};
+      extent_.add({*x, *y}, radius);
+    } else if (name == "agent" || name == "source") {
+      clusters_.push_back(element);
+      // The cluster's area (its attributes are checked, with errors, where its agents are made).
+      if (element->Attribute("x") && element->Attribute("y")) {
+        const core::Vec2 centre(element->DoubleAttribute("x"), element->DoubleAttribute("y"));
+        const core::Vec2 half(std::abs(element->DoubleAttribute("dx")) / 2, std::abs(element->DoubleAttribute("dy")) / 2);
+        extent_.add(centre - half);
+        extent_.add(centre + half);
+      }
+    } else {
+      reader_.warn(element, "unsupported element <" + name + "> ignored");
+    }
+  }
+
+  /// The finest grid resolution whose grid fits the budget; a warning when it is not the default.
+  void choose_resolution(const XMLElement* root) {
+    low_ = extent_.low - core::Vec2(kBoundsMargin, kBoundsMargin);
+    high_ = extent_.high + core::Vec2(kBoundsMargin, kBoundsMargin);
+    const core::Vec2 size = high_ - low_;
+    const auto cells_at = [&](double resolution) { return std::ceil(size.x() / resolution) * std::ceil(size.y() / resolution); };
+    const double budget = std::min(kImportGridCells, static_cast<double>(options_.limits.max_grid_cells));
+    for (const double candidate : kImportResolutions) {
+      resolution_ = candidate;
+      if (cells_at(candidate) <= budget) break;
+    }
+    if (resolution_ == kImportResolutions[0]) return;
+    reader_.warn(root, "the scene spans " + core::number_text(std::round(size.x())) + " x " + core::number_text(std::round(size.y())) +
+                           " m: its grid gets " + core::number_text(resolution_) + " m cells (at " + core::number_text(kImportResolutions[0]) +
+                           " m it would have " + core::number_text(cells_at(kImportResolutions[0])) + "); passages narrower than about " +
+                           core::number_text(2 * resolution_ + 0.6) + " m may close");
+  }
+
+  /// Each waypoint's goal: the free point of its disc nearest the centre (a centre on a wall's line is
+  /// common: the disc's free part is what the file means).
+  void place_goals() {
+    for (const auto& [id, waypoint] : waypoints_) {
+      const core::Vec2 centre(waypoint.x, waypoint.y);
+      const core::Vec2 goal = geometry_.free_point(centre, waypoint.radius);
+      const double radius = std::max(waypoint.radius - (goal - centre).norm(), kMinWaypointRadius);
+      goals_[id] = {goal, radius};
+      locations_[id] = {{"x", goal.x()}, {"y", goal.y()}, {"radius", radius}};
+      result_.origins.push_back({"/locations/" + core::pointer_token(id), waypoint.line});
+    }
+  }
+
+  Route read_route(const XMLElement* cluster) {
+    Route route;
+    for (const XMLElement* child = cluster->FirstChildElement(); child; child = child->NextSiblingElement()) {
+      const std::string name = child->Name();
+      if (name != "addwaypoint" && name != "addqueue") {
+        reader_.warn(child, "unsupported element <" + name + "> ignored");
+        continue;
+      }
+      const auto id = reader_.text(child, "id");
+      if (!id) continue;
+      if (!waypoints_.contains(*id)) {
+        reader_.fail(child, std::string("unknown ") + (name == "addqueue" ? "queue" : "waypoint") + " '" + *id + "'");
+      } else {
+        route.push_back({*id, child->GetLineNum()});
+      }
+    }
+    return route;
+  }
+
+  /// The route as a compound task its people walk over and over (Pedsim's agents cycle through their
+  /// waypoints until the simulation stops); its name.
+  std::string route_task(const XMLElement* cluster, const Route& route) {
+    const std::string task = "route_" + std::to_string(tasks_.size() + 1);
+    ordered_json gotos = ordered_json::array();
+    for (const auto& [waypoint, line] : route) {
+      const auto& [goal, radius] = goals_[waypoint];
+      result_.origins.push_back({"/tasks/" + task + "/" + std::to_string(gotos.size()), line});
+      gotos.push_back({{"goto", {{"pose", {{"x", goal.x()}, {"y", goal.y()}}}, {"radius", radius}}}});
+    }
+    tasks_[task] = gotos;
+    result_.origins.push_back({"/tasks/" + task, cluster->GetLineNum()});
+    return task;
+  }
+
+  /// A cluster's people, placed in its area, and their route; false once the people limit is passed.
+  bool read_cluster(const XMLElement* cluster) {
+    const auto x = reader_.number(cluster, "x"), y = reader_.number(cluster, "y");
+    const double dx = reader_.optional_number(cluster, "dx").value_or(0.0), dy = reader_.optional_number(cluster, "dy").value_or(0.0);
+    const double n = reader_.optional_number(cluster, "n").value_or(1.0);
+    const double type = reader_.optional_number(cluster, "type").value_or(0.0);
+    if (!x || !y) return true;
+    if (type < 0 || type > 3 || type != std::floor(type)) {
+      reader_.fail(cluster, "type must be 0 (adult), 1 (child), 2 (robot) or 3 (elder)");
+      return true;
+    }
+    if (n < 0 || n != std::floor(n)) {
+      reader_.fail(cluster, "n must be a whole number of agents");
+      return true;
+    }
+    // Checked before any agent is made: a few bytes of XML may ask for millions.
+    if (people_ + n > options_.limits.max_people) {
+      reader_.fail(cluster, "with this cluster's agents the file has more than the " + std::to_string(options_.limits.max_people) +
+                                " people a scenario may hold (--max-people)");
+      return false;
+    }
+    if (std::string(cluster->Name()) == "source") reader_.warn(cluster, "a source spawns its agents once; Pedsim's respawning is not modelled");
+    const Route route = read_route(cluster);
+    const std::string kind = kAgentTypes[static_cast<int>(type)];
+    const bool robot = kind == "robot";
+    if (robot && !route.empty()) {
+      reader_.warn(cluster, "the robot agent's route is not walked: a robot is driven by its controller or a client (give it one)");
+    }
+    const std::string task = !robot && !route.empty() && n > 0 ? route_task(cluster, route) : "";
+    for (int i = 0; i < static_cast<int>(n); ++i) {
+      const std::string id = (robot ? "robot_" : "agent_") + std::to_string(people_++);
+      // Drawn in the cluster's area, again when too close to a wall (Pedsim's clusters often overlap them).
+      core::Vec2 start(*x, *y);
+      for (int attempt = 0; attempt < kPlacementTries; ++attempt) {
+        start = {*x + (dx > 0 ? random_.uniform(-dx / 2, dx / 2) : 0.0), *y + (dy > 0 ? random_.uniform(-dy / 2, dy / 2) : 0.0)};
+        if ((dx <= 0 && dy <= 0) || geometry_.clear(start)) break;
+      }
+      ordered_json agent{{"id", id}, {"start", {{"x", start.x()}, {"y", start.y()}}}};
+      ordered_json& list = robot ? robots_ : humans_;
+      result_.origins.push_back({std::string(robot ? "/robots/" : "/humans/") + std::to_string(list.size()), cluster->GetLineNum()});
+      if (robot) {
+        list.push_back(agent);
+        continue;
+      }
+      agent["type"] = kind;
+      agent["avoidance"] = "social_force";
+      list.push_back(agent);
+      if (task.empty()) continue;
+      result_.origins.push_back({"/steps/0/actions/" + std::to_string(actions_.size()), cluster->GetLineNum()});
+      actions_.push_back({{"agent", id}, {"task", task}, {"repeat", true}});
+    }
+    return true;
+  }
+
+  void write() {
+    ordered_json& out = result_.scenario;
+    out["name"] = options_.source_name.empty() ? "pedsim" : std::filesystem::path(options_.source_name).stem().string();
+    out["description"] = "Imported from the Pedsim scenario " + (options_.source_name.empty() ? std::string("file") : options_.source_name) +
+                         ": every agent walks its route of waypoints over and over, as Pedsim's agents cycle through "
+                         "theirs, with the social force model and " + dialect_ + "'s parameters.";
+    out["world"] = {{"bounds", {{"min", {low_.x(), low_.y()}}, {"max", {high_.x(), high_.y()}}}}, {"walls", walls_}};
+    if (resolution_ != kImportResolutions[0]) out["world"]["resolution"] = resolution_;
+    out["locations"] = locations_;
+    out["locomotion"] = {{"avoidance", "social_force"}};
+    if (dialect_ == "pedsim_ros") {
+      out["locomotion"]["social_force"] = {{"obstacle_sigma", kPedsimRosObstacleSigma}, {"social_factor", kPedsimRosSocialFactor}};
+    }
+    out["humans"] = humans_;
+    out["robots"] = robots_;
+    if (!tasks_.empty()) out["tasks"] = tasks_;
+    out["steps"] = ordered_json::array();
+    if (!actions_.empty()) out["steps"].push_back({{"name", "walk"}, {"actions", actions_}});
+  }
+
+  const ImportOptions& options_;
+  ImportResult& result_;
+  XmlReader reader_;
+  std::string dialect_;
+  ordered_json walls_ = ordered_json::array();
+  Walls geometry_;
+  Extent extent_;
+  std::map<std::string, Waypoint> waypoints_;
+  std::vector<const XMLElement*> clusters_;
+  core::Vec2 low_ = core::Vec2::Zero(), high_ = core::Vec2::Zero();
+  double resolution_ = kImportResolutions[0];
+  std::map<std::string, std::pair<core::Vec2, double>> goals_;  ///< per waypoint: its goal and the radius it is reached within
+  ordered_json locations_ = ordered_json::object();
+  core::Random random_{kPlacementSeed};
+  int people_ = 0;
+  ordered_json humans_ = ordered_json::array(), robots_ = ordered_json::array();
+  ordered_json actions_ = ordered_json::array();
+  ordered_json tasks_ = ordered_json::object();
+};
+
 }  // namespace
 
 ImportResult import_pedsim(std::string_view xml, const ImportOptions& options) {
   ImportResult result;
   tinyxml2::XMLDocument document;
   if (!parse_xml(xml, document, result)) return result;
-  XmlReader reader(result);
-  const XMLElement* root = document.FirstChildElement();
-  const std::string root_name = root->Name();
-  if (root_name != "scenario" && root_name != "welcome") {
-    reader.fail(root, "a Pedsim file has a <scenario> root element (or <welcome>, as libpedsim's examples)");
-    return result;
-  }
-
-  const std::string dialect = !options.dialect.empty() ? options.dialect : root_name == "welcome" ? "libpedsim" : "pedsim_ros";
-  if (dialect != "pedsim_ros" && dialect != "libpedsim") {
-    reader.fail(nullptr, "unknown Pedsim dialect '" + dialect + "' (pedsim_ros or libpedsim)");
-    return result;
-  }
-
-  ordered_json walls = ordered_json::array();
-  Walls geometry;
-  Extent extent;
-  std::map<std::string, Waypoint> waypoints;
-  std::vector<const XMLElement*> clusters;
-  for (const XMLElement* element = root->FirstChildElement(); element; element = element->NextSiblingElement()) {
-    const std::string name = element->Name();
-    if (name == "obstacle") {
-      const auto x1 = reader.number(element, "x1"), y1 = reader.number(element, "y1");
-      const auto x2 = reader.number(element, "x2"), y2 = reader.number(element, "y2");
-      if (!x1 || !y1 || !x2 || !y2) continue;
-      result.origins.push_back({"/world/walls/" + std::to_string(walls.size()), element->GetLineNum()});
-      walls.push_back({{"from", {*x1, *y1}}, {"to", {*x2, *y2}}});
-      geometry.segments.push_back({{*x1, *y1}, {*x2, *y2}});
-      extent.add({*x1, *y1});
-      extent.add({*x2, *y2});
-    } else if (name == "waypoint" || name == "queue") {
-      // pedsim_ros registers every queue as a waypoint too (its head, a point).
-      const auto id = reader.text(element, "id");
-      const auto x = reader.number(element, "x"), y = reader.number(element, "y");
-      const double radius = name == "waypoint" ? reader.optional_number(element, "r").value_or(0.0) : kQueueRadius;
-      if (!id || !x || !y) continue;
-      if (const auto behaviour = reader.optional_number(element, "b"); behaviour && *behaviour != 0.0) {
-        reader.warn(element, "waypoint '" + *id + "' is a " + (*behaviour == 1.0 ? "source" : "sink") +
-                                 "; hrisim treats it as a plain waypoint");
-      }
-      if (name == "queue") reader.warn(element, "queue '" + *id + "' is walked to as a waypoint; its waiting line is not modelled");
-      waypoints[*id] = {*x, *y, std::max(radius, 0.0), element->GetLineNum()};
-      extent.add({*x, *y}, radius);
-    } else if (name == "agent" || name == "source") {
-      clusters.push_back(element);
-      // The cluster's area (its attributes are checked, with errors, where its agents are made).
-      if (element->Attribute("x") && element->Attribute("y")) {
-        const core::Vec2 centre(element->DoubleAttribute("x"), element->DoubleAttribute("y"));
-        const core::Vec2 half(std::abs(element->DoubleAttribute("dx")) / 2, std::abs(element->DoubleAttribute("dy")) / 2);
-        extent.add(centre - half);
-        extent.add(centre + half);
-      }
-    } else {
-      reader.warn(element, "unsupported element <" + name + "> ignored");
-    }
-  }
-  if (extent.empty()) {
-    reader.fail(root, "the file places nothing: no <obstacle>, <waypoint> or <agent> with a position");
-    return result;
-  }
-  if (walls.empty()) reader.warn(root, "no <obstacle>: the map is open ground around the waypoints and agents");
-  const core::Vec2 map_low = extent.low - core::Vec2(kBoundsMargin, kBoundsMargin);
-  const core::Vec2 map_high = extent.high + core::Vec2(kBoundsMargin, kBoundsMargin);
-  const core::Vec2 size = map_high - map_low;
-  const auto cells_at = [&](double resolution) { return std::ceil(size.x() / resolution) * std::ceil(size.y() / resolution); };
-  const double budget = std::min(kImportGridCells, static_cast<double>(options.limits.max_grid_cells));
-  double resolution = kImportResolutions[0];
-  for (const double candidate : kImportResolutions) {
-    resolution = candidate;
-    if (cells_at(candidate) <= budget) break;
-  }
-  if (resolution != kImportResolutions[0]) {
-    reader.warn(root, "the scene spans " + core::number_text(std::round(size.x())) + " x " + core::number_text(std::round(size.y())) +
-                          " m: its grid gets " + core::number_text(resolution) + " m cells (at " + core::number_text(kImportResolutions[0]) +
-                          " m it would have " + core::number_text(cells_at(kImportResolutions[0])) + "); passages narrower than about " +
-                          core::number_text(2 * resolution + 0.6) + " m may close");
-  }
-
-  // Each waypoint's goal: the free point of its disc nearest the centre (a centre on a wall's line is
-  // common: the disc's free part is what the file means).
-  ordered_json locations = ordered_json::object();
-  std::map<std::string, std::pair<core::Vec2, double>> goals;
-  for (const auto& [id, waypoint] : waypoints) {
-    const core::Vec2 centre(waypoint.x, waypoint.y);
-    const core::Vec2 goal = geometry.free_point(centre, waypoint.radius);
-    const double radius = std::max(waypoint.radius - (goal - centre).norm(), kMinWaypointRadius);
-    goals[id] = {goal, radius};
-    locations[id] = {{"x", goal.x()}, {"y", goal.y()}, {"radius", radius}};
-    result.origins.push_back({"/locations/" + core::pointer_token(id), waypoint.line});
-  }
-
-  core::Random random(kPlacementSeed);
-  ordered_json humans = ordered_json::array(), robots = ordered_json::array();
-  ordered_json actions = ordered_json::array();
-  ordered_json tasks = ordered_json::object();
-  int counter = 0;
-  for (const XMLElement* cluster : clusters) {
-    const auto x = reader.number(cluster, "x"), y = reader.number(cluster, "y");
-    const double dx = reader.optional_number(cluster, "dx").value_or(0.0), dy = reader.optional_number(cluster, "dy").value_or(0.0);
-    const double n = reader.optional_number(cluster, "n").value_or(1.0);
-    const double type = reader.optional_number(cluster, "type").value_or(0.0);
-    if (!x || !y) continue;
-    if (type < 0 || type > 3 || type != std::floor(type)) {
-      reader.fail(cluster, "type must be 0 (adult), 1 (child), 2 (robot) or 3 (elder)");
-      continue;
-    }
-    if (n < 0 || n != std::floor(n)) {
-      reader.fail(cluster, "n must be a whole number of agents");
-      continue;
-    }
-    // Checked before any agent is made: a few bytes of XML may ask for millions.
-    if (counter + n > options.limits.max_people) {
-      reader.fail(cluster, "with this cluster's agents the file has more than the " + std::to_string(options.limits.max_people) +
-                               " people a scenario may hold (--max-people)");
-      break;
-    }
-    if (std::string(cluster->Name()) == "source") {
-      reader.warn(cluster, "a source spawns its agents once; Pedsim's respawning is not modelled");
-    }
-    std::vector<std::pair<std::string, int>> route;  ///< waypoints, with the lines that add them
-    for (const XMLElement* child = cluster->FirstChildElement(); child; child = child->NextSiblingElement()) {
-      const std::string child_name = child->Name();
-      if (child_name != "addwaypoint" && child_name != "addqueue") {
-        reader.warn(child, "unsupported element <" + child_name + "> ignored");
-        continue;
-      }
-      const auto id = reader.text(child, "id");
-      if (!id) continue;
-      if (!waypoints.contains(*id)) {
-        reader.fail(child, std::string("unknown ") + (child_name == "addqueue" ? "queue" : "waypoint") + " '" + *id + "'");
-      } else {
-        route.push_back({*id, child->GetLineNum()});
-      }
-    }
-    const std::string kind = kAgentTypes[static_cast<int>(type)];
-    const bool robot = kind == "robot";
-    if (robot && !route.empty()) {
-      reader.warn(cluster, "the robot agent's route is not walked: a robot is driven by its controller or a client (give it one)");
-    }
-    // The cluster's route as a compound task its people walk over and over: Pedsim's agents cycle through
-    // their waypoints until the simulation stops.
-    const std::string task = "route_" + std::to_string(tasks.size() + 1);
-    if (!robot && !route.empty() && n > 0) {
-      ordered_json gotos = ordered_json::array();
-      for (const auto& [waypoint, line] : route) {
-        const auto& [goal, radius] = goals[waypoint];
-        result.origins.push_back({"/tasks/" + task + "/" + std::to_string(gotos.size()), line});
-        gotos.push_back({{"goto", {{"pose", {{"x", goal.x()}, {"y", goal.y()}}}, {"radius", radius}}}});
-      }
-      tasks[task] = gotos;
-      result.origins.push_back({"/tasks/" + task, cluster->GetLineNum()});
-    }
-    for (int i = 0; i < static_cast<int>(n); ++i) {
-      const std::string id = (robot ? "robot_" : "agent_") + std::to_string(counter++);
-      // Drawn in the cluster's area, again when too close to a wall (Pedsim's clusters often overlap them).
-      core::Vec2 start(*x, *y);
-      for (int attempt = 0; attempt < kPlacementTries; ++attempt) {
-        start = {*x + (dx > 0 ? random.uniform(-dx / 2, dx / 2) : 0.0), *y + (dy > 0 ? random.uniform(-dy / 2, dy / 2) : 0.0)};
-        if ((dx <= 0 && dy <= 0) || geometry.clear(start)) break;
-      }
-      ordered_json agent{{"id", id}, {"start", {{"x", start.x()}, {"y", start.y()}}}};
-      if (robot) {
-        result.origins.push_back({"/robots/" + std::to_string(robots.size()), cluster->GetLineNum()});
-        robots.push_back(agent);
-        continue;
-      }
-      agent["type"] = kind;
-      agent["avoidance"] = "social_force";
-      result.origins.push_back({"/humans/" + std::to_string(humans.size()), cluster->GetLineNum()});
-      humans.push_back(agent);
-      if (tasks.contains(task)) {
-        result.origins.push_back({"/steps/0/actions/" + std::to_string(actions.size()), cluster->GetLineNum()});
-        actions.push_back({{"agent", id}, {"task", task}, {"repeat", true}});
-      }
-    }
-  }
-
-  ordered_json& out = result.scenario;
-  out["name"] = options.source_name.empty() ? "pedsim" : std::filesystem::path(options.source_name).stem().string();
-  out["description"] = "Imported from the Pedsim scenario " +
-                       (options.source_name.empty() ? std::string("file") : options.source_name) +
-                       ": every agent walks its route of waypoints over and over, as Pedsim's agents cycle through "
-                       "theirs, with the social force model and " + dialect + "'s parameters.";
-  out["world"] = {{"bounds", {{"min", {map_low.x(), map_low.y()}}, {"max", {map_high.x(), map_high.y()}}}},
-                  {"walls", walls}};
-  if (resolution != kImportResolutions[0]) out["world"]["resolution"] = resolution;
-  out["locations"] = locations;
-  out["locomotion"] = {{"avoidance", "social_force"}};
-  if (dialect == "pedsim_ros") {
-    out["locomotion"]["social_force"] = {{"obstacle_sigma", kPedsimRosObstacleSigma}, {"social_factor", kPedsimRosSocialFactor}};
-  }
-  out["humans"] = humans;
-  out["robots"] = robots;
-  if (!tasks.empty()) out["tasks"] = tasks;
-  out["steps"] = ordered_json::array();
-  if (!actions.empty()) out["steps"].push_back({{"name", "walk"}, {"actions", actions}});
+  PedsimImporter(options, result).run(document);
   return result;
 }
 
