@@ -1,5 +1,8 @@
 #include "world/ros_map.hpp"
 
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -91,7 +94,8 @@ RosMapInfo read_ros_map_yaml(const std::filesystem::path& yaml_file) {
     } else if (key == "free_thresh") {
       info.free_thresh = parse_number(yaml_file, line, key, value);
     } else if (key == "mode") {
-      if (value != "trinary") fail(yaml_file, line, "mode: only 'trinary' is supported, got '" + value + "'");
+      // In a grid of free, occupied and unknown cells, scale classifies as trinary does.
+      if (value != "trinary" && value != "scale") fail(yaml_file, line, "mode: 'trinary' or 'scale' are supported, got '" + value + "'");
     } else {
       fail(yaml_file, line, "unknown key '" + key + "'");
     }
@@ -105,10 +109,54 @@ RosMapInfo read_ros_map_yaml(const std::filesystem::path& yaml_file) {
   return info;
 }
 
-OccupancyGrid load_ros_map(const std::filesystem::path& yaml_file, const RosMapLimits& limits) {
-  const RosMapInfo info = read_ros_map_yaml(yaml_file);
-  if (limits.folder && !core::inside_folder(info.image, *limits.folder)) fail(yaml_file, 0, "image: no such file among the scenario files");
-  std::istringstream in(read_text(info.image, core::kMaxScenarioFileBytes));
+namespace {
+
+/// A map image as grey levels, rows from the top.
+struct GreyImage {
+  int width = 0, height = 0;
+  int max_value = 255;
+  std::vector<unsigned char> pixels;
+};
+
+void check_size(const std::filesystem::path& image, std::int64_t width, std::int64_t height, std::int64_t max_cells) {
+  if (width * height > max_cells) {
+    fail(image, 0, std::to_string(width) + " × " + std::to_string(height) + " cells: more than the " + std::to_string(max_cells) +
+                       " a map may have (--max-grid-cells)");
+  }
+}
+
+/// A PNG (as HuNavSim's Isaac scenarios ship maps), decoded by OpenCV once its header's size is within
+/// the limit (a small file may unpack into a huge image); colour channels are averaged, as map_server
+/// does, and 16-bit levels brought to 8 bits; an alpha channel is not read.
+GreyImage read_png(const std::filesystem::path& image, const std::string& bytes, std::int64_t max_cells) {
+  if (bytes.size() < 24 || bytes.compare(12, 4, "IHDR") != 0) fail(image, 0, "not a PNG image (no IHDR header)");
+  const auto big_endian = [&](std::size_t at) {
+    return (std::int64_t{static_cast<unsigned char>(bytes[at])} << 24) | (std::int64_t{static_cast<unsigned char>(bytes[at + 1])} << 16) |
+           (std::int64_t{static_cast<unsigned char>(bytes[at + 2])} << 8) | std::int64_t{static_cast<unsigned char>(bytes[at + 3])};
+  };
+  check_size(image, big_endian(16), big_endian(20), max_cells);
+  const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data()));
+  cv::Mat decoded = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
+  if (decoded.empty()) fail(image, 0, "the PNG image could not be decoded");
+  if (decoded.depth() == CV_16U) decoded.convertTo(decoded, CV_8U, 1.0 / 257.0);
+  if (decoded.depth() != CV_8U) fail(image, 0, "unsupported PNG depth (8 or 16 bits per channel)");
+  GreyImage grey{decoded.cols, decoded.rows, 255, std::vector<unsigned char>(static_cast<std::size_t>(decoded.cols) * decoded.rows)};
+  const int channels = decoded.channels();
+  const int colours = channels >= 3 ? 3 : 1;  // grey (+ alpha) or BGR (+ alpha)
+  for (int row = 0; row < decoded.rows; ++row) {
+    const unsigned char* line = decoded.ptr<unsigned char>(row);
+    for (int x = 0; x < decoded.cols; ++x) {
+      int sum = 0;
+      for (int c = 0; c < colours; ++c) sum += line[x * channels + c];
+      grey.pixels[static_cast<std::size_t>(row) * decoded.cols + x] = static_cast<unsigned char>((sum + colours / 2) / colours);
+    }
+  }
+  return grey;
+}
+
+/// A binary (P5) or ASCII (P2) PGM, as map_saver writes them.
+GreyImage read_pgm(const std::filesystem::path& image, const std::string& bytes, std::int64_t max_cells) {
+  std::istringstream in(bytes);
   // PGM header: magic, width, height, maxval, separated by white space and '#' comments.
   auto next_token = [&]() {
     std::string token;
@@ -126,7 +174,7 @@ OccupancyGrid load_ros_map(const std::filesystem::path& yaml_file, const RosMapL
     return token;
   };
   const std::string magic = next_token();
-  if (magic != "P5" && magic != "P2") fail(info.image, 0, "not a PGM image (magic '" + magic + "'); use P5 or P2");
+  if (magic != "P5" && magic != "P2") fail(image, 0, "not a PGM or PNG image (magic '" + magic + "'); use P5, P2 or PNG");
   // A header number, or -1 for anything but a whole number below a million.
   auto next_number = [&]() {
     const std::string token = next_token();
@@ -138,28 +186,35 @@ OccupancyGrid load_ros_map(const std::filesystem::path& yaml_file, const RosMapL
   const int height = next_number();
   const int max_value = next_number();
   if (width <= 0 || height <= 0 || max_value <= 0 || max_value > 255) {
-    fail(info.image, 0, "unsupported PGM size or depth (8-bit grey images only)");
+    fail(image, 0, "unsupported PGM size or depth (8-bit grey images only)");
   }
-  if (static_cast<std::int64_t>(width) * height > limits.max_cells) {
-    fail(info.image, 0, std::to_string(width) + " × " + std::to_string(height) + " cells: more than the " + std::to_string(limits.max_cells) +
-                            " a map may have (--max-grid-cells)");
-  }
+  check_size(image, width, height, max_cells);
   std::vector<unsigned char> pixels(static_cast<std::size_t>(width) * height);
   if (magic == "P5") {
     in.read(reinterpret_cast<char*>(pixels.data()), static_cast<std::streamsize>(pixels.size()));
-    if (in.gcount() != static_cast<std::streamsize>(pixels.size())) fail(info.image, 0, "image data is truncated");
+    if (in.gcount() != static_cast<std::streamsize>(pixels.size())) fail(image, 0, "image data is truncated");
   } else {
     for (auto& pixel : pixels) {
       const std::string token = next_token();
-      if (token.empty()) fail(info.image, 0, "image data is truncated");
+      if (token.empty()) fail(image, 0, "image data is truncated");
       pixel = static_cast<unsigned char>(std::clamp(std::atoi(token.c_str()), 0, max_value));
     }
   }
+  return {width, height, max_value, std::move(pixels)};
+}
 
+}  // namespace
+
+OccupancyGrid load_ros_map(const std::filesystem::path& yaml_file, const RosMapLimits& limits) {
+  const RosMapInfo info = read_ros_map_yaml(yaml_file);
+  if (limits.folder && !core::inside_folder(info.image, *limits.folder)) fail(yaml_file, 0, "image: no such file among the scenario files");
+  const std::string bytes = read_text(info.image, core::kMaxScenarioFileBytes);
+  const GreyImage image = bytes.starts_with("\x89PNG") ? read_png(info.image, bytes, limits.max_cells) : read_pgm(info.image, bytes, limits.max_cells);
+  const int width = image.width, height = image.height;
   OccupancyGrid grid(info.resolution, {info.origin.x, info.origin.y}, width, height);
   for (int row = 0; row < height; ++row) {
     for (int x = 0; x < width; ++x) {
-      const double value = pixels[static_cast<std::size_t>(row) * width + x] / static_cast<double>(max_value);
+      const double value = image.pixels[static_cast<std::size_t>(row) * width + x] / static_cast<double>(image.max_value);
       const double occupancy = info.negate ? value : 1.0 - value;
       const Cell cell = occupancy > info.occupied_thresh ? Cell::occupied
                         : occupancy < info.free_thresh  ? Cell::free

@@ -115,6 +115,33 @@ TEST(RosMap, SlamStyleFixtureLoadsEveryCell) {
   EXPECT_EQ(grid.at({46, 30}), Cell::occupied) << "the table";
 }
 
+// The same lobby as an RGB PNG with mode scale (HuNavSim's Isaac scenarios ship PNG maps): every cell
+// as the PGM has it.
+TEST(RosMap, PngMapsLoadAsTheirPgmTwin) {
+  const OccupancyGrid pgm = load_ros_map(kMaps / "lobby.yaml");
+  const OccupancyGrid png = load_ros_map(kMaps / "lobby_png.yaml");
+  ASSERT_EQ(png.width(), pgm.width());
+  ASSERT_EQ(png.height(), pgm.height());
+  for (std::size_t i = 0; i < pgm.size(); ++i) ASSERT_EQ(png.at(png.cell_at(i)), pgm.at(pgm.cell_at(i))) << "cell " << i;
+}
+
+TEST(RosMap, APngLargerThanTheLimitIsRefusedBeforeDecoding) {
+  testing::TempDir dir;
+  std::string png = "\x89PNG\r\n\x1a\n";
+  png += std::string("\x00\x00\x00\x0dIHDR", 8);
+  png += std::string("\x00\x01\x00\x00\x00\x01\x00\x00\x08\x02\x00\x00\x00", 13);  // 65536 x 65536, then no data
+  write(dir / "huge.png", png);
+  write(dir / "m.yaml", "image: huge.png\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  try {
+    load_ros_map(dir / "m.yaml");
+    FAIL() << "a 65536 x 65536 map loaded";
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("65536 × 65536 cells: more than the"), std::string::npos) << e.what();
+  }
+  write(dir / "m.yaml", "image: huge.png\nresolution: 0.05\norigin: [0, 0, 0]\nmode: raw\n");
+  EXPECT_THROW(read_ros_map_yaml(dir / "m.yaml"), core::Error) << "raw is not read";
+}
+
 // The fixture's image row 30 (map row 9) holds grey levels 89, 90, 205, 206, 253, 128, 1 at x = 10 to 16:
 // occupancy (255 - v) / 255 is occupied above 0.65 (v <= 89) and free below 0.196 (v >= 206).
 TEST(RosMap, SlamStyleFixtureGreysOnBothSidesOfTheThresholds) {
