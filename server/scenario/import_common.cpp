@@ -38,49 +38,42 @@ std::optional<ImportMessage> explain_malformed(std::string_view xml) {
     return ImportMessage{line_at(xml, at), what + " at line " + std::to_string(line_at(xml, at)) + " is never finished"};
   };
   for (std::size_t i = xml.find('<'); i != std::string_view::npos; i = xml.find('<', i + 1)) {
-    // Comments, CDATA, processing instructions and declarations hold no elements.
-    for (const auto& [start, end, what] : {std::tuple{"<!--", "-->", "a comment"}, {"<![CDATA[", "]]>", "a CDATA section"}, {"<?", "?>", "a processing instruction"}}) {
-      if (xml.substr(i).starts_with(start)) {
-        const std::size_t close = xml.find(end, i);
-        if (close == std::string_view::npos) return unfinished(i, what);
-        i = close;
-        goto next;
-      }
-    }
-    if (xml.substr(i).starts_with("<!")) {
-      const std::size_t close = xml.find('>', i);
-      if (close == std::string_view::npos) return unfinished(i, "a declaration");
+    // Comments, CDATA, processing instructions and declarations hold no elements ("<!" last: the
+    // others begin with it too).
+    static constexpr std::tuple<std::string_view, std::string_view, const char*> kSections[] = {
+        {"<!--", "-->", "a comment"}, {"<![CDATA[", "]]>", "a CDATA section"}, {"<?", "?>", "a processing instruction"}, {"<!", ">", "a declaration"}};
+    const auto section = std::find_if(std::begin(kSections), std::end(kSections), [&](const auto& s) { return xml.substr(i).starts_with(std::get<0>(s)); });
+    if (section != std::end(kSections)) {
+      const std::size_t close = xml.find(std::get<1>(*section), i);
+      if (close == std::string_view::npos) return unfinished(i, std::get<2>(*section));
       i = close;
       continue;
     }
-    {
-      const bool closing = i + 1 < xml.size() && xml[i + 1] == '/';
-      std::size_t name_end = i + (closing ? 2 : 1);
-      while (name_end < xml.size() && !std::isspace(static_cast<unsigned char>(xml[name_end])) && xml[name_end] != '>' && xml[name_end] != '/') ++name_end;
-      const std::string name(xml.substr(i + (closing ? 2 : 1), name_end - i - (closing ? 2 : 1)));
-      // The tag's end, past quoted attribute values.
-      std::size_t end = name_end;
-      char quote = 0;
-      while (end < xml.size() && (quote || xml[end] != '>')) {
-        if (quote && xml[end] == quote) quote = 0;
-        else if (!quote && (xml[end] == '"' || xml[end] == '\'')) quote = xml[end];
-        ++end;
-      }
-      const int line = line_at(xml, i);
-      if (end >= xml.size()) return unfinished(i, "the tag <" + std::string(closing ? "/" : "") + name + ">");
-      if (closing) {
-        if (open.empty()) break;  // past the last element: TinyXML stops reading there too
-        if (open.back().name != name) {
-          return ImportMessage{open.back().line, "<" + open.back().name + "> opened at line " + std::to_string(open.back().line) +
-                                                     " is never closed (</" + name + "> at line " + std::to_string(line) + " comes first)"};
-        }
-        open.pop_back();
-      } else if (xml[end - 1] != '/') {
-        open.push_back({name, line});
-      }
-      i = end;
+    const bool closing = i + 1 < xml.size() && xml[i + 1] == '/';
+    std::size_t name_end = i + (closing ? 2 : 1);
+    while (name_end < xml.size() && !std::isspace(static_cast<unsigned char>(xml[name_end])) && xml[name_end] != '>' && xml[name_end] != '/') ++name_end;
+    const std::string name(xml.substr(i + (closing ? 2 : 1), name_end - i - (closing ? 2 : 1)));
+    // The tag's end, past quoted attribute values.
+    std::size_t end = name_end;
+    char quote = 0;
+    while (end < xml.size() && (quote || xml[end] != '>')) {
+      if (quote && xml[end] == quote) quote = 0;
+      else if (!quote && (xml[end] == '"' || xml[end] == '\'')) quote = xml[end];
+      ++end;
     }
-  next:;
+    const int line = line_at(xml, i);
+    if (end >= xml.size()) return unfinished(i, "the tag <" + std::string(closing ? "/" : "") + name + ">");
+    if (closing) {
+      if (open.empty()) break;  // past the last element: TinyXML stops reading there too
+      if (open.back().name != name) {
+        return ImportMessage{open.back().line, "<" + open.back().name + "> opened at line " + std::to_string(open.back().line) +
+                                                   " is never closed (</" + name + "> at line " + std::to_string(line) + " comes first)"};
+      }
+      open.pop_back();
+    } else if (xml[end - 1] != '/') {
+      open.push_back({name, line});
+    }
+    i = end;
   }
   if (!open.empty()) return ImportMessage{open.back().line, "<" + open.back().name + "> opened at line " + std::to_string(open.back().line) + " is never closed"};
   return std::nullopt;
