@@ -84,9 +84,9 @@ ParsedArgs parse_args(const std::vector<std::string>& args, const std::set<std::
   return parsed;
 }
 
-/// How an XML file is turned into a scenario.
+/// How a file of another simulator is turned into a scenario.
 struct SourceOptions {
-  std::string format;  ///< "imhus", "pedsim", or empty to detect
+  std::string format;  ///< "imhus", "pedsim", "hunav", or empty to tell by the file
   std::string dialect;  ///< Pedsim: "pedsim_ros", "libpedsim", or empty for the root element's
   std::string scenario;
   std::optional<std::filesystem::path> map;
@@ -95,6 +95,9 @@ struct SourceOptions {
 SourceOptions source_options(const ParsedArgs& parsed) {
   SourceOptions source;
   source.format = parsed.last("--from").value_or("");
+  if (!source.format.empty() && source.format != "imhus" && source.format != "pedsim" && source.format != "hunav") {
+    usage_error("--from: expected imhus, pedsim or hunav, got '" + source.format + "'");
+  }
   source.dialect = parsed.last("--dialect").value_or("");
   if (!source.dialect.empty() && source.dialect != "pedsim_ros" && source.dialect != "libpedsim") {
     usage_error("--dialect: expected pedsim_ros or libpedsim, got '" + source.dialect + "'");
@@ -104,6 +107,17 @@ SourceOptions source_options(const ParsedArgs& parsed) {
   return source;
 }
 
+/// A file's format: --from's, else its extension's (.json, .xml: IMHuS or Pedsim by the content,
+/// .yaml/.yml: HuNavSim), else its content's.
+scenario::SourceFormat file_format(const std::string& file, std::string_view text, const SourceOptions& source) {
+  if (!source.format.empty()) return *scenario::source_format(source.format);
+  const std::string extension = std::filesystem::path(file).extension().string();
+  if (extension == ".json") return scenario::SourceFormat::json;
+  if (extension == ".yaml" || extension == ".yml") return scenario::SourceFormat::hunav_yaml;
+  if (extension == ".xml") return scenario::detect_xml_format(text) == "pedsim" ? scenario::SourceFormat::pedsim_xml : scenario::SourceFormat::imhus_xml;
+  return scenario::detect_source_format(text);
+}
+
 void print_messages(const std::string& file, const char* kind, const std::vector<scenario::ImportMessage>& messages) {
   for (const auto& message : messages) {
     std::fprintf(stderr, "%s:%s %s%s\n", file.c_str(), message.line > 0 ? (std::to_string(message.line) + ":").c_str() : "",
@@ -111,22 +125,24 @@ void print_messages(const std::string& file, const char* kind, const std::vector
   }
 }
 
-/// Imports an IMHuS or Pedsim XML file; prints its warnings, and its errors when there are any.
-std::optional<scenario::ImportResult> import_file(const std::string& file, const SourceOptions& source) {
+std::optional<std::string> read_text(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    std::fprintf(stderr, "%s: cannot read the file\n", file.c_str());
-    return std::nullopt;
-  }
+  if (!in) return std::nullopt;
   std::ostringstream text;
   text << in.rdbuf();
-  const std::string format = source.format.empty() ? scenario::detect_xml_format(text.str()) : source.format;
-  if (format != "imhus" && format != "pedsim") usage_error("--from: expected imhus or pedsim, got '" + format + "'");
-  scenario::ImportOptions options{source.scenario, source.map, {bundled_scenarios_dir()},
+  return text.str();
+}
+
+/// Imports an IMHuS or Pedsim XML file or a HuNavSim agents file; prints its warnings, and its errors
+/// when there are any.
+std::optional<scenario::ImportResult> import_file(const std::string& file, const std::string& text, scenario::SourceFormat format,
+                                                  const SourceOptions& source) {
+  scenario::ImportOptions options{source.scenario, source.map, {std::filesystem::path(file).parent_path(), bundled_scenarios_dir()},
                                   std::filesystem::path(file).filename().string(), {}, source.dialect};
   options.limits.confine_files = false;  // a user's own files, on their own machine
-  scenario::ImportResult result = format == "imhus" ? scenario::import_imhus(text.str(), options)
-                                                    : scenario::import_pedsim(text.str(), options);
+  scenario::ImportResult result = format == scenario::SourceFormat::imhus_xml    ? scenario::import_imhus(text, options)
+                                  : format == scenario::SourceFormat::pedsim_xml ? scenario::import_pedsim(text, options)
+                                                                                 : scenario::import_hunav(text, options);
   print_messages(file, "warning: ", result.warnings);
   if (!result.errors.empty()) {
     print_messages(file, "", result.errors);
@@ -135,42 +151,35 @@ std::optional<scenario::ImportResult> import_file(const std::string& file, const
   return result;
 }
 
-/// A scenario file compiled: its text, native document, and the model (or the errors).
+/// A scenario file compiled: its text and format, native document, and the model (or the errors).
 struct LoadedFile {
   std::string text;
+  scenario::SourceFormat format = scenario::SourceFormat::json;
   nlohmann::json document;
   scenario::LoadOptions load;  ///< where its maps are found
   scenario::LoadResult result;
-  std::optional<scenario::ImportResult> imported;  ///< an XML file's import, for the lines its parts came from
+  std::optional<scenario::ImportResult> imported;  ///< an imported file's import, for the lines its parts came from
 };
 
 LoadedFile load(const std::string& file, const SourceOptions& source = {}) {
   LoadedFile loaded;
   loaded.load = {{std::filesystem::path(file).parent_path(), bundled_scenarios_dir()}, {}};
   loaded.load.limits.confine_files = false;  // a user's own files, on their own machine
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
+  auto text = read_text(file);
+  if (!text) {
     loaded.result.errors = {{"", "cannot read the file"}};
     return loaded;
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  loaded.text = text.str();
-  const std::string extension = std::filesystem::path(file).extension().string();
-  if (extension == ".yaml" || extension == ".yml") {
-    const bool hunav = loaded.text.find("hunav_loader") != std::string::npos || loaded.text.find("cyclic_goals") != std::string::npos;
-    loaded.result.errors = {{"", hunav ? "this is a HuNavSim agents file (hunav_loader): hrisim does not read HuNavSim files yet"
-                                      : "a YAML file is not a scenario: give hrisim's JSON, IMHuS XML or Pedsim XML (a ROS map YAML goes with --map)"}};
-    return loaded;
-  }
-  if (extension != ".xml" && source.format.empty()) {  // --from says a file is XML whatever its name
+  loaded.text = std::move(*text);
+  loaded.format = file_format(file, loaded.text, source);
+  if (loaded.format == scenario::SourceFormat::json) {
     loaded.result = scenario::load_scenario_text(loaded.text, loaded.load);
     if (loaded.result.model) loaded.document = nlohmann::json::parse(loaded.text);
     return loaded;
   }
-  const auto imported = import_file(file, source);
+  const auto imported = import_file(file, loaded.text, loaded.format, source);
   if (!imported) {
-    loaded.result.errors = {{"", "the XML file could not be imported"}};
+    loaded.result.errors = {{"", "the file could not be imported"}};
     return loaded;
   }
   loaded.document = imported->scenario;
@@ -202,7 +211,7 @@ std::string bundled_scenarios_dir() {
 }
 
 int validate_command(const std::vector<std::string>& args) {
-  const std::string usage = "usage: hrisim validate FILE... [--from imhus|pedsim] [--dialect pedsim_ros|libpedsim] [--scenario NAME] [--map FILE]";
+  const std::string usage = "usage: hrisim validate FILE... [--from imhus|pedsim|hunav] [--dialect pedsim_ros|libpedsim] [--scenario NAME] [--map FILE]";
   if (args.empty()) usage_error(usage);
   // Files and the import options that apply to all of them.
   std::vector<std::string> files, options;
@@ -312,7 +321,7 @@ int run_command(const std::vector<std::string>& args) {
       args, {"--seed", "--seeds", "--db", "--max-time", "--request", "--from", "--dialect", "--scenario", "--map", "--trajectory", "--gate", "--junit", "--controller", "--jobs"},
       {"--events", "--baseline-without-robot"},
       "usage: hrisim run FILE [--seed N | --seeds A-B|A,B,C] [--gate EXPR ...] [--junit FILE.xml] [--db FILE] [--jobs N] "
-      "[--controller JSON] [--baseline-without-robot] [--max-time S] [--events] [--request TIME:ROUTINE ...] [--from imhus|pedsim] [--scenario NAME] [--map FILE] "
+      "[--controller JSON] [--baseline-without-robot] [--max-time S] [--events] [--request TIME:ROUTINE ...] [--from imhus|pedsim|hunav] [--scenario NAME] [--map FILE] "
       "[--trajectory FILE.csv]");
   const std::string& file = parsed.file;
   std::uint64_t single_seed = 0;
@@ -424,10 +433,7 @@ int run_command(const std::vector<std::string>& args) {
   }
   runs::RunSpec stored_spec = spec;
   if (!store.scenario(stored_spec.scenario_id)) {
-    const auto format = std::filesystem::path(file).extension() == ".xml"
-                            ? std::string(scenario::to_string(scenario::detect_source_format(loaded.text)))
-                            : std::string("json");
-    store.put_scenario({stored_spec.scenario_id, spec.model->name, format, loaded.text, "", "", "", "", {}});
+    store.put_scenario({stored_spec.scenario_id, spec.model->name, std::string(scenario::to_string(loaded.format)), loaded.text, "", "", "", "", {}});
   }
   ProgressReport progress(seeds.size());
   runs::Executor executor(store, jobs, [&](const std::string&, const storage::EpisodeRecord& episode) { progress.episode_done(episode); });
@@ -527,10 +533,17 @@ int render_command(const std::vector<std::string>& args) {
 
 int import_command(const std::vector<std::string>& args) {
   const ParsedArgs parsed = parse_args(args, {"--from", "--dialect", "--scenario", "--map"}, {},
-                                       "usage: hrisim import [--from imhus|pedsim] [--dialect pedsim_ros|libpedsim] FILE [--scenario NAME] [--map FILE]");
+                                       "usage: hrisim import [--from imhus|pedsim|hunav] [--dialect pedsim_ros|libpedsim] FILE [--scenario NAME] [--map FILE]");
   const std::string& file = parsed.file;
   const SourceOptions source = source_options(parsed);
-  const auto imported = import_file(file, source);
+  const auto text = read_text(file);
+  if (!text) {
+    std::fprintf(stderr, "%s: cannot read the file\n", file.c_str());
+    return 1;
+  }
+  const scenario::SourceFormat format = file_format(file, *text, source);
+  if (format == scenario::SourceFormat::json) usage_error(file + " is hrisim's own JSON: there is nothing to import (an IMHuS or Pedsim XML file, or a HuNavSim agents YAML, is)");
+  const auto imported = import_file(file, *text, format, source);
   if (!imported) return 1;
   std::printf("%s\n", imported->scenario.dump(2).c_str());
   // The scenario written must also be one hrisim runs: what validation finds is an error of the import.

@@ -26,6 +26,10 @@ std::string lower_case(std::string text);
 /// no surrogates, nothing above U+10FFFF), or nullopt when all of `text` is UTF-8.
 std::optional<std::size_t> invalid_utf8_offset(std::string_view text);
 
+/// A finite decimal number written as people write them in files: spaces around it and a leading '+'
+/// allowed; nullopt for anything else (an empty text, trailing characters, inf, nan).
+std::optional<double> parse_number(std::string_view text);
+
 /// The bytes of standard base64 text (RFC 4648 §4, padded; no whitespace), or nullopt when it is not.
 std::optional<std::string> base64_decode(std::string_view text);
 

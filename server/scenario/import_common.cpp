@@ -98,13 +98,8 @@ std::optional<std::string> XmlReader::text(const tinyxml2::XMLElement* element, 
 std::optional<double> XmlReader::optional_number(const tinyxml2::XMLElement* element, const char* attribute) {
   const char* value = element->Attribute(attribute);
   if (!value) return std::nullopt;
-  std::string_view text(value);
-  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
-  while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  double number = 0.0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), number);
-  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !std::isfinite(number)) {
+  const auto number = core::parse_number(value);
+  if (!number) {
     fail(element, std::string("attribute '") + attribute + "' must be a number, got '" + value + "'");
     return std::nullopt;
   }

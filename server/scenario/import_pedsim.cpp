@@ -40,9 +40,6 @@ constexpr double kImportResolutions[] = {0.05, 0.1, 0.2, 0.25, 0.5, 1.0};
 /// Cells an imported scene's grid may have at most (and never more than --max-grid-cells): a grid
 /// this size and its distance field are built in about a second and take about 50 MB.
 constexpr double kImportGridCells = 4e6;
-/// A waypoint reached is one within this distance at least, m (Pedsim reads a missing or zero radius
-/// as 0, which no walker would ever meet exactly).
-constexpr double kMinWaypointRadius = 0.2;
 
 /// A Pedsim waypoint: a disc of radius r, any point of which is what the file means.
 struct Waypoint {
@@ -183,7 +180,7 @@ class PedsimImporter {
     for (const auto& [id, waypoint] : waypoints_) {
       const core::Vec2 centre(waypoint.x, waypoint.y);
       const core::Vec2 goal = geometry_.free_point(centre, waypoint.radius);
-      const double radius = std::max(waypoint.radius - (goal - centre).norm(), kMinWaypointRadius);
+      const double radius = std::max(waypoint.radius - (goal - centre).norm(), kMinGoalRadius);
       goals_[id] = {goal, radius};
       locations_[id] = {{"x", goal.x()}, {"y", goal.y()}, {"radius", radius}};
       result_.origins.push_back({"/locations/" + core::pointer_token(id), waypoint.line});

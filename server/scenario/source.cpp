@@ -9,6 +9,7 @@ std::string_view to_string(SourceFormat format) {
     case SourceFormat::json: return "json";
     case SourceFormat::imhus_xml: return "imhus_xml";
     case SourceFormat::pedsim_xml: return "pedsim_xml";
+    case SourceFormat::hunav_yaml: return "hunav_yaml";
   }
   return "json";
 }
@@ -17,12 +18,14 @@ std::optional<SourceFormat> source_format(std::string_view name) {
   if (name == "json") return SourceFormat::json;
   if (name == "imhus" || name == "imhus_xml") return SourceFormat::imhus_xml;
   if (name == "pedsim" || name == "pedsim_xml") return SourceFormat::pedsim_xml;
+  if (name == "hunav" || name == "hunav_yaml") return SourceFormat::hunav_yaml;
   return std::nullopt;
 }
 
 SourceFormat detect_source_format(std::string_view text) {
   const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
-  if (first == std::string_view::npos || text[first] != '<') return SourceFormat::json;
+  if (first == std::string_view::npos || text[first] == '{' || text[first] == '[') return SourceFormat::json;
+  if (text[first] != '<') return text.find("agents:") != std::string_view::npos ? SourceFormat::hunav_yaml : SourceFormat::json;
   return detect_xml_format(text) == "pedsim" ? SourceFormat::pedsim_xml : SourceFormat::imhus_xml;
 }
 
@@ -53,14 +56,15 @@ CompiledSource compile_source(std::string_view text, SourceFormat format, const 
     adopt(load_scenario(document, options.load));
     return compiled;
   }
-  const ImportResult imported =
-      format == SourceFormat::imhus_xml ? import_imhus(text, options.import) : import_pedsim(text, options.import);
+  const ImportResult imported = format == SourceFormat::imhus_xml  ? import_imhus(text, options.import)
+                                : format == SourceFormat::pedsim_xml ? import_pedsim(text, options.import)
+                                                                     : import_hunav(text, options.import);
   for (const auto& error : imported.errors) compiled.errors.push_back({"", std::max(error.line, 1), error.message});
   for (const auto& warning : imported.warnings) compiled.warnings.push_back({"", std::max(warning.line, 1), warning.message});
   if (!compiled.errors.empty()) return compiled;
   compiled.document = nlohmann::json::parse(imported.scenario.dump());
   adopt(load_scenario(compiled.document, options.load));
-  // What validation finds in an imported scenario is said at the XML line it came from too.
+  // What validation finds in an imported scenario is said at the line of the file it came from too.
   for (auto* issues : {&compiled.errors, &compiled.warnings}) {
     for (SourceIssue& issue : *issues) issue.line = origin_line(imported, issue.pointer);
   }

@@ -1,7 +1,7 @@
 #pragma once
-// Scenario sources as people hand them in — native JSON, IMHuS XML, Pedsim XML — compiled to the
-// native document and the model, every problem located (a JSON pointer into the native document, or
-// a line of the XML). The CLI and the REST API both go through here.
+// Scenario sources as people hand them in — native JSON, IMHuS XML, Pedsim XML, HuNavSim YAML — compiled
+// to the native document and the model, every problem located (a JSON pointer into the native
+// document, or a line of the imported file). The CLI and the REST API both go through here.
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -14,16 +14,17 @@
 
 namespace hrisim::scenario {
 
-enum class SourceFormat { json, imhus_xml, pedsim_xml };
+enum class SourceFormat { json, imhus_xml, pedsim_xml, hunav_yaml };
 
-/// "json", "imhus_xml" or "pedsim_xml", as stored.
+/// "json", "imhus_xml", "pedsim_xml" or "hunav_yaml", as stored.
 std::string_view to_string(SourceFormat format);
-/// A format by name: json, imhus, pedsim, or the stored names.
+/// A format by name: json, imhus, pedsim, hunav, or the stored names.
 std::optional<SourceFormat> source_format(std::string_view name);
-/// XML (IMHuS or Pedsim, by its content) when the text starts with '<', JSON otherwise.
+/// XML (IMHuS or Pedsim, by its content) when the text starts with '<'; HuNavSim YAML when it starts
+/// with neither '{' nor '[' and lists agents; JSON otherwise.
 SourceFormat detect_source_format(std::string_view text);
 
-/// A problem with a source: at `pointer` in the native document, or at `line` of the XML.
+/// A problem with a source: at `pointer` in the native document, or at `line` of the imported file.
 struct SourceIssue {
   std::string pointer;
   int line = 0;
@@ -42,7 +43,7 @@ struct CompiledSource {
 };
 
 struct SourceOptions {
-  ImportOptions import;  ///< for XML sources
+  ImportOptions import;  ///< for imported sources
   LoadOptions load;      ///< where maps are looked up
 };
 

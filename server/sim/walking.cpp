@@ -99,8 +99,9 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
             model.planner.rejoin(self.position, self.leg_start, waypoint, clearance, blocked_door_cells(model, state, clearance));
         self.planned_tick = state.tick;
         // A robot's follower counts a corner it is beyond along the next leg as passed, so it would skip
-        // the corner it should return to: it plans again instead.
-        if (rejoin == world::Rejoin::replan || (robot && rejoin == world::Rejoin::back_to_corner)) {
+        // the corner it should return to: it plans again instead, as a person far from the corner does.
+        const bool corner_far = (self.leg_start - self.position).norm() > kCornerReturnReach;
+        if (rejoin == world::Rejoin::replan || (rejoin == world::Rejoin::back_to_corner && (robot || corner_far))) {
           plan_path(model, state, static_cast<int>(i));
         } else {
           if (rejoin == world::Rejoin::back_to_corner) {

@@ -37,6 +37,10 @@ inline constexpr double kStuckReplanInterval = 2.0;
 /// their radius would pass; otherwise they plan again (waypoints hug the inflated walls, so the full
 /// radius would fail needlessly). A robot, whose body walls stop, needs its full radius.
 inline constexpr double kRejoinClearance = 0.5;
+/// A person pushed off their path walks back to the corner the leg started from only from this near,
+/// m; farther away they plan again. A leg's start may be where the person last arrived, metres back:
+/// a pillar between them and the waypoint must not send them all the way back there.
+inline constexpr double kCornerReturnReach = 1.5;
 /// A robot's planner steers off the leg round people; once this far off it, whether the straight way
 /// on is still free is checked again (at most every kReplanInterval), as its body walls stop, m.
 inline constexpr double kRobotRejoinDistance = 0.1;

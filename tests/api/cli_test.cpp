@@ -126,12 +126,16 @@ TEST(CliImport, ValidateAndRunTakeTheImportOptions) {
   EXPECT_EQ(nlohmann::json::parse(run.output)["termination"], "timeout");
 }
 
-TEST(CliImport, AHuNavSimFileIsNamedForWhatItIs) {
+TEST(CliImport, AHuNavSimFileIsReadAndItsFaultsSaidAtTheirLines) {
   TempDir dir;
   std::ofstream(dir / "agents.yaml") << "hunav_loader:\n  ros__parameters:\n    agents:\n      - agent1\n";
   const CommandResult result = run_command(kHrisim + " validate " + (dir / "agents.yaml").string());
   EXPECT_EQ(result.exit_status, 1);
-  EXPECT_NE(result.output.find("this is a HuNavSim agents file (hunav_loader)"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("agents.yaml:4: agent 'agent1' has no block of its parameters"), std::string::npos) << result.output;
+  std::ofstream(dir / "map.yaml") << "image: map.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n";
+  const CommandResult map = run_command(kHrisim + " validate " + (dir / "map.yaml").string());
+  EXPECT_EQ(map.exit_status, 1);
+  EXPECT_NE(map.output.find("this is a ROS map YAML: give it with --map"), std::string::npos) << map.output;
 }
 
 TEST(CliImport, RunAcceptsXmlDirectly) {
