@@ -329,7 +329,10 @@ class HunavImporter {
     } else {
       dist = draw(1.4, 0.3, 0.8, 1.9);
     }
-    fill_behaviour(behaviour, std::max(duration, 0.0), std::clamp(vel, 0.0, 3.0), std::max(dist, 0.0), std::max(force, 0.0));
+    // Centimetres and hundredths of a second: what a person would write.
+    const auto rounded = [](double value) { return std::round(value * 100.0) / 100.0; };
+    fill_behaviour(behaviour, rounded(std::max(duration, 0.0)), rounded(std::clamp(vel, 0.0, 3.0)), rounded(std::max(dist, 0.0)),
+                   rounded(std::max(force, 0.0)));
   }
 
   /// The world: --map's, else a map the file's `map` names beside it (NAME.yaml, maps/NAME.yaml),

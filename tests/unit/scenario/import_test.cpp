@@ -11,50 +11,26 @@
 #include "episode/episode.hpp"
 #include "scenario/load.hpp"
 #include "sim/session.hpp"
+#include "support/imports.hpp"
 
 namespace hrisim::scenario {
 namespace {
 
 using nlohmann::json;
 
-std::string read(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::has_message;
+using testing::kFixtures;
+using testing::kShared;
+using testing::load_imported;
+using testing::no_reference_file;
+using testing::read;
 
-const std::filesystem::path kFixtures = std::filesystem::path(HRISIM_SOURCE_DIR) / "tests/fixtures";
-const std::filesystem::path kShared = HRISIM_SHARED_DIR;
-// Files other projects published (../shared/external/SOURCES.md), read in place when the project's
-// checkout has ../shared beside it; a clone of the project alone skips their tests, and the project's
-// own fixtures take the same importer paths.
+// Files other projects published (../shared/external/SOURCES.md).
 const std::filesystem::path kElevatorGoals = kShared / "external/imhus/elevator_goals.xml";
 const std::filesystem::path kCorridor = kShared / "external/pedsim/corridor.xml";
 
-/// The reason a test of a ../shared/external file gives for skipping when the file is not there.
-std::string no_reference_file(const std::string& file, const std::string& covered_by) {
-  return "no ../shared/external/" + file + " beside the project: the project's own fixture " + covered_by + " covers this path";
-}
-
 ImportOptions bundled(std::string scenario = "") {
   return {std::move(scenario), std::nullopt, {std::filesystem::path(HRISIM_SOURCE_DIR) / "scenarios"}, "test.xml", {}, ""};
-}
-
-std::shared_ptr<const Model> load_imported(const ImportResult& imported) {
-  for (const auto& e : imported.errors) ADD_FAILURE() << "line " << e.line << ": " << e.message;
-  const LoadResult loaded = load_scenario(json::parse(imported.scenario.dump()), {});
-  for (const auto& e : loaded.errors) ADD_FAILURE() << e.pointer << ": " << e.message;
-  return loaded.model;
-}
-
-::testing::AssertionResult has_message(const std::vector<ImportMessage>& messages, int line, const std::string& fragment) {
-  for (const auto& m : messages) {
-    if (m.line == line && m.message.find(fragment) != std::string::npos) return ::testing::AssertionSuccess();
-  }
-  std::string all;
-  for (const auto& m : messages) all += "\n  " + std::to_string(m.line) + ": " + m.message;
-  return ::testing::AssertionFailure() << "no message at line " << line << " with '" << fragment << "' in:" << all;
 }
 
 TEST(ImportImhus, OwnFixtureBecomesANativeScenario) {
