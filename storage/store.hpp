@@ -22,7 +22,7 @@ class Database;
 struct ScenarioRecord {
   std::string id;
   std::string name;
-  std::string format;  ///< "json", "imhus_xml" or "pedsim_xml"
+  std::string format;  ///< "json", "imhus_xml", "pedsim_xml" or "hunav_yaml"
   std::string source;  ///< the uploaded text, byte for byte
   std::string sha256;  ///< filled by the store from source
   std::string created_at;  ///< RFC 3339 UTC, filled by the store

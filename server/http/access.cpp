@@ -54,13 +54,14 @@ bool is_upgrade(const Request& request) { return core::lower_case(header(request
 
 bool changes_state(const Request& request) { return request.method != "GET" && request.method != "HEAD" && request.method != "OPTIONS"; }
 
-/// Media types a page on another site cannot send without the browser asking first (CORS): JSON and
-/// XML. text/plain, forms and no type at all it can.
+/// Media types a page on another site cannot send without the browser asking first (CORS): JSON, XML
+/// and YAML. text/plain, forms and no type at all it can.
 bool safe_content_type(const Request& request) {
   std::string type = core::lower_case(header(request, "content-type"));
   type = type.substr(0, type.find(';'));
   type.erase(std::remove_if(type.begin(), type.end(), [](unsigned char c) { return std::isspace(c); }), type.end());
-  return type == "application/json" || type == "application/xml" || type == "text/xml" ||
+  return type == "application/json" || type == "application/xml" || type == "text/xml" || type == "application/yaml" ||
+         type == "application/x-yaml" || type == "text/yaml" ||
          (type.starts_with("application/") && (type.ends_with("+json") || type.ends_with("+xml")));
 }
 
@@ -160,7 +161,7 @@ std::function<std::optional<Response>(Request&)> make_guard(AccessPolicy policy,
       request.caller = {};
       if ((request.method == "POST" || request.method == "PUT") && !safe_content_type(request)) {
         return refusal(core::ErrorCode::unsupported_media_type,
-                       "a " + request.method + " needs Content-Type: application/json (application/xml for an XML scenario) on a server without tokens",
+                       "a " + request.method + " needs Content-Type: application/json (application/xml for an XML scenario, application/yaml for a YAML one) on a server without tokens",
                        {{"content_type", header(request, "content-type")}});
       }
       return std::nullopt;

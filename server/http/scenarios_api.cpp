@@ -22,7 +22,7 @@ scenario::SourceFormat body_format(const Request& request) {
   if (const auto named = query_value(request.query, "format")) {
     const auto format = scenario::source_format(*named);
     if (!format) {
-      throw core::Error(core::ErrorCode::bad_request, "format '" + *named + "' is not json, imhus or pedsim", {{"parameter", "format"}});
+      throw core::Error(core::ErrorCode::bad_request, "format '" + *named + "' is not json, imhus, pedsim or hunav", {{"parameter", "format"}});
     }
     return *format;
   }

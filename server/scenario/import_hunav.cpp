@@ -335,22 +335,22 @@ class HunavImporter {
                    rounded(std::max(force, 0.0)));
   }
 
-  /// The world: --map's, else a map the file's `map` names beside it (NAME.yaml, maps/NAME.yaml),
-  /// else open ground round the agents and goals.
+  /// The world: --map's, else the map the file's `map` names in a folder maps are looked up in
+  /// (NAME.yaml, maps/NAME.yaml), else open ground round the agents and goals.
   ordered_json world() {
-    std::optional<std::filesystem::path> map = options_.map;
-    if (!map && !world_name_.empty() && world_name_.find_first_of("/\\") == std::string::npos && world_name_ != "." && world_name_ != "..") {
-      for (const auto& folder : options_.map_search_path) {
-        for (const auto& candidate : {folder / (world_name_ + ".yaml"), folder / "maps" / (world_name_ + ".yaml")}) {
-          if (!map && std::filesystem::is_regular_file(candidate)) map = candidate;
-        }
-      }
-    }
-    if (map) {
+    if (options_.map) {
       std::string error;
-      if (auto world = world_from_file(*map, error)) return *world;
+      if (auto world = world_from_file(*options_.map, error)) return *world;
       result_.errors.push_back({0, error});
       return nullptr;
+    }
+    // Named as the loader finds it: relative to the folders both look in.
+    if (!world_name_.empty() && world_name_.find_first_of("/\\") == std::string::npos && world_name_ != "." && world_name_ != "..") {
+      for (const auto& folder : options_.map_search_path) {
+        for (const std::string& candidate : {world_name_ + ".yaml", "maps/" + world_name_ + ".yaml"}) {
+          if (std::filesystem::is_regular_file(folder / candidate)) return {{"map", candidate}};
+        }
+      }
     }
     result_.warnings.push_back({0, "no map" + (world_name_.empty() ? std::string() : " for world '" + world_name_ + "'") +
                                        ": the people walk on open ground; give the world's occupancy map with --map"});

@@ -131,18 +131,6 @@ TEST(Hardening, UploadedMapsCannotNameFilesOutsideTheScenarios) {
   EXPECT_TRUE(alive(server));
 }
 
-std::string base64(const std::string& bytes) {
-  static const char* const kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string text;
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
-    std::uint32_t group = 0;
-    for (std::size_t k = 0; k < 3; ++k) group = group << 8 | (k < n ? static_cast<std::uint8_t>(bytes[i + k]) : 0u);
-    for (std::size_t k = 0; k < 4; ++k) text.push_back(k <= n ? kAlphabet[group >> (18 - 6 * k) & 63] : '=');
-  }
-  return text;
-}
-
 /// A scenario bundled with its ROS map: 4 m × 3 m at 0.1 m, free but for a wall along y = 1.5 m from
 /// x = 0 to 2 m; a robot that drives to the east.
 nlohmann::json scenario_bundle() {

@@ -1,4 +1,5 @@
-// The scenarios routes against the real server: list, get, upload (JSON, IMHuS XML, Pedsim XML),
+// The scenarios routes against the real server: list, get, upload (JSON, IMHuS XML, Pedsim XML,
+// HuNavSim YAML),
 // validate, and bad input that stores nothing.
 #include <gtest/gtest.h>
 
@@ -126,6 +127,33 @@ TEST_F(ScenariosApi, PublishedPedsimCorridorUploads) {
   }
   json summary = expect_pedsim_upload(port(), file_text(corridor.string()));
   EXPECT_EQ(summary["humans"], 8);
+}
+
+// hrisim's own HuNavSim agents file (tests/fixtures/hunav/lobby_agents.yaml) bundled with the map its
+// `map: lobby` names (maps/lobby.yaml in the bundle), and on its own (open ground, with a warning).
+TEST_F(ScenariosApi, HunavAgentsFilesUploadWithTheMapTheyName) {
+  const std::string fixtures = std::string(HRISIM_SOURCE_DIR) + "/tests/fixtures/";
+  const std::string agents = file_text(fixtures + "hunav/lobby_agents.yaml");
+  ASSERT_FALSE(agents.empty());
+  const json bundle{{"scenario", agents},
+                    {"files", {{"maps/lobby.yaml", file_text(fixtures + "maps/lobby.yaml")},
+                               {"maps/lobby.pgm", {{"base64", base64(file_text(fixtures + "maps/lobby.pgm"))}}}}}};
+  const HttpReply uploaded = http(port(), "POST", "/api/v1/scenarios", bundle.dump(), kJson);
+  ASSERT_EQ(uploaded.status, 201) << uploaded.body;
+  const json summary = json_of(uploaded)["summary"];
+  EXPECT_EQ(summary["format"], "hunav_yaml");
+  EXPECT_EQ(summary["humans"], 5);
+  const json document = json_of(http(port(), "GET", "/api/v1/scenarios/" + summary["id"].get<std::string>()));
+  EXPECT_TRUE(document["world"].contains("map")) << document["world"];
+  EXPECT_EQ(document["humans"][1]["behaviour"]["type"], "scared");
+
+  const HttpReply alone = http(port(), "POST", "/api/v1/scenarios/validate", agents, "Content-Type: application/yaml\r\n");
+  EXPECT_TRUE(json_of(alone)["valid"].get<bool>()) << alone.body;
+  EXPECT_NE(alone.body.find("no map for world 'lobby'"), std::string::npos) << alone.body;
+  const HttpReply broken = http(port(), "POST", "/api/v1/scenarios/validate?format=hunav", "hunav_loader:\n  ros__parameters:\n    agents: [x]\n",
+                                "Content-Type: application/yaml\r\n");
+  EXPECT_FALSE(json_of(broken)["valid"].get<bool>());
+  EXPECT_EQ(json_of(broken)["errors"][0]["line"], 3) << broken.body;
 }
 
 TEST_F(ScenariosApi, ValidateReportsEveryErrorAndStoresNothing) {

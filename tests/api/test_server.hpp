@@ -87,6 +87,9 @@ CommandResult run_command(const std::string& command, bool with_stderr = true);
 HttpReply http(std::uint16_t port, const std::string& method, const std::string& target, const std::string& body = "",
                const std::string& extra_headers = "");
 
+/// Standard base64 of bytes (RFC 4648, padded): a bundle's binary files.
+std::string base64(const std::string& bytes);
+
 /// Polls a run until it is no longer queued or running; its last reply. Throws after `limit`.
 nlohmann::json wait_for_run(std::uint16_t port, const std::string& id, std::chrono::seconds limit = std::chrono::seconds(120));
 

@@ -248,6 +248,38 @@ TEST(Migrations, OlderFileIsUpgradedKeepingData) {
   EXPECT_EQ(raw.scalar_text("SELECT tag FROM episode_tags WHERE episode_id = 'episode-1'"), "legacy");
 }
 
+// 0007 rebuilds the scenarios table for HuNavSim uploads: what a file of schema 6 holds (a scenario
+// with its summary, owner and files, a run and its episode) is all there afterwards.
+TEST(Migrations, HunavScenariosComeWithoutLosingWhatWasStored) {
+  TempDir dir;
+  const std::vector<Migration> shipped(schema_migrations().begin(), schema_migrations().end());
+  ASSERT_GE(shipped.size(), 7u);
+  ASSERT_EQ(std::string(shipped[6].name), "0007_hunav_scenarios.sql");
+  {
+    Store store(dir / "db", std::vector<Migration>(shipped.begin(), shipped.begin() + 6));
+    storage::ScenarioRecord scenario = make_scenario("s");
+    scenario.summary = R"({"humans": 0})";
+    scenario.owner = "alice";
+    scenario.files = {{"maps/a.yaml", "image: a.pgm"}};
+    store.put_scenario(scenario);
+    store.write_episode(make_episode("s", 1));
+    storage::ScenarioRecord hunav = make_scenario("h");
+    hunav.format = "hunav_yaml";
+    EXPECT_THROW(store.put_scenario(hunav), core::Error) << "schema 6 knows no HuNavSim format";
+  }
+  Store store(dir / "db", shipped);
+  EXPECT_EQ(store.integrity_check(), "ok");
+  const auto kept = store.scenario("s");
+  ASSERT_TRUE(kept);
+  EXPECT_EQ(kept->summary, R"({"humans": 0})");
+  EXPECT_EQ(kept->owner, "alice");
+  EXPECT_EQ(kept->files.at("maps/a.yaml"), "image: a.pgm");
+  EXPECT_TRUE(store.episode("episode-1"));
+  storage::ScenarioRecord hunav = make_scenario("h");
+  hunav.format = "hunav_yaml";
+  EXPECT_EQ(store.put_scenario(hunav).format, "hunav_yaml");
+}
+
 TEST(Migrations, EmptyFileFromAnotherToolIsMigrated) {
   TempDir dir;
   { Database raw(dir / "db"); }
