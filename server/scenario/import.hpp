@@ -54,10 +54,6 @@ inline constexpr double kHunavObstacleForceFactor = 10.0;
 inline constexpr double kHunavSocialForceFactor = 5.0;
 inline constexpr double kHunavObstacleSigma = 0.2;
 
-/// A goal is reached within this distance at least, m: Pedsim reads a missing waypoint radius as 0,
-/// HuNavSim a missing goal_radius, and no walker ever meets a point exactly.
-inline constexpr double kMinGoalRadius = 0.2;
-
 ImportResult import_imhus(std::string_view xml, const ImportOptions& options);
 ImportResult import_pedsim(std::string_view xml, const ImportOptions& options);
 /// A HuNavSim agents file (hunav_agent_manager's agents.yaml); errors and warnings carry its lines.

@@ -363,8 +363,9 @@ class HunavImporter {
     const std::string task = agent.name + "_goals";
     ordered_json gotos = ordered_json::array();
     for (const Point& goal : agent.goals) {
+      // At least the default radius: hunav_loader reads a missing goal_radius as 0.
       result_.origins.push_back({"/tasks/" + core::pointer_token(task) + "/" + std::to_string(gotos.size()), goal.line});
-      gotos.push_back({{"goto", {{"pose", {{"x", goal.p.x()}, {"y", goal.p.y()}}}, {"radius", std::max(agent.goal_radius, kMinGoalRadius)}}}});
+      gotos.push_back({{"goto", {{"pose", {{"x", goal.p.x()}, {"y", goal.p.y()}}}, {"radius", std::max(agent.goal_radius, kDefaultGoalRadius)}}}});
     }
     tasks_[task] = gotos;
     return task;

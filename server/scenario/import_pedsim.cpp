@@ -180,7 +180,8 @@ class PedsimImporter {
     for (const auto& [id, waypoint] : waypoints_) {
       const core::Vec2 centre(waypoint.x, waypoint.y);
       const core::Vec2 goal = geometry_.free_point(centre, waypoint.radius);
-      const double radius = std::max(waypoint.radius - (goal - centre).norm(), kMinGoalRadius);
+      // At least the default radius: Pedsim reads a missing r as 0, a point no walker meets exactly.
+      const double radius = std::max(waypoint.radius - (goal - centre).norm(), kDefaultGoalRadius);
       goals_[id] = {goal, radius};
       locations_[id] = {{"x", goal.x()}, {"y", goal.y()}, {"radius", radius}};
       result_.origins.push_back({"/locations/" + core::pointer_token(id), waypoint.line});

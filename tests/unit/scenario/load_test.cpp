@@ -344,5 +344,26 @@ TEST(LoadScenario, WarnsAboutGoalsSocialForceHumansCannotReach) {
   EXPECT_NE(result.warnings[0].message.find("may stop about 1.35 m away"), std::string::npos) << result.warnings[0].message;
 }
 
+// A wait for a message that no publish action and no elevator door sends would hold its step until
+// the time limit, silently: it is said at load.
+TEST(LoadScenario, WarnsAboutWaitsForMessagesNothingSends) {
+  json document = room_scenario(json::parse(R"({
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 2, "y": 8}}],
+    "tasks": {"signal": [{"publish": {"topic": "bell", "message": "ring"}}]},
+    "steps": [{"name": "wait", "actions": [{"agent": "ana", "wait": {"topic": "bell", "message": "ring"}},
+                                           {"agent": "ben", "task": "signal"},
+                                           {"agent": "ben", "wait": {"topic": "bell", "message": "toll"}},
+                                           {"agent": "ana", "wait": {"topic": "/elevator/lift_door_state", "message": "open"}}]}]})"));
+  const LoadResult result = load_scenario(document, {});
+  ASSERT_TRUE(result.model) << "warnings do not make a scenario invalid";
+  ASSERT_EQ(result.warnings.size(), 2u) << "the bell rings: waiting for it is fine";
+  EXPECT_EQ(result.warnings[0].pointer, "/steps/0/actions/2/wait");
+  EXPECT_NE(result.warnings[0].message.find("waits for 'toll' on topic 'bell', which is published there but never with that message"), std::string::npos)
+      << result.warnings[0].message;
+  EXPECT_EQ(result.warnings[1].pointer, "/steps/0/actions/3/wait");
+  EXPECT_NE(result.warnings[1].message.find("nothing in the scenario publishes (no publish action, no elevator door)"), std::string::npos)
+      << result.warnings[1].message;
+}
+
 }  // namespace
 }  // namespace hrisim::scenario
