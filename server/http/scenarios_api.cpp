@@ -17,7 +17,8 @@ namespace {
 
 using nlohmann::json;
 
-/// The body's format: ?format= when given, else the content type, else its first character.
+/// The body's format: ?format= when given, else the content type (JSON, or YAML: a HuNavSim agents
+/// file), else its content.
 scenario::SourceFormat body_format(const Request& request) {
   if (const auto named = query_value(request.query, "format")) {
     const auto format = scenario::source_format(*named);
@@ -29,6 +30,9 @@ scenario::SourceFormat body_format(const Request& request) {
   const auto type = request.headers.find("content-type");
   const std::string content_type = type == request.headers.end() ? "" : type->second;
   if (content_type.starts_with("application/json")) return scenario::SourceFormat::json;
+  if (content_type.starts_with("application/yaml") || content_type.starts_with("application/x-yaml") || content_type.starts_with("text/yaml")) {
+    return scenario::SourceFormat::hunav_yaml;
+  }
   return scenario::detect_source_format(request.body);
 }
 
@@ -62,7 +66,10 @@ std::map<std::string, std::string> upload_files(const json& files) {
 /// files it names.
 Upload upload_of(const Request& request) {
   const scenario::SourceFormat format = body_format(request);
-  if (format != scenario::SourceFormat::json) return {request.body, format, {}};
+  // A bundle whatever ?format= says: it then names the format of the bundle's scenario.
+  const std::size_t first = request.body.find_first_not_of(" \t\r\n");
+  const bool object = first != std::string::npos && request.body[first] == '{';
+  if (format != scenario::SourceFormat::json && !object) return {request.body, format, {}};
   check_json_nesting(request.body);
   // Not JSON: the compiler says where.
   const json body = json::parse(request.body, nullptr, false);
@@ -71,7 +78,7 @@ Upload upload_of(const Request& request) {
     if (key != "scenario" && key != "files") bad_upload("/" + core::pointer_token(key), "a bundle has \"scenario\" and \"files\" only, not '" + key + "'");
   }
   if (!body.contains("scenario")) bad_upload("/scenario", "a bundle's scenario is missing");
-  Upload upload{"", format, upload_files(body["files"])};
+  Upload upload{"", scenario::SourceFormat::json, upload_files(body["files"])};
   const json& scenario = body["scenario"];
   if (scenario.is_object()) {
     upload.text = core::json_text(scenario, 2);

@@ -288,6 +288,10 @@ class HunavImporter {
       if (!duration || !vel || !dist || !force || !once) return nullptr;
       fill_behaviour(behaviour, std::max(*duration, 0.0), std::clamp(*vel, 0.0, kMaxBehaviourVel), std::max(*dist, 0.0),
                      std::clamp(*force, 0.0, kMaxOtherForceFactor));
+      if (behaviour.contains("detection_distance") && behaviour["detection_distance"] == 0.0) {
+        warn(node, where + ": dist is " + (settings["dist"] ? "0" : "not given (0)") + ": a " + name +
+                       " person with a custom configuration then never sees the robot, as in HuNavSim");
+      }
       behaviour["once"] = *once;
       return behaviour;
     }

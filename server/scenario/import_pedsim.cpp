@@ -5,12 +5,14 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <set>
 
 #include "core/json_schema.hpp"
 #include "core/math.hpp"
 #include "core/random.hpp"
 #include "scenario/import.hpp"
 #include "scenario/xml_reader.hpp"
+#include "world/occupancy_grid.hpp"
 
 namespace hrisim::scenario {
 namespace {
@@ -57,19 +59,69 @@ struct Walls {
     return true;
   }
 
-  /// The point of the disc nearest its centre that stands clear of every wall; the centre when none.
-  core::Vec2 free_point(const core::Vec2& centre, double radius) const {
-    if (clear(centre)) return centre;
+  /// The point of the disc nearest its centre that stands clear of every wall and is `wanted`; none
+  /// when there is no such point.
+  template <class Wanted>
+  std::optional<core::Vec2> free_point(const core::Vec2& centre, double radius, const Wanted& wanted) const {
+    if (clear(centre) && wanted(centre)) return centre;
     for (double ring = kGoalRingStep; ring <= radius + 1e-9; ring += kGoalRingStep) {
       const int directions = std::max(8, static_cast<int>(std::ceil(2.0 * std::numbers::pi * ring / kGoalRingStep)));
       for (int k = 0; k < directions; ++k) {
         const double angle = 2.0 * std::numbers::pi * k / directions;
         const core::Vec2 p = centre + ring * core::Vec2(std::cos(angle), std::sin(angle));
-        if (clear(p)) return p;
+        if (clear(p) && wanted(p)) return p;
       }
     }
-    return centre;
+    return std::nullopt;
   }
+};
+
+/// The floor's connected regions at a person's clearance from the walls: a waypoint's goal is put in
+/// a region its walkers start in (a disc across a wall has free points on both sides).
+class Regions {
+ public:
+  Regions(const Walls& walls, const core::Vec2& low, const core::Vec2& high, double resolution)
+      : grid_(resolution, low, static_cast<int>(std::ceil((high.x() - low.x()) / resolution)),
+              static_cast<int>(std::ceil((high.y() - low.y()) / resolution))) {
+    // Each wall two cells thick, so that no diagonal step crosses it.
+    for (const auto& [a, b] : walls.segments) {
+      const core::Vec2 along = (b - a).norm() > 1e-9 ? core::Vec2((b - a).normalized()) : core::Vec2(1.0, 0.0);
+      const core::Vec2 side(-along.y() * resolution, along.x() * resolution);
+      const core::Vec2 ends = along * resolution;
+      grid_.fill_polygon({a - ends + side, b + ends + side, b + ends - side, a - ends - side});
+    }
+    const world::DistanceField field(grid_);
+    label_.assign(static_cast<std::size_t>(grid_.width()) * grid_.height(), -1);
+    int next = 0;
+    for (std::size_t seed = 0; seed < label_.size(); ++seed) {
+      if (label_[seed] >= 0 || field.distance(seed) < kWallClearance - resolution) continue;
+      std::vector<std::size_t> frontier{seed};
+      label_[seed] = next;
+      while (!frontier.empty()) {
+        const world::CellIndex c = grid_.cell_at(frontier.back());
+        frontier.pop_back();
+        for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+          const world::CellIndex n{c.x + dx, c.y + dy};
+          if (!grid_.in_bounds(n)) continue;
+          const std::size_t i = grid_.index(n);
+          if (label_[i] >= 0 || field.distance(i) < kWallClearance - resolution) continue;
+          label_[i] = next;
+          frontier.push_back(i);
+        }
+      }
+      ++next;
+    }
+  }
+
+  /// The region of a point; -1 off the floor (too near a wall, or outside the map).
+  int at(const core::Vec2& p) const {
+    const world::CellIndex c = grid_.cell_of(p);
+    return grid_.in_bounds(c) ? label_[grid_.index(c)] : -1;
+  }
+
+ private:
+  world::OccupancyGrid grid_;
+  std::vector<int> label_;
 };
 
 /// The axis-aligned extent of everything a file places.
@@ -175,17 +227,55 @@ class PedsimImporter {
   }
 
   /// Each waypoint's goal: the free point of its disc nearest the centre (a centre on a wall's line is
-  /// common: the disc's free part is what the file means).
+  /// common: the disc's free part is what the file means) in a region the agents heading there start in.
   void place_goals() {
+    const Regions regions(geometry_, low_, high_, resolution_);
+    std::map<std::string, std::set<int>> starts;  // per waypoint: the regions of the clusters whose routes take it
+    for (const XMLElement* cluster : clusters_) {
+      if (cluster->IntAttribute("type") == 2) continue;  // a robot's route is not walked
+      const std::set<int> from = cluster_regions(cluster, regions);
+      for (const XMLElement* child = cluster->FirstChildElement(); child; child = child->NextSiblingElement()) {
+        if (const char* id = child->Attribute("id")) starts[id].insert(from.begin(), from.end());
+      }
+    }
     for (const auto& [id, waypoint] : waypoints_) {
       const core::Vec2 centre(waypoint.x, waypoint.y);
-      const core::Vec2 goal = geometry_.free_point(centre, waypoint.radius);
+      const std::set<int>& from = starts[id];
+      const auto reachable = [&](const core::Vec2& p) { return from.empty() || from.contains(regions.at(p)); };
+      auto goal = geometry_.free_point(centre, waypoint.radius, reachable);
+      if (!goal) {
+        goal = geometry_.free_point(centre, waypoint.radius, [](const core::Vec2&) { return true; }).value_or(centre);
+        if (!from.empty()) {
+          result_.warnings.push_back({waypoint.line, "waypoint '" + id + "': no free point of its disc can be reached from where the agents "
+                                                     "heading there start; they will report it unreachable"});
+        }
+      }
       // At least the default radius: Pedsim reads a missing r as 0, a point no walker meets exactly.
-      const double radius = std::max(waypoint.radius - (goal - centre).norm(), kDefaultGoalRadius);
-      goals_[id] = {goal, radius};
-      locations_[id] = {{"x", goal.x()}, {"y", goal.y()}, {"radius", radius}};
+      const double radius = std::max(waypoint.radius - (*goal - centre).norm(), kDefaultGoalRadius);
+      goals_[id] = {*goal, radius};
+      locations_[id] = {{"x", goal->x()}, {"y", goal->y()}, {"radius", radius}};
       result_.origins.push_back({"/locations/" + core::pointer_token(id), waypoint.line});
     }
+  }
+
+  /// The regions a cluster's area covers (sampled on a lattice; the nearest region within a metre of a
+  /// point cluster).
+  std::set<int> cluster_regions(const XMLElement* cluster, const Regions& regions) const {
+    std::set<int> found;
+    if (!cluster->Attribute("x") || !cluster->Attribute("y")) return found;
+    const core::Vec2 centre(cluster->DoubleAttribute("x"), cluster->DoubleAttribute("y"));
+    const core::Vec2 half(std::abs(cluster->DoubleAttribute("dx")) / 2, std::abs(cluster->DoubleAttribute("dy")) / 2);
+    constexpr int kLattice = 5;
+    for (int i = 0; i < kLattice; ++i) {
+      for (int j = 0; j < kLattice; ++j) {
+        const core::Vec2 p = centre + core::Vec2(half.x() * (2.0 * i / (kLattice - 1) - 1), half.y() * (2.0 * j / (kLattice - 1) - 1));
+        if (const int region = regions.at(p); region >= 0) found.insert(region);
+      }
+    }
+    if (found.empty()) {
+      if (const auto near = geometry_.free_point(centre, 1.0, [&](const core::Vec2& p) { return regions.at(p) >= 0; })) found.insert(regions.at(*near));
+    }
+    return found;
   }
 
   Route read_route(const XMLElement* cluster) {

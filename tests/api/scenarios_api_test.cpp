@@ -147,6 +147,9 @@ TEST_F(ScenariosApi, HunavAgentsFilesUploadWithTheMapTheyName) {
   EXPECT_TRUE(document["world"].contains("map")) << document["world"];
   EXPECT_EQ(document["humans"][1]["behaviour"]["type"], "scared");
 
+  const HttpReply named = http(port(), "POST", "/api/v1/scenarios/validate?format=hunav", bundle.dump(), kJson);
+  EXPECT_TRUE(json_of(named)["valid"].get<bool>()) << "?format= names the bundle's scenario's format: " << named.body;
+
   const HttpReply alone = http(port(), "POST", "/api/v1/scenarios/validate", agents, "Content-Type: application/yaml\r\n");
   EXPECT_TRUE(json_of(alone)["valid"].get<bool>()) << alone.body;
   EXPECT_NE(alone.body.find("no map for world 'lobby'"), std::string::npos) << alone.body;

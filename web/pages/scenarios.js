@@ -16,7 +16,7 @@ async function allScenarios() {
   return items;
 }
 
-const FORMATS = { json: 'JSON', imhus_xml: 'IMHuS XML', pedsim_xml: 'Pedsim XML' };
+const FORMATS = { json: 'JSON', imhus_xml: 'IMHuS XML', pedsim_xml: 'Pedsim XML', hunav_yaml: 'HuNavSim YAML' };
 
 function robotsText(robots) {
   if (!robots.length) return 'no robot';
@@ -202,11 +202,11 @@ function revealFirstNote(report) {
 
 function uploadForm() {
   let fileText = null;  // the chosen file byte for byte, until the text box is edited
-  const file = h('input', { type: 'file', accept: '.json,.xml,application/json,application/xml,text/xml', id: 'upload-file' });
-  const textBox = h('textarea', { id: 'upload-text', rows: 8, spellcheck: 'false', placeholder: '{ "name": …, "world": …, "humans": … } or <IMHuS/Pedsim XML>' });
+  const file = h('input', { type: 'file', accept: '.json,.xml,.yaml,.yml,application/json,application/xml,text/xml,application/yaml', id: 'upload-file' });
+  const textBox = h('textarea', { id: 'upload-text', rows: 8, spellcheck: 'false', placeholder: '{ "name": …, "world": …, "humans": … }, <IMHuS/Pedsim XML> or a HuNavSim agents YAML' });
   const format = h('select', { id: 'upload-format' },
     h('option', { value: '' }, 'auto'), h('option', { value: 'json' }, 'json'), h('option', { value: 'imhus' }, 'imhus (IMHuS XML)'),
-    h('option', { value: 'pedsim' }, 'pedsim (Pedsim XML)'));
+    h('option', { value: 'pedsim' }, 'pedsim (Pedsim XML)'), h('option', { value: 'hunav' }, 'hunav (HuNavSim YAML)'));
   const upload = h('button', { type: 'submit' }, 'Upload');
   const validate = h('button', { type: 'button', class: 'secondary' }, 'Validate only');
   const result = h('div', { class: 'sc-upload-result', 'aria-live': 'polite' });
@@ -220,7 +220,13 @@ function uploadForm() {
   textBox.addEventListener('input', () => { fileText = null; });
 
   const source = () => fileText ?? textBox.value;
-  const isJsonText = (text) => format.value === 'json' || (!format.value && !text.trimStart().startsWith('<'));
+  const isJsonText = (text) => format.value === 'json' || (!format.value && /^[{[]/.test(text.trimStart()));
+  // What the server reads the text as when no format is chosen: XML by '<', JSON by '{' or '[', else YAML.
+  const contentType = (text) => {
+    if (isJsonText(text)) return 'application/json';
+    if (format.value === 'hunav' || (!format.value && !text.trimStart().startsWith('<'))) return 'application/yaml';
+    return 'application/xml';
+  };
 
   async function send(path) {
     const text = source();
@@ -234,7 +240,7 @@ function uploadForm() {
     upload.disabled = validate.disabled = true;
     const wait = loading(result, path.endsWith('validate') ? 'Validating' : 'Uploading');
     try {
-      return { text, json, reply: await api.post(path + query, text, { 'content-type': json ? 'application/json' : 'application/xml' }) };
+      return { text, json, reply: await api.post(path + query, text, { 'content-type': contentType(text) }) };
     } catch (error) {
       const errors = error.details?.errors;
       if (error.status === 400 && Array.isArray(errors)) {
@@ -263,7 +269,7 @@ function uploadForm() {
     location.hash = `#/scenarios/${encodeURIComponent(summary.id)}`;
   } },
   h('div', { class: 'fields' },
-    h('label', { for: 'upload-file' }, 'Scenario file (.json, .xml)', file),
+    h('label', { for: 'upload-file' }, 'Scenario file (.json, .xml, .yaml)', file),
     h('label', { for: 'upload-format' }, 'Format', format)),
   h('label', { for: 'upload-text', class: 'sc-upload-text-label' }, 'or paste its text', textBox),
   h('div', { class: 'row sc-upload-actions' }, upload, validate),

@@ -179,6 +179,17 @@ TEST(ImportHunav, FaultsAreSaidAtTheirLines) {
   EXPECT_TRUE(has_message(errors_of(std::string(kHeader) + agent, missing_map), 0, "map /nonexistent/map.yaml does not exist"));
 }
 
+TEST(ImportHunav, ACustomWatcherWithoutDistNeverSeesTheRobotAndIsWarnedAbout) {
+  const ImportResult imported = import_hunav(std::string(kHeader) +
+                                                 "    agents: [a]\n"
+                                                 "    a:\n"
+                                                 "      init_pose: {x: 0, y: 0}\n"
+                                                 "      behavior: {type: 3, configuration: 1, duration: 10}\n",
+                                             {});
+  EXPECT_TRUE(has_message(imported.warnings, 6, "a.behavior: dist is not given (0): a surprised person with a custom configuration then never sees the robot"));
+  EXPECT_EQ(imported.scenario["humans"][0]["behaviour"]["detection_distance"], 0.0);
+}
+
 TEST(ImportHunav, UnknownKeysAndGroupsWithOtherGoalsAreWarnedAbout) {
   const ImportResult imported = import_hunav(std::string(kHeader) +
                                                  "    agents: [a, b]\n"

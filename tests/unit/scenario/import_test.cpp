@@ -451,6 +451,37 @@ TEST(ImportPedsim, RealFilesHabitsImportAndRun) {
   for (int walker = 0; walker < 4; ++walker) EXPECT_GE(reached[walker], 4) << "agent_" << walker << " goes round shop_exit, till and info_desk more than once";
 }
 
+// A waypoint centred on an outer wall has free points inside and outside; the goal is the one the
+// walkers heading there can reach (the nearest to the centre, outside at (10.4, 3), is not).
+TEST(ImportPedsim, AGoalAcrossAWallIsPutWhereItsWalkersCanGetTo) {
+  const std::string xml = R"(<scenario>
+  <obstacle x1="0" y1="0" x2="10" y2="0"/>
+  <obstacle x1="10" y1="0" x2="10" y2="6"/>
+  <obstacle x1="10" y1="6" x2="0" y2="6"/>
+  <obstacle x1="0" y1="6" x2="0" y2="0"/>
+  <waypoint id="back_door" x="10" y="3" r="1.5"/>
+  <waypoint id="desk" x="3" y="3" r="0.5"/>
+  <waypoint id="roof" x="11.5" y="3" r="0.5"/>
+  <agent x="5" y="3" n="2" dx="1" dy="1" type="0">
+    <addwaypoint id="back_door"/>
+    <addwaypoint id="desk"/>
+  </agent>
+  <agent x="5" y="2" n="1" type="0">
+    <addwaypoint id="roof"/>
+  </agent>
+</scenario>)";
+  const ImportResult imported = import_pedsim(xml, bundled());
+  EXPECT_TRUE(has_message(imported.warnings, 8, "waypoint 'roof': no free point of its disc can be reached from where the agents heading there start"));
+  const auto model = load_imported(imported);
+  ASSERT_TRUE(model);
+  const Location& door = model->locations[0];
+  ASSERT_EQ(door.name, "back_door");
+  EXPECT_LT(door.pose.position().x(), 10.0 - 0.4 + 1e-9) << "inside, where the walkers are";
+  EXPECT_LE((door.pose.position() - Vec2(10, 3)).norm(), 0.6) << "near the centre";
+  const std::vector<int> reached = arrivals(model, 60.0);
+  for (int walker = 0; walker < 2; ++walker) EXPECT_GE(reached[walker], 3) << "agent_" << walker << " goes between the back door and the desk";
+}
+
 // libpedsim's own examples: a <welcome> root, no obstacles at all.
 TEST(ImportPedsim, WelcomeRootWithoutObstacles) {
   const std::string xml = read(kFixtures / "pedsim/welcome.xml");
