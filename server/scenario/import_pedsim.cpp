@@ -33,7 +33,8 @@ constexpr double kWallClearance = 0.4;
 constexpr int kPlacementTries = 50;
 /// Goals are looked for within a waypoint's disc on rings this far apart, m.
 constexpr double kGoalRingStep = 0.1;
-/// A queue is reached within this distance of its head, m: its waiting line is not modelled, and a
+/// The location at a queue's head is reached within this distance, m (the queue itself is joined at
+/// the end of its line), and a
 /// point everyone of a cluster heads for would jam them round it.
 constexpr double kQueueRadius = 1.0;
 /// Grid resolutions an imported scene may get, finest first, m: the finest whose grid has at most
@@ -191,7 +192,11 @@ class PedsimImporter {
       if (const auto behaviour = reader_.optional_number(element, "b"); behaviour && *behaviour != 0.0) {
         reader_.warn(element, "waypoint '" + *id + "' is a " + (*behaviour == 1.0 ? "source" : "sink") + "; hrisim treats it as a plain waypoint");
       }
-      if (name == "queue") reader_.warn(element, "queue '" + *id + "' is walked to as a waypoint; its waiting line is not modelled");
+      if (name == "queue") {
+        // pedsim_ros reads `direction` in degrees; its line runs back from the head against it.
+        const double direction = reader_.optional_number(element, "direction").value_or(0.0);
+        queue_directions_[*id] = direction * std::numbers::pi / 180.0;
+      }
       waypoints_[*id] = {*x, *y, std::max(radius, 0.0), element->GetLineNum()};
       extent_.add({*x, *y}, radius);
     } else if (name == "agent" || name == "source") {
@@ -305,7 +310,12 @@ class PedsimImporter {
     for (const auto& [waypoint, line] : route) {
       const auto& [goal, radius] = goals_[waypoint];
       result_.origins.push_back({"/tasks/" + task + "/" + std::to_string(gotos.size()), line});
-      gotos.push_back({{"goto", {{"pose", {{"x", goal.x()}, {"y", goal.y()}}}, {"radius", radius}}}});
+      // A queue's id, given by addqueue or addwaypoint alike, has its people wait in line there.
+      if (queue_directions_.contains(waypoint)) {
+        gotos.push_back({{"queue", waypoint}});
+      } else {
+        gotos.push_back({{"goto", {{"pose", {{"x", goal.x()}, {"y", goal.y()}}}, {"radius", radius}}}});
+      }
     }
     tasks_[task] = gotos;
     result_.origins.push_back({"/tasks/" + task, cluster->GetLineNum()});
@@ -375,6 +385,15 @@ class PedsimImporter {
     out["world"] = {{"bounds", {{"min", {low_.x(), low_.y()}}, {"max", {high_.x(), high_.y()}}}}, {"walls", walls_}};
     if (resolution_ != kImportResolutions[0]) out["world"]["resolution"] = resolution_;
     out["locations"] = locations_;
+    if (!queue_directions_.empty()) {
+      ordered_json queues = ordered_json::object();
+      for (const auto& [id, direction] : queue_directions_) {
+        const core::Vec2& head = goals_[id].first;
+        queues[id] = {{"x", head.x()}, {"y", head.y()}, {"theta", direction}};
+        result_.origins.push_back({"/queues/" + core::pointer_token(id), waypoints_[id].line});
+      }
+      out["queues"] = queues;
+    }
     out["locomotion"] = {{"avoidance", "social_force"}};
     if (dialect_ == "pedsim_ros") {
       out["locomotion"]["social_force"] = {{"obstacle_sigma", kPedsimRosObstacleSigma}, {"social_factor", kPedsimRosSocialFactor}};
@@ -394,6 +413,7 @@ class PedsimImporter {
   Walls geometry_;
   Extent extent_;
   std::map<std::string, Waypoint> waypoints_;
+  std::map<std::string, double> queue_directions_;  ///< per queue (a waypoint too): the way its line faces, rad
   std::vector<const XMLElement*> clusters_;
   core::Vec2 low_ = core::Vec2::Zero(), high_ = core::Vec2::Zero();
   double resolution_ = kImportResolutions[0];

@@ -274,6 +274,11 @@ class Loader {
       }
       model.social_spaces.push_back(std::move(space));
     }
+    for (const auto& [name, entry] : member(doc_, "queues").items()) {
+      context_.names.queues[name] = static_cast<int>(model.queues.size());
+      model.queues.push_back({name, read_pose(entry), entry.value("spacing", kQueueSpacing), entry.value("service_time", kQueueServiceTime)});
+      context_.check_free(model, model.queues.back().head.position(), "/queues/" + core::pointer_token(name), "the head of queue '" + name + "'");
+    }
   }
 
   void read_elevators(Model& model) {
@@ -736,7 +741,7 @@ class Loader {
             if (takes_time(action.target, seen)) return true;
             break;
           case K::go_to_location: case K::go_to_social_space: case K::go_to_pose: case K::wait_message: case K::harass:
-          case K::request: case K::play_motion: case K::say: case K::sit_on: case K::pick_up: case K::put_down:
+          case K::request: case K::play_motion: case K::say: case K::sit_on: case K::pick_up: case K::put_down: case K::join_queue:
             return true;
           default:
             break;

@@ -22,7 +22,7 @@ inline Vec2 read_point(const json& j) { return {j.at(0).get<double>(), j.at(1).g
 
 /// Names of everything the scenario declares, for resolving references.
 struct Names {
-  std::map<std::string, int> locations, social_spaces, agents, routines, doors, groups;
+  std::map<std::string, int> locations, social_spaces, queues, agents, routines, doors, groups;
   std::set<std::string> robots;
 };
 

@@ -53,6 +53,27 @@ struct Location {
   double radius = kDefaultGoalRadius;
 };
 
+/// A waiting line (Pedsim's <queue>): people join at its end, move up as the head is served, and are
+/// served one at a time at the head.
+/// People stand this far apart along the line, m (centre to centre: two 0.3 m bodies and 0.2 m between
+/// them; pedsim_ros's random 0.2–0.8 m would overlap hrisim's bodies).
+inline constexpr double kQueueSpacing = 0.8;
+/// Mean time the person at the head is served, s: pedsim_ros draws Gamma(shape 2, scale 0.5).
+inline constexpr double kQueueServiceTime = 1.0;
+/// A person walking to the end of the line joins it within this distance of their place, m (pedsim_ros).
+inline constexpr double kQueueJoinDistance = 2.0;
+/// Service begins once the person at the head is this near the head, m (pedsim_ros).
+inline constexpr double kQueueHeadTolerance = 0.3;
+
+struct Queue {
+  std::string name;
+  Pose2 head;  ///< where the first person is served, facing the way everyone in the line faces
+  double spacing = kQueueSpacing;
+  double service_time = kQueueServiceTime;  ///< mean; each service is drawn from Gamma(shape 2, mean / 2)
+  /// The place of the person `behind` people behind the head.
+  Pose2 place(int behind) const { return core::compose(head, {-behind * spacing, 0.0, 0.0}); }
+};
+
 struct SocialSpace {
   std::string name;
   Pose2 centre;
@@ -210,6 +231,7 @@ struct Action {
     sit_on,              ///< target: a seat (Model::seats)
     pick_up,             ///< target: a movable object
     put_down,            ///< pose: where the carried object goes (x, y); value: the height of the surface it rests on
+    join_queue,          ///< target: a queue; done once served at its head
   };
   Kind kind = Kind::wait_duration;
   int agent = -1;   ///< acting agent in steps; -1 in routines (the invoker acts) and group actions
@@ -344,6 +366,7 @@ struct Model {
 
   std::vector<Location> locations;
   std::vector<SocialSpace> social_spaces;
+  std::vector<Queue> queues;
   std::vector<AgentDef> agents;  ///< humans then robots, each in file order
   std::vector<MovableObject> objects;
   std::vector<Group> groups;     ///< declared groups (members at the start) and groups formed later (empty)

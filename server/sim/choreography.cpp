@@ -5,6 +5,7 @@
 
 #include "sim/activities.hpp"
 #include "sim/carrying.hpp"
+#include "sim/queues.hpp"
 #include "sim/seats.hpp"
 #include "sim/search.hpp"
 #include "sim/sounds.hpp"
@@ -166,6 +167,14 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       return true;
     case Kind::sit_on:
       return start_sitting(model, state, agent, action.target);
+    case Kind::join_queue:
+      // Back in the line they were drawn away from (a command, a reaction): they keep their place.
+      if (self.queue != action.target) {
+        release_reservations(state, agent);
+        self.queue = action.target;
+      }
+      self.served = false;
+      return true;
     case Kind::pick_up:
     case Kind::put_down:
       return start_reaching(model, state, agent, action);
@@ -212,6 +221,8 @@ bool action_done(const State& state, int agent, const Action& action, const Pend
       return state.tick >= self.wait_until_tick;
     case Kind::sit_on:
       return sitting_done(state, agent, action.target);
+    case Kind::join_queue:
+      return self.served;
     case Kind::pick_up:
     case Kind::put_down:
       return reaching_done(state, agent);
@@ -235,6 +246,7 @@ void finish_action(State& state, int agent) {
   self.look_at_agent = -1;
   self.harass_robot = -1;
   self.reach_phase = ReachPhase::none;
+  self.served = false;
   if (self.follow_leader >= 0) {
     self.hold = self.position;
     self.target_heading = state.agents[self.follow_leader].heading;
@@ -282,6 +294,7 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
       if (!start_action(model, state, agent, action, pending)) return;
       self.action_started = true;
     }
+    if (action.kind == Kind::join_queue && !self.served) tend_queueing(model, state, agent);
     if (action.kind == Kind::pick_up || action.kind == Kind::put_down) {
       tend_reaching(model, state, agent, action);
       if (self.reach_phase == ReachPhase::none) {
@@ -304,6 +317,7 @@ const Action& action_of(const scenario::Model& model, const State& state, const 
 
 void release_reservations(State& state, int agent) {
   AgentState& self = state.agents[agent];
+  leave_queue(state, agent);
   self.reserved_location = -1;
   self.reserved_space = -1;
   self.reserved_slot = -1;

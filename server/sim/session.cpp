@@ -10,6 +10,7 @@
 #include "core/text.hpp"
 #include "sim/choreography.hpp"
 #include "sim/doors_and_elevators.hpp"
+#include "sim/queues.hpp"
 #include "sim/robot_control.hpp"
 #include "sim/search.hpp"
 #include "sim/sensing.hpp"
@@ -63,6 +64,7 @@ State initial_state(const scenario::Model& model, std::uint64_t seed) {
       state.topics[elevator.topic + "/" + model.doors[door].name + "_state"] = "closed";
     }
   }
+  for (const scenario::Queue& queue : model.queues) state.queues.push_back({{}, -1, state.random.stream("queues." + queue.name)});
   state.steps.resize(model.steps.size());
   for (const scenario::Request& scripted : model.requests) state.scheduled.push_back({scripted.time, scripted.robot, scripted.routine});  // kept sorted
   return state;
@@ -121,6 +123,7 @@ void Session::tick() {
   update_doors_and_elevators(model, state_);
   update_requests(model, state_);
   update_choreography(model, state_);
+  serve_queues(model, state_);
   if (state_.finished) return;
   decide_robots(model, state_);
   walk(model, state_, walking_);

@@ -94,6 +94,9 @@ struct AgentState {
   int reserved_location = -1;
   int reserved_space = -1;
   int reserved_slot = -1;
+  int queue = -1;        ///< the waiting line (Model::queues) the person's join_queue is for; -1 for none
+  int queue_place = -1;  ///< place in that line (0: at its head); -1 until they have joined it
+  bool served = false;   ///< served at the head of a line: the join_queue action is done
   bool answering_request = false;
 
   Vec2 commanded_velocity = Vec2::Zero();  ///< robots without a model: from the controller
@@ -135,7 +138,7 @@ struct AgentState {
   ReachPhase reach_phase = ReachPhase::none;
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, nearest_to_goal, progress_tick, stuck_reported, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase, seat, seat_phase, seat_front, carried_object, reach_phase); }
+  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, nearest_to_goal, progress_tick, stuck_reported, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, queue, queue_place, served, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase, seat, seat_phase, seat_front, carried_object, reach_phase); }
 };
 
 struct Event {
@@ -200,6 +203,16 @@ struct ElevatorState {
   auto fields() const { return std::tie(phase, floor, queue, until_tick, reopened_until_tick, destination); }
 };
 
+/// A waiting line (scenario::Queue) as it stands.
+struct QueueState {
+  std::vector<int> line;                 ///< the people in it, the head first
+  std::int64_t served_until_tick = -1;   ///< the head's service ends then; -1 until they stand at the head
+  core::Random random;                   ///< the line's own stream of service times
+
+  /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
+  auto fields() const { return std::tie(line, served_until_tick, random); }
+};
+
 /// A message published during the current tick, for subscribers that need every message.
 struct Message {
   std::string topic;
@@ -219,6 +232,7 @@ struct State {
   std::vector<std::vector<int>> groups;  ///< current members of each group of the model
   std::vector<DoorState> doors;
   std::vector<ElevatorState> elevators;
+  std::vector<QueueState> queues;
   std::vector<OpenRequest> requests;
   std::int64_t next_request_id = 1;
   std::vector<ScheduledRequest> scheduled;  ///< robot requests still to come, by time
@@ -242,7 +256,7 @@ struct State {
   std::string termination;  ///< "scenario_end", "timeout" or "goal" once finished
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, requests, next_request_id, scheduled, events, events_digest, commanded, random, robots, object_poses, planning_history, time_limit, clock_start, sounds, speakers, finished, termination); }
+  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, queues, requests, next_request_id, scheduled, events, events_digest, commanded, random, robots, object_poses, planning_history, time_limit, clock_start, sounds, speakers, finished, termination); }
 };
 
 /// Hash of everything in the state, bit for bit.

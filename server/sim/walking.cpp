@@ -201,9 +201,10 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     crowd.preferred_velocity = preferred;
     crowd.personal_space = self.personal_space;
     crowd.robots_as_obstacles = self.behaviour.type == humans::BehaviourType::impassive;
-    // Members of one group, and people sharing a place (a cabin, a queue), stand as close as it has them.
+    // Members of one group, and people sharing a place (a cabin, a social space's or a waiting line's
+    // places), stand as close as it has them.
     crowd.group = group_of(state, static_cast<int>(i));
-    crowd.place = self.reserved_space;
+    crowd.place = self.queue >= 0 && self.queue_place >= 0 ? static_cast<int>(model.social_spaces.size()) + self.queue : self.reserved_space;
     crowd.max_speed = std::max(self.preferred_speed * humans::kMaxSpeedFactor, 1e-3);
     crowd.velocity = !crowd.controlled ? self.velocity
                      : stepping        ? *stepping

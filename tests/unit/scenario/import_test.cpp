@@ -421,8 +421,13 @@ double wall_distance(const nlohmann::ordered_json& scenario, const Vec2& p) {
 // an agent and a waypoint beyond the outermost obstacle, a robot with a route.
 TEST(ImportPedsim, RealFilesHabitsImportAndRun) {
   const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/bookshop.xml"), bundled());
-  EXPECT_TRUE(has_message(imported.warnings, 14, "queue 'info_desk' is walked to as a waypoint"));
   EXPECT_TRUE(has_message(imported.warnings, 27, "the robot agent's route is not walked"));
+  EXPECT_EQ(imported.warnings.size(), 1u);
+  // The queue is a waiting line (its direction 0°: people face +x, the line runs back towards -x),
+  // joined by addqueue and addwaypoint alike.
+  EXPECT_EQ(imported.scenario["queues"]["info_desk"], nlohmann::ordered_json::parse(R"({"x": 3.0, "y": 2.0, "theta": 0.0})"));
+  EXPECT_EQ(imported.scenario["tasks"]["route_1"][2], nlohmann::ordered_json::parse(R"({"queue": "info_desk"})"));
+  EXPECT_EQ(imported.scenario["tasks"]["route_2"][0], nlohmann::ordered_json::parse(R"({"queue": "info_desk"})"));
   const auto model = load_imported(imported);
   ASSERT_TRUE(model);
   const auto location = [&](const std::string& name) {
