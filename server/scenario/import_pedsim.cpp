@@ -20,6 +20,8 @@ namespace {
 using nlohmann::ordered_json;
 using tinyxml2::XMLElement;
 
+/// pedsim_ros adds a source's people again this often, s (its parameter spawn_period's default).
+constexpr double kSpawnPeriod = 5.0;
 /// Seed of the importer's own generator: agents of a cluster are placed at the same spots every time.
 constexpr std::uint64_t kPlacementSeed = 1;
 /// Margin around everything the file places (obstacles, waypoints, agents) that makes up the map, m.
@@ -168,6 +170,7 @@ class PedsimImporter {
     for (const XMLElement* cluster : clusters_) {
       if (!read_cluster(cluster)) break;
     }
+    if (result_.errors.empty()) spawn_from_sources();
     write();
   }
 
@@ -189,9 +192,9 @@ class PedsimImporter {
       const auto x = reader_.number(element, "x"), y = reader_.number(element, "y");
       const double radius = name == "waypoint" ? reader_.optional_number(element, "r").value_or(0.0) : kQueueRadius;
       if (!id || !x || !y) return;
-      if (const auto behaviour = reader_.optional_number(element, "b"); behaviour && *behaviour != 0.0) {
-        reader_.warn(element, "waypoint '" + *id + "' is a " + (*behaviour == 1.0 ? "source" : "sink") + "; hrisim treats it as a plain waypoint");
-      }
+      // pedsim_ros's waypoint behaviours: 2 is a sink, whose walkers leave the scene on reaching it; 1
+      // (a source) it does nothing with.
+      if (reader_.optional_number(element, "b") == 2.0) sinks_.insert(*id);
       if (name == "queue") {
         // pedsim_ros reads `direction` in degrees; its line runs back from the head against it.
         const double direction = reader_.optional_number(element, "direction").value_or(0.0);
@@ -316,6 +319,11 @@ class PedsimImporter {
       } else {
         gotos.push_back({{"goto", {{"pose", {{"x", goal.x()}, {"y", goal.y()}}}, {"radius", radius}}}});
       }
+      if (sinks_.contains(waypoint)) {  // whoever reaches a sink leaves: the rest of the route is never walked
+        result_.origins.push_back({"/tasks/" + task + "/" + std::to_string(gotos.size()), line});
+        gotos.push_back({{"leave", ordered_json::object()}});
+        break;
+      }
     }
     tasks_[task] = gotos;
     result_.origins.push_back({"/tasks/" + task, cluster->GetLineNum()});
@@ -343,7 +351,6 @@ class PedsimImporter {
                                 " people a scenario may hold (--max-people)");
       return false;
     }
-    if (std::string(cluster->Name()) == "source") reader_.warn(cluster, "a source spawns its agents once; Pedsim's respawning is not modelled");
     const Route route = read_route(cluster);
     const std::string kind = kAgentTypes[static_cast<int>(type)];
     const bool robot = kind == "robot";
@@ -351,29 +358,59 @@ class PedsimImporter {
       reader_.warn(cluster, "the robot agent's route is not walked: a robot is driven by its controller or a client (give it one)");
     }
     const std::string task = !robot && !route.empty() && n > 0 ? route_task(cluster, route) : "";
-    for (int i = 0; i < static_cast<int>(n); ++i) {
-      const std::string id = (robot ? "robot_" : "agent_") + std::to_string(people_++);
-      // Drawn in the cluster's area, again when too close to a wall (Pedsim's clusters often overlap them).
-      core::Vec2 start(*x, *y);
-      for (int attempt = 0; attempt < kPlacementTries; ++attempt) {
-        start = {*x + (dx > 0 ? random_.uniform(-dx / 2, dx / 2) : 0.0), *y + (dy > 0 ? random_.uniform(-dy / 2, dy / 2) : 0.0)};
-        if ((dx <= 0 && dy <= 0) || geometry_.clear(start)) break;
-      }
-      ordered_json agent{{"id", id}, {"start", {{"x", start.x()}, {"y", start.y()}}}};
-      ordered_json& list = robot ? robots_ : humans_;
-      result_.origins.push_back({std::string(robot ? "/robots/" : "/humans/") + std::to_string(list.size()), cluster->GetLineNum()});
-      if (robot) {
-        list.push_back(agent);
-        continue;
-      }
-      agent["type"] = kind;
-      agent["avoidance"] = "social_force";
-      list.push_back(agent);
-      if (task.empty()) continue;
-      result_.origins.push_back({"/steps/0/actions/" + std::to_string(actions_.size()), cluster->GetLineNum()});
-      actions_.push_back({{"agent", id}, {"task", task}, {"repeat", true}});
-    }
+    const Area area{*x, *y, dx, dy};
+    for (int i = 0; i < static_cast<int>(n); ++i) add_person(cluster, area, kind, task, 0.0);
+    if (std::string(cluster->Name()) == "source" && n > 0) sources_.push_back({cluster, area, static_cast<int>(n), task});
     return true;
+  }
+
+  /// Where a cluster places its people: dx × dy around (x, y).
+  struct Area {
+    double x = 0.0, y = 0.0, dx = 0.0, dy = 0.0;
+  };
+
+  /// A person of a cluster, drawn in its area (again when too close to a wall: Pedsim's clusters often
+  /// overlap them), walking the cluster's route from `enters_at` on.
+  void add_person(const XMLElement* cluster, const Area& area, const std::string& kind, const std::string& task, double enters_at) {
+    const bool robot = kind == "robot";
+    const std::string id = (robot ? "robot_" : "agent_") + std::to_string(people_++);
+    core::Vec2 start(area.x, area.y);
+    for (int attempt = 0; attempt < kPlacementTries; ++attempt) {
+      start = {area.x + (area.dx > 0 ? random_.uniform(-area.dx / 2, area.dx / 2) : 0.0), area.y + (area.dy > 0 ? random_.uniform(-area.dy / 2, area.dy / 2) : 0.0)};
+      if ((area.dx <= 0 && area.dy <= 0) || geometry_.clear(start)) break;
+    }
+    ordered_json agent{{"id", id}, {"start", {{"x", start.x()}, {"y", start.y()}}}};
+    ordered_json& list = robot ? robots_ : humans_;
+    result_.origins.push_back({std::string(robot ? "/robots/" : "/humans/") + std::to_string(list.size()), cluster->GetLineNum()});
+    if (robot) {
+      list.push_back(agent);
+      return;
+    }
+    agent["type"] = kind;
+    agent["avoidance"] = "social_force";
+    if (enters_at > 0.0) agent["enters_at"] = enters_at;
+    list.push_back(agent);
+    if (task.empty()) return;
+    result_.origins.push_back({"/steps/0/actions/" + std::to_string(actions_.size()), cluster->GetLineNum()});
+    actions_.push_back({{"agent", id}, {"task", task}, {"repeat", true}});
+  }
+
+  /// pedsim_ros's sources add their n people again every kSpawnPeriod for as long as the simulation
+  /// runs: here every round until the time limit whose people fit in the people limit, each person
+  /// entering at their round's time (adults, as pedsim_ros spawns them).
+  void spawn_from_sources() {
+    for (const Source& source : sources_) {
+      const int rounds = static_cast<int>(std::ceil(kDefaultTimeLimit / kSpawnPeriod)) - 1;
+      const int room = std::max(options_.limits.max_people - people_, 0) / source.n;
+      if (room < rounds) {
+        reader_.warn(source.element, "this source adds " + std::to_string(source.n) + " people every " + core::number_text(kSpawnPeriod) +
+                                         " s: only the first " + std::to_string(room) + " of its " + std::to_string(rounds) +
+                                         " rounds fit in the people a scenario may hold (--max-people)");
+      }
+      for (int round = 1; round <= std::min(rounds, room); ++round) {
+        for (int i = 0; i < source.n; ++i) add_person(source.element, source.area, "adult", source.task, round * kSpawnPeriod);
+      }
+    }
   }
 
   void write() {
@@ -413,7 +450,16 @@ class PedsimImporter {
   Walls geometry_;
   Extent extent_;
   std::map<std::string, Waypoint> waypoints_;
-  std::map<std::string, double> queue_directions_;  ///< per queue (a waypoint too): the way its line faces, rad
+  std::map<std::string, double> queue_directions_;
+  std::set<std::string> sinks_;  ///< waypoints whose walkers leave the scene on reaching them (b="2")
+  /// A source's cluster, its area and people per round, and their route's task.
+  struct Source {
+    const XMLElement* element;
+    Area area;
+    int n;
+    std::string task;
+  };
+  std::vector<Source> sources_;  ///< per queue (a waypoint too): the way its line faces, rad
   std::vector<const XMLElement*> clusters_;
   core::Vec2 low_ = core::Vec2::Zero(), high_ = core::Vec2::Zero();
   double resolution_ = kImportResolutions[0];

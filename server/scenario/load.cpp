@@ -339,6 +339,7 @@ class Loader {
                                                                  : humans::LocalAvoidance::orca;
         agent.type = entry.value("type", "adult");
         if (entry.contains("behaviour")) agent.behaviour = humans::read_behaviour(entry["behaviour"]);
+        agent.enters_at = entry.value("enters_at", 0.0);
         if (entry.contains("activity_model")) agent.activity_model = find_activity_model(model, entry["activity_model"], pointer + "/activity_model");
         if (entry.contains("daily_schedule")) agent.daily_schedule = find_daily_schedule(model, entry["daily_schedule"], pointer + "/daily_schedule");
         if (agent.activity_model >= 0 && agent.daily_schedule >= 0) {
@@ -742,6 +743,7 @@ class Loader {
             break;
           case K::go_to_location: case K::go_to_social_space: case K::go_to_pose: case K::wait_message: case K::harass:
           case K::request: case K::play_motion: case K::say: case K::sit_on: case K::pick_up: case K::put_down: case K::join_queue:
+          case K::leave:  // the person is gone: nothing repeats
             return true;
           default:
             break;

@@ -186,6 +186,7 @@ struct AgentDef {
   int activity_model = -1;  ///< a human living by an activity model once the choreography is over, or -1
   int daily_schedule = -1;  ///< a human living by a daily schedule once the choreography is over, or -1
   humans::Behaviour behaviour;  ///< how a human reacts to a robot in view (HuNavSim)
+  double enters_at = 0.0;  ///< s: a human out of the scene until then, who then appears at `start` (a Pedsim source's later people)
   // Robots with a model (a robot without one is a disc moved by choreography or velocity commands).
   std::shared_ptr<const robots::RobotDescription> robot_model;
   RobotController controller;
@@ -232,6 +233,7 @@ struct Action {
     pick_up,             ///< target: a movable object
     put_down,            ///< pose: where the carried object goes (x, y); value: the height of the surface it rests on
     join_queue,          ///< target: a queue; done once served at its head
+    leave,               ///< the human leaves the scene (a Pedsim sink)
   };
   Kind kind = Kind::wait_duration;
   int agent = -1;   ///< acting agent in steps; -1 in routines (the invoker acts) and group actions

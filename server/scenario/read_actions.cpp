@@ -127,6 +127,9 @@ Action ActionReader::read(const json& entry, const std::string& pointer, bool in
     read_pick_up(entry["pick_up"], pointer + "/pick_up", action);
   } else if (entry.contains("put_down")) {
     read_put_down(entry["put_down"], pointer + "/put_down", action);
+  } else if (entry.contains("leave")) {
+    action.kind = Action::Kind::leave;
+    require_human(action, "leave the scene");
   } else if (entry.contains("queue")) {
     action.kind = Action::Kind::join_queue;
     action.target = context_.resolve(context_.names.queues, entry["queue"], pointer + "/queue", "queue");

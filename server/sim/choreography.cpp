@@ -180,6 +180,7 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       return start_reaching(model, state, agent, action);
     case Kind::wait_message:
     case Kind::run_routine:
+    case Kind::leave:
       return true;
   }
   return true;
@@ -223,6 +224,8 @@ bool action_done(const State& state, int agent, const Action& action, const Pend
       return sitting_done(state, agent, action.target);
     case Kind::join_queue:
       return self.served;
+    case Kind::leave:
+      return true;
     case Kind::pick_up:
     case Kind::put_down:
       return reaching_done(state, agent);
@@ -272,6 +275,7 @@ bool group_ready(const State& state, int agent, const PendingAction& pending) {
 /// Works through the agent's program as far as this tick allows.
 void advance_agent(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
+  if (!self.active) return;  // not in the scene yet (enters_at), or gone
   tend_seat(model, state, agent);
   for (int guard = 0; guard < kMaxActionsPerTick; ++guard) {
     start_next_activity(model, state, agent);
@@ -304,6 +308,10 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
     }
     if (!action_done(state, agent, action, pending)) return;
     finish_action(state, agent);
+    if (action.kind == Kind::leave) {
+      leave_scene(model, state, agent, "left");
+      return;
+    }
   }
 }
 
@@ -321,6 +329,28 @@ void release_reservations(State& state, int agent) {
   self.reserved_location = -1;
   self.reserved_space = -1;
   self.reserved_slot = -1;
+}
+
+void leave_scene(const scenario::Model& model, State& state, int agent, const char* event) {
+  AgentState& self = state.agents[agent];
+  self.active = false;
+  self.left = true;
+  self.program.clear();
+  self.action_started = false;
+  self.navigating = false;
+  self.velocity = Vec2::Zero();
+  release_reservations(state, agent);
+  for (auto& members : state.groups) std::erase(members, agent);
+  emit(model, state, event, model.agents[agent].id);
+}
+
+void let_people_in(const scenario::Model& model, State& state) {
+  for (std::size_t a = 0; a < state.agents.size(); ++a) {
+    AgentState& self = state.agents[a];
+    if (self.active || self.left || model.agents[a].enters_at <= 0.0 || time_of(model, state) < model.agents[a].enters_at) continue;
+    self.active = true;
+    emit(model, state, "entered", model.agents[a].id);
+  }
 }
 
 void start_step(const scenario::Model& model, State& state, int step) {

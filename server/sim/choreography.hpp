@@ -38,6 +38,13 @@ const scenario::Action& action_of(const scenario::Model& model, const State& sta
 /// Gives up the location, social space and slot an agent holds.
 void release_reservations(State& state, int agent);
 
+/// The agent leaves the scene for good: out of the crowd, its groups and lines, its program dropped;
+/// `event` ("left", "agent_removed") says so.
+void leave_scene(const scenario::Model& model, State& state, int agent, const char* event);
+
+/// Humans whose enters_at has come appear at their start (event "entered").
+void let_people_in(const scenario::Model& model, State& state);
+
 /// Puts `actions` before everything in a human's program, in order; what they were doing starts
 /// again afterwards (commands and reactions).
 void interrupt(State& state, int human, std::span<const scenario::Action> actions);

@@ -49,6 +49,7 @@ State initial_state(const scenario::Model& model, std::uint64_t seed) {
       agent.preferred_speed = def.preferred_speed.value_or(kScriptedRobotSpeed);
     }
     agent.behaviour = def.behaviour;
+    agent.active = def.enters_at <= 0.0;
     if (def.activity_model >= 0 || def.daily_schedule >= 0) agent.activity_random = state.random.stream("humans.activities." + def.id);
     state.agents.push_back(std::move(agent));
     if (def.robot_model) state.robots.emplace_back(static_cast<int>(state.agents.size() - 1), def, model.dt, state.random);
@@ -119,6 +120,7 @@ void Session::tick() {
   if (state_.finished) return;
   const scenario::Model& model = *model_;
   const std::size_t first_event = state_.events.size();
+  let_people_in(model, state_);
   make_scheduled_requests(model, state_);
   update_doors_and_elevators(model, state_);
   update_requests(model, state_);
@@ -172,14 +174,7 @@ AgentId Session::agent_at(int index) const {
 void Session::remove_agent(AgentId id) {
   const int index = ids_.at(id);
   ids_.remove(id);
-  AgentState& agent = state_.agents[index];
-  agent.active = false;
-  agent.program.clear();
-  agent.navigating = false;
-  agent.velocity = Vec2::Zero();
-  release_reservations(state_, index);
-  for (auto& members : state_.groups) std::erase(members, index);
-  emit(*model_, state_, "agent_removed", model_->agents[index].id);
+  leave_scene(*model_, state_, index, "agent_removed");
 }
 
 void Session::request(AgentId robot, int routine) { make_request(*model_, state_, index_of(robot), routine); }

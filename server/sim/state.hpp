@@ -52,7 +52,8 @@ enum class SeatPhase { none, approaching, stepping_in, sitting, seated, standing
 enum class ReachPhase { none, walking, reaching, done };
 
 struct AgentState {
-  bool active = true;  ///< false once removed from the session
+  bool active = true;  ///< in the scene: false before a human's enters_at and once they have left
+  bool left = false;   ///< left the scene (a leave action, or removed): never back, whatever enters_at says
   Vec2 position = Vec2::Zero();
   Vec2 velocity = Vec2::Zero();
   double heading = 0.0;
@@ -138,7 +139,7 @@ struct AgentState {
   ReachPhase reach_phase = ReachPhase::none;
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(active, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, nearest_to_goal, progress_tick, stuck_reported, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, queue, queue_place, served, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase, seat, seat_phase, seat_front, carried_object, reach_phase); }
+  auto fields() const { return std::tie(active, left, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, nearest_to_goal, progress_tick, stuck_reported, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, queue, queue_place, served, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase, seat, seat_phase, seat_front, carried_object, reach_phase); }
 };
 
 struct Event {

@@ -108,12 +108,12 @@ json expect_pedsim_upload(std::uint16_t port, const std::string& pedsim) {
   return json_of(by_content)["summary"];
 }
 
-// hrisim's own Pedsim passage (tests/fixtures/pedsim/passage.xml): six walkers and a robot.
+// hrisim's own Pedsim passage (tests/fixtures/pedsim/passage.xml): a source of six walkers and a robot.
 TEST_F(ScenariosApi, XmlUploadsAreImportedByContentOrFormat) {
   const std::string pedsim = file_text(std::string(HRISIM_SOURCE_DIR) + "/tests/fixtures/pedsim/passage.xml");
   ASSERT_FALSE(pedsim.empty());
   json summary = expect_pedsim_upload(port(), pedsim);
-  EXPECT_EQ(summary["humans"], 6);
+  EXPECT_EQ(summary["humans"], 6 * 60) << "its source adds six every 5 s of the 300";
   ASSERT_EQ(summary["robots"].size(), 1u);
   EXPECT_EQ(summary["robots"][0]["id"], "robot_0");
 }
@@ -126,7 +126,7 @@ TEST_F(ScenariosApi, PublishedPedsimCorridorUploads) {
                     "tests/fixtures/pedsim/passage.xml covers this path (ScenariosApi.XmlUploadsAreImportedByContentOrFormat)";
   }
   json summary = expect_pedsim_upload(port(), file_text(corridor.string()));
-  EXPECT_EQ(summary["humans"], 8);
+  EXPECT_EQ(summary["humans"], 8 * 60) << "its source adds eight every 5 s of the 300";
 }
 
 // hrisim's own HuNavSim agents file (tests/fixtures/hunav/lobby_agents.yaml) bundled with the map its

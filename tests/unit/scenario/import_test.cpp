@@ -99,7 +99,8 @@ TEST(ImportXml, PartsOfTheScenarioKnowTheirLines) {
   EXPECT_EQ(origin_line(pedsim, "/locations/left"), 8);
   EXPECT_EQ(origin_line(pedsim, "/humans/2/start"), 11) << "the cluster that made the agent";
   EXPECT_EQ(origin_line(pedsim, "/robots/0"), 16);
-  EXPECT_EQ(origin_line(pedsim, "/tasks/route_1/1/goto/pose"), 13) << "the addwaypoint";
+  EXPECT_EQ(origin_line(pedsim, "/tasks/route_1/0/goto/pose"), 12) << "the addwaypoint";
+  EXPECT_EQ(origin_line(pedsim, "/tasks/route_1/1"), 12) << "the leave at the sink's addwaypoint";
   EXPECT_EQ(origin_line(pedsim, "/steps/0/actions/3/task"), 17);
   EXPECT_EQ(origin_line(pedsim, "/name"), 0);
 
@@ -293,8 +294,8 @@ TEST(ImportImhus, LiftFixtureCompletesWhenAHumanAnswersTheRobot) {
 
 TEST(ImportPedsim, OwnFixture) {
   const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/hall.xml"), bundled());
-  EXPECT_TRUE(has_message(imported.warnings, 9, "waypoint 'right' is a sink"));
   EXPECT_TRUE(has_message(imported.warnings, 20, "unsupported element <attraction> ignored"));
+  EXPECT_TRUE(has_message(imported.warnings, 10, "waypoint 'outside': no free point of its disc can be reached"));
   const auto model = load_imported(imported);
   ASSERT_TRUE(model);
   ASSERT_EQ(model->agents.size(), 5u);
@@ -315,7 +316,8 @@ TEST(ImportPedsim, OwnFixture) {
   EXPECT_EQ(model->agents[3].type, "elder");
   EXPECT_EQ(model->agents[4].kind, AgentKind::robot);
   ASSERT_EQ(model->routines.size(), 2u);
-  EXPECT_EQ(model->routines[0].actions.size(), 3u) << "a waypoint beyond the walls is kept, as Pedsim keeps it";
+  EXPECT_EQ(model->routines[0].actions.size(), 2u) << "right is a sink: whoever reaches it leaves, so left and outside are never walked";
+  EXPECT_EQ(model->locations.size(), 3u) << "a waypoint beyond the walls is kept, as Pedsim keeps it";
   EXPECT_EQ(model->steps[0].actions.size(), 3u + 1) << "each walker cycles through its cluster's route";
   EXPECT_GE(imported.scenario["world"]["bounds"]["max"][0].get<double>(), 21.0) << "the map reaches the waypoint beyond the walls";
   const ImportResult again = import_pedsim(read(kFixtures / "pedsim/hall.xml"), bundled());
@@ -355,7 +357,31 @@ std::vector<int> arrivals(const std::shared_ptr<const Model>& model, double seco
   return count;
 }
 
-// Pedsim's published corridor (reference data, read in place).
+/// People coming and going over `seconds` of an episode: how many entered (a source's later rounds),
+/// how many left (at a sink), and the most in the scene at once.
+struct Flow {
+  int entered = 0, left = 0, most = 0;
+};
+
+Flow flow(const std::shared_ptr<const Model>& model, double seconds) {
+  episode::Episode run(model, 1);
+  sim::Session& session = run.session();
+  session.set_time_limit(seconds);
+  Flow counted;
+  while (!run.over()) {
+    run.tick();
+    const auto& agents = session.state().agents;
+    counted.most = std::max(counted.most, static_cast<int>(std::count_if(agents.begin(), agents.end(), [](const sim::AgentState& a) { return a.active; })));
+  }
+  for (const sim::Event& event : session.state().events) {
+    counted.entered += event.kind == "entered";
+    counted.left += event.kind == "left";
+  }
+  return counted;
+}
+
+// Pedsim's published corridor (reference data, read in place): a source adding 8 walkers every 5 s who
+// walk east, then west into a sink.
 TEST(ImportPedsim, RealCorridorImportsAndRuns) {
   if (!std::filesystem::exists(kCorridor)) {
     GTEST_SKIP() << no_reference_file("pedsim/corridor.xml", "tests/fixtures/pedsim/passage.xml (ImportPedsim.PassageFixtureImportsAndRuns)");
@@ -364,46 +390,60 @@ TEST(ImportPedsim, RealCorridorImportsAndRuns) {
   EXPECT_TRUE(has_message(imported.warnings, 17, "the robot agent's route is not walked"));
   const auto model = load_imported(imported);
   ASSERT_TRUE(model);
-  EXPECT_EQ(model->agents.size(), 9u);
+  EXPECT_EQ(model->agents.size(), 8u * 60 + 1) << "the source's 8 at the start and in each 5 s of the 300 s, and the robot";
   EXPECT_EQ(model->locations.size(), 4u) << "robot_goal, beyond the walls, is kept";
-  const std::vector<int> reached = arrivals(model, 120.0);
-  for (int walker = 0; walker < 8; ++walker) EXPECT_GE(reached[walker], 3) << "walker " << walker << " goes east, west and east again";
+  const Flow passed = flow(model, 60.0);
+  EXPECT_EQ(passed.entered, 8 * 11) << "rounds at 5, 10, …, 55 s";
+  EXPECT_GE(passed.left, 8 * 4) << "walkers reach the sink 20 m on and leave";
+  EXPECT_LT(passed.most, 8 * 9) << "the corridor does not fill up: people leave as others come";
 }
 
 // hrisim's own passage (tests/fixtures/pedsim/passage.xml) takes the importer paths of Pedsim's published
 // corridor: comments, a <source> cluster, source and sink waypoints, a robot with a route, a waypoint
-// outside the walls; its six walkers reach the far end and come back.
+// outside the walls. Its source adds six walkers every 5 s; they walk to the far end, a sink, and leave.
 TEST(ImportPedsim, PassageFixtureImportsAndRuns) {
   const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/passage.xml"), bundled());
-  EXPECT_TRUE(has_message(imported.warnings, 13, "waypoint 'far' is a sink"));
-  EXPECT_TRUE(has_message(imported.warnings, 14, "waypoint 'back' is a source"));
   EXPECT_TRUE(has_message(imported.warnings, 17, "the robot agent's route is not walked"));
-  EXPECT_TRUE(has_message(imported.warnings, 22, "a source spawns its agents once"));
-  EXPECT_EQ(imported.warnings.size(), 4u);
+  EXPECT_EQ(imported.warnings.size(), 1u) << "a source waypoint (b=1) means nothing to pedsim_ros either";
   const auto model = load_imported(imported);
   ASSERT_TRUE(model);
-  ASSERT_EQ(model->agents.size(), 7u);
-  for (int i = 0; i < 6; ++i) {
+  ASSERT_EQ(model->agents.size(), 6u * 60 + 1);
+  for (int i = 0; i < 6 * 60; ++i) {
     const AgentDef& walker = model->agents[i];
     EXPECT_EQ(walker.kind, AgentKind::human);
     EXPECT_EQ(walker.avoidance, humans::LocalAvoidance::social_force);
+    EXPECT_DOUBLE_EQ(walker.enters_at, 5.0 * (i / 6)) << "round " << i / 6;
     const Vec2 start = walker.start.position();
     EXPECT_GE(start.x(), 2.0);
     EXPECT_LE(start.x(), 5.0);
     EXPECT_GE(start.y(), 1.5);
     EXPECT_LE(start.y(), 6.5);
   }
-  EXPECT_EQ(model->agents[6].id, "robot_0");
-  EXPECT_EQ(model->agents[6].kind, AgentKind::robot);
-  EXPECT_TRUE(model->agents[6].start.position().isApprox(Vec2(6, 7.2)));
+  const AgentDef& robot = model->agents.back();
+  EXPECT_EQ(robot.id, "robot_0");
+  EXPECT_EQ(robot.kind, AgentKind::robot);
+  EXPECT_TRUE(robot.start.position().isApprox(Vec2(6, 7.2)));
   EXPECT_EQ(model->locations.size(), 3u) << "far, back, and dock beyond the walls";
-  ASSERT_EQ(model->steps.size(), 1u);
-  EXPECT_EQ(model->steps[0].actions.size(), 6u) << "each walker cycles through its route (far, back); the robot's route is not walked";
   ASSERT_EQ(model->routines.size(), 1u);
-  EXPECT_EQ(model->routines[0].actions.size(), 2u);
-  EXPECT_TRUE(model->steps[0].actions[0].repeat);
-  const std::vector<int> reached = arrivals(model, 120.0);
-  for (int walker = 0; walker < 6; ++walker) EXPECT_GE(reached[walker], 3) << "walker " << walker << " reaches far, back and far again";
+  ASSERT_EQ(model->routines[0].actions.size(), 2u) << "to far, then leave: back, after the sink, is never walked";
+  EXPECT_EQ(model->routines[0].actions[1].kind, Action::Kind::leave);
+  EXPECT_EQ(origin_line(imported, "/tasks/route_1/1"), 23) << "the leave at the sink's addwaypoint";
+  const Flow passed = flow(model, 60.0);
+  EXPECT_EQ(passed.entered, 6 * 11);
+  EXPECT_GE(passed.left, 6 * 5) << "the far end is 12 m on";
+  EXPECT_LT(passed.most, 6 * 8);
+}
+
+ImportOptions few_people(int people) {
+  ImportOptions options = bundled();
+  options.limits.max_people = people;
+  return options;
+}
+
+TEST(ImportPedsim, ASourcesRoundsAreCutToThePeopleLimitWithAWarning) {
+  const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/passage.xml"), few_people(40));
+  EXPECT_TRUE(has_message(imported.warnings, 22, "this source adds 6 people every 5 s: only the first 5 of its 59 rounds fit"));
+  EXPECT_EQ(imported.scenario["humans"].size(), 6u * 6);
 }
 
 /// Distance from p to the nearest of the file's walls (the native scenario's `walls`).
