@@ -202,6 +202,20 @@ class PedsimImporter {
       }
       waypoints_[*id] = {*x, *y, std::max(radius, 0.0), element->GetLineNum()};
       extent_.add({*x, *y}, radius);
+    } else if (name == "attraction") {
+      const auto id = reader_.text(element, "id");
+      const auto x = reader_.number(element, "x"), y = reader_.number(element, "y");
+      const double width = reader_.optional_number(element, "width").value_or(1.0), height = reader_.optional_number(element, "height").value_or(1.0);
+      const double strength = reader_.optional_number(element, "strength").value_or(1.0);
+      if (!id || !x || !y) return;
+      if (width <= 0 || height <= 0 || strength < 0) {
+        reader_.fail(element, "an attraction's width and height must be more than 0 and its strength at least 0");
+        return;
+      }
+      result_.origins.push_back({"/attractions/" + core::pointer_token(*id), element->GetLineNum()});
+      attractions_[*id] = {{"x", *x}, {"y", *y}, {"width", width}, {"height", height}, {"strength", strength}};
+      extent_.add({*x - width / 2, *y - height / 2});
+      extent_.add({*x + width / 2, *y + height / 2});
     } else if (name == "agent" || name == "source") {
       clusters_.push_back(element);
       // The cluster's area (its attributes are checked, with errors, where its agents are made).
@@ -422,6 +436,7 @@ class PedsimImporter {
     out["world"] = {{"bounds", {{"min", {low_.x(), low_.y()}}, {"max", {high_.x(), high_.y()}}}}, {"walls", walls_}};
     if (resolution_ != kImportResolutions[0]) out["world"]["resolution"] = resolution_;
     out["locations"] = locations_;
+    if (!attractions_.empty()) out["attractions"] = attractions_;
     if (!queue_directions_.empty()) {
       ordered_json queues = ordered_json::object();
       for (const auto& [id, direction] : queue_directions_) {
@@ -451,7 +466,8 @@ class PedsimImporter {
   Extent extent_;
   std::map<std::string, Waypoint> waypoints_;
   std::map<std::string, double> queue_directions_;
-  std::set<std::string> sinks_;  ///< waypoints whose walkers leave the scene on reaching them (b="2")
+  std::set<std::string> sinks_;
+  ordered_json attractions_ = ordered_json::object();  ///< waypoints whose walkers leave the scene on reaching them (b="2")
   /// A source's cluster, its area and people per round, and their route's task.
   struct Source {
     const XMLElement* element;

@@ -274,6 +274,10 @@ class Loader {
       }
       model.social_spaces.push_back(std::move(space));
     }
+    for (const auto& [name, entry] : member(doc_, "attractions").items()) {
+      model.attractions.push_back({name, Vec2(entry["x"].get<double>(), entry["y"].get<double>()), entry.value("width", 1.0), entry.value("height", 1.0),
+                                   entry.value("strength", 1.0)});
+    }
     for (const auto& [name, entry] : member(doc_, "queues").items()) {
       context_.names.queues[name] = static_cast<int>(model.queues.size());
       model.queues.push_back({name, read_pose(entry), entry.value("spacing", kQueueSpacing), entry.value("service_time", kQueueServiceTime)});

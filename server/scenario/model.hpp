@@ -74,6 +74,21 @@ struct Queue {
   Pose2 place(int behind) const { return core::compose(head, {-behind * spacing, 0.0, 0.0}); }
 };
 
+/// An area that draws passers-by in for a while (Pedsim's <attraction>, pedsim_ros's shopping): a
+/// walking person within kAttractionReach of its centre turns aside with probability
+/// kAttractionRate × strength × (1 − d / kAttractionReach) per second, walks to a random point of the
+/// area, stays there an exponentially drawn time of mean 1 / kAttractionLeaveRate, then goes on.
+inline constexpr double kAttractionReach = 7.0;
+inline constexpr double kAttractionRate = 0.02;
+inline constexpr double kAttractionLeaveRate = 0.03;
+
+struct Attraction {
+  std::string name;
+  Vec2 centre = Vec2::Zero();
+  double width = 1.0, height = 1.0;  ///< the area, along x and y, m
+  double strength = 1.0;
+};
+
 struct SocialSpace {
   std::string name;
   Pose2 centre;
@@ -369,6 +384,7 @@ struct Model {
   std::vector<Location> locations;
   std::vector<SocialSpace> social_spaces;
   std::vector<Queue> queues;
+  std::vector<Attraction> attractions;
   std::vector<AgentDef> agents;  ///< humans then robots, each in file order
   std::vector<MovableObject> objects;
   std::vector<Group> groups;     ///< declared groups (members at the start) and groups formed later (empty)

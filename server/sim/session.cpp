@@ -10,6 +10,7 @@
 #include "core/text.hpp"
 #include "sim/choreography.hpp"
 #include "sim/doors_and_elevators.hpp"
+#include "sim/attractions.hpp"
 #include "sim/queues.hpp"
 #include "sim/robot_control.hpp"
 #include "sim/search.hpp"
@@ -65,6 +66,7 @@ State initial_state(const scenario::Model& model, std::uint64_t seed) {
       state.topics[elevator.topic + "/" + model.doors[door].name + "_state"] = "closed";
     }
   }
+  state.attraction_random = state.random.stream("attractions");
   for (const scenario::Queue& queue : model.queues) state.queues.push_back({{}, -1, state.random.stream("queues." + queue.name)});
   state.steps.resize(model.steps.size());
   for (const scenario::Request& scripted : model.requests) state.scheduled.push_back({scripted.time, scripted.robot, scripted.routine});  // kept sorted
@@ -126,6 +128,7 @@ void Session::tick() {
   update_requests(model, state_);
   update_choreography(model, state_);
   serve_queues(model, state_);
+  draw_people_to_attractions(model, state_);
   if (state_.finished) return;
   decide_robots(model, state_);
   walk(model, state_, walking_);

@@ -241,6 +241,7 @@ struct State {
   std::uint64_t events_digest = 0;  ///< hash of every event so far, kept by emit() (the hash reads this, not each event)
   std::vector<scenario::Action> commanded;  ///< actions given by textual commands, in order
   core::Random random;
+  core::Random attraction_random;  ///< who is drawn to an attraction, where to and for how long
   /// Robots with a model: motors, controllers, sensor readings and their random streams.
   std::vector<RobotRuntime> robots;
   /// Movable objects' poses after the last physics step (the physics world moves them).
@@ -257,7 +258,7 @@ struct State {
   std::string termination;  ///< "scenario_end", "timeout" or "goal" once finished
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, queues, requests, next_request_id, scheduled, events, events_digest, commanded, random, robots, object_poses, planning_history, time_limit, clock_start, sounds, speakers, finished, termination); }
+  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, queues, requests, next_request_id, scheduled, events, events_digest, commanded, random, attraction_random, robots, object_poses, planning_history, time_limit, clock_start, sounds, speakers, finished, termination); }
 };
 
 /// Hash of everything in the state, bit for bit.

@@ -294,8 +294,10 @@ TEST(ImportImhus, LiftFixtureCompletesWhenAHumanAnswersTheRobot) {
 
 TEST(ImportPedsim, OwnFixture) {
   const ImportResult imported = import_pedsim(read(kFixtures / "pedsim/hall.xml"), bundled());
-  EXPECT_TRUE(has_message(imported.warnings, 20, "unsupported element <attraction> ignored"));
   EXPECT_TRUE(has_message(imported.warnings, 10, "waypoint 'outside': no free point of its disc can be reached"));
+  EXPECT_EQ(imported.scenario["attractions"]["coffee"],
+            nlohmann::ordered_json::parse(R"({"x": 6.0, "y": 7.0, "width": 1.0, "height": 1.0, "strength": 1.0})"));
+  EXPECT_EQ(origin_line(imported, "/attractions/coffee"), 20);
   const auto model = load_imported(imported);
   ASSERT_TRUE(model);
   ASSERT_EQ(model->agents.size(), 5u);
