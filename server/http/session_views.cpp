@@ -110,7 +110,10 @@ json state_of(const Live& live, std::int64_t events_since_tick) {
                       {"behaviour", def.kind == scenario::AgentKind::human ? json(humans::behaviour_name(agent.behaviour.type)) : json()},
                       {"reacting_to", agent.reacting_to >= 0 ? json(session.model().agents[agent.reacting_to].id) : json()},
                       {"seat", sim::held_by_seat(agent) ? json(session.model().seats[agent.seat].name) : json()},
-                      {"carrying", agent.carried_object >= 0 ? json(session.model().objects[agent.carried_object].name) : json()}});
+                      {"carrying", agent.carried_object >= 0 ? json(session.model().objects[agent.carried_object].name) : json()},
+                      {"queue", agent.queue >= 0 ? json{{"name", session.model().queues[agent.queue].name},
+                                                        {"place", agent.queue_place >= 0 ? json(agent.queue_place) : json()}}
+                                                 : json()}});
   }
   json requests = json::array();
   for (const sim::OpenRequest& open : state.requests) {

@@ -60,6 +60,26 @@ TEST_F(SessionsApi, CreateStepReadAndDelete) {
   EXPECT_EQ(http(port(), "DELETE", "/api/v1/sessions/" + id).status, 404);
 }
 
+// The state says who queues where: a line's name and the place in it (null while walking to its end).
+TEST_F(SessionsApi, TheStateShowsWhoQueuesWhere) {
+  const json scenario = json::parse(R"({"name": "counter", "world": {"bounds": {"min": [0, 0], "max": [10, 10]}},
+    "queues": {"counter": {"x": 2, "y": 8, "theta": 1.5708, "service_time": 30}},
+    "humans": [{"id": "ana", "start": {"x": 3, "y": 7}}, {"id": "ben", "start": {"x": 9, "y": 1}}],
+    "steps": [{"name": "queue", "actions": [{"agent": "ana", "queue": "counter"}, {"agent": "ben", "queue": "counter"}]}]})");
+  const HttpReply stored = http(port(), "POST", "/api/v1/scenarios", scenario.dump(), "Content-Type: application/json\r\n");
+  ASSERT_EQ(stored.status, 201) << stored.body;
+  const std::string scenario_id = json_of(stored)["summary"]["id"];
+  const std::string id = json_of(http(port(), "POST", "/api/v1/sessions", json{{"scenario", scenario_id}, {"seed", 1}}.dump()))["id"];
+  http(port(), "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 30})");
+  const json early = json_of(http(port(), "GET", "/api/v1/sessions/" + id + "/state"));
+  EXPECT_EQ(early["agents"][0]["queue"], json::parse(R"({"name": "counter", "place": 0})")) << "ana is within 2 m of the head at once";
+  EXPECT_EQ(early["agents"][1]["queue"], json::parse(R"({"name": "counter", "place": null})")) << "ben walks to the end of the line";
+  http(port(), "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 900})");
+  const json later = json_of(http(port(), "GET", "/api/v1/sessions/" + id + "/state"));
+  EXPECT_EQ(later["agents"][1]["queue"], json::parse(R"({"name": "counter", "place": 1})"));
+  EXPECT_EQ(http(port(), "DELETE", "/api/v1/sessions/" + id).status, 204);
+}
+
 TEST_F(SessionsApi, SameSeedSameStateAndTheScenarioRunsToItsEnd) {
   const std::string a = create("elevator", 5), b = create("elevator", 5), c = create("elevator", 6);
   for (const std::string& id : {a, b, c}) {
