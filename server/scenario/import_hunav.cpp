@@ -423,9 +423,9 @@ class HunavImporter {
       actions.push_back(action);
     }
     ordered_json& out = result_.scenario;
-    const std::string file = options_.source_name.empty() ? std::string("file") : options_.source_name;
+    const std::string file = options_.source_name.empty() ? std::string("a HuNavSim agents file") : "the HuNavSim agents file " + options_.source_name;
     out["name"] = options_.source_name.empty() ? "hunav" : std::filesystem::path(options_.source_name).stem().string();
-    out["description"] = "Imported from the HuNavSim agents file " + file + (world_name_.empty() ? "" : " (world '" + world_name_ + "')") +
+    out["description"] = "Imported from " + file + (world_name_.empty() ? "" : " (world '" + world_name_ + "')") +
                          ": every person walks their goals (over and over when cyclic) with HuNavSim's behaviour, by the social "
                          "force model with HuNavSim's parameters.";
     out["world"] = world_json;
