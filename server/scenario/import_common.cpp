@@ -114,14 +114,17 @@ std::optional<double> XmlReader::number(const tinyxml2::XMLElement* element, con
   return optional_number(element, attribute);
 }
 
+bool check_utf8(std::string_view text, ImportResult& result) {
+  const auto bad = core::invalid_utf8_offset(text);
+  if (!bad) return true;
+  result.errors.push_back({line_at(text, *bad), "the document is not UTF-8 (byte " + std::to_string(*bad) + ")"});
+  return false;
+}
+
 bool parse_xml(std::string_view xml, tinyxml2::XMLDocument& document, ImportResult& result) {
   // XML without an encoding declaration is UTF-8; tinyxml2 does not check it, and names read from it
   // end up in JSON.
-  if (const auto bad = core::invalid_utf8_offset(xml)) {
-    const auto line = 1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(*bad), '\n');
-    result.errors.push_back({static_cast<int>(line), "the document is not UTF-8 (byte " + std::to_string(*bad) + ")"});
-    return false;
-  }
+  if (!check_utf8(xml, result)) return false;
   if (document.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
     if (auto explained = explain_malformed(xml)) {
       explained->message = "malformed XML: " + explained->message;

@@ -10,6 +10,7 @@
 #include "core/random.hpp"
 #include "core/text.hpp"
 #include "scenario/import.hpp"
+#include "scenario/xml_reader.hpp"
 
 namespace hrisim::scenario {
 namespace {
@@ -453,11 +454,7 @@ class HunavImporter {
 
 ImportResult import_hunav(std::string_view yaml, const ImportOptions& options) {
   ImportResult result;
-  if (const auto bad = core::invalid_utf8_offset(yaml)) {
-    result.errors.push_back({1 + static_cast<int>(std::count(yaml.begin(), yaml.begin() + static_cast<std::ptrdiff_t>(*bad), '\n')),
-                             "the document is not UTF-8 (byte " + std::to_string(*bad) + ")"});
-    return result;
-  }
+  if (!check_utf8(yaml, result)) return result;
   if (nesting_bound(yaml) > kMaxNesting) {
     result.errors.push_back({0, "the YAML nests more than " + std::to_string(kMaxNesting) + " levels deep; a HuNavSim agents file nests five"});
     return result;

@@ -257,7 +257,10 @@ class PedsimImporter {
       if (cluster->IntAttribute("type") == 2) continue;  // a robot's route is not walked
       const std::set<int> from = cluster_regions(cluster, regions);
       for (const XMLElement* child = cluster->FirstChildElement(); child; child = child->NextSiblingElement()) {
-        if (const char* id = child->Attribute("id")) starts[id].insert(from.begin(), from.end());
+        const char* id = child->Attribute("id");
+        if (!id) continue;
+        starts[id].insert(from.begin(), from.end());
+        if (sinks_.contains(id)) break;  // the rest of the route is never walked
       }
     }
     for (const auto& [id, waypoint] : waypoints_) {

@@ -33,6 +33,10 @@ class XmlReader {
   ImportResult& result_;
 };
 
+/// False (and the error, at its line) when the text is not UTF-8: names read from it end up in JSON.
+/// Every importer checks this first.
+bool check_utf8(std::string_view text, ImportResult& result);
+
 /// Parses the document; on malformed XML records the error with its line and returns false.
 bool parse_xml(std::string_view xml, tinyxml2::XMLDocument& document, ImportResult& result);
 

@@ -93,9 +93,9 @@ TEST(CliImport, ImhusToNativeJsonOnStdout) {
 }
 
 TEST(CliImport, FormatIsDetectedAndErrorsCarryLines) {
-  const CommandResult pedsim = run_command(kHrisim + " import " + kFixtures + "/pedsim/hall.xml");
+  const CommandResult pedsim = run_command(kHrisim + " import " + kFixtures + "/pedsim/bookshop.xml");
   EXPECT_EQ(pedsim.exit_status, 0);
-  EXPECT_NE(pedsim.output.find("hall.xml:10: warning: waypoint 'outside': no free point of its disc can be reached"), std::string::npos) << pedsim.output;
+  EXPECT_NE(pedsim.output.find("bookshop.xml:27: warning: <agent>: the robot agent's route is not walked"), std::string::npos) << pedsim.output;
   TempDir dir;
   std::ofstream(dir / "broken.xml") << "<agents>\n  <human id=\"a\"/>\n</agents>\n<goals>\n  <scenarios>\n    <s>\n      <step>\n"
                                        "        <goto_action entityID=\"a\" poseID=\"nowhere\"/>\n      </step>\n    </s>\n  </scenarios>\n</goals>\n";

@@ -6,6 +6,7 @@
 
 #include "scenario/load.hpp"
 #include "sim/session.hpp"
+#include "support/events.hpp"
 #include "support/scenarios.hpp"
 
 namespace hrisim::sim {
@@ -24,13 +25,7 @@ json counter(double service_time) {
                                              {"agent": "cai", "queue": "counter"}, {"agent": "dee", "queue": "counter"}]}]})"));
 }
 
-std::vector<const Event*> events_of(const Session& session, const std::string& kind) {
-  std::vector<const Event*> found;
-  for (const Event& event : session.state().events) {
-    if (event.kind == kind) found.push_back(&event);
-  }
-  return found;
-}
+using testing::events_of;
 
 TEST(Queues, PeopleLineUpInTheOrderTheyCameAndAreServedOneAtATime) {
   const auto model = testing::load_valid(counter(4.0));

@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "robots/controllers.hpp"
 #include "sim/session.hpp"
+#include "support/events.hpp"
 #include "support/scenarios.hpp"
 
 namespace hrisim::sim {
@@ -26,13 +27,7 @@ std::shared_ptr<const scenario::Model> with_hsr(const json& robot, const json& e
   return testing::load_valid(scenario);
 }
 
-std::vector<const Event*> events_of(const Session& session, const std::string& kind) {
-  std::vector<const Event*> found;
-  for (const Event& event : session.state().events) {
-    if (event.kind == kind) found.push_back(&event);
-  }
-  return found;
-}
+using testing::events_of;
 
 TEST(RobotSession, GoalControllerDrivesAroundTheTableToTheGoal) {
   Session session(with_hsr({{"controller", {{"type", "goal"}, {"goal", {{"pose", {{"x", 8}, {"y", 5}}}}}}}}), 1);

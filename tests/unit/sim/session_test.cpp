@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "episode/episode.hpp"
+#include "support/events.hpp"
 #include "support/scenarios.hpp"
 
 namespace hrisim::sim {
@@ -21,13 +22,7 @@ std::shared_ptr<const Model> model_of(const std::string& extra) {
   return model;
 }
 
-std::vector<const Event*> events_of(const Session& session, const std::string& kind) {
-  std::vector<const Event*> found;
-  for (const Event& event : session.state().events) {
-    if (event.kind == kind) found.push_back(&event);
-  }
-  return found;
-}
+using testing::events_of;
 
 double step_duration(const Session& session, int step) {
   const StepRecord& record = session.state().steps[step];
