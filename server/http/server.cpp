@@ -108,14 +108,13 @@ class Slot {
   std::string client_;
 };
 
-/// Runs deferred work on a worker (see complete()).
-Response run_deferred(std::function<Response()> work, const std::string& where) { return complete(Response::later(std::move(work)), where); }
-
-/// A WebSocket connection: one message read, answered (on the worker pool when deferred), its
-/// answer queued, then the next read — so answers come in the order of the messages. Writes go out one
-/// at a time from a queue; pushed frames join it at the peer's rate, and a slow reader loses the
-/// oldest queued frames, never answers. Beast's suggested server timeouts ping idle peers and drop
-/// dead ones.
+/// A WebSocket connection: one message read, answered, its answer queued, then the next read — so
+/// answers come in the order of the messages. The socket lives on a strand of the worker pool, so a
+/// message is read, answered (a step run) and its answer written on one worker thread, with no hand-over
+/// between threads; HTTP connections, on the I/O threads, are never held up by it. Writes go out one at
+/// a time from a queue, each message as one frame; pushed frames join the queue at the peer's rate, and
+/// a slow reader loses the oldest queued frames, never answers. Beast's suggested server timeouts ping
+/// idle peers and drop dead ones.
 class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
  public:
   WebSocketSession(tcp::socket&& socket, std::shared_ptr<WebSocketPeer> peer, std::shared_ptr<Shared> shared, std::unique_ptr<Slot> slot)
@@ -133,6 +132,9 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     }
     ws_.set_option(beast::websocket::stream_base::timeout::suggested(beast::role_type::server));
     ws_.read_message_max(kMaxWebSocketMessage);
+    // Whole messages as one frame each: Beast's default cuts them into 4 KB frames, which costs a
+    // 512 KiB camera frame 128 headers and as many writes.
+    ws_.auto_fragment(false);
     ws_.text(true);
     ws_.async_accept(upgrade, [self = shared_from_this()](beast::error_code ec) {
       if (ec) return;
@@ -168,20 +170,11 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
       std::fprintf(stderr, "hrisim: internal error on a WebSocket message: %s\n", e.what());
       response = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
     }
-    if (!response.deferred) {
-      send({std::move(response.body), response.content_type == kBinaryContentType, false});
-      schedule_push();
-      return read();
-    }
-    net::post(*shared_->workers, [self = shared_from_this(), work = std::move(response.deferred),
-                                  guard = net::make_work_guard(ws_.get_executor())]() mutable {
-      Response result = run_deferred(work, "a WebSocket");
-      net::post(self->ws_.get_executor(), [self, result = std::move(result)]() mutable {
-        self->send({std::move(result.body), result.content_type == kBinaryContentType, false});
-        self->schedule_push();
-        self->read();
-      });
-    });
+    // Already on a worker: deferred work runs here.
+    if (response.deferred) response = complete(std::move(response), "a WebSocket");
+    send({std::move(response.body), response.content_type == kBinaryContentType, false});
+    schedule_push();
+    read();
   }
 
   struct Outgoing {
@@ -302,28 +295,18 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
         self->pushing_ = false;
         return;
       }
-      self->push(std::make_shared<std::vector<Response>>(self->peer_->push_frames(self->dropped_)), 0);
+      self->push(self->peer_->push_frames(self->dropped_));
     });
   }
 
-  /// Makes the deferred frames from frames[next] on, one after another on the worker pool, then sends
-  /// them all at once, in order and next to each other (no answer comes between a state frame and
-  /// its image); then the timer is set again, so the next push never overtakes these.
-  void push(std::shared_ptr<std::vector<Response>> frames, std::size_t next) {
-    for (; next < frames->size(); ++next) {
-      if (!(*frames)[next].deferred) continue;
-      net::post(*shared_->workers, [self = shared_from_this(), frames, next, guard = net::make_work_guard(ws_.get_executor())]() mutable {
-        Response made = run_deferred((*frames)[next].deferred, "a pushed WebSocket frame");
-        net::post(self->ws_.get_executor(), [self, frames, next, made = std::move(made)]() mutable {
-          (*frames)[next] = std::move(made);
-          self->push(frames, next + 1);
-        });
-      });
-      return;
-    }
-    // A frame that failed is left out; the subscription's next push tries again.
+  /// Makes the deferred frames (on this worker), then sends them all at once, in order and next to each
+  /// other (no answer comes between a state frame and its image); then the timer is set again, so the
+  /// next push never overtakes these.
+  void push(std::vector<Response> frames) {
     const std::uint64_t group = ++push_groups_;
-    for (Response& frame : *frames) {
+    for (Response& frame : frames) {
+      if (frame.deferred) frame = complete(std::move(frame), "a pushed WebSocket frame");
+      // A frame that failed is left out; the subscription's next push tries again.
       if (frame.status < 400 && ws_.is_open()) send({std::move(frame.body), frame.content_type == kBinaryContentType, true, group});
     }
     pushing_ = false;
@@ -480,9 +463,9 @@ class Connection : public std::enable_shared_from_this<Connection> {
     if (!response.deferred) return finish(std::move(response), answered);
     // The work runs on the worker pool; the reply goes back through this connection's strand. The
     // guard keeps the I/O threads running until it has.
-    net::post(*shared_->workers, [self = shared_from_this(), work = std::move(response.deferred), answered = std::move(answered),
+    net::post(*shared_->workers, [self = shared_from_this(), response = std::move(response), answered = std::move(answered),
                                   guard = net::make_work_guard(stream_.get_executor())]() mutable {
-      Response result = run_deferred(work, answered.method + " " + answered.target);
+      Response result = complete(std::move(response), answered.method + " " + answered.target);
       net::post(self->stream_.get_executor(), [self, result = std::move(result), answered = std::move(answered)]() mutable {
         self->finish(std::move(result), answered);
       });
@@ -498,7 +481,13 @@ class Connection : public std::enable_shared_from_this<Connection> {
     auto outcome = shared_->router->upgrade(std::move(request));
     if (auto* refused = std::get_if<Response>(&outcome)) return send(std::move(*refused), message.version(), false, false);
     stream_.expires_never();
-    std::make_shared<WebSocketSession>(stream_.release_socket(), std::get<std::shared_ptr<WebSocketPeer>>(outcome), shared_, std::move(slot_))
+    // The socket moves from the I/O threads to a strand of the worker pool (see WebSocketSession).
+    tcp::socket on_io = stream_.release_socket();
+    beast::error_code ec;
+    const auto protocol = on_io.local_endpoint(ec).protocol();
+    if (ec) return;  // the peer is already gone
+    tcp::socket on_workers(net::make_strand(shared_->workers->get_executor()), protocol, on_io.release());
+    std::make_shared<WebSocketSession>(std::move(on_workers), std::get<std::shared_ptr<WebSocketPeer>>(outcome), shared_, std::move(slot_))
         ->start(std::move(message));
   }
 
@@ -668,6 +657,9 @@ class Server::Impl {
         shared_(std::make_shared<Shared>()) {
     shared_->router = std::move(router);
     shared_->workers = &workers_;
+    // The pool's event loop (epoll and its descriptors) comes with its first I/O object: made now, so
+    // the server holds as many descriptors from its start as after its first WebSocket.
+    net::steady_timer{workers_.get_executor()};
     beast::error_code ec;
     const auto address = net::ip::make_address(options.host, ec);
     if (ec) {

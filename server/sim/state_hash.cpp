@@ -21,7 +21,7 @@ static_assert(sizeof(DoorState) == 16, "DoorState changed: list every member in 
 static_assert(sizeof(ElevatorState) == 112, "ElevatorState changed: list every member in its fields()");
 static_assert(sizeof(Message) == 64, "Message changed: list every member in its fields()");
 static_assert(sizeof(QueueState) == 88, "QueueState changed: list every member in its fields()");
-static_assert(sizeof(State) == 664, "State changed: list every member in its fields()");
+static_assert(sizeof(State) == 672, "State changed: list every member in its fields()");
 
 template <class T>
 concept WithFields = requires(const T& value) { value.fields(); };

@@ -29,13 +29,29 @@ std::vector<std::size_t> sorted(std::vector<std::size_t> cells) {
 PathPlanner::PathPlanner(const OccupancyGrid& grid, const DistanceField& field) : grid_(grid), field_(field) {}
 
 void PlanningHistory::hash(core::StateHasher& hasher) const {
-  hasher.add(static_cast<std::uint64_t>(searched_cells_.size())).add(static_cast<std::uint64_t>(field_descents_));
-  for (const auto& [key, cells] : searched_cells_) {
-    const auto& [goal, radius, blocked] = key;
-    hasher.add(static_cast<std::uint64_t>(goal)).add(radius).add(static_cast<std::uint64_t>(blocked.size()));
-    for (const std::size_t cell : blocked) hasher.add(static_cast<std::uint64_t>(cell));
-    hasher.add(static_cast<std::uint64_t>(cells));
-  }
+  hasher.add(static_cast<std::uint64_t>(searched_cells_.size())).add(static_cast<std::uint64_t>(field_descents_)).add(digest_);
+}
+
+std::uint64_t PlanningHistory::entry_digest(const PlanKey& key, std::size_t cells) {
+  const auto& [goal, radius, blocked] = key;
+  core::StateHasher hasher;
+  hasher.add(static_cast<std::uint64_t>(goal)).add(radius).add(static_cast<std::uint64_t>(blocked.size()));
+  for (const std::size_t cell : blocked) hasher.add(static_cast<std::uint64_t>(cell));
+  return hasher.add(static_cast<std::uint64_t>(cells)).value();
+}
+
+std::map<PlanKey, std::size_t>::iterator PlanningHistory::entry(const PlanKey& key) {
+  auto found = searched_cells_.find(key);
+  if (found != searched_cells_.end()) return found;
+  if (searched_cells_.size() >= kPlanningHistoryGoals) clear();
+  digest_ += entry_digest(key, 0);
+  return searched_cells_.emplace(key, 0).first;
+}
+
+void PlanningHistory::set_searched(std::map<PlanKey, std::size_t>::iterator entry, std::size_t cells) {
+  if (entry->second == cells) return;
+  digest_ += entry_digest(entry->first, cells) - entry_digest(entry->first, entry->second);
+  entry->second = cells;
 }
 
 bool PathPlanner::traversable(std::size_t cell, double radius, const std::vector<std::size_t>& blocked_cells) const {
@@ -228,11 +244,7 @@ std::optional<std::vector<Vec2>> PathPlanner::plan(const Vec2& start, const Vec2
   const auto goal_cell = nearest_traversable(grid_.index(goal_index), radius, blocked);
   if (!start_cell || !goal_cell) return std::nullopt;
   const PlanKey key{*goal_cell, static_cast<int>(std::lround(radius * 1000.0)), blocked};
-  auto searched = history.searched_cells_.find(key);
-  if (searched == history.searched_cells_.end()) {
-    if (history.searched_cells_.size() >= kPlanningHistoryGoals) history.clear();
-    searched = history.searched_cells_.emplace(key, 0).first;
-  }
+  const auto searched = history.entry(key);
   std::vector<std::size_t> cells;
   if (searched->second >= grid_.size()) {
     ++history.field_descents_;
@@ -252,7 +264,9 @@ std::optional<std::vector<Vec2>> PathPlanner::plan(const Vec2& start, const Vec2
       cells.push_back(index);
     }
   } else {
-    auto found = a_star(*start_cell, *goal_cell, radius, blocked, searched->second);
+    std::size_t searched_cells = searched->second;
+    auto found = a_star(*start_cell, *goal_cell, radius, blocked, searched_cells);
+    history.set_searched(searched, searched_cells);
     if (!found) return std::nullopt;
     cells = std::move(*found);
   }

@@ -35,15 +35,26 @@ using PlanKey = std::tuple<std::size_t, int, std::vector<std::size_t>>;
 /// The search work one caller (a session) has spent per goal; owned by the caller.
 class PlanningHistory {
  public:
-  void clear() { searched_cells_.clear(); }
+  void clear() {
+    searched_cells_.clear();
+    digest_ = 0;
+  }
   /// Requests answered from a goal's field rather than by a search.
   std::size_t field_descents() const { return field_descents_; }
-  /// Adds everything it holds to a state hash.
+  /// Adds everything it holds to a state hash, in constant time: a digest of the goals is kept as they
+  /// change, since the hash is taken every tick and the history grows with the session.
   void hash(core::StateHasher& hasher) const;
 
  private:
   friend class PathPlanner;
+  /// A goal's entry, created with nothing searched if new.
+  std::map<PlanKey, std::size_t>::iterator entry(const PlanKey& key);
+  /// Sets how many cells were searched for an entry's goal.
+  void set_searched(std::map<PlanKey, std::size_t>::iterator entry, std::size_t cells);
+  static std::uint64_t entry_digest(const PlanKey& key, std::size_t cells);
+
   std::map<PlanKey, std::size_t> searched_cells_;
+  std::uint64_t digest_ = 0;  ///< the sum of entry_digest over the entries: order-free, updated per change
   std::size_t field_descents_ = 0;
 };
 
