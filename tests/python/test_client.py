@@ -28,6 +28,7 @@ except ImportError:  # e.g. a python3 other than Debian's, which has python3-num
     raise unittest.SkipTest("numpy is not installed for %s" % sys.executable)
 
 import hrisim  # noqa: E402
+from hrisim._websocket import WebSocketClosed  # noqa: E402
 
 BINARY = os.environ.get("HRISIM_BINARY")
 LISTENING = re.compile(r"listening on (http://127\.0\.0\.1:\d+)")
@@ -177,6 +178,19 @@ class EnvTest(unittest.TestCase):
         with self.assertRaises(hrisim.HrisimError) as caught:
             env.camera("no_such_camera")
         self.assertEqual(caught.exception.code, "not_found")
+
+    def test_a_session_deleted_elsewhere_closes_its_socket_with_the_reason(self):
+        env = self.make()
+        env.reset()
+        env.step([0.0, 0.0])
+        hrisim.Client(SERVER.url).delete_session(env.session_id)
+        with self.assertRaises(WebSocketClosed) as caught:
+            for _ in range(2):  # a message the server was already waiting for is answered first
+                with self.assertRaises(hrisim.HrisimError) as answer:
+                    env.step([0.0, 0.0])
+                self.assertEqual(answer.exception.code, "not_found")
+        self.assertEqual(caught.exception.code, 1000)
+        self.assertEqual(caught.exception.reason, "session %s ended" % env.session_id)
 
     def test_close_deletes_the_session(self):
         env = hrisim.make("elevator", url=SERVER.url)
