@@ -140,25 +140,30 @@ json give_commands(Live& live, const json& commands) {
 /// Advances up to `steps` environment steps (the session's lock held; each the task's frame skip in
 /// ticks, one tick without a task): the status, the events of those steps, and Gymnasium's terminated
 /// (the task's ending, or the scenario's last step done) and truncated (its time limit).
-json step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action) {
+std::string step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action, std::string_view type) {
   const sim::Session& session = live.session();
   if (action && !live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act", {{"pointer", "/action"}});
   const double reward = live.episode->step(action, steps);
-  json reply = status_of(live);
+  // Written directly, not built as a tree: learning code asks for thousands of these a second.
+  core::JsonWriter out;
+  out.begin_object();
+  if (!type.empty()) out.key("type").value(type);
+  write_status(out, live);
   // Gymnasium's step: observation, reward (summed over the steps), terminated, truncated, info.
-  add_observation(live, reply);
-  reply["reward"] = reward;
+  write_observation(out, live);
+  out.key("reward").value(reward);
   // Each event is in exactly one step reply: those since the last reply, including what commands and
   // the session's start gave between steps. (Counted, not dated: a step stamps some events with the
   // tick it starts at.)
-  json events = json::array();
+  out.key("events").begin_array();
   const auto& all = session.state().events;
-  for (std::size_t e = live.events_reported; e < all.size(); ++e) events.push_back(event_json(all[e]));
+  for (std::size_t e = live.events_reported; e < all.size(); ++e) out.value(event_json(all[e]));
+  out.end_array();
   live.events_reported = all.size();
-  reply["events"] = events;
-  reply["terminated"] = session.state().termination == "scenario_end" || session.state().termination == "goal";
-  reply["truncated"] = session.state().termination == "timeout";
-  return reply;
+  out.key("terminated").value(session.state().termination == "scenario_end" || session.state().termination == "goal");
+  out.key("truncated").value(session.state().termination == "timeout");
+  out.end_object();
+  return out.take();
 }
 
 /// Keeps the episode's present point as a snapshot (the session's lock held).

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "episode/episode.hpp"
@@ -20,9 +21,10 @@ void check_lockstep(const Live& live);
 /// Gives a list of commands, each checked before any is given.
 nlohmann::json give_commands(Live& live, const nlohmann::json& commands);
 /// Advances up to `steps` environment steps (each the task's frame skip in ticks, one tick without a
-/// task): the status, the events of those steps, and Gymnasium's terminated (the task's ending, or the
+/// task): the reply's JSON text — its `type` first when given (a WebSocket's), the status, the events
+/// of those steps, Gymnasium's observation, reward, info, terminated (the task's ending, or the
 /// scenario's last step done) and truncated (its time limit).
-nlohmann::json step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action = std::nullopt);
+std::string step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action, std::string_view type = {});
 /// Keeps the episode's present point as a snapshot.
 nlohmann::json take_snapshot(Live& live);
 /// Goes back (or forth) to the snapshot the body names: the episode again from its start with the

@@ -89,7 +89,7 @@ class SessionSocket : public WebSocketPeer {
     return Response::later([live, steps, action] {
       try {
         std::lock_guard lock(live->mutex);
-        return reply("step", step_session(*live, steps, action));
+        return Response{200, "application/json", step_session(*live, steps, action, "step"), {}, {}};
       } catch (const core::Error& e) {
         return failure(e);
       }

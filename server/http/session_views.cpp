@@ -50,31 +50,48 @@ json clock_reading(const sim::Session& session) {
 
 }  // namespace
 
-json status_of(const Live& live) {
+void write_status(core::JsonWriter& out, const Live& live) {
   const sim::Session& session = live.session();
   const sim::State& state = session.state();
   const bool in_step = state.current_step < static_cast<int>(session.model().steps.size());
-  const json current_step = in_step ? json{{"index", state.current_step}, {"name", session.model().steps[state.current_step].name}} : json();
-  return {{"id", live.id},
-          {"scenario", live.scenario},
-          {"seed", live.seed},
-          {"mode", live.mode},
-          {"realtime_factor", live.mode == "realtime" ? json(live.realtime_factor) : json()},
-          {"controller", live.controller ? *live.controller : json()},
-          {"connected_clients", live.clients->load()},
-          {"tick", state.tick},
-          {"time", session.time()},
-          {"dt", session.model().dt},
-          {"clock", clock_reading(session)},
-          {"status", state.finished ? "finished" : "running"},
-          {"termination", state.finished ? json(state.termination) : json()},
-          {"current_step", current_step},
-          {"step", current_step},  // the former name, kept for one version
-          {"task", session.model().task && live.environment() ? json{{"name", session.model().task->name},
-                                                                     {"step_ticks", live.environment()->step_ticks()},
-                                                                     {"terminated", live.environment()->terminated()}}
-                                                              : json()},
-          {"state_hash", session.state_hash_hex()}};
+  const auto current_step = [&] {
+    if (in_step) {
+      out.begin_object().key("index").value(state.current_step).key("name").value(session.model().steps[state.current_step].name).end_object();
+    } else {
+      out.null();
+    }
+  };
+  out.key("id").value(live.id).key("scenario").value(live.scenario).key("seed").value(live.seed).key("mode").value(live.mode);
+  out.key("realtime_factor");
+  live.mode == "realtime" ? out.value(live.realtime_factor) : out.null();
+  out.key("controller");
+  live.controller ? out.value(*live.controller) : out.null();
+  out.key("connected_clients").value(live.clients->load());
+  out.key("tick").value(state.tick).key("time").value(session.time()).key("dt").value(session.model().dt);
+  out.key("clock").value(clock_reading(session));
+  out.key("status").value(state.finished ? "finished" : "running");
+  out.key("termination");
+  state.finished ? out.value(state.termination) : out.null();
+  out.key("current_step");
+  current_step();
+  out.key("step");  // the former name, kept for one version
+  current_step();
+  out.key("task");
+  if (session.model().task && live.environment()) {
+    out.begin_object().key("name").value(session.model().task->name).key("step_ticks").value(live.environment()->step_ticks());
+    out.key("terminated").value(live.environment()->terminated()).end_object();
+  } else {
+    out.null();
+  }
+  out.key("state_hash").value(session.state_hash_hex());
+}
+
+json status_of(const Live& live) {
+  core::JsonWriter out;
+  out.begin_object();
+  write_status(out, live);
+  out.end_object();
+  return json::parse(out.text());
 }
 
 /// Every agent's pose and motion, requests waiting for an answer, and the events since a tick.
@@ -253,11 +270,25 @@ json poses_of(const sim::Session& session) {
 
 /// Gymnasium's observation and info now: the observation null when it is a camera image (fetched as
 /// a binary camera frame), info the tick, time and the last step's reward terms.
-void add_observation(const Live& live, json& reply) {
+void write_observation(core::JsonWriter& out, const Live& live) {
   const sim::Session& session = live.session();
-  reply["observation"] = live.environment() && !live.environment()->image() ? json(live.environment()->observe(session)) : json();
-  reply["info"] = {{"tick", session.state().tick}, {"time", session.time()}};
-  if (live.environment()) reply["info"].update(live.environment()->info());
+  out.key("observation");
+  if (live.environment() && !live.environment()->image()) {
+    out.value(std::span<const double>(live.environment()->observe(session)));
+  } else {
+    out.null();
+  }
+  out.key("info").begin_object().key("tick").value(session.state().tick).key("time").value(session.time());
+  if (live.environment()) out.members(live.environment()->info());
+  out.end_object();
+}
+
+void add_observation(const Live& live, json& reply) {
+  core::JsonWriter out;
+  out.begin_object();
+  write_observation(out, live);
+  out.end_object();
+  reply.update(json::parse(out.text()));
 }
 
 json snapshot_json(const std::string& id, const episode::Episode::Snapshot& snapshot) {

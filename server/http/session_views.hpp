@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "core/json_writer.hpp"
 #include "episode/episode.hpp"
 #include "http/live_sessions.hpp"
 #include "sim/scene_view.hpp"
@@ -18,7 +19,9 @@ namespace hrisim::http {
 inline constexpr double kMaxPushRate = 60.0;
 
 nlohmann::json event_json(const sim::Event& event);
-/// Status of a session: id, scenario, seed, mode, tick, time, its end, the choreography step, the task, the state hash.
+/// Status of a session: id, scenario, seed, mode, tick, time, its end, the choreography step, the task,
+/// the state hash; as members of an object being written, or as a JSON object.
+void write_status(core::JsonWriter& out, const Live& live);
 nlohmann::json status_of(const Live& live);
 /// Every agent's pose and motion, requests waiting for an answer, and the events since a tick.
 nlohmann::json state_of(const Live& live, std::int64_t events_since_tick);
@@ -36,7 +39,9 @@ nlohmann::json sensors_of(const sim::Session& session, const std::string& name);
 /// Every agent's and movable object's pose.
 nlohmann::json poses_of(const sim::Session& session);
 /// Gymnasium's observation and info now: the observation null when it is a camera image (fetched as
-/// a binary camera frame), info the tick, time and the last step's reward terms.
+/// a binary camera frame), info the tick, time and the last step's reward terms; as members of an
+/// object being written, or added to a JSON object.
+void write_observation(core::JsonWriter& out, const Live& live);
 void add_observation(const Live& live, nlohmann::json& reply);
 nlohmann::json snapshot_json(const std::string& id, const episode::Episode::Snapshot& snapshot);
 /// A robot's laser reading by sensor name (the first laser when empty), as a binary frame.

@@ -234,7 +234,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     // Stepping may take long: on the worker pool, never on an I/O thread.
     return Response::later([live, steps, action] {
       std::lock_guard lock(live->mutex);
-      return Response::json(200, step_session(*live, steps, action));
+      return Response{200, "application/json", step_session(*live, steps, action), {}, {}};
     });
   });
 
