@@ -22,8 +22,10 @@ class Random {
   double uniform();
   /// Uniform in [low, high).
   double uniform(double low, double high);
-  /// Normal with the given mean and standard deviation (Box–Muller, both values used in turn).
+  /// Normal with the given mean and standard deviation (the ziggurat method: exact, and mostly one
+  /// draw and one multiplication).
   double normal(double mean, double stddev);
+  double standard_normal();
 
   std::uint64_t seed() const { return seed_; }
   /// The generator's whole state, for state hashes.
@@ -32,8 +34,6 @@ class Random {
  private:
   std::uint64_t seed_;
   std::array<std::uint64_t, 4> state_{};
-  double spare_normal_ = 0.0;
-  bool has_spare_normal_ = false;
 };
 
 /// `prefix` and 128 bits from the operating system's random source, in hex: ids of uploaded

@@ -118,7 +118,9 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
   }));
   session.command_robot_twist(hsr, {-0.2, 0.0});
   for (int i = 0; i < 200; ++i) session.tick();
-  EXPECT_EQ(events_of(session, "contact_end").size(), started.size());
+  // Every contact that started has ended (she may brush the robot again as she steps about).
+  const std::size_t touches = events_of(session, "contact_start").size();
+  EXPECT_EQ(events_of(session, "contact_end").size(), touches);
   EXPECT_TRUE(session.robot_runtime(hsr)->contacts.empty());
   // A robot taken out of the session stops sensing and touching; the others go on.
   const RobotRuntime* runtime = session.robot_runtime(hsr);
@@ -127,7 +129,7 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
   session.remove_agent(hsr);
   for (int i = 0; i < 200; ++i) session.tick();
   EXPECT_EQ(runtime->lasers.front().reading.tick, last_scan);
-  EXPECT_EQ(events_of(session, "contact_start").size(), started.size()) << "no contacts of a removed robot";
+  EXPECT_EQ(events_of(session, "contact_start").size(), touches) << "no contacts of a removed robot";
   EXPECT_THROW(session.robot_runtime(hsr), core::Error) << "its id is stale";
 }
 
