@@ -19,6 +19,15 @@ Eigen::Isometry3d to_isometry(const Pose3& pose) {
 Robot::Robot(std::shared_ptr<const RobotDescription> description, const Pose2& start, double dt,
              const std::map<std::string, double>& initial_joints)
     : description_(std::move(description)), dt_(dt), pose_(start) {
+  auto chain = std::make_shared<Chain>();
+  for (const Joint& joint : description_->joints) {
+    chain->joints.push_back({description_->find_link(joint.parent), description_->find_link(joint.child), to_isometry(joint.origin)});
+  }
+  for (const Link& link : description_->links) chain->collision_origins.push_back(to_isometry(link.collision_origin));
+  for (const Sensor& sensor : description_->sensors) {
+    chain->sensors.push_back({static_cast<std::size_t>(description_->find_link(sensor.link)), to_isometry(sensor.origin)});
+  }
+  chain_ = std::move(chain);
   for (const Joint& joint : description_->joints) {
     if (joint.type == JointType::fixed || joint.mimic) {
       motors_.emplace_back();
@@ -178,13 +187,15 @@ std::vector<Eigen::Isometry3d> Robot::link_poses(const Configuration& configurat
       motion.rotate(Eigen::AngleAxisd(q, joint.axis));
     }
     // The loader guarantees parents come first, so the parent's pose is final here.
-    poses[description_->find_link(joint.child)] = poses[description_->find_link(joint.parent)] * to_isometry(joint.origin) * motion;
+    const Chain::Link& link = chain_->joints[j];
+    poses[static_cast<std::size_t>(link.child)] = poses[static_cast<std::size_t>(link.parent)] * link.origin * motion;
   }
   return poses;
 }
 
 Eigen::Isometry3d Robot::sensor_pose(const Sensor& sensor) const {
-  return link_poses()[description_->find_link(sensor.link)] * to_isometry(sensor.origin);
+  const Chain::Mount& mount = chain_->sensors.at(static_cast<std::size_t>(&sensor - description_->sensors.data()));
+  return link_poses()[mount.link] * mount.origin;
 }
 
 void Robot::hash(core::StateHasher& hasher) const {

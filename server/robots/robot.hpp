@@ -79,13 +79,32 @@ class Robot {
   /// Something solid stopped the last step a share `t` of the way from `from`: the base and the joints
   /// go back to that point, and the wheels', joints' and base's velocities become the share they achieved.
   void stop_at(const Configuration& from, double t);
-  /// A sensor's pose in the map frame.
+  /// A sensor's pose in the map frame (one of this robot's description).
   Eigen::Isometry3d sensor_pose(const Sensor& sensor) const;
+  /// Where a link's collision shape sits in the link's frame (its collision_origin as a transform).
+  const Eigen::Isometry3d& collision_origin(std::size_t link) const { return chain_->collision_origins[link]; }
 
   void hash(core::StateHasher& hasher) const;
 
  private:
+  /// The description's tree as link indices and fixed transforms, worked out once: a step asks for
+  /// the links' poses several times (sensors, the sweep against obstacles, the physics bodies).
+  struct Chain {
+    struct Link {
+      int parent = 0, child = 0;
+      Eigen::Isometry3d origin;  ///< the joint's origin
+    };
+    std::vector<Link> joints;  ///< in the description's order (parents first)
+    std::vector<Eigen::Isometry3d> collision_origins;  ///< per link
+    struct Mount {
+      std::size_t link = 0;
+      Eigen::Isometry3d origin;
+    };
+    std::vector<Mount> sensors;  ///< per sensor of the description
+  };
+
   std::shared_ptr<const RobotDescription> description_;
+  std::shared_ptr<const Chain> chain_;
   double dt_;
   Pose2 pose_;
   Twist twist_;

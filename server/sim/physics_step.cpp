@@ -99,8 +99,7 @@ Hand hand_of(const RobotRuntime& runtime, const std::vector<int>& links) {
 void place_fingers(physics::PhysicsWorld& world, const robots::Robot& robot, const Hand& hand, double position) {
   const std::vector<Eigen::Isometry3d> poses = robot.link_poses(robot.configuration_with_gripper_at(position));
   for (std::size_t f = 0; f < hand.fingers.size(); ++f) {
-    const robots::Link& link = robot.description().links[hand.finger_links[f]];
-    world.set_kinematic_pose(hand.fingers[f], poses[hand.finger_links[f]] * robots::to_isometry(link.collision_origin));
+    world.set_kinematic_pose(hand.fingers[f], poses[hand.finger_links[f]] * robot.collision_origin(hand.finger_links[f]));
   }
 }
 
@@ -275,7 +274,7 @@ PhysicsBodies build_physics(const scenario::Model& model, State& state, const Hu
     std::vector<int>& links = physics.robot_links.emplace_back();
     for (std::size_t l = 0; l < description.links.size(); ++l) {
       const robots::Link& link = description.links[l];
-      links.push_back(link.collision ? world.add_kinematic(*link.collision, poses[l] * robots::to_isometry(link.collision_origin),
+      links.push_back(link.collision ? world.add_kinematic(*link.collision, poses[l] * runtime.robot.collision_origin(l),
                                                            {BodyOwner::Kind::robot, runtime.agent, link.name})
                                      : -1);
     }
@@ -329,10 +328,9 @@ void place_people_and_doors(const scenario::Model& model, const State& state, Ph
 double free_share(PhysicsBodies& physics, std::size_t robot, const robots::Robot& moved, const robots::Configuration& from) {
   physics::PhysicsWorld& world = *physics.world;
   const std::vector<int>& links = physics.robot_links[robot];
-  const auto& description = moved.description().links;
   const robots::Configuration to = moved.configuration();
   const auto clearance = [&](std::size_t l, const std::vector<Eigen::Isometry3d>& poses) {
-    return world.clearance(links[l], poses[l] * robots::to_isometry(description[l].collision_origin), physics::kContactDistance);
+    return world.clearance(links[l], poses[l] * moved.collision_origin(l), physics::kContactDistance);
   };
   const auto poses_at = [&](double t) { return moved.link_poses(robots::between(from, to, t)); };
   // Enough samples that no link moves farther than kSweepStep between two: none jumps a thin wall.
@@ -388,7 +386,7 @@ void step_physics(const scenario::Model& model, State& state, PhysicsBodies& phy
     const auto poses = runtime.robot.link_poses();
     const auto& description = runtime.robot.description().links;
     for (std::size_t l = 0; l < description.size(); ++l) {
-      if (links[l] >= 0) world.set_kinematic_pose(links[l], poses[l] * robots::to_isometry(description[l].collision_origin));
+      if (links[l] >= 0) world.set_kinematic_pose(links[l], poses[l] * runtime.robot.collision_origin(l));
     }
   }
   hand_over_carried(model, state, physics, bodies);

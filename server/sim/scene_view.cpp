@@ -175,7 +175,7 @@ render::Scene scene_of(const Session& session) {
       const auto& links = runtime->robot.description().links;
       for (std::size_t l = 0; l < links.size(); ++l) {
         if (!links[l].collision) continue;
-        const Eigen::Isometry3d pose = poses[l] * robots::to_isometry(links[l].collision_origin);
+        const Eigen::Isometry3d pose = poses[l] * runtime->robot.collision_origin(l);
         scene.push_back(part_of(*links[l].collision, pose, l <= 1 ? kRobotBaseColour : kRobotBodyColour,
                                 kRobotLinkIdBase + static_cast<std::uint32_t>(a) * 1000 + static_cast<std::uint32_t>(l)));
       }
