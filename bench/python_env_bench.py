@@ -4,7 +4,8 @@ with its 256×256 RGB-D observation, one environment and several stepped togethe
 
     bench/python_env_bench.py URL [STEPS] [REPEATS]
 
-against a running server (a Release build: ./scripts/serve). Prints one line per case: the median
+against a running server (a Release build: ./scripts/serve; the VectorEnv of 16 needs 16 sessions,
+`--max-sessions 16` or more). Prints one line per case: the median
 steps per second of REPEATS runs of STEPS steps each (zero actions; episodes that end are reset, as
 in training, and the reset counts in the time).
 """
@@ -47,6 +48,7 @@ def main():
         ("approach_human, frame skip 10, 1 env", "approach_human", 1, steps),
         ("approach_human, frame skip 1, VectorEnv of 2", approach_1, 2, steps),
         ("approach_human, frame skip 1, VectorEnv of 4", approach_1, 4, steps),
+        ("approach_human, frame skip 1, VectorEnv of 16", approach_1, 16, 4 * steps),
         ("mirror_gesture, RGB-D 256x256, frame skip 10, 1 env", "mirror_gesture", 1, steps // 10),
         ("mirror_gesture, RGB-D 256x256, frame skip 10, VectorEnv of 2", "mirror_gesture", 2, steps // 10),
     ]

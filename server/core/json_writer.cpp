@@ -131,6 +131,12 @@ JsonWriter& JsonWriter::value(std::span<const double> numbers) {
   return end_array();
 }
 
+JsonWriter& JsonWriter::raw(std::string_view json_text) {
+  separate();
+  out_ += json_text;
+  return *this;
+}
+
 JsonWriter& JsonWriter::members(const nlohmann::json& object) {
   for (const auto& [name, member] : object.items()) key(name).value(member);
   return *this;

@@ -34,6 +34,8 @@ class JsonWriter {
   JsonWriter& value(const nlohmann::json& tree);
   JsonWriter& value(std::span<const double> numbers);
 
+  /// A value already written as JSON text (a reply made elsewhere), inserted as it is.
+  JsonWriter& raw(std::string_view json_text);
   /// The members of `object` (a JSON object) into the object being written.
   JsonWriter& members(const nlohmann::json& object);
 

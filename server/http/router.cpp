@@ -56,6 +56,12 @@ Response Response::later(std::function<Response()> work) {
   return response;
 }
 
+Response Response::spread_over(std::vector<std::function<Response()>> parts, std::function<Response(std::vector<Response>)> join) {
+  Response response;
+  response.spread = std::make_shared<Spread>(Spread{std::move(parts), std::move(join)});
+  return response;
+}
+
 void Router::add(std::string method, std::string pattern, Handler handler) {
   routes_.push_back({std::move(method), split_path(pattern), std::move(handler)});
 }
@@ -121,7 +127,16 @@ Response Router::dispatch(Request request) const {
 
 Response complete(Response response, const std::string& where) {
   try {
-    while (response.deferred) response = response.deferred();
+    // One after another here; the server shares a spread's parts out over its workers instead.
+    while (response.deferred || response.spread) {
+      if (response.deferred) {
+        response = response.deferred();
+        continue;
+      }
+      std::vector<Response> answers;
+      for (auto& part : response.spread->parts) answers.push_back(complete(Response::later(std::move(part)), where));
+      response = response.spread->join(std::move(answers));
+    }
     return response;
   } catch (const core::Error& e) {
     return Response::error(e);

@@ -41,11 +41,22 @@ struct Response {
   /// work (stepping a simulation) never holds an I/O thread; the other fields are then ignored.
   std::function<Response()> deferred;
 
+  /// When set, independent pieces of work that may run at once on the worker pool, and what makes the
+  /// answer from their answers (in their order) once all are done; the other fields are then ignored.
+  struct Spread {
+    std::vector<std::function<Response()>> parts;
+    std::function<Response(std::vector<Response>)> join;
+  };
+  std::shared_ptr<Spread> spread = nullptr;
+
   static Response json(int status, const nlohmann::json& value);
   /// {"error":{code,message,details}} with the error's HTTP status.
   static Response error(const core::Error& error);
   /// An answer computed later on the worker pool by `work` (which may throw core::Error).
   static Response later(std::function<Response()> work);
+  /// An answer joined from parts computed at once on the worker pool (each may throw core::Error and
+  /// then gives its error answer to the join).
+  static Response spread_over(std::vector<std::function<Response()>> parts, std::function<Response(std::vector<Response>)> join);
 };
 
 using Handler = std::function<Response(const Request&)>;
@@ -116,9 +127,9 @@ class Router {
   std::function<std::optional<Response>(Request&)> guard_;
 };
 
-/// Runs a response's deferred work (and any work it hands on) until the answer is there, on the calling
-/// thread: a core::Error becomes its JSON error, a JSON type error a 400, anything else a 500 logged
-/// with `where`.
+/// Runs a response's deferred work (and any work it hands on, a spread's parts one after another) until
+/// the answer is there, on the calling thread: a core::Error becomes its JSON error, a JSON type error
+/// a 400, anything else a 500 logged with `where`.
 Response complete(Response response, const std::string& where);
 
 /// Whether `caller` may see something `owner` made.

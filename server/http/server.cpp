@@ -108,6 +108,34 @@ class Slot {
   std::string client_;
 };
 
+/// Brings a response to its answer on the worker pool (the caller is on a worker): deferred work runs
+/// on this thread; a spread's parts are shared out over the pool, this thread taking the first, and the
+/// worker that finishes the last part joins them. `done` gets the answer on that thread.
+void answer_on_workers(net::thread_pool& workers, Response response, const std::string& where, std::function<void(Response)> done) {
+  if (!response.spread || response.spread->parts.empty()) return done(complete(std::move(response), where));
+  struct Gathering {
+    std::shared_ptr<Response::Spread> spread;
+    std::vector<Response> answers;
+    std::atomic<std::size_t> left;
+    std::string where;
+    std::function<void(Response)> done;
+  };
+  const std::size_t parts = response.spread->parts.size();
+  auto gathering = std::make_shared<Gathering>();
+  gathering->spread = std::move(response.spread);
+  gathering->answers.resize(parts);
+  gathering->left = parts;
+  gathering->where = where;
+  gathering->done = std::move(done);
+  const auto run = [gathering](std::size_t part) {
+    gathering->answers[part] = complete(Response::later(std::move(gathering->spread->parts[part])), gathering->where);
+    if (gathering->left.fetch_sub(1) != 1) return;
+    gathering->done(complete(Response::later([gathering] { return gathering->spread->join(std::move(gathering->answers)); }), gathering->where));
+  };
+  for (std::size_t part = 1; part < parts; ++part) net::post(workers, [run, part] { run(part); });
+  run(0);
+}
+
 /// A WebSocket connection: one message read, answered, its answer queued, then the next read — so
 /// answers come in the order of the messages. The socket lives on a strand of the worker pool, so a
 /// message is read, answered (a step run) and its answer written on one worker thread, with no hand-over
@@ -170,11 +198,14 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
       std::fprintf(stderr, "hrisim: internal error on a WebSocket message: %s\n", e.what());
       response = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
     }
-    // Already on a worker: deferred work runs here.
-    if (response.deferred) response = complete(std::move(response), "a WebSocket");
-    send({std::move(response.body), response.content_type == kBinaryContentType, false});
-    schedule_push();
-    read();
+    // Already on a worker: deferred work runs here, and the answer is sent from this strand.
+    answer_on_workers(*shared_->workers, std::move(response), "a WebSocket", [self = shared_from_this()](Response answer) {
+      net::dispatch(self->ws_.get_executor(), [self, answer = std::move(answer)]() mutable {
+        self->send({std::move(answer.body), answer.content_type == kBinaryContentType, false});
+        self->schedule_push();
+        self->read();
+      });
+    });
   }
 
   struct Outgoing {
@@ -460,15 +491,18 @@ class Connection : public std::enable_shared_from_this<Connection> {
       response = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
     }
     Answered answered{std::string(message.method_string()), std::string(target), started, message.version(), keep_alive, head};
-    if (!response.deferred) return finish(std::move(response), answered);
+    if (!response.deferred && !response.spread) return finish(std::move(response), answered);
     // The work runs on the worker pool; the reply goes back through this connection's strand. The
     // guard keeps the I/O threads running until it has.
     net::post(*shared_->workers, [self = shared_from_this(), response = std::move(response), answered = std::move(answered),
                                   guard = net::make_work_guard(stream_.get_executor())]() mutable {
-      Response result = complete(std::move(response), answered.method + " " + answered.target);
-      net::post(self->stream_.get_executor(), [self, result = std::move(result), answered = std::move(answered)]() mutable {
-        self->finish(std::move(result), answered);
-      });
+      const std::string where = answered.method + " " + answered.target;
+      answer_on_workers(*self->shared_->workers, std::move(response), where,
+                        [self, answered = std::move(answered), guard = std::move(guard)](Response result) mutable {
+                          net::post(self->stream_.get_executor(), [self, result = std::move(result), answered = std::move(answered)]() mutable {
+                            self->finish(std::move(result), answered);
+                          });
+                        });
     });
   }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "core/error.hpp"
 #include "core/json_schema.hpp"
@@ -99,16 +100,23 @@ static episode::Episode::Input checked_command(const sim::Session& session, cons
 }
 
 /// The optional "action" of a step: a list of numbers.
-std::optional<std::vector<double>> action_of(const json& body) {
-  if (!body.contains("action")) return std::nullopt;
-  const json& action = body["action"];
-  if (!action.is_array()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", "/action"}});
+/// An action given at JSON pointer `at`: a list of numbers, or null for none.
+static std::optional<std::vector<double>> action_at(const json& action, const std::string& at) {
+  if (action.is_null()) return std::nullopt;
+  if (!action.is_array()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", at}});
   std::vector<double> values;
   for (std::size_t i = 0; i < action.size(); ++i) {
-    if (!action[i].is_number()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", "/action/" + std::to_string(i)}});
+    if (!action[i].is_number()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", at + "/" + std::to_string(i)}});
     values.push_back(action[i].get<double>());
   }
   return values;
+}
+
+std::optional<std::vector<double>> action_of(const json& body) {
+  if (!body.contains("action")) return std::nullopt;
+  const json& action = body["action"];
+  if (action.is_null()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", "/action"}});
+  return action_at(action, "/action");
 }
 
 /// 409 for stepping a session the server steps itself.
@@ -164,6 +172,54 @@ std::string step_session(Live& live, std::int64_t steps, const std::optional<std
   out.key("truncated").value(session.state().termination == "timeout");
   out.end_object();
   return out.take();
+}
+
+Response step_many(Registry& registry, const Caller& caller, const json& body, std::string_view type) {
+  refuse_unknown_keys(body, {"sessions", "actions", "n"});
+  if (!body.contains("sessions") || !body["sessions"].is_array() || body["sessions"].empty() ||
+      body["sessions"].size() > kMaxSessionsPerStepMany) {
+    throw core::Error(core::ErrorCode::bad_request, "sessions: a list of 1 to " + std::to_string(kMaxSessionsPerStepMany) + " session ids",
+                      {{"pointer", "/sessions"}});
+  }
+  const json& ids = body["sessions"];
+  const bool with_actions = body.contains("actions");
+  if (with_actions && (!body["actions"].is_array() || body["actions"].size() != ids.size())) {
+    throw core::Error(core::ErrorCode::bad_request, "actions: one action (a list of numbers, or null) per session", {{"pointer", "/actions"}});
+  }
+  const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
+  // Everything is checked before anything is stepped.
+  std::vector<std::function<Response()>> parts;
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const std::string at = "/sessions/" + std::to_string(i);
+    if (!ids[i].is_string()) throw core::Error(core::ErrorCode::bad_request, "sessions: session ids", {{"pointer", at}});
+    const std::string& id = ids[i].get_ref<const std::string&>();
+    if (!seen.insert(id).second) throw core::Error(core::ErrorCode::bad_request, "session " + id + " is listed twice", {{"pointer", at}});
+    std::shared_ptr<Live> live;
+    try {
+      live = registry.find(id, caller);
+      check_lockstep(*live);
+    } catch (const core::Error& e) {
+      nlohmann::json details = e.details();
+      details["pointer"] = at;
+      throw core::Error(e.code(), e.what(), std::move(details));
+    }
+    auto action = with_actions ? action_at(body["actions"][i], "/actions/" + std::to_string(i)) : std::nullopt;
+    parts.push_back([live = std::move(live), steps, action = std::move(action)] {
+      std::lock_guard lock(live->mutex);
+      return Response{200, "application/json", step_session(*live, steps, action), {}, {}};
+    });
+  }
+  return Response::spread_over(std::move(parts), [type = std::string(type)](std::vector<Response> answers) {
+    core::JsonWriter out;
+    out.begin_object();
+    if (!type.empty()) out.key("type").value(type);
+    out.key("results").begin_array();
+    for (const Response& answer : answers) out.raw(answer.body);  // a step reply, or {"error": …}
+    out.end_array();
+    out.end_object();
+    return Response{200, "application/json", out.take(), {}, {}};
+  });
 }
 
 /// Keeps the episode's present point as a snapshot (the session's lock held).

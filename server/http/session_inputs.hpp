@@ -11,6 +11,7 @@
 
 #include "episode/episode.hpp"
 #include "http/live_sessions.hpp"
+#include "http/router.hpp"
 
 namespace hrisim::http {
 
@@ -25,6 +26,12 @@ nlohmann::json give_commands(Live& live, const nlohmann::json& commands);
 /// of those steps, Gymnasium's observation, reward, info, terminated (the task's ending, or the
 /// scenario's last step done) and truncated (its time limit).
 std::string step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action, std::string_view type = {});
+/// Steps several lockstep sessions `n` env steps each, each by its own action, the sessions shared out
+/// over the worker pool: the body {"sessions": [ids], "actions": [one per session, a list or null],
+/// "n"} is checked first (an unknown or realtime session, a repeated id, a malformed action: an error
+/// at its JSON pointer, and nothing is stepped). The answer lists each session's step reply, or its
+/// {"error": …}, in the order asked, under "results" (after `type`, when given).
+Response step_many(Registry& registry, const Caller& caller, const nlohmann::json& body, std::string_view type = {});
 /// Keeps the episode's present point as a snapshot.
 nlohmann::json take_snapshot(Live& live);
 /// Goes back (or forth) to the snapshot the body names: the episode again from its start with the

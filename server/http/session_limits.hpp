@@ -16,6 +16,8 @@ inline constexpr int kDefaultMaxSessions = 8;
 inline constexpr std::chrono::seconds kDefaultSessionIdleTimeout{600};
 /// Most steps one step request may ask for.
 inline constexpr int kMaxStepsPerRequest = 100000;
+/// Sessions one step_many may step at once.
+inline constexpr std::size_t kMaxSessionsPerStepMany = 1024;
 /// Retry-After of a 503 for too many sessions, s.
 inline constexpr int kSessionRetryAfter = 10;
 /// Bytes the recordings of every live session and every run's episodes in flight may hold together

@@ -30,7 +30,7 @@ class SessionSocket : public WebSocketPeer {
     Response (SessionSocket::*handle)(const std::shared_ptr<Live>&, json&);
     bool changes_session;
   };
-  static const std::array<MessageType, 10> kMessageTypes;
+  static const std::array<MessageType, 11> kMessageTypes;
 
   /// Holds no reference to the session: a deleted one is freed, and the socket then closes.
   SessionSocket(std::shared_ptr<Registry> registry, const std::shared_ptr<Live>& live, Caller caller)
@@ -95,6 +95,8 @@ class SessionSocket : public WebSocketPeer {
       }
     });
   }
+
+  Response on_step_many(const std::shared_ptr<Live>&, json& body) { return step_many(*registry_, caller_, body, "step_many"); }
 
   Response on_commands(const std::shared_ptr<Live>& live, json& body) {
     refuse_unknown_keys(body, {"commands"});
@@ -243,8 +245,9 @@ class SessionSocket : public WebSocketPeer {
   std::uint64_t pushed_generation_ = 0;  ///< the session's resets when the last frame was pushed
 };
 
-const std::array<SessionSocket::MessageType, 10> SessionSocket::kMessageTypes{{
+const std::array<SessionSocket::MessageType, 11> SessionSocket::kMessageTypes{{
     {"step", &SessionSocket::on_step, true},
+    {"step_many", &SessionSocket::on_step_many, true},
     {"commands", &SessionSocket::on_commands, true},
     {"snapshot", &SessionSocket::on_snapshot, true},
     {"restore", &SessionSocket::on_restore, true},

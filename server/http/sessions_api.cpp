@@ -224,6 +224,10 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     return locked(live, [commands = body["commands"]](Live& session) { return Response::json(200, give_commands(session, commands)); });
   });
 
+  router.add("POST", "/api/v1/sessions/step", [registry](const Request& request) {
+    return step_many(*registry, request.caller, json_object_body(request));
+  });
+
   router.add("POST", "/api/v1/sessions/{id}/step", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
     const json body = json_object_body(request);

@@ -288,6 +288,66 @@ TEST(SessionWebSocket, LockstepStepsCommandsAndStateInOrder) {
   EXPECT_EQ(json_of(http(port, "GET", "/api/v1/sessions/" + rest_session))["state_hash"], state["state_hash"]);
 }
 
+// step_many steps many sessions in one message or request, spread over the worker pool: each ends
+// where the same steps one by one end, bit for bit; a bad list is refused at its place and steps none.
+TEST(SessionWebSocket, StepManyStepsEverySessionAsItsOwnStepsWould) {
+  TestServer server({"--max-sessions", "16", "--workers", "2"});
+  const std::uint16_t port = server.port();
+  const auto create = [&](std::int64_t seed) {
+    return json_of(http(port, "POST", "/api/v1/sessions", json{{"scenario", "approach_human"}, {"seed", seed}}.dump()))["id"].get<std::string>();
+  };
+  std::vector<std::string> batched, alone;
+  for (std::int64_t seed = 1; seed <= 6; ++seed) {
+    batched.push_back(create(seed));
+    alone.push_back(create(seed));
+  }
+  const auto action = [](std::size_t env, int step) { return json::array({0.1 * static_cast<double>(env % 3), 0.05 * (step % 4) - 0.1}); };
+  WebSocketClient client(port, "/api/v1/sessions/" + batched[0] + "/ws");
+  ASSERT_EQ(client.status, 0);
+  for (int step = 0; step < 20; ++step) {
+    json actions = json::array();
+    for (std::size_t env = 0; env < batched.size(); ++env) actions.push_back(action(env, step));
+    // The first half over the WebSocket, the second over REST.
+    const json message = {{"type", "step_many"}, {"sessions", batched}, {"actions", actions}};
+    const json reply = step < 10 ? client.exchange(message) : json_of(http(port, "POST", "/api/v1/sessions/step", json{{"sessions", batched}, {"actions", actions}}.dump()));
+    if (step < 10) {
+      ASSERT_EQ(reply["type"], "step_many") << reply.dump();
+    }
+    ASSERT_EQ(reply["results"].size(), batched.size()) << reply.dump();
+    for (std::size_t env = 0; env < batched.size(); ++env) {
+      const json& result = reply["results"][env];
+      ASSERT_EQ(result["id"], batched[env]) << "in the order asked";
+      const json own = json_of(http(port, "POST", "/api/v1/sessions/" + alone[env] + "/step", json{{"action", action(env, step)}}.dump()));
+      EXPECT_EQ(result["state_hash"], own["state_hash"]) << "env " << env << ", step " << step;
+      EXPECT_EQ(result["observation"], own["observation"]);
+      EXPECT_EQ(result["reward"], own["reward"]);
+    }
+  }
+  const auto ticks = [&](const std::string& id) { return json_of(http(port, "GET", "/api/v1/sessions/" + id))["tick"].get<std::int64_t>(); };
+  const std::int64_t before = ticks(batched[1]);
+  // Refused before anything is stepped, at the place of what is wrong.
+  const auto refused = [&](const json& body) {
+    const HttpReply reply = http(port, "POST", "/api/v1/sessions/step", body.dump());
+    EXPECT_GE(reply.status, 400) << body.dump();
+    return json_of(reply)["error"]["details"].value("pointer", "");
+  };
+  EXPECT_EQ(refused({{"sessions", {batched[1], "s-nobody"}}}), "/sessions/1");
+  EXPECT_EQ(refused({{"sessions", {batched[1], batched[1]}}}), "/sessions/1");
+  EXPECT_EQ(refused({{"sessions", json::array()}}), "/sessions");
+  EXPECT_EQ(refused({{"sessions", {batched[1], batched[2]}}, {"actions", {json::array({0.1, 0.0})}}}), "/actions");
+  EXPECT_EQ(refused({{"sessions", {batched[1], batched[2]}}, {"actions", {json::array({0.1, 0.0}), json::array({"fast", 0.0})}}}), "/actions/1/0");
+  EXPECT_EQ(refused({{"sessions", {batched[1]}}, {"n", 0}}), "/n");
+  EXPECT_EQ(ticks(batched[1]), before) << "nothing was stepped";
+  const json wrong = client.exchange({{"type", "step_many"}, {"sessions", {batched[1]}}, {"speed", 2}});
+  EXPECT_EQ(wrong["type"], "error");
+  EXPECT_EQ(wrong["error"]["details"]["pointer"], "/speed");
+  // An action the session's space does not take is that session's error; the others step.
+  const json mixed = client.exchange({{"type", "step_many"}, {"sessions", {batched[1], batched[2]}}, {"actions", {json::array({0.1}), nullptr}}});
+  ASSERT_EQ(mixed["results"].size(), 2u) << mixed.dump();
+  EXPECT_TRUE(mixed["results"][0].contains("error")) << mixed.dump();
+  EXPECT_EQ(mixed["results"][1]["tick"].get<std::int64_t>(), ticks(batched[2]));
+}
+
 TEST(SessionWebSocket, UpgradesAreRefusedForUnknownSessionsAndWithoutTheToken) {
   TestServer server({"--token", "a-token-of-16-chars"});
   const std::uint16_t port = server.port();

@@ -425,8 +425,9 @@ def with_task_settings(client, scenario, settings):
 
 
 class VectorEnv:
-    """Several sessions stepped together from one client: each step is sent to every session before
-    any answer is read, so the server works on all of them at once.
+    """Several sessions stepped together from one client: one ``step_many`` message over the first
+    session's WebSocket steps them all, the server sharing them out over its workers and answering
+    once.
 
     Batches are numpy arrays along a first axis of ``num_envs``. A session whose episode ends is
     reset straight away (as Stable-Baselines3's vectorised environments do): its row of the
@@ -453,9 +454,15 @@ class VectorEnv:
         actions = np.asarray(actions, dtype=np.float64)
         if actions.shape[0] != self.num_envs:
             raise ValueError("%d actions for %d environments" % (actions.shape[0], self.num_envs))
-        for env, action in zip(self.envs, actions):
-            env._send_step(action)
-        replies = [env._receive() for env in self.envs]
+        batch = self.envs[0]._ask({
+            "type": "step_many",
+            "sessions": [env.session_id for env in self.envs],
+            "actions": [[float(a) for a in np.asarray(action, dtype=np.float64).ravel()] for action in actions],
+        })
+        replies = batch["results"]
+        for reply in replies:
+            if "error" in reply:
+                raise HrisimError.from_body(None, reply)
         images = [None] * self.num_envs
         if self.envs[0].observation_camera is not None:  # rendered by every session at once, too
             for env in self.envs:

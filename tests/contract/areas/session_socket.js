@@ -57,6 +57,19 @@ describe('session WebSocket', () => {
     assert.equal(short.error.details.pointer, '/action');
   });
 
+  it('step_many steps several sessions, each by its action, answered once in the order asked; a bad list is an error naming its place', async () => {
+    const others = [];
+    for (const seed of [5, 6]) others.push((await api.post('/api/v1/sessions', { scenario: 'elevator', seed })).json);
+    const reply = await socket.send({ type: 'step_many', sessions: others.map((other) => other.id), actions: [[0.5, 0], null], n: 3 });
+    const wrong = await socket.send({ type: 'step_many', sessions: [others[0].id, others[0].id] });
+    for (const other of others) await api.delete(`/api/v1/sessions/${other.id}`);
+    assert.equal(reply.type, 'step_many');
+    assert.deepEqual(reply.results.map((result) => result.id), others.map((other) => other.id));
+    assert.deepEqual(reply.results.map((result) => result.tick), [3, 3]);
+    assert.equal(wrong.type, 'error');
+    assert.equal(wrong.error.details.pointer, '/sessions/1');
+  });
+
   it('commands gives a list; a wrong one is an error naming it', async () => {
     const reply = await socket.send({ type: 'commands', commands: [{ human: 'ada', command: 'wait 1' }] });
     assert.equal(reply.type, 'commands');

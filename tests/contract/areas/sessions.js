@@ -196,6 +196,22 @@ describe('sessions', () => {
     assert.equal((await api.post(`/api/v1/sessions/${UNKNOWN_SESSION}/step`, { n: 1 })).status, 404);
   });
 
+  it('POST /api/v1/sessions/step steps many sessions as their own steps would; an unknown one refuses the whole list', async () => {
+    const [a, b, c] = [await createSession('corridor_passing', 7), await createSession('corridor_passing', 8), await createSession('corridor_passing', 7)];
+    const batched = await api.post('/api/v1/sessions/step', { sessions: [a.id, b.id], n: 40 });
+    const alone = await api.post(`/api/v1/sessions/${c.id}/step`, { n: 40 });
+    const unknown = await api.post('/api/v1/sessions/step', { sessions: [a.id, UNKNOWN_SESSION] });
+    const after = (await api.get(`/api/v1/sessions/${a.id}`)).json;
+    for (const id of [a.id, b.id, c.id]) await api.delete(`/api/v1/sessions/${id}`);
+    assert.equal(batched.status, 200);
+    assert.equal(batched.json.results.length, 2);
+    assert.equal(batched.json.results[0].state_hash, alone.json.state_hash, 'the same seed and steps, the same state');
+    assert.notEqual(batched.json.results[1].state_hash, alone.json.state_hash);
+    assert.equal(unknown.status, 404);
+    assert.equal(unknown.json.error.details.pointer, '/sessions/1');
+    assert.equal(after.tick, 40, 'nothing was stepped');
+  });
+
   it('equal scenario, seed and steps give equal state hashes', async () => {
     const [a, b] = [await createSession('corridor_passing', 42), await createSession('corridor_passing', 42)];
     const hashes = [];
