@@ -370,8 +370,8 @@ std::string utc_timestamp() {
 
 class Connection : public std::enable_shared_from_this<Connection> {
  public:
-  Connection(tcp::socket&& socket, std::shared_ptr<Shared> shared, std::unique_ptr<Slot> slot)
-      : stream_(std::move(socket)), shared_(std::move(shared)), slot_(std::move(slot)) {}
+  Connection(tcp::socket&& socket, std::shared_ptr<Shared> shared, std::unique_ptr<Slot> slot, bool on_workers = false)
+      : stream_(std::move(socket)), shared_(std::move(shared)), slot_(std::move(slot)), on_workers_(on_workers) {}
 
   ~Connection() {
     std::lock_guard lock(shared_->mutex);
@@ -466,6 +466,14 @@ class Connection : public std::enable_shared_from_this<Connection> {
     return request;
   }
 
+  /// What the reply to a request needs to know about it.
+  struct Answered {
+    std::string method, target;
+    std::chrono::steady_clock::time_point started;
+    unsigned version;
+    bool keep_alive, head;
+  };
+
   void handle(bhttp::request<bhttp::string_body> message) {
     if (beast::websocket::is_upgrade(message)) return upgrade(std::move(message));
     const auto started = std::chrono::steady_clock::now();
@@ -492,17 +500,39 @@ class Connection : public std::enable_shared_from_this<Connection> {
     }
     Answered answered{std::string(message.method_string()), std::string(target), started, message.version(), keep_alive, head};
     if (!response.deferred && !response.spread) return finish(std::move(response), answered);
-    // The work runs on the worker pool; the reply goes back through this connection's strand. The
-    // guard keeps the I/O threads running until it has.
-    net::post(*shared_->workers, [self = shared_from_this(), response = std::move(response), answered = std::move(answered),
-                                  guard = net::make_work_guard(stream_.get_executor())]() mutable {
-      const std::string where = answered.method + " " + answered.target;
-      answer_on_workers(*self->shared_->workers, std::move(response), where,
-                        [self, answered = std::move(answered), guard = std::move(guard)](Response result) mutable {
-                          net::post(self->stream_.get_executor(), [self, result = std::move(result), answered = std::move(answered)]() mutable {
-                            self->finish(std::move(result), answered);
-                          });
-                        });
+    if (on_workers_) return answer_here(std::move(response), std::move(answered));
+    move_to_workers(std::move(response), std::move(answered));
+  }
+
+  /// Work for a connection on the worker pool: it runs on this thread (a spread's parts over the pool)
+  /// and the answer goes out from this connection's strand.
+  void answer_here(Response response, Answered answered) {
+    const std::string where = answered.method + " " + answered.target;
+    answer_on_workers(*shared_->workers, std::move(response), where, [self = shared_from_this(), answered = std::move(answered)](Response result) {
+      net::dispatch(self->stream_.get_executor(), [self, result = std::move(result), answered]() mutable { self->finish(std::move(result), answered); });
+    });
+  }
+
+  /// A connection's first request with work (a step) moves it from the I/O threads to a strand of the
+  /// worker pool, as a WebSocket moves at its upgrade: that request and the connection's next ones are
+  /// read, worked on and answered on one worker thread, with no hand-over to a worker and back, while
+  /// connections that only fetch files stay on the I/O threads.
+  void move_to_workers(Response response, Answered answered) {
+    stream_.expires_never();
+    tcp::socket on_io = stream_.release_socket();
+    beast::error_code ec;
+    const auto protocol = on_io.local_endpoint(ec).protocol();
+    if (ec) return;  // the client is already gone
+    auto moved = std::make_shared<Connection>(tcp::socket(net::make_strand(shared_->workers->get_executor()), protocol, on_io.release()), shared_,
+                                              std::move(slot_), true);
+    moved->buffer_ = std::move(buffer_);  // a request the client sent behind this one
+    moved->busy_ = true;
+    {
+      std::lock_guard lock(shared_->mutex);
+      shared_->connections.emplace(moved.get(), moved);
+    }
+    net::dispatch(moved->stream_.get_executor(), [moved, response = std::move(response), answered = std::move(answered)]() mutable {
+      moved->answer_here(std::move(response), std::move(answered));
     });
   }
 
@@ -525,13 +555,6 @@ class Connection : public std::enable_shared_from_this<Connection> {
         ->start(std::move(message));
   }
 
-  /// What the reply to a request needs to know about it.
-  struct Answered {
-    std::string method, target;
-    std::chrono::steady_clock::time_point started;
-    unsigned version;
-    bool keep_alive, head;
-  };
 
   void finish(Response response, const Answered& answered) {
     if (shared_->options.log_requests) {
@@ -599,6 +622,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   std::optional<bhttp::request_parser<bhttp::string_body>> parser_;
   std::array<char, 4096> discard_{};
   bool busy_ = false;  ///< a request is being answered (touched only on the strand)
+  bool on_workers_;    ///< on a strand of the worker pool (see move_to_workers)
 };
 
 class Listener : public std::enable_shared_from_this<Listener> {

@@ -145,6 +145,39 @@ TEST(SessionWorkers, LongStepsNeverHoldTheOnlyIoThread) {
   EXPECT_EQ(json_of(http(server.port(), "GET", "/api/v1/sessions/" + id))["status"], "finished");
 }
 
+// A keep-alive connection's first step moves it to the worker pool (no hand-over per request); it
+// goes on serving every kind of request in order, one sent right behind the step included.
+TEST(SessionWorkers, AConnectionThatStepsKeepsServingEveryRequestInOrder) {
+  TestServer server({"--threads", "1", "--workers", "2"});
+  const std::string id = json_of(http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 2})"))["id"];
+  RawConnection connection(server.port());
+  const auto request = [&](const std::string& method, const std::string& target, const std::string& body) {
+    return method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: " +
+           std::to_string(body.size()) + "\r\n\r\n" + body;
+  };
+  const std::string step = request("POST", "/api/v1/sessions/" + id + "/step", R"({"n": 5})");
+  // The step and a status request behind it in one write: the second is read after the move.
+  ASSERT_TRUE(connection.send(step + request("GET", "/api/v1/sessions/" + id, "")));
+  const HttpReply stepped = connection.read_reply();
+  ASSERT_EQ(stepped.status, 200) << stepped.body;
+  EXPECT_EQ(json_of(stepped)["tick"], 5);
+  const HttpReply status = connection.read_reply();
+  ASSERT_EQ(status.status, 200) << status.body;
+  EXPECT_EQ(json_of(status)["tick"], 5);
+  for (int i = 2; i <= 4; ++i) {
+    ASSERT_TRUE(connection.send(step));
+    EXPECT_EQ(json_of(connection.read_reply())["tick"], 5 * i);
+  }
+  ASSERT_TRUE(connection.send(request("GET", "/", "")));
+  const HttpReply page = connection.read_reply();
+  EXPECT_EQ(page.status, 200);
+  EXPECT_NE(page.body.find("<html"), std::string::npos) << "a static file from the same connection";
+  ASSERT_TRUE(connection.send(request("POST", "/api/v1/sessions/" + id + "/step", R"({"n": 0})")));
+  EXPECT_EQ(connection.read_reply().status, 400) << "an error keeps the connection";
+  ASSERT_TRUE(connection.send(step));
+  EXPECT_EQ(json_of(connection.read_reply())["tick"], 25);
+}
+
 TEST(SessionLimits, BeyondTheMaximumIs503AndIdleSessionsExpire) {
   TestServer server({"--max-sessions", "2", "--session-idle-timeout", "1"});
   const auto post = [&] { return http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "queue"})"); };
