@@ -14,10 +14,10 @@ namespace hrisim::core {
 
 class JsonWriter {
  public:
-  JsonWriter& begin_object();
-  JsonWriter& end_object();
-  JsonWriter& begin_array();
-  JsonWriter& end_array();
+  JsonWriter& begin_object() { return open('{'); }
+  JsonWriter& end_object() { return close('}'); }
+  JsonWriter& begin_array() { return open('['); }
+  JsonWriter& end_array() { return close(']'); }
   /// The next member's name, inside an object.
   JsonWriter& key(std::string_view name);
 
@@ -45,6 +45,8 @@ class JsonWriter {
  private:
   /// A comma before every element of an array or object but its first.
   void separate();
+  JsonWriter& open(char bracket);
+  JsonWriter& close(char bracket);
 
   std::string out_;
   std::vector<bool> first_;  ///< per open array or object: nothing written in it yet

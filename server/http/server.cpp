@@ -136,6 +136,17 @@ void answer_on_workers(net::thread_pool& workers, Response response, const std::
   run(0);
 }
 
+/// The connection's socket on a strand of the worker pool instead of the I/O threads; nothing when
+/// the peer is already gone.
+std::optional<tcp::socket> onto_workers(beast::tcp_stream& stream, net::thread_pool& workers) {
+  stream.expires_never();
+  tcp::socket on_io = stream.release_socket();
+  beast::error_code ec;
+  const auto protocol = on_io.local_endpoint(ec).protocol();
+  if (ec) return std::nullopt;
+  return tcp::socket(net::make_strand(workers.get_executor()), protocol, on_io.release());
+}
+
 /// A WebSocket connection: one message read, answered, its answer queued, then the next read — so
 /// answers come in the order of the messages. The socket lives on a strand of the worker pool, so a
 /// message is read, answered (a step run) and its answer written on one worker thread, with no hand-over
@@ -518,13 +529,9 @@ class Connection : public std::enable_shared_from_this<Connection> {
   /// read, worked on and answered on one worker thread, with no hand-over to a worker and back, while
   /// connections that only fetch files stay on the I/O threads.
   void move_to_workers(Response response, Answered answered) {
-    stream_.expires_never();
-    tcp::socket on_io = stream_.release_socket();
-    beast::error_code ec;
-    const auto protocol = on_io.local_endpoint(ec).protocol();
-    if (ec) return;  // the client is already gone
-    auto moved = std::make_shared<Connection>(tcp::socket(net::make_strand(shared_->workers->get_executor()), protocol, on_io.release()), shared_,
-                                              std::move(slot_), true);
+    std::optional<tcp::socket> socket = onto_workers(stream_, *shared_->workers);
+    if (!socket) return;
+    auto moved = std::make_shared<Connection>(std::move(*socket), shared_, std::move(slot_), true);
     moved->buffer_ = std::move(buffer_);  // a request the client sent behind this one
     moved->busy_ = true;
     {
@@ -544,17 +551,12 @@ class Connection : public std::enable_shared_from_this<Connection> {
     request.path = std::string(target.substr(0, target.find('?')));
     auto outcome = shared_->router->upgrade(std::move(request));
     if (auto* refused = std::get_if<Response>(&outcome)) return send(std::move(*refused), message.version(), false, false);
-    stream_.expires_never();
     // The socket moves from the I/O threads to a strand of the worker pool (see WebSocketSession).
-    tcp::socket on_io = stream_.release_socket();
-    beast::error_code ec;
-    const auto protocol = on_io.local_endpoint(ec).protocol();
-    if (ec) return;  // the peer is already gone
-    tcp::socket on_workers(net::make_strand(shared_->workers->get_executor()), protocol, on_io.release());
-    std::make_shared<WebSocketSession>(std::move(on_workers), std::get<std::shared_ptr<WebSocketPeer>>(outcome), shared_, std::move(slot_))
+    std::optional<tcp::socket> socket = onto_workers(stream_, *shared_->workers);
+    if (!socket) return;
+    std::make_shared<WebSocketSession>(std::move(*socket), std::get<std::shared_ptr<WebSocketPeer>>(outcome), shared_, std::move(slot_))
         ->start(std::move(message));
   }
-
 
   void finish(Response response, const Answered& answered) {
     if (shared_->options.log_requests) {

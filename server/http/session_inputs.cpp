@@ -99,7 +99,6 @@ static episode::Episode::Input checked_command(const sim::Session& session, cons
   throw core::Error(core::ErrorCode::bad_request, "a robot command gives velocity, joints, gripper or request", {{"pointer", at}});
 }
 
-/// The optional "action" of a step: a list of numbers.
 /// An action given at JSON pointer `at`: a list of numbers, or null for none.
 static std::optional<std::vector<double>> action_at(const json& action, const std::string& at) {
   if (action.is_null()) return std::nullopt;
@@ -112,6 +111,7 @@ static std::optional<std::vector<double>> action_at(const json& action, const st
   return values;
 }
 
+/// The optional "action" of a step: a list of numbers.
 std::optional<std::vector<double>> action_of(const json& body) {
   if (!body.contains("action")) return std::nullopt;
   const json& action = body["action"];
