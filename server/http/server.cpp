@@ -9,104 +9,35 @@
 #include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <boost/asio/steady_timer.hpp>
-#include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/thread_pool.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
-#include <boost/beast/websocket.hpp>
-#include <deque>
-#include <cctype>
+#include <boost/beast/websocket/rfc6455.hpp>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <ctime>
-#include <mutex>
-#include <set>
 #include <optional>
-#include <variant>
 #include <thread>
-#include <unordered_map>
 #include <vector>
 
 #include "core/build_info.hpp"
 #include "core/text.hpp"
+#include "http/server_shared.hpp"
 
 namespace hrisim::http {
-namespace {
-
-namespace beast = boost::beast;
-namespace bhttp = beast::http;
-namespace net = boost::asio;
-using tcp = net::ip::tcp;
+namespace serving {
 
 /// After an error reply, unread request bytes are drained this long before closing, so the client
 /// reads the reply instead of a connection reset.
 constexpr std::chrono::seconds kLingerTimeout{2};
 
-class Connection;
-class WebSocketSession;
-
-/// Largest WebSocket message accepted; bigger ones close the connection (code 1009).
-constexpr std::size_t kMaxWebSocketMessage = 1 << 20;
-/// Pushes (a state frame with its image, if any) waiting behind the write in flight at most; the
-/// oldest is dropped for a newer one.
-constexpr std::size_t kMaxQueuedFrames = 4;
 
 /// How long the listener waits before accepting again after a failed accept (no descriptors left).
 constexpr std::chrono::milliseconds kAcceptRetryDelay{100};
 /// A failed accept is logged at most this often.
 constexpr std::chrono::seconds kAcceptErrorLogInterval{10};
-/// How often a WebSocket asks its peer whether it should end.
-constexpr std::chrono::seconds kWebSocketWatchInterval{1};
-/// After a close frame the server sent, the socket is cut this long later if the close has not completed
-/// (shorter when the server shuts down: it waits for every socket).
-constexpr std::chrono::seconds kWebSocketCloseGrace{5};
-constexpr std::chrono::milliseconds kWebSocketShutdownGrace{500};
-
-/// State shared by the listener and every connection.
-struct Shared {
-  ServerOptions options;
-  std::shared_ptr<const Router> router;
-  net::thread_pool* workers = nullptr;  ///< runs deferred answers; owned by the server
-  std::atomic<bool> stopping{false};
-  std::mutex mutex;
-  std::unordered_map<const Connection*, std::weak_ptr<Connection>> connections;
-  std::unordered_map<const WebSocketSession*, std::weak_ptr<WebSocketSession>> websockets;
-  std::size_t open = 0;  ///< admitted connections, HTTP and WebSocket
-  std::unordered_map<std::string, std::size_t> open_per_client;  ///< by client address
-};
-
-/// An admitted connection's place in the limits (all connections, and per client address), given back
-/// when the connection — HTTP, then perhaps WebSocket — ends.
-class Slot {
- public:
-  /// Takes a place, or explains why there is none.
-  static std::variant<std::unique_ptr<Slot>, std::string> take(const std::shared_ptr<Shared>& shared, const std::string& client) {
-    std::lock_guard lock(shared->mutex);
-    if (shared->open >= shared->options.max_connections) return std::string("too many connections; retry later");
-    std::size_t& mine = shared->open_per_client[client];
-    if (mine >= shared->options.max_connections_per_client) {
-      if (mine == 0) shared->open_per_client.erase(client);
-      return "too many connections from " + client + " (at most " + std::to_string(shared->options.max_connections_per_client) + "); retry later";
-    }
-    ++mine;
-    ++shared->open;
-    return std::unique_ptr<Slot>(new Slot(shared, client));
-  }
-  ~Slot() {
-    std::lock_guard lock(shared_->mutex);
-    --shared_->open;
-    if (--shared_->open_per_client[client_] == 0) shared_->open_per_client.erase(client_);
-  }
-  Slot(const Slot&) = delete;
-  Slot& operator=(const Slot&) = delete;
-
- private:
-  Slot(std::shared_ptr<Shared> shared, std::string client) : shared_(std::move(shared)), client_(std::move(client)) {}
-  std::shared_ptr<Shared> shared_;
-  std::string client_;
-};
 
 /// Brings a response to its answer on the worker pool (the caller is on a worker): deferred work runs
 /// on this thread; a spread's parts are shared out over the pool, this thread taking the first, and the
@@ -147,229 +78,8 @@ std::optional<tcp::socket> onto_workers(beast::tcp_stream& stream, net::thread_p
   return tcp::socket(net::make_strand(workers.get_executor()), protocol, on_io.release());
 }
 
-/// A WebSocket connection: one message read, answered, its answer queued, then the next read — so
-/// answers come in the order of the messages. The socket lives on a strand of the worker pool, so a
-/// message is read, answered (a step run) and its answer written on one worker thread, with no hand-over
-/// between threads; HTTP connections, on the I/O threads, are never held up by it. Writes go out one at
-/// a time from a queue, each message as one frame; pushed frames join the queue at the peer's rate, and
-/// a slow reader loses the oldest queued frames, never answers. Beast's suggested server timeouts ping
-/// idle peers and drop dead ones.
-class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
- public:
-  WebSocketSession(tcp::socket&& socket, std::shared_ptr<WebSocketPeer> peer, std::shared_ptr<Shared> shared, std::unique_ptr<Slot> slot)
-      : ws_(std::move(socket)), peer_(std::move(peer)), shared_(std::move(shared)), slot_(std::move(slot)) {}
 
-  ~WebSocketSession() {
-    std::lock_guard lock(shared_->mutex);
-    shared_->websockets.erase(this);
-  }
-
-  void start(bhttp::request<bhttp::string_body> upgrade) {
-    {
-      std::lock_guard lock(shared_->mutex);
-      shared_->websockets.emplace(this, weak_from_this());
-    }
-    ws_.set_option(beast::websocket::stream_base::timeout::suggested(beast::role_type::server));
-    ws_.read_message_max(kMaxWebSocketMessage);
-    // Whole messages as one frame each: Beast's default cuts them into 4 KB frames, which costs a
-    // 512 KiB camera frame 128 headers and as many writes.
-    ws_.auto_fragment(false);
-    ws_.text(true);
-    ws_.async_accept(upgrade, [self = shared_from_this()](beast::error_code ec) {
-      if (ec) return;
-      self->read();
-      self->watch();
-    });
-  }
-
-  /// On shutdown: a normal close.
-  void close() {
-    net::dispatch(ws_.get_executor(), [self = shared_from_this()] { self->end(beast::websocket::close_code::going_away, ""); });
-  }
-
- private:
-  void read() {
-    if (closing_) return;
-    if (const std::string reason = peer_->close_reason(); !reason.empty()) return end(beast::websocket::close_code::normal, reason);
-    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) return;  // closed, timed out or too big: Beast has told the peer
-      std::string text = beast::buffers_to_string(self->buffer_.data());
-      self->buffer_.consume(self->buffer_.size());
-      self->answer(std::move(text));
-    });
-  }
-
-  void answer(std::string text) {
-    Response response;
-    try {
-      response = peer_->on_message(text);
-    } catch (const core::Error& e) {
-      response = Response::error(e);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "hrisim: internal error on a WebSocket message: %s\n", e.what());
-      response = Response::error(core::Error(core::ErrorCode::internal, "internal error"));
-    }
-    // Already on a worker: deferred work runs here, and the answer is sent from this strand.
-    answer_on_workers(*shared_->workers, std::move(response), "a WebSocket", [self = shared_from_this()](Response answer) {
-      net::dispatch(self->ws_.get_executor(), [self, answer = std::move(answer)]() mutable {
-        self->send({std::move(answer.body), answer.content_type == kBinaryContentType, false});
-        self->schedule_push();
-        self->read();
-      });
-    });
-  }
-
-  struct Outgoing {
-    std::string data;
-    bool binary = false;
-    bool droppable = false;  ///< a pushed frame, not an answer
-    std::uint64_t group = 0;  ///< pushed frames pushed together (a state frame and its image) go together
-  };
-
-  void send(Outgoing message) {
-    if (closing_) return;
-    if (!message.droppable && over_answer_limit(message.data.size())) {
-      return end(beast::websocket::close_code::policy_error,
-                 "more than " + std::to_string(shared_->options.max_queued_answers) + " answers or " +
-                     std::to_string(shared_->options.max_queued_answer_bytes) + " bytes unread");
-    }
-    if (message.droppable && (outbox_.empty() || outbox_.back().group != message.group)) {
-      // The first message may be in flight; of the rest, the oldest push makes room, all its frames
-      // at once — but not one whose first frame is being written.
-      const auto queued = outbox_.begin() + (outbox_.empty() ? 0 : 1);
-      const std::uint64_t in_flight = outbox_.empty() ? 0 : outbox_.front().group;
-      std::set<std::uint64_t> groups;
-      for (auto m = queued; m != outbox_.end(); ++m) {
-        if (m->droppable) groups.insert(m->group);
-      }
-      if (groups.size() >= kMaxQueuedFrames) {
-        const auto oldest = std::find_if(groups.begin(), groups.end(), [&](std::uint64_t g) { return g != in_flight; });
-        if (oldest != groups.end()) {
-          const std::uint64_t dropped_group = *oldest;
-          outbox_.erase(std::remove_if(queued, outbox_.end(), [&](const Outgoing& m) { return m.droppable && m.group == dropped_group; }),
-                        outbox_.end());
-          ++dropped_;
-        }
-      }
-    }
-    outbox_.push_back(std::move(message));
-    if (outbox_.size() == 1) write_next();
-  }
-
-  /// True when one more answer of `bytes` would pass the limits of what a client may leave unread.
-  bool over_answer_limit(std::size_t bytes) const {
-    std::size_t answers = 1;
-    for (const Outgoing& queued : outbox_) {
-      if (queued.droppable) continue;
-      ++answers;
-      bytes += queued.data.size();
-    }
-    return answers > shared_->options.max_queued_answers || bytes > shared_->options.max_queued_answer_bytes;
-  }
-
-  void write_next() {
-    ws_.binary(outbox_.front().binary);
-    ws_.async_write(net::buffer(outbox_.front().data), [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) return;
-      self->outbox_.pop_front();
-      if (self->outbox_.empty()) {
-        if (self->closing_) self->send_close();
-        return;
-      }
-      self->write_next();
-    });
-  }
-
-  /// Ends the socket: what waits behind the write in flight is dropped, a close frame with `code` and
-  /// `reason` follows that write, and the connection is cut if the peer has not completed the close
-  /// kWebSocketCloseGrace later (a client that reads nothing never will).
-  void end(beast::websocket::close_code code, const std::string& reason) {
-    if (closing_) return;
-    closing_ = true;
-    close_reason_ = {code, beast::websocket::reason_string(reason.substr(0, 120))};
-    push_timer_.cancel();
-    watch_timer_.cancel();
-    if (outbox_.size() > 1) outbox_.erase(outbox_.begin() + 1, outbox_.end());
-    if (outbox_.empty()) send_close();
-    if (shared_->stopping) {
-      watch_timer_.expires_after(kWebSocketShutdownGrace);
-    } else {
-      watch_timer_.expires_after(kWebSocketCloseGrace);
-    }
-    watch_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
-      if (ec) return;
-      beast::error_code ignored;
-      beast::get_lowest_layer(self->ws_).socket().close(ignored);
-    });
-  }
-
-  void send_close() {
-    if (!ws_.is_open()) return;
-    ws_.async_close(close_reason_, [self = shared_from_this()](beast::error_code) { self->watch_timer_.cancel(); });
-  }
-
-  /// Asks the peer about once a second whether the socket should end, so a socket that sends nothing
-  /// learns that its session was deleted.
-  void watch() {
-    watch_timer_.expires_after(kWebSocketWatchInterval);
-    watch_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
-      if (ec || self->closing_ || !self->ws_.is_open()) return;
-      if (const std::string reason = self->peer_->close_reason(); !reason.empty()) {
-        return self->end(beast::websocket::close_code::normal, reason);
-      }
-      self->watch();
-    });
-  }
-
-  /// Starts pushing frames when the peer wants them and no timer runs yet.
-  void schedule_push() {
-    const double rate = peer_->push_rate();
-    if (rate <= 0.0 || pushing_ || closing_) return;
-    pushing_ = true;
-    push_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate)));
-    push_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
-      if (ec || !self->ws_.is_open()) {
-        self->pushing_ = false;
-        return;
-      }
-      // The peer may have unsubscribed since the timer was set.
-      if (self->peer_->push_rate() <= 0.0) {
-        self->pushing_ = false;
-        return;
-      }
-      self->push(self->peer_->push_frames(self->dropped_));
-    });
-  }
-
-  /// Makes the deferred frames (on this worker), then sends them all at once, in order and next to each
-  /// other (no answer comes between a state frame and its image); then the timer is set again, so the
-  /// next push never overtakes these.
-  void push(std::vector<Response> frames) {
-    const std::uint64_t group = ++push_groups_;
-    for (Response& frame : frames) {
-      if (frame.deferred) frame = complete(std::move(frame), "a pushed WebSocket frame");
-      // A frame that failed is left out; the subscription's next push tries again.
-      if (frame.status < 400 && ws_.is_open()) send({std::move(frame.body), frame.content_type == kBinaryContentType, true, group});
-    }
-    pushing_ = false;
-    if (ws_.is_open()) schedule_push();
-  }
-
-  beast::websocket::stream<beast::tcp_stream> ws_;
-  std::shared_ptr<WebSocketPeer> peer_;
-  std::shared_ptr<Shared> shared_;
-  std::unique_ptr<Slot> slot_;
-  beast::flat_buffer buffer_;
-  net::steady_timer watch_timer_{ws_.get_executor()};  ///< asks the peer whether to end; then the close's grace
-  bool closing_ = false;
-  beast::websocket::close_reason close_reason_;
-  std::deque<Outgoing> outbox_;  ///< waiting to be written, the first one being written
-  net::steady_timer push_timer_{ws_.get_executor()};
-  bool pushing_ = false;       ///< the push timer runs, or pushed frames are being made
-  std::uint64_t dropped_ = 0;  ///< pushes (a state frame and its image) dropped for a slow reader
-  std::uint64_t push_groups_ = 0;
-};
-
+namespace {
 std::string utc_timestamp() {
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   std::tm parts{};
@@ -378,6 +88,7 @@ std::string utc_timestamp() {
   std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &parts);
   return text;
 }
+}  // namespace
 
 class Connection : public std::enable_shared_from_this<Connection> {
  public:
@@ -554,8 +265,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
     // The socket moves from the I/O threads to a strand of the worker pool (see WebSocketSession).
     std::optional<tcp::socket> socket = onto_workers(stream_, *shared_->workers);
     if (!socket) return;
-    std::make_shared<WebSocketSession>(std::move(*socket), std::get<std::shared_ptr<WebSocketPeer>>(outcome), shared_, std::move(slot_))
-        ->start(std::move(message));
+    start_websocket(std::move(*socket), std::get<std::shared_ptr<WebSocketPeer>>(outcome), shared_, std::move(slot_), std::move(message));
   }
 
   void finish(Response response, const Answered& answered) {
@@ -705,7 +415,9 @@ class Listener : public std::enable_shared_from_this<Listener> {
   std::chrono::steady_clock::time_point last_accept_error_log_{};
 };
 
-}  // namespace
+}  // namespace serving
+
+using namespace serving;
 
 class Server::Impl {
  public:
@@ -762,14 +474,7 @@ class Server::Impl {
       }
     }
     for (const auto& connection : live) connection->shutdown_if_idle();
-    std::vector<std::shared_ptr<WebSocketSession>> sockets;
-    {
-      std::lock_guard lock(shared_->mutex);
-      for (const auto& [key, weak] : shared_->websockets) {
-        if (auto socket = weak.lock()) sockets.push_back(std::move(socket));
-      }
-    }
-    for (const auto& socket : sockets) socket->close();
+    serving::close_websockets(*shared_);
   }
 
   unsigned threads_;

@@ -1,6 +1,6 @@
 #pragma once
 // The HTTP server: accepts connections on a thread pool, reads requests within limits, hands them to
-// a Router, and shuts down gracefully. Boost.Beast stays inside server.cpp.
+// a Router, and shuts down gracefully. Boost.Beast stays inside server.cpp and websocket_session.cpp.
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
