@@ -1,16 +1,18 @@
 // Frames per second of the scene renderer (OSMesa, llvmpipe) on bundled scenarios: the HSR's head
 // RGB-D camera at 256×256 (the gesture task's observation) and the 640×480 top-down overview, in the
 // elevator scenario with six people and in the furnished apartment. Each frame is the whole path a
-// client waits for: the scene taken from the session, drawn once into two colour images (lit colour, ids) and depth and read
-// back whole (colour, depth, ids). The session steps between frames (not timed) so people move and
-// gestures play.
+// client waits for: the scene taken from the session, drawn once into three colour images (lit
+// colour, ids, depth in metres) and read back whole, as a WebSocket camera message is, into memory
+// that is reused. The session steps between frames (not timed) so people move and gestures play.
 //   usage: render_bench [seconds per case = 3]    (LP_NUM_THREADS=1 for one core)
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "render/offscreen_context.hpp"
+#include "render/scene_renderer.hpp"
 #include "scenario/load.hpp"
 #include "sim/scene_view.hpp"
 #include "sim/session.hpp"
@@ -33,6 +35,10 @@ Figures measure(const std::string& scenario, const std::string& camera_name, int
   for (int i = 0; i < 50; ++i) session.tick();  // people on their way
   Figures figures;
   int frames = 0;
+  const std::size_t pixels = static_cast<std::size_t>(width) * height;
+  std::vector<std::uint8_t> colour(4 * pixels);
+  std::vector<float> depth(pixels);
+  std::vector<std::uint32_t> ids(pixels);
   double scene_seconds = 0.0, elapsed = 0.0;
   while (elapsed < seconds) {
     session.tick();  // not timed: stepping is not rendering
@@ -40,7 +46,7 @@ Figures measure(const std::string& scenario, const std::string& camera_name, int
     const hrisim::sim::CameraInfo info = hrisim::sim::camera_of(session, camera_name, width, height);
     const hrisim::render::Scene scene = hrisim::sim::scene_for(session, info);
     const auto drawn = std::chrono::steady_clock::now();
-    hrisim::render::render_on_this_thread(scene, info.camera);
+    hrisim::render::renderer_on_this_thread(width, height).render_into(scene, info.camera, {colour.data(), depth.data(), ids.data()});
     const auto after = std::chrono::steady_clock::now();
     scene_seconds += std::chrono::duration<double>(drawn - before).count();
     elapsed += std::chrono::duration<double>(after - before).count();

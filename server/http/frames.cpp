@@ -72,10 +72,10 @@ Response encode_frame(const render::Frame& frame, const FrameRequest& request) {
   throw core::Error(core::ErrorCode::internal, "unknown frame image");
 }
 
-std::string camera_message(const render::Frame& frame, const sim::CameraInfo& camera, std::int64_t tick, double time, bool with_ids) {
+std::string camera_message(const render::Scene& scene, const sim::CameraInfo& camera, std::int64_t tick, double time, bool with_ids) {
   static_assert(std::endian::native == std::endian::little, "binary frames are written in the host's byte order");
   constexpr std::size_t kHeader = 96, kNameBytes = 36;
-  const std::size_t pixels = frame.depth.size();
+  const std::size_t pixels = static_cast<std::size_t>(camera.camera.width) * camera.camera.height;
   std::string out(kHeader + pixels * (4 + 4 + (with_ids ? 4 : 0)), '\0');
   char* data = out.data();
   const auto put = [&](std::size_t offset, auto value) { std::memcpy(data + offset, &value, sizeof value); };
@@ -98,12 +98,12 @@ std::string camera_message(const render::Frame& frame, const sim::CameraInfo& ca
   std::size_t name_bytes = std::min(camera.name.size(), kNameBytes - 1);
   while (name_bytes > 0 && name_bytes < camera.name.size() && (static_cast<unsigned char>(camera.name[name_bytes]) & 0xC0) == 0x80) --name_bytes;
   std::memcpy(data + 60, camera.name.data(), name_bytes);
-  std::size_t at = kHeader;
-  std::memcpy(data + at, frame.colour.pixels.data(), pixels * 4);
-  at += pixels * 4;
-  std::memcpy(data + at, frame.depth.data(), pixels * 4);
-  at += pixels * 4;
-  if (with_ids) std::memcpy(data + at, frame.ids.data(), pixels * 4);
+  // Parts of 4-byte values at 4-byte offsets: the images can be read back in place.
+  char* const colour = data + kHeader;
+  render::renderer_on_this_thread(c.width, c.height)
+      .render_into(scene, c,
+                   {reinterpret_cast<std::uint8_t*>(colour), reinterpret_cast<float*>(colour + pixels * 4),
+                    with_ids ? reinterpret_cast<std::uint32_t*>(colour + pixels * 8) : nullptr});
   return out;
 }
 

@@ -32,9 +32,10 @@ FrameRequest frame_request(const Request& request);
 /// The frame as the request asked: content type and bytes.
 Response encode_frame(const render::Frame& frame, const FrameRequest& request);
 
-/// An RGB-D frame as a binary WebSocket message: a 96-byte little-endian header "HRCF", then RGBA8,
-/// depth float32 (m) and, when asked, instance ids uint32, each row-major from the top row. Layout in
-/// api/asyncapi.yaml.
-std::string camera_message(const render::Frame& frame, const sim::CameraInfo& camera, std::int64_t tick, double time, bool with_ids);
+/// The camera's RGB-D frame of the scene, drawn on this thread, as a binary WebSocket message: a
+/// 96-byte little-endian header "HRCF", then RGBA8, depth float32 (m) and, when asked, instance ids
+/// uint32, each row-major from the top row. Layout in api/asyncapi.yaml. The images are read back
+/// straight into the message.
+std::string camera_message(const render::Scene& scene, const sim::CameraInfo& camera, std::int64_t tick, double time, bool with_ids);
 
 }  // namespace hrisim::http

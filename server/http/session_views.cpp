@@ -380,7 +380,7 @@ Response camera_frame(const sim::Session& session, const std::string& name, int 
   sim::CameraInfo camera = sim::camera_of(session, name, width, height);
   render::Scene scene = sim::scene_for(session, camera);
   return Response::later([scene = std::move(scene), camera = std::move(camera), tick = session.state().tick, time = session.time(), ids] {
-    return Response{200, kBinaryContentType, camera_message(render::render_on_this_thread(scene, camera.camera), camera, tick, time, ids), {}, {}};
+    return Response{200, kBinaryContentType, camera_message(scene, camera, tick, time, ids), {}, {}};
   });
 }
 

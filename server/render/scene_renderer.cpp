@@ -23,29 +23,37 @@ layout(location = 1) in vec3 normal;
 layout(location = 2) in vec3 colour;
 layout(location = 3) in uint id;
 uniform mat4 view_projection;
+uniform vec4 axis_depth;  // metres along the optical axis: dot(axis_depth, position)
 out vec3 world_normal;
 out vec3 surface_colour;
+out float metres;
 flat out uint instance;
 void main() {
   world_normal = normal;
   surface_colour = colour;
+  metres = dot(axis_depth, vec4(position, 1.0));
   instance = id;
   gl_Position = view_projection * vec4(position, 1.0);
 }
 )";
 
-// One pass writes both images: the lit colour, and the instance id for segmentation.
+// One pass writes the three images: the lit colour, the depth in metres (interpolated in perspective,
+// so exact, and read back as it is, with no conversion from the depth buffer's window depth), and the
+// instance id for segmentation.
 constexpr const char* kFragmentShader = R"(#version 330 core
 in vec3 world_normal;
 in vec3 surface_colour;
+in float metres;
 flat in uint instance;
 layout(location = 0) out vec4 fragment;
 layout(location = 1) out uint fragment_id;
+layout(location = 2) out float fragment_metres;
 void main() {
   vec3 light = normalize(vec3(0.3, 0.5, 1.0));
   float lit = 0.35 + 0.65 * max(dot(normalize(world_normal), light), 0.0);
   fragment = vec4(surface_colour * lit, 1.0);
   fragment_id = instance;
+  fragment_metres = metres;
 }
 )";
 
@@ -301,8 +309,8 @@ Camera Camera::pinhole(int width, int height, double horizontal_fov, double near
 struct SceneRenderer::Gl {
   OffscreenContext context;
   GLuint program = 0, vao = 0, vbo = 0;
-  GLuint framebuffer = 0, colour = 0, ids = 0, depth = 0;  ///< the frame: colour, instance ids, depth
-  GLint view_projection = -1;
+  GLuint framebuffer = 0, colour = 0, ids = 0, metres = 0, depth = 0;  ///< the frame: colour, instance ids, depth in metres; the depth test's buffer
+  GLint view_projection = -1, axis_depth = -1;
   Gl(int width, int height) : context(width, height) {}
 };
 
@@ -319,6 +327,7 @@ SceneRenderer::SceneRenderer(int width, int height) : gl_(std::make_unique<Gl>(w
   glGetProgramiv(gl.program, GL_LINK_STATUS, &ok);
   if (!ok) throw core::Error(core::ErrorCode::internal, "the scene shaders do not link");
   gl.view_projection = glGetUniformLocation(gl.program, "view_projection");
+  gl.axis_depth = glGetUniformLocation(gl.program, "axis_depth");
   // A framebuffer with two colour images (RGBA8 colour, 32-bit ids) and 24-bit depth.
   glGenFramebuffers(1, &gl.framebuffer);
   glBindFramebuffer(GL_FRAMEBUFFER, gl.framebuffer);
@@ -330,9 +339,10 @@ SceneRenderer::SceneRenderer(int width, int height) : gl_(std::make_unique<Gl>(w
   };
   attach(gl.colour, GL_RGBA8, GL_COLOR_ATTACHMENT0);
   attach(gl.ids, GL_R32UI, GL_COLOR_ATTACHMENT1);
+  attach(gl.metres, GL_R32F, GL_COLOR_ATTACHMENT2);
   attach(gl.depth, GL_DEPTH_COMPONENT24, GL_DEPTH_ATTACHMENT);
-  const GLenum targets[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glDrawBuffers(2, targets);
+  const GLenum targets[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+  glDrawBuffers(3, targets);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     throw core::Error(core::ErrorCode::internal, "the off-screen framebuffer (colour, ids, depth) is incomplete");
   }
@@ -348,19 +358,20 @@ SceneRenderer::SceneRenderer(int width, int height) : gl_(std::make_unique<Gl>(w
   for (GLuint attribute = 0; attribute < 4; ++attribute) glEnableVertexAttribArray(attribute);
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_CULL_FACE);
+  glFrontFace(GL_CW);  // counter-clockwise faces seen from outside, drawn upside down (render_into)
 }
 
 SceneRenderer::~SceneRenderer() {
   gl_->context.make_current();
   glDeleteFramebuffers(1, &gl_->framebuffer);
-  const GLuint buffers[] = {gl_->colour, gl_->ids, gl_->depth};
-  glDeleteRenderbuffers(3, buffers);
+  const GLuint buffers[] = {gl_->colour, gl_->ids, gl_->metres, gl_->depth};
+  glDeleteRenderbuffers(4, buffers);
   glDeleteBuffers(1, &gl_->vbo);
   glDeleteVertexArrays(1, &gl_->vao);
   glDeleteProgram(gl_->program);
 }
 
-Frame SceneRenderer::render(const Scene& scene, const Camera& camera) {
+void SceneRenderer::render_into(const Scene& scene, const Camera& camera, const FrameTarget& target) {
   Gl& gl = *gl_;
   if (camera.width != gl.context.width() || camera.height != gl.context.height()) {
     throw core::Error(core::ErrorCode::bad_request, "the camera's image size is not the renderer's");
@@ -379,62 +390,58 @@ Frame SceneRenderer::render(const Scene& scene, const Camera& camera) {
   glBindVertexArray(gl.vao);
   glBindBuffer(GL_ARRAY_BUFFER, gl.vbo);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices_.size() * sizeof(float)), vertices_.data(), GL_STREAM_DRAW);
-  const Eigen::Matrix4f view_projection = projection(camera) * view(camera);
+  // Drawn upside down (GL's rows start at the bottom, a frame's at the top), so each image is read
+  // back straight into its target, row 0 first; the winding that counts as front turns with it.
+  const Eigen::Matrix4f view_projection = Eigen::Vector4f(1.0f, -1.0f, 1.0f, 1.0f).asDiagonal() * projection(camera) * view(camera);
   glUniformMatrix4fv(gl.view_projection, 1, GL_FALSE, view_projection.data());
+  // The camera's x (REP 103: forward) of a map point: the first row of the map-to-camera transform.
+  const Eigen::Vector4f axis_depth = to_camera.matrix().row(0).transpose().cast<float>();
+  glUniform4fv(gl.axis_depth, 1, axis_depth.data());
   const auto count = static_cast<GLsizei>(vertices_.size() / kFloatsPerVertex);
   glBindFramebuffer(GL_FRAMEBUFFER, gl.framebuffer);
   const GLfloat background[] = {kBackground[0], kBackground[1], kBackground[2], 1.0f};
-  const GLuint nothing[] = {0, 0, 0, 0};
+  const GLuint no_id[] = {0, 0, 0, 0};
+  const GLfloat no_depth[] = {0.0f, 0.0f, 0.0f, 0.0f};
   const GLfloat farthest = 1.0f;
   glClearBufferfv(GL_COLOR, 0, background);
-  glClearBufferuiv(GL_COLOR, 1, nothing);
+  glClearBufferuiv(GL_COLOR, 1, no_id);
+  glClearBufferfv(GL_COLOR, 2, no_depth);
   glClearBufferfv(GL_DEPTH, 0, &farthest);
   if (count > 0) glDrawArrays(GL_TRIANGLES, 0, count);
 
-  // Read back; GL's rows start at the bottom, a frame's at the top.
-  Frame frame;
   const int w = camera.width, h = camera.height;
-  const std::size_t pixels = static_cast<std::size_t>(w) * h;
-  std::vector<std::uint8_t> colour(pixels * 4);
-  std::vector<std::uint32_t> ids(pixels);
-  std::vector<float> window_depth(pixels);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, colour.data());
-  glReadBuffer(GL_COLOR_ATTACHMENT1);
-  glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
-  glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, window_depth.data());
-  frame.colour = {w, h, std::vector<std::uint8_t>(pixels * 4)};
-  frame.ids.resize(pixels);
-  frame.depth.resize(pixels);
-  const double n = camera.near, f = camera.far;
-  const bool orthographic = camera.orthographic_width > 0.0;
-  for (int y = 0; y < h; ++y) {
-    const std::size_t from = static_cast<std::size_t>(h - 1 - y) * w, to = static_cast<std::size_t>(y) * w;
-    std::memcpy(frame.colour.pixels.data() + 4 * to, colour.data() + 4 * from, 4 * static_cast<std::size_t>(w));
-    std::memcpy(frame.ids.data() + to, ids.data() + from, sizeof(std::uint32_t) * static_cast<std::size_t>(w));
-    for (int x = 0; x < w; ++x) {
-      // The window depth back to metres along the axis.
-      const float d = window_depth[from + x];
-      float& metres = frame.depth[to + x];
-      if (d >= 1.0f) {
-        metres = 0.0f;
-      } else if (orthographic) {
-        metres = static_cast<float>(n + d * (f - n));
-      } else {
-        metres = static_cast<float>(2.0 * f * n / (f + n - (2.0 * d - 1.0) * (f - n)));
-      }
-    }
+  if (target.colour) {
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, target.colour);
   }
+  if (target.ids) {
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, target.ids);
+  }
+  if (target.depth) {
+    glReadBuffer(GL_COLOR_ATTACHMENT2);
+    glReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, target.depth);
+  }
+}
+
+Frame SceneRenderer::render(const Scene& scene, const Camera& camera) {
+  const std::size_t pixels = static_cast<std::size_t>(camera.width) * camera.height;
+  Frame frame{{camera.width, camera.height, std::vector<std::uint8_t>(pixels * 4)}, std::vector<float>(pixels), std::vector<std::uint32_t>(pixels)};
+  render_into(scene, camera, {frame.colour.pixels.data(), frame.depth.data(), frame.ids.data()});
   return frame;
 }
 
-Frame render_on_this_thread(const Scene& scene, const Camera& camera) {
+SceneRenderer& renderer_on_this_thread(int width, int height) {
   constexpr std::size_t kRenderersPerThread = 4;
   thread_local std::map<std::pair<int, int>, std::unique_ptr<SceneRenderer>> renderers;
-  if (!renderers.contains({camera.width, camera.height}) && renderers.size() >= kRenderersPerThread) renderers.clear();
-  auto& renderer = renderers[{camera.width, camera.height}];
-  if (!renderer) renderer = std::make_unique<SceneRenderer>(camera.width, camera.height);
-  return renderer->render(scene, camera);
+  if (!renderers.contains({width, height}) && renderers.size() >= kRenderersPerThread) renderers.clear();
+  auto& renderer = renderers[{width, height}];
+  if (!renderer) renderer = std::make_unique<SceneRenderer>(width, height);
+  return *renderer;
+}
+
+Frame render_on_this_thread(const Scene& scene, const Camera& camera) {
+  return renderer_on_this_thread(camera.width, camera.height).render(scene, camera);
 }
 
 }  // namespace hrisim::render

@@ -58,6 +58,14 @@ struct Frame {
   std::vector<std::uint32_t> ids;   ///< instance id per pixel, 0 for the background
 };
 
+/// Where a frame's images are read back to: each width × height values, row-major from the top row;
+/// an image whose pointer is null is not read back.
+struct FrameTarget {
+  std::uint8_t* colour = nullptr;  ///< RGBA8
+  float* depth = nullptr;          ///< as Frame::depth
+  std::uint32_t* ids = nullptr;
+};
+
 /// Background colour of frames (a light grey-blue sky), linear RGB.
 inline constexpr std::array<float, 3> kBackground{0.82f, 0.86f, 0.9f};
 
@@ -71,6 +79,9 @@ class SceneRenderer {
 
   /// One frame of the scene through the camera (whose size must be the renderer's).
   Frame render(const Scene& scene, const Camera& camera);
+  /// The same frame, read back straight into the caller's memory (a message being written, say), with
+  /// no copy on the way.
+  void render_into(const Scene& scene, const Camera& camera, const FrameTarget& target);
 
  private:
   struct Gl;
@@ -78,8 +89,11 @@ class SceneRenderer {
   std::vector<float> vertices_;  ///< reused between frames
 };
 
-/// Renders on this thread with a renderer of the camera's size, kept per thread: at most a few sizes,
-/// so a client asking for ever new sizes does not pile up contexts.
+/// This thread's renderer of that size, kept per thread: at most a few sizes, so a client asking for
+/// ever new sizes does not pile up contexts.
+SceneRenderer& renderer_on_this_thread(int width, int height);
+
+/// Renders on this thread with its renderer of the camera's size.
 Frame render_on_this_thread(const Scene& scene, const Camera& camera);
 
 }  // namespace hrisim::render

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace hrisim::render {
 namespace {
@@ -44,6 +45,39 @@ TEST(SceneRenderer, AWallThreeMetresAheadIsThreeMetresDeepToTheCentimetre) {
       EXPECT_EQ(id_at(frame, camera, u, v), 7u);
     }
   }
+}
+
+TEST(SceneRenderer, DepthIsExactToFloatPrecisionNearAndFar) {
+  // Depth is interpolated in metres, not taken back from a 24-bit window depth, whose steps grow
+  // with the square of the distance (about 3 mm at 40 m with these near and far planes).
+  SceneRenderer renderer(64, 64);
+  Camera camera = Camera::pinhole(64, 64, 1.0, 0.05, 50.0);
+  for (const double wall : {0.5, 7.25, 41.0}) {
+    const Frame frame = renderer.render({box_at(wall + 0.05, 0, 0, {0.1, 200, 200}, 1)}, camera);
+    for (int v = 0; v < 64; v += 9) {
+      for (int u = 0; u < 64; u += 9) EXPECT_NEAR(depth_at(frame, camera, u, v), wall, wall * 1e-6) << wall << " m at " << u << ", " << v;
+    }
+  }
+}
+
+TEST(SceneRenderer, RenderIntoFillsTheCallersMemoryAsRenderDoesAndLeavesOutWhatIsNotAsked) {
+  SceneRenderer renderer(64, 48);
+  Camera camera = Camera::pinhole(64, 48, 1.2, 0.05, 50.0);
+  camera.pose.translation() = Eigen::Vector3d(0, 0, 1.0);
+  const Scene scene{box_at(2.2, 0.3, 1.1, {0.4, 0.4, 0.6}, 5), Part::capsule({3.0, -0.5, 0.2}, {3.0, -0.5, 1.6}, 0.2, {0.1f, 0.7f, 0.2f}, 6),
+                    box_at(6.05, 0, 1, {0.1, 40, 40}, 9)};
+  const Frame frame = renderer.render(scene, camera);
+  const std::size_t pixels = 64 * 48;
+  std::vector<std::uint8_t> colour(4 * pixels, 0xAB);
+  std::vector<float> depth(pixels, -1.0f);
+  std::vector<std::uint32_t> ids(pixels, 0xDEADBEEF);
+  renderer.render_into(scene, camera, {colour.data(), depth.data(), nullptr});
+  EXPECT_EQ(colour, frame.colour.pixels);
+  EXPECT_EQ(depth, frame.depth);
+  EXPECT_TRUE(std::all_of(ids.begin(), ids.end(), [](std::uint32_t id) { return id == 0xDEADBEEF; })) << "ids were not asked for";
+  renderer.render_into(scene, camera, {nullptr, nullptr, ids.data()});
+  EXPECT_EQ(ids, frame.ids);
+  EXPECT_EQ(std::count(ids.begin(), ids.end(), 6u) > 0 && std::count(ids.begin(), ids.end(), 5u) > 0, true) << "both near parts are in view";
 }
 
 TEST(SceneRenderer, LeftIsLeftAndUpIsUpAndTheNearerBoxHides) {
