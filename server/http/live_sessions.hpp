@@ -27,10 +27,10 @@ namespace hrisim::http {
 using Clock = std::chrono::steady_clock;
 
 /// A live session records at most this many bodies (people and robot, summed over its steps) for its
-/// metrics on demand: about 150 MB by the size of a body's record (not measured), 1.5 hours of the
-/// elevator's six people at 60 Hz, half a minute of a thousand. Its metrics then cover the steps up
-/// to `recorded_until_tick`.
-inline constexpr std::size_t kMaxLiveRecordedBodies = 2'000'000;
+/// metrics on demand: packed, 120–250 MB (memory_bench: 15–32 B a body), 5 hours of the elevator's
+/// six people and HSR at 60 Hz, two minutes of a thousand people. Its metrics then cover the steps
+/// up to `recorded_until_tick`.
+inline constexpr std::size_t kMaxLiveRecordedBodies = 8'000'000;
 
 struct Live {
   std::string id, scenario;

@@ -9,6 +9,8 @@ namespace hrisim::sim {
 namespace {
 
 /// Bytes a sample takes in memory, near enough to bound many recordings together.
+/// Memory a sample would take unpacked: more than it takes packed, so a lease that covers it covers
+/// what appending the sample adds.
 std::size_t sample_bytes(const metrics::Sample& sample) {
   std::size_t bytes = sizeof(metrics::Sample) + sample.humans.capacity() * sizeof(metrics::Body);
   for (const std::vector<int>& group : sample.groups) bytes += sizeof(group) + group.capacity() * sizeof(int);
@@ -19,7 +21,9 @@ std::size_t sample_bytes(const metrics::Sample& sample) {
 }  // namespace
 
 std::string recording_memory_spent(const core::MemoryBudget& memory) {
-  return "the recordings of all sessions and runs hold their maximum of " + std::to_string(memory.limit() >> 20) + " MiB";
+  const std::size_t limit = memory.limit();
+  const std::string amount = limit % (1 << 20) == 0 ? std::to_string(limit >> 20) + " MiB" : std::to_string(limit >> 10) + " KiB";
+  return "the recordings of all sessions and runs hold their maximum of " + amount;
 }
 
 EpisodeRecorder::EpisodeRecorder(const Session& session, RecorderLimits limits)
@@ -54,7 +58,7 @@ EpisodeRecorder::EpisodeRecorder(const Session& session, RecorderLimits limits)
 
 void EpisodeRecorder::record(const Session& session, double reward) {
   const State& state = session.state();
-  if (!recording_.samples.empty() && recording_.samples.back().tick == state.tick) return;
+  if (!samples_.empty() && samples_.back().tick == state.tick) return;
   if (!stopped_.empty()) return;
   if (max_bodies_ && bodies_ >= *max_bodies_) {
     stopped_ = "the session's recording holds its maximum of " + std::to_string(*max_bodies_) + " bodies";
@@ -96,20 +100,22 @@ void EpisodeRecorder::record(const Session& session, double reward) {
     }
     if (present.size() >= 2) sample.groups.push_back(std::move(present));
   }
-  const std::size_t bytes = sample_bytes(sample);
-  if (!memory_.grow(bytes) && !recording_.samples.empty()) {
+  // The lease grows a block at a time, ahead of what the packed samples hold.
+  const std::size_t needed = samples_.bytes() + sample_bytes(sample);
+  if (memory_.bytes() < needed && !memory_.grow(std::max(needed - memory_.bytes(), metrics::PackedSamples::kBlockBytes)) && !samples_.empty()) {
     stopped_ = recording_memory_spent(*memory_.budget());
     return;
   }
   bodies_ += sample.humans.size() + 1;
-  recording_.samples.push_back(std::move(sample));
+  samples_.append(sample);
 }
 
 metrics::Recording EpisodeRecorder::finish(const Session& session, std::string termination) const {
   metrics::Recording recording = recording_;
+  recording.samples = samples_.unpack();
   const State& state = session.state();
   for (const Event& event : state.events) {
-    if (event.tick > recording.samples.back().tick) break;  // after what was recorded (events are in tick order)
+    if (event.tick > recorded_until()) break;  // after what was recorded (events are in tick order)
     metrics::RecordedEvent recorded{event.tick, event.kind, event.subject, std::nullopt};
     if (event.data.contains("request") && event.data["request"].is_number_integer()) recorded.request = event.data["request"].get<std::int64_t>();
     recording.events.push_back(std::move(recorded));

@@ -6,13 +6,15 @@
 #include <string>
 
 #include "core/memory_budget.hpp"
+#include "metrics/packed_samples.hpp"
 #include "metrics/recording.hpp"
 #include "sim/session.hpp"
 
 namespace hrisim::sim {
 
 /// How much one recording may hold; recording stops at the first limit reached, so a session that runs
-/// for hours keeps bounded memory, and its metrics cover the steps up to recorded_until().
+/// for hours keeps bounded memory, and its metrics cover the steps up to recorded_until(). The samples
+/// are kept packed (metrics::PackedSamples) and unpacked, exactly, by finish().
 struct RecorderLimits {
   std::optional<std::size_t> max_bodies;  ///< bodies (people plus robot) summed over the samples
   core::MemoryBudget* memory = nullptr;   ///< shared with other recordings; its bytes are estimated per sample
@@ -29,7 +31,7 @@ class EpisodeRecorder {
   /// benchmark task's rewards summed so far.
   void record(const Session& session, double reward = 0.0);
   /// The last tick recorded.
-  std::int64_t recorded_until() const { return recording_.samples.back().tick; }
+  std::int64_t recorded_until() const { return samples_.back().tick; }
   /// Why recording stopped before the session's last tick; empty while it goes on.
   const std::string& stopped() const { return stopped_; }
   /// The recording with the session's events, completion and `termination` (the session's own when empty).
@@ -41,7 +43,8 @@ class EpisodeRecorder {
   std::size_t bodies_ = 0;  ///< in the samples so far
   core::MemoryBudget::Lease memory_;
   std::string stopped_;
-  metrics::Recording recording_;
+  metrics::Recording recording_;  ///< all but the samples
+  metrics::PackedSamples samples_;
 };
 
 }  // namespace hrisim::sim

@@ -258,13 +258,13 @@ TEST(Hardening, EpisodesLongerThanTheLimitAreRefused) {
 }
 
 TEST(Hardening, RecordingsOfSessionsAndRunsShareOneBoundedBudget) {
-  // Every live session and every run's episode in flight records each tick (~0.8 KB on the elevator);
-  // eight sessions of an hour and a run's long episodes together had no ceiling.
+  // Every live session and every run's episode in flight records each tick (packed, ~120 B on
+  // family_day); eight sessions of a day and a run's long episodes together had no ceiling.
   TestServer server({"--max-recording-mb", "1", "--run-jobs", "1"});
-  const HttpReply created = http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 1})");
+  const HttpReply created = http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "family_day", "seed": 1})");
   ASSERT_EQ(created.status, 201) << created.body;
   const std::string session = json_of(created)["id"];
-  ASSERT_EQ(http(server.port(), "POST", "/api/v1/sessions/" + session + "/step", R"({"n": 4000})").status, 200);
+  ASSERT_EQ(http(server.port(), "POST", "/api/v1/sessions/" + session + "/step", R"({"n": 20000})").status, 200);
   const nlohmann::json metrics = json_of(http(server.port(), "GET", "/api/v1/sessions/" + session + "/metrics"));
   EXPECT_LT(metrics["recorded_until_tick"].get<std::int64_t>(), metrics["tick"].get<std::int64_t>()) << metrics.dump().substr(0, 300);
   EXPECT_EQ(metrics["recording_stopped"], "the recordings of all sessions and runs hold their maximum of 1 MiB");

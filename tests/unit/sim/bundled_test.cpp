@@ -63,7 +63,8 @@ TEST(EpisodeRecorder, RecordingsSharingAMemoryBudgetStopWhenItIsSpentAndGiveItBa
   const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/queue.json");
   ASSERT_TRUE(loaded.model);
   Session session(loaded.model, 1);
-  core::MemoryBudget memory(std::size_t{1} << 20);
+  // Packed, a queue's tick takes tens of bytes: 256 KiB, four blocks, hold less than its 1,706 ticks twice.
+  core::MemoryBudget memory(std::size_t{256} << 10);
   std::optional<EpisodeRecorder> first(std::in_place, session, RecorderLimits{std::nullopt, &memory});
   EpisodeRecorder second(session, {std::nullopt, &memory});
   std::int64_t ticks = 0;
@@ -73,10 +74,10 @@ TEST(EpisodeRecorder, RecordingsSharingAMemoryBudgetStopWhenItIsSpentAndGiveItBa
     first->record(session);
     second.record(session);
   }
-  ASSERT_FALSE(first->stopped().empty()) << "a MiB holds no 100,000 ticks of a queue";
-  EXPECT_EQ(first->stopped(), "the recordings of all sessions and runs hold their maximum of 1 MiB");
+  ASSERT_FALSE(first->stopped().empty()) << "256 KiB hold no two recordings of the whole queue";
+  EXPECT_EQ(first->stopped(), "the recordings of all sessions and runs hold their maximum of 256 KiB");
   EXPECT_LE(memory.used(), memory.limit());
-  EXPECT_GT(memory.used(), memory.limit() - 4096) << "stopped at the ceiling, not before";
+  EXPECT_GT(memory.used(), memory.limit() - metrics::PackedSamples::kBlockBytes) << "stopped a block short of the ceiling at most";
   EXPECT_LT(first->recorded_until(), session.state().tick);
   // Both recorded alternately: they share the MiB, neither was given all of it.
   EXPECT_LT(std::abs(first->recorded_until() - second.recorded_until()), 2);
