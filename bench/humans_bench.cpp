@@ -33,7 +33,7 @@ constexpr double kShortNeighbourhood = 2.0;
 json open_room(int humans, const std::string& avoidance, double neighbour_distance = 0.0) {
   const double side = std::max(30.0, std::ceil(std::sqrt(humans / kRoomDensity)));
   json scenario{{"name", "open_room"},
-                {"time_limit", 1e6},
+                {"time_limit", 3000},
                 {"locomotion", {{"avoidance", avoidance}}},
                 {"world",
                  {{"bounds", {{"min", {-1, -1}}, {"max", {side + 1, side + 1}}}},
@@ -67,13 +67,15 @@ json open_room(int humans, const std::string& avoidance, double neighbour_distan
 }
 
 /// IMHuS's elevator map with humans at random free places walking to other random free places.
-json elevator(int humans, const std::string& avoidance, const std::string& map, const hrisim::scenario::Model& empty) {
+json elevator(int humans, const std::string& avoidance, const std::string& map, const hrisim::scenario::Model& empty,
+              double neighbour_distance = 0.0) {
   json scenario{{"name", "elevator_crowd"},
-                {"time_limit", 1e6},
+                {"time_limit", 3000},
                 {"locomotion", {{"avoidance", avoidance}}},
                 {"world", {{"map", map}}},
                 {"humans", json::array()},
                 {"steps", json::array()}};
+  if (neighbour_distance > 0.0) scenario["locomotion"]["social_force"] = {{"neighbour_distance", neighbour_distance}};
   hrisim::core::Random random(42);
   auto free_point = [&] {
     for (;;) {
@@ -101,8 +103,9 @@ struct Measurement {
   std::uint64_t final_hash;  ///< the same on every machine and in every repetition: determinism
 };
 
-Measurement measure_once(const std::shared_ptr<const hrisim::scenario::Model>& model, int steps) {
+Measurement measure_once(const std::shared_ptr<const hrisim::scenario::Model>& model, int steps, unsigned threads) {
   hrisim::sim::Session session(model, 1);
+  session.set_crowd_threads(threads);
   for (int i = 0; i < 30; ++i) session.tick();  // first plans
   const auto start = Clock::now();
   for (int i = 0; i < steps; ++i) session.tick();
@@ -114,33 +117,44 @@ Measurement measure_once(const std::shared_ptr<const hrisim::scenario::Model>& m
 /// Only cases whose "place avoidance humans" contains this run (all when empty).
 std::string only;
 
+/// The bench's own crowds and the user's map: up to 10,000 people, the map wherever it lies.
+hrisim::scenario::LoadOptions bench_options() {
+  hrisim::scenario::LoadOptions options;
+  options.limits.max_people = 20000;
+  options.limits.confine_files = false;
+  return options;
+}
+
 void measure(const std::string& place, const std::string& avoidance, int humans, const json& document, int repetitions) {
   // A trailing space on both sides, so "1000" does not also select 10000.
   const std::string key = place + " " + avoidance + " " + std::to_string(humans) + " ";
   if (!only.empty() && key.find(only + " ") == std::string::npos) return;
-  const auto loaded = hrisim::scenario::load_scenario(document, {});
+  const auto loaded = hrisim::scenario::load_scenario(document, bench_options());
   if (!loaded.model) {
     std::fprintf(stderr, "invalid bench scenario: %s %s\n", loaded.errors[0].pointer.c_str(), loaded.errors[0].message.c_str());
     std::exit(1);
   }
   const int steps = std::clamp(200000 / humans, 60, 3000);
-  std::vector<double> rates;
   std::uint64_t final_hash = 0;
-  for (int r = 0; r < repetitions; ++r) {
-    const Measurement measurement = measure_once(loaded.model, steps);
-    if (r > 0 && measurement.final_hash != final_hash) {
-      std::fprintf(stderr, "%s: repetitions ended in different states: not deterministic\n", key.c_str());
-      std::exit(1);
+  // Crowds of a thousand and more also on two threads, which must end in the one thread's state.
+  for (const unsigned threads : humans >= 1000 ? std::vector<unsigned>{1, 2} : std::vector<unsigned>{1}) {
+    std::vector<double> rates;
+    for (int r = 0; r < repetitions; ++r) {
+      const Measurement measurement = measure_once(loaded.model, steps, threads);
+      if ((r > 0 || threads > 1) && measurement.final_hash != final_hash) {
+        std::fprintf(stderr, "%s on %u threads: ended in a different state: not deterministic\n", key.c_str(), threads);
+        std::exit(1);
+      }
+      final_hash = measurement.final_hash;
+      rates.push_back(measurement.steps_per_second);
     }
-    final_hash = measurement.final_hash;
-    rates.push_back(measurement.steps_per_second);
+    std::sort(rates.begin(), rates.end());
+    const double median = rates[rates.size() / 2];
+    std::printf("%-10s %-15s %6d humans, %u thread%s: %10.0f steps/s  %8.1fx real time  %6.2f M agent-steps/s  state %016llx\n",
+                place.c_str(), avoidance.c_str(), humans, threads, threads > 1 ? "s" : " ", median, median * loaded.model->dt,
+                median * humans / 1e6, static_cast<unsigned long long>(final_hash));
+    std::fflush(stdout);
   }
-  std::sort(rates.begin(), rates.end());
-  const double median = rates[rates.size() / 2];
-  std::printf("%-10s %-12s %6d humans: %10.0f steps/s  %8.1fx real time  %6.2f M agent-steps/s  state %016llx\n",
-              place.c_str(), avoidance.c_str(), humans, median, median * loaded.model->dt, median * humans / 1e6,
-              static_cast<unsigned long long>(final_hash));
-  std::fflush(stdout);
 }
 
 }  // namespace
@@ -151,7 +165,7 @@ int main(int argc, char** argv) {
   // Absolute: a scenario's relative map paths are looked up next to the scenario, not the working directory.
   const std::string map = std::filesystem::absolute(shared + "/external/imhus/elevator_map/elevator.yaml").string();
   if (argc > 3) only = argv[3];
-  std::printf("humans_bench: dt = 1/60 s, one thread, median of %d repetitions\n", repetitions);
+  std::printf("humans_bench: dt = 1/60 s, median of %d repetitions\n", repetitions);
   for (const std::string avoidance : {"orca", "social_force"}) {
     for (int humans : {10, 100, 1000}) measure("open_room", avoidance, humans, open_room(humans, avoidance), repetitions);
   }
@@ -160,7 +174,7 @@ int main(int argc, char** argv) {
     measure("open_room", "social_force_2m", humans, open_room(humans, "social_force", kShortNeighbourhood), repetitions);
   }
   const auto empty = hrisim::scenario::load_scenario(
-      json{{"name", "map"}, {"world", {{"map", map}}}, {"steps", json::array()}}, {});
+      json{{"name", "map"}, {"world", {{"map", map}}}, {"steps", json::array()}}, bench_options());
   if (!empty.model) {
     std::printf("elevator map not loaded from %s (%s): skipping the elevator cases\n", map.c_str(),
                 empty.errors.front().message.c_str());
@@ -171,5 +185,7 @@ int main(int argc, char** argv) {
       measure("elevator", avoidance, humans, elevator(humans, avoidance, map, *empty.model), repetitions);
     }
   }
+  // The crush (2.7 people/m²) with the neighbourhood cut to 2 m: about three rings of neighbours.
+  measure("elevator", "social_force_2m", 1000, elevator(1000, "social_force", map, *empty.model, kShortNeighbourhood), repetitions);
   return 0;
 }

@@ -207,7 +207,7 @@ Vec2 solve_orca(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, 
 }
 
 Crowd::Crowd(OrcaParams orca, SocialForceParams social_force, PersonalSpace personal_space)
-    : orca_(orca), social_force_(social_force), personal_space_(personal_space), grid_(std::max(orca.neighbour_distance, 1.0)) {}
+    : orca_(orca), social_force_(social_force), personal_space_(personal_space), grid_(std::max(orca.neighbour_distance, 1.0)), social_pairs_(1), scratch_(1) {}
 
 /// No agent's body is wider than this round its centre, m (bounds the search for neighbours).
 constexpr double kLargestBodyRadius = 1.0;
@@ -226,9 +226,9 @@ double Crowd::margin(const CrowdAgent& agent, const CrowdAgent& other) const {
   return std::clamp(gap, 0.0, wanted);
 }
 
-Vec2 Crowd::keep_personal_space(std::size_t i, std::span<const CrowdAgent> agents, Vec2 velocity, double dt) {
+Vec2 Crowd::keep_personal_space(std::size_t i, std::span<const CrowdAgent> agents, Vec2 velocity, double dt, Scratch& scratch) const {
   const CrowdAgent& agent = agents[i];
-  std::vector<std::pair<double, std::uint32_t>>& neighbours = orca_neighbours_;
+  std::vector<std::pair<double, std::uint32_t>>& neighbours = scratch.neighbours;
   const double reach = agent.radius + personal_space_.from_robots + agent.max_speed * dt + kLargestBodyRadius;
   grid_.nearest_within(agent.position, reach, agents.size(), static_cast<std::uint32_t>(i), neighbours);
   for (const auto& [squared_distance, j] : neighbours) {
@@ -253,22 +253,36 @@ void Crowd::compute_velocities(std::span<const CrowdAgent> agents, const Obstacl
   grid_.rebuild(positions_);
   velocities.resize(agents.size());
   add_social_forces(agents);
-  for (std::size_t i = 0; i < agents.size(); ++i) {
-    const CrowdAgent& agent = agents[i];
-    if (agent.controlled) {
-      velocities[i] = agent.velocity;
-    } else if (agent.avoidance == LocalAvoidance::orca) {
-      velocities[i] = orca_velocity(i, agents, obstacles, dt);
-    } else {
-      velocities[i] = social_force_velocity(i, agents, obstacles, dt);
+  const auto part = [&](unsigned k, std::size_t begin, std::size_t end) {
+    Scratch& scratch = scratch_[k];
+    for (std::size_t i = begin; i < end; ++i) {
+      const CrowdAgent& agent = agents[i];
+      if (agent.controlled) {
+        velocities[i] = agent.velocity;
+      } else if (agent.avoidance == LocalAvoidance::orca) {
+        velocities[i] = orca_velocity(i, agents, obstacles, dt, scratch);
+      } else {
+        velocities[i] = social_force_velocity(i, agents, obstacles, dt, scratch);
+      }
     }
+  };
+  if (team_) {
+    team_->run(agents.size(), part);
+  } else {
+    part(0, 0, agents.size());
   }
 }
 
-Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
-                          double dt) {
+void Crowd::set_threads(unsigned threads) {
+  team_ = threads > 1 ? std::make_unique<core::ThreadTeam>(threads) : nullptr;
+  scratch_.resize(std::max(threads, 1u));
+  social_pairs_.resize(std::max(threads, 1u));
+}
+
+Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
+                          Scratch& scratch) const {
   const CrowdAgent& agent = agents[i];
-  std::vector<OrcaLine>& lines = orca_lines_;
+  std::vector<OrcaLine>& lines = scratch.lines;
   lines.clear();
   std::size_t obstacle_lines = 0;
   const double obstacle_range = agent.max_speed * orca_.obstacle_horizon + agent.radius;
@@ -278,7 +292,7 @@ Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, con
     obstacle_lines = 1;
   }
   // The closest neighbours, ties broken by index so the choice is deterministic.
-  std::vector<std::pair<double, std::uint32_t>>& neighbours = orca_neighbours_;
+  std::vector<std::pair<double, std::uint32_t>>& neighbours = scratch.neighbours;
   grid_.nearest_within(agent.position, orca_.neighbour_distance, static_cast<std::size_t>(orca_.max_neighbours),
                        static_cast<std::uint32_t>(i), neighbours);
   for (const auto& [squared_distance, j] : neighbours) {
@@ -306,30 +320,44 @@ void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
   for (std::size_t k = 0; k < count; ++k) slot_velocities_[k] = agents[items[k]].velocity;
   const auto positions = grid_.sorted_positions();
   const double range_squared = social_force_.neighbour_distance * social_force_.neighbour_distance;
-  SocialPairs& pairs = social_pairs_;
-  std::size_t kept = 0;
-  grid_.for_each_candidate_run(social_force_.neighbour_distance, [&](std::uint32_t a, std::uint32_t begin,
-                                                                     std::uint32_t end) {
-    if (pairs.a.size() < kept + (end - begin)) pairs.resize(2 * (kept + (end - begin)));
-    for (std::uint32_t b = begin; b < end; ++b) {
-      const Vec2 difference = positions[b] - positions[a];
-      const Vec2 velocity_difference = slot_velocities_[a] - slot_velocities_[b];
-      pairs.a[kept] = a;
-      pairs.b[kept] = b;
-      pairs.dx[kept] = static_cast<float>(difference.x());
-      pairs.dy[kept] = static_cast<float>(difference.y());
-      pairs.dvx[kept] = static_cast<float>(velocity_difference.x());
-      pairs.dvy[kept] = static_cast<float>(velocity_difference.y());
-      kept += difference.squaredNorm() <= range_squared ? 1 : 0;
-    }
-  });
-  interaction_forces(social_force_, kept, pairs.dx.data(), pairs.dy.data(), pairs.dvx.data(), pairs.dvy.data(),
-                     pairs.fx.data(), pairs.fy.data());
+  // Each thread gathers the pairs of its slots and computes their forces; the sums are then made on
+  // this thread, part after part, in the order a single scan gives.
+  const auto gather = [&](unsigned part, std::size_t first, std::size_t last) {
+    SocialPairs& pairs = social_pairs_[part];
+    std::size_t kept = 0;
+    grid_.for_each_candidate_run(
+        social_force_.neighbour_distance,
+        [&](std::uint32_t a, std::uint32_t begin, std::uint32_t end) {
+          if (pairs.a.size() < kept + (end - begin)) pairs.resize(2 * (kept + (end - begin)));
+          for (std::uint32_t b = begin; b < end; ++b) {
+            const Vec2 difference = positions[b] - positions[a];
+            const Vec2 velocity_difference = slot_velocities_[a] - slot_velocities_[b];
+            pairs.a[kept] = a;
+            pairs.b[kept] = b;
+            pairs.dx[kept] = static_cast<float>(difference.x());
+            pairs.dy[kept] = static_cast<float>(difference.y());
+            pairs.dvx[kept] = static_cast<float>(velocity_difference.x());
+            pairs.dvy[kept] = static_cast<float>(velocity_difference.y());
+            kept += difference.squaredNorm() <= range_squared ? 1 : 0;
+          }
+        },
+        static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(last));
+    interaction_forces(social_force_, kept, pairs.dx.data(), pairs.dy.data(), pairs.dvx.data(), pairs.dvy.data(), pairs.fx.data(),
+                       pairs.fy.data());
+    pairs.kept = kept;
+  };
+  if (team_) {
+    team_->run(count, gather);
+  } else {
+    gather(0, 0, count);
+  }
   slot_social_.assign(count, Vec2::Zero());
-  for (std::size_t k = 0; k < kept; ++k) {
-    const Vec2 force(static_cast<double>(pairs.fx[k]), static_cast<double>(pairs.fy[k]));
-    slot_social_[pairs.a[k]] += force;
-    slot_social_[pairs.b[k]] -= force;
+  for (const SocialPairs& pairs : social_pairs_) {
+    for (std::size_t k = 0; k < pairs.kept; ++k) {
+      const Vec2 force(static_cast<double>(pairs.fx[k]), static_cast<double>(pairs.fy[k]));
+      slot_social_[pairs.a[k]] += force;
+      slot_social_[pairs.b[k]] -= force;
+    }
   }
   for (std::size_t k = 0; k < count; ++k) {
     if (feels(agents[items[k]])) social_[items[k]] = slot_social_[k];
@@ -342,8 +370,8 @@ void SocialPairs::resize(std::size_t size) {
   b.resize(size);
 }
 
-Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
-                                  double dt) {
+Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
+                                  Scratch& scratch) const {
   const CrowdAgent& agent = agents[i];
   const SocialForceParams& p = social_force_;
   const Vec2 desired = (agent.preferred_velocity - agent.velocity) / p.relaxation_time;
@@ -355,7 +383,7 @@ Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> age
   const Vec2 acceleration = p.desired_factor * desired + p.social_factor * social + p.obstacle_factor * obstacle_force;
   Vec2 velocity = agent.velocity + acceleration * dt;
   if (velocity.norm() > agent.max_speed) velocity = velocity.normalized() * agent.max_speed;
-  return keep_personal_space(i, agents, velocity, dt);
+  return keep_personal_space(i, agents, velocity, dt, scratch);
 }
 
 }  // namespace hrisim::humans

@@ -6,11 +6,13 @@
 // Robots are part of the crowd as agents whose velocity comes from their controller: humans always
 // react to them, and under ORCA take full responsibility for avoiding them (robots do not reciprocate).
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
 
 #include "core/math.hpp"
+#include "core/thread_team.hpp"
 #include "humans/spatial_grid.hpp"
 
 namespace hrisim::humans {
@@ -90,6 +92,7 @@ struct SocialPairs {
   std::vector<float> dx, dy;    ///< b's position minus a's
   std::vector<float> dvx, dvy;  ///< a's velocity minus b's
   std::vector<float> fx, fy;    ///< the interaction force on a
+  std::size_t kept = 0;         ///< pairs within range, at the front
   void resize(std::size_t size);
 };
 
@@ -100,9 +103,15 @@ class Crowd {
  public:
   Crowd(OrcaParams orca = {}, SocialForceParams social_force = {}, PersonalSpace personal_space = {});
 
-  /// New velocities for all agents (controlled agents keep theirs).
+  /// New velocities for all agents (controlled agents keep theirs). Each agent's is computed from
+  /// this tick's inputs alone, so the agents are shared out over the crowd's threads (set_threads)
+  /// with the same result bit for bit.
   void compute_velocities(std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
                           std::vector<Vec2>& velocities);
+
+  /// Threads, the caller's included, that compute the velocities (1 by default: no helper thread).
+  void set_threads(unsigned threads);
+  unsigned threads() const { return team_ ? team_->size() : 1; }
 
   const OrcaParams& orca() const { return orca_; }
   const SocialForceParams& social_force() const { return social_force_; }
@@ -111,13 +120,18 @@ class Crowd {
  private:
   /// The margin agent i keeps from agent j this tick (see PersonalSpace).
   double margin(const CrowdAgent& agent, const CrowdAgent& other) const;
+  /// What one thread's agents need while their velocities are computed.
+  struct Scratch {
+    std::vector<OrcaLine> lines;
+    std::vector<std::pair<double, std::uint32_t>> neighbours;
+  };
   /// A social-force agent's velocity with the part that would take it into a neighbour's margin removed.
-  Vec2 keep_personal_space(std::size_t i, std::span<const CrowdAgent> agents, Vec2 velocity, double dt);
-  Vec2 orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt);
+  Vec2 keep_personal_space(std::size_t i, std::span<const CrowdAgent> agents, Vec2 velocity, double dt, Scratch& scratch) const;
+  Vec2 orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt, Scratch& scratch) const;
   /// The interaction forces of the social force model on every agent that uses it, into social_.
   void add_social_forces(std::span<const CrowdAgent> agents);
-  Vec2 social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles,
-                             double dt);
+  Vec2 social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
+                             Scratch& scratch) const;
 
   OrcaParams orca_;
   SocialForceParams social_force_;
@@ -127,10 +141,10 @@ class Crowd {
   std::vector<Vec2> social_;  ///< per agent this step: the sum of its interaction forces
   // Scratch of add_social_forces, in the grid's slot order.
   std::vector<Vec2> slot_velocities_;
-  SocialPairs social_pairs_;  ///< pairs within range first, then room to spare
+  std::vector<SocialPairs> social_pairs_;  ///< one per thread: its slots' pairs within range first, then room to spare
   std::vector<Vec2> slot_social_;  ///< social_ in slot order
-  std::vector<OrcaLine> orca_lines_;                                 ///< scratch of orca_velocity
-  std::vector<std::pair<double, std::uint32_t>> orca_neighbours_;   ///< scratch of orca_velocity
+  std::vector<Scratch> scratch_;        ///< one per thread
+  std::unique_ptr<core::ThreadTeam> team_;  ///< null: one thread
 };
 
 /// The ORCA half-plane induced by one neighbour (RVO2's Agent::computeNewVelocity) for an agent at

@@ -2,7 +2,9 @@
 // Uniform grid over agent positions, rebuilt every step (counting sort, O(n)), for neighbour queries
 // without O(n²) scans. Items within a cell keep their index order, so queries are deterministic.
 // Positions are also kept in cell order, so scans read memory in sequence.
+#include <algorithm>
 #include <cmath>
+#include <climits>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -26,9 +28,11 @@ class SpatialGrid {
   /// Calls f(a, begin, end) for slots a and runs of slots [begin, end) such that every unordered pair
   /// of slots within `range` of each other appears exactly once as a and a member of one of a's runs.
   /// Runs also hold slots further away (callers test the distance); each is contiguous memory: the
-  /// cells of a row within reach. A half stencil: runs only reach forwards in cell order.
+  /// cells of a row within reach. A half stencil: runs only reach forwards in cell order. Slots a come
+  /// in increasing order; only those in [first, last) when given, so parts of the slots can be
+  /// scanned apart and their pairs put together in the order one scan gives.
   template <class F>
-  void for_each_candidate_run(double range, F&& f) const {
+  void for_each_candidate_run(double range, F&& f, std::uint32_t first = 0, std::uint32_t last = UINT32_MAX) const {
     const int reach = static_cast<int>(std::ceil(range / cell_size_));
     const auto run_end = [&](int row, int x) {
       return cell_start_[static_cast<std::size_t>(row) * columns_ + std::min(x + reach, columns_ - 1) + 1];
@@ -36,7 +40,9 @@ class SpatialGrid {
     for (int y = 0; y < rows_; ++y) {
       for (int x = 0; x < columns_; ++x) {
         const std::size_t cell = static_cast<std::size_t>(y) * columns_ + x;
-        for (std::uint32_t a = cell_start_[cell]; a < cell_start_[cell + 1]; ++a) {
+        if (cell_start_[cell] >= last) return;
+        if (cell_start_[cell + 1] <= first) continue;
+        for (std::uint32_t a = std::max(cell_start_[cell], first); a < std::min(cell_start_[cell + 1], last); ++a) {
           f(a, a + 1, run_end(y, x));  // the rest of its own cell and the cells to its right
           for (int row = y + 1; row <= y + reach && row < rows_; ++row) {
             f(a, cell_start_[static_cast<std::size_t>(row) * columns_ + std::max(x - reach, 0)], run_end(row, x));

@@ -42,6 +42,10 @@ class Session {
   void end_by_task();
   /// Ends the episode at this much simulation time instead of the model's limit.
   void set_time_limit(double seconds) { state_.time_limit = seconds; }
+  /// Threads (this one included) that compute the crowd's velocities; 1 by default. Every count
+  /// gives the same trajectory bit for bit: each person's velocity is computed from the tick's inputs
+  /// alone, and the sums across people stay on one thread in a fixed order.
+  void set_crowd_threads(unsigned threads) { walking_.crowd.set_threads(threads); }
 
   /// The id of the agent named `name` in the scenario; throws core::Error(not_found) when there is none.
   AgentId agent_id(const std::string& name) const;

@@ -34,5 +34,29 @@ TEST(Walking, APersonPushedFarOffTheirLegPlansAgainRatherThanWalkBackToItsStart)
   EXPECT_GT(ana.velocity.x(), 0.0) << "heads on towards the goal";
 }
 
+// Two groups of 60 cross the room through each other, half with the social force and half with ORCA:
+// the crowd's velocities on one, two or three threads give the same trajectory bit for bit.
+TEST(Walking, ACrowdOnSeveralThreadsWalksBitForBitAsOnOne) {
+  json scenario = testing::room_scenario(json::parse(R"({"time_limit": 30, "steps": [{"name": "cross", "actions": []}]})"));
+  scenario["world"].erase("obstacles");
+  for (int i = 0; i < 120; ++i) {
+    const double x = i < 60 ? 1.0 + (i % 6) * 0.5 : 9.0 - (i % 6) * 0.5, y = 1.0 + (i % 60 / 6) * 0.85;
+    const std::string id = "p" + std::to_string(i);
+    scenario["humans"].push_back({{"id", id}, {"start", {{"x", x}, {"y", y}}}, {"avoidance", i % 2 ? "orca" : "social_force"}});
+    scenario["steps"][0]["actions"].push_back({{"agent", id}, {"goto", {{"pose", {{"x", 10.0 - x}, {"y", y}}}}}});
+  }
+  const auto model = testing::load_valid(scenario);
+  ASSERT_TRUE(model);
+  std::vector<std::uint64_t> hashes;
+  for (const unsigned threads : {1u, 2u, 3u}) {
+    Session session(model, 7);
+    session.set_crowd_threads(threads);
+    for (int t = 0; t < 240; ++t) session.tick();
+    hashes.push_back(session.state_hash());
+  }
+  EXPECT_EQ(hashes[1], hashes[0]) << "two threads";
+  EXPECT_EQ(hashes[2], hashes[0]) << "three threads";
+}
+
 }  // namespace
 }  // namespace hrisim::sim
