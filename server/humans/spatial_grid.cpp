@@ -37,6 +37,22 @@ void SpatialGrid::nearest_within(const Vec2& p, double range, std::size_t count,
                                  std::vector<std::pair<double, std::uint32_t>>& nearest) const {
   nearest.clear();
   if (sorted_positions_.empty() || count == 0) return;
+  const int x0 = std::max(0, cell_x(p.x() - range)), x1 = std::min(columns_ - 1, cell_x(p.x() + range));
+  const int y0 = std::max(0, cell_y(p.y() - range)), y1 = std::min(rows_ - 1, cell_y(p.y() + range));
+  if (count >= items_.size()) {
+    // All within range: gathered, then sorted once (a crush has dozens, which sinking one by one
+    // into place would cost quadratically). The order is the same: (distance, index) is total.
+    const double limit = range * range;
+    for (int y = y0; y <= y1; ++y) {
+      const std::size_t row = static_cast<std::size_t>(y) * columns_;
+      for (std::uint32_t k = cell_start_[row + x0]; k < cell_start_[row + x1 + 1]; ++k) {
+        const double distance = (sorted_positions_[k] - p).squaredNorm();
+        if (distance <= limit && items_[k] != excluded) nearest.emplace_back(distance, items_[k]);
+      }
+    }
+    std::sort(nearest.begin(), nearest.end());
+    return;
+  }
   double limit = range * range;  // the k-th nearest's squared distance once k are known
   const auto scan = [&](int x, int y) __attribute__((always_inline)) {
     const double low_x = low_.x() + x * cell_size_, low_y = low_.y() + y * cell_size_;
@@ -61,8 +77,6 @@ void SpatialGrid::nearest_within(const Vec2& p, double range, std::size_t count,
   const int own_x = cell_x(p.x()), own_y = cell_y(p.y());
   const bool inside = own_x >= 0 && own_x < columns_ && own_y >= 0 && own_y < rows_;
   if (inside) scan(own_x, own_y);
-  const int x0 = std::max(0, cell_x(p.x() - range)), x1 = std::min(columns_ - 1, cell_x(p.x() + range));
-  const int y0 = std::max(0, cell_y(p.y() - range)), y1 = std::min(rows_ - 1, cell_y(p.y() + range));
   for (int y = y0; y <= y1; ++y) {
     for (int x = x0; x <= x1; ++x) {
       if (!inside || x != own_x || y != own_y) scan(x, y);
