@@ -36,6 +36,7 @@ Episode::Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t see
     : model_(model), seed_(seed), settings_(settings), session_(std::make_unique<sim::Session>(std::move(model), seed)) {
   const scenario::Model& scenario = session_->model();
   if (settings.time_limit) session_->set_time_limit(*settings.time_limit);
+  session_->set_crowd_threads(settings.crowd_threads);
   for (const auto& [time, name] : settings.requests) {
     const int task = scenario.find_routine(name);
     if (task < 0) throw core::Error(core::ErrorCode::bad_request, "the scenario has no task '" + name + "' to request");

@@ -36,6 +36,7 @@ struct Settings {
   std::vector<std::pair<double, std::string>> requests;
   bool record = true;  ///< false: no recording (benchmarks of the simulation alone)
   sim::RecorderLimits recording;
+  unsigned crowd_threads = 1;  ///< Session::set_crowd_threads: the same trajectory for any count
 };
 
 class Episode {

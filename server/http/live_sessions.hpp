@@ -42,6 +42,7 @@ struct Live {
   std::mutex mutex;  ///< one request at a time works on the session
   std::unique_ptr<episode::Episode> episode;
   core::MemoryBudget* recording_memory = nullptr;  ///< shared by every recording of the server
+  unsigned crowd_threads = 1;  ///< threads computing the crowd's velocities (`--crowd-threads`)
   std::size_t events_reported = 0;  ///< events before this index were in a step reply already
   std::uint64_t generation = 0;     ///< counts resets and restores, so that viewers notice a fresh start
   std::map<std::string, episode::Episode::Snapshot> snapshots;  ///< of this episode (a reset drops them)
@@ -62,7 +63,7 @@ struct Live {
   void start(std::shared_ptr<const scenario::Model> model) {
     episode = std::make_unique<episode::Episode>(
         std::move(model), static_cast<std::uint64_t>(seed),
-        episode::Settings{std::nullopt, {}, true, sim::RecorderLimits{kMaxLiveRecordedBodies, recording_memory}});
+        episode::Settings{std::nullopt, {}, true, sim::RecorderLimits{kMaxLiveRecordedBodies, recording_memory}, crowd_threads});
     events_reported = 0;
     realtime_origin = Clock::now();
     realtime_origin_tick = 0;
@@ -109,6 +110,7 @@ class Registry {
     live->controller = std::move(controller);
     live->owner = owner;
     live->recording_memory = limits_.recording_memory;
+    live->crowd_threads = limits_.crowd_threads;
     live->start(std::move(model));
     live->last_used = Clock::now();
     sessions_.emplace(live->id, live);

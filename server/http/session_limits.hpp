@@ -31,6 +31,9 @@ struct SessionLimits {
   std::chrono::seconds idle_timeout = kDefaultSessionIdleTimeout;
   /// Shared with the runs' executor; none: unbounded. Must outlive the sessions.
   core::MemoryBudget* recording_memory = nullptr;
+  /// Threads (the session's worker included) that compute each live session's crowd; any count gives
+  /// the same trajectory. More than one helps crowds of hundreds on an otherwise idle machine.
+  unsigned crowd_threads = 1;
 };
 
 }  // namespace hrisim::http

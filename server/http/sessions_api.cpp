@@ -196,6 +196,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       auto fresh = std::make_unique<Live>();
       fresh->seed = seed;
       fresh->recording_memory = live->recording_memory;
+      fresh->crowd_threads = live->crowd_threads;
       fresh->start(live->session().shared_model());
       for (const auto& [name, pose] : poses.items()) {
         fresh->episode->give(place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name)));

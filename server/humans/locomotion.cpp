@@ -266,7 +266,7 @@ void Crowd::compute_velocities(std::span<const CrowdAgent> agents, const Obstacl
       }
     }
   };
-  if (team_) {
+  if (team_ && agents.size() >= kCrowdToShare) {
     team_->run(agents.size(), part);
   } else {
     part(0, 0, agents.size());
@@ -346,7 +346,7 @@ void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
                        pairs.fy.data());
     pairs.kept = kept;
   };
-  if (team_) {
+  if (team_ && count >= kCrowdToShare) {
     team_->run(count, gather);
   } else {
     gather(0, 0, count);

@@ -96,6 +96,10 @@ struct SocialPairs {
   void resize(std::size_t size);
 };
 
+/// A crowd's loops are shared out over its threads (Crowd::set_threads) from this many people: below,
+/// a tick's share is shorter than handing it over.
+inline constexpr std::size_t kCrowdToShare = 256;
+
 /// Nearest static or temporary obstacle point to p within `range`, if any.
 using ObstacleQuery = std::function<std::optional<Vec2>(const Vec2& p, double range)>;
 

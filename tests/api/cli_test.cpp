@@ -70,7 +70,7 @@ TEST(Cli, RunWithScriptedRequests) {
 
 TEST(Cli, BadArgumentsExitWithTwo) {
   for (const std::string& args : std::vector<std::string>{"run", "run x.json --seed abc", "run " + kScenarios + "/queue.json --request soon",
-                                 "run " + kScenarios + "/queue.json --request 1:fly", "run a.json --colour red"}) {
+                                 "run " + kScenarios + "/queue.json --request 1:fly", "run a.json --colour red", "serve --crowd-threads 0"}) {
     const CommandResult result = run_command(kHrisim + " " + args);
     EXPECT_EQ(result.exit_status, 2) << args << "\n" << result.output;
   }

@@ -830,3 +830,35 @@ TEST(SessionFrames, CamerasGiveColourDepthAndSegmentationInEveryFormat) {
 
 }  // namespace
 }  // namespace hrisim::testing
+
+namespace hrisim::testing {
+namespace {
+
+// 300 people cross a hall through each other: a server computing each crowd on three threads
+// (--crowd-threads) steps a session to the same state, bit for bit, as one computing it on one.
+TEST(SessionCrowdThreads, AServerWithSeveralCrowdThreadsStepsTheSameTrajectory) {
+  json scenario = json::parse(R"({"name": "hall", "time_limit": 60,
+    "world": {"bounds": {"min": [-0.5, -0.5], "max": [30.5, 30.5]},
+              "walls": [{"from": [0, 0], "to": [30, 0]}, {"from": [30, 0], "to": [30, 30]}, {"from": [30, 30], "to": [0, 30]}, {"from": [0, 30], "to": [0, 0]}]},
+    "locomotion": {"avoidance": "social_force"}, "humans": [], "steps": [{"name": "cross", "actions": []}]})");
+  for (int i = 0; i < 300; ++i) {
+    const double x = i < 150 ? 2.0 + (i % 10) * 0.8 : 28.0 - (i % 10) * 0.8, y = 2.0 + (i % 150 / 10) * 1.7;
+    const std::string id = "p" + std::to_string(i);
+    scenario["humans"].push_back({{"id", id}, {"start", {{"x", x}, {"y", y}}}});
+    scenario["steps"][0]["actions"].push_back({{"agent", id}, {"goto", {{"pose", {{"x", 30.0 - x}, {"y", y}}}}}});
+  }
+  std::vector<json> hashes;
+  for (const char* threads : {"1", "3"}) {
+    TestServer server({"--crowd-threads", threads});
+    const HttpReply stored = http(server.port(), "POST", "/api/v1/scenarios", scenario.dump());
+    ASSERT_EQ(stored.status, 201) << stored.body.substr(0, 400);
+    const std::string id = json_of(http(server.port(), "POST", "/api/v1/sessions",
+                                        json{{"scenario", json_of(stored)["summary"]["id"]}, {"seed", 3}}.dump()))["id"];
+    ASSERT_EQ(http(server.port(), "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 150})").status, 200);
+    hashes.push_back(json_of(http(server.port(), "GET", "/api/v1/sessions/" + id))["state_hash"]);
+  }
+  EXPECT_EQ(hashes[1], hashes[0]);
+}
+
+}  // namespace
+}  // namespace hrisim::testing
