@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     const auto [recorded, ticks] = bytes_per_tick(loaded.model, true);
-    const auto [bare, bare_ticks] = bytes_per_tick(loaded.model, false);
+    const double bare = bytes_per_tick(loaded.model, false).first;
     const double per_hour = recorded * 3600.0 / loaded.model->dt / 1e6;
     std::printf("%-22s %8lld %8.4f %14.1f %14.1f %16.1f\n", name.c_str(), static_cast<long long>(ticks), loaded.model->dt, recorded, bare,
                 per_hour);

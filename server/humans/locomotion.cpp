@@ -346,13 +346,16 @@ void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
                        pairs.fy.data());
     pairs.kept = kept;
   };
-  if (team_ && count >= kCrowdToShare) {
+  const bool shared = team_ && count >= kCrowdToShare;
+  if (shared) {
     team_->run(count, gather);
   } else {
     gather(0, 0, count);
   }
   slot_social_.assign(count, Vec2::Zero());
-  for (const SocialPairs& pairs : social_pairs_) {
+  // Only this tick's parts: a crowd that has shrunk below kCrowdToShare leaves older ones behind.
+  for (std::size_t part = 0; part < (shared ? social_pairs_.size() : 1); ++part) {
+    const SocialPairs& pairs = social_pairs_[part];
     for (std::size_t k = 0; k < pairs.kept; ++k) {
       const Vec2 force(static_cast<double>(pairs.fx[k]), static_cast<double>(pairs.fy[k]));
       slot_social_[pairs.a[k]] += force;

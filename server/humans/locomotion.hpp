@@ -115,7 +115,6 @@ class Crowd {
 
   /// Threads, the caller's included, that compute the velocities (1 by default: no helper thread).
   void set_threads(unsigned threads);
-  unsigned threads() const { return team_ ? team_->size() : 1; }
 
   const OrcaParams& orca() const { return orca_; }
   const SocialForceParams& social_force() const { return social_force_; }

@@ -4,7 +4,6 @@
 // Positions are also kept in cell order, so scans read memory in sequence.
 #include <algorithm>
 #include <cmath>
-#include <climits>
 #include <cstdint>
 #include <span>
 #include <vector>

@@ -328,7 +328,7 @@ SceneRenderer::SceneRenderer(int width, int height) : gl_(std::make_unique<Gl>(w
   if (!ok) throw core::Error(core::ErrorCode::internal, "the scene shaders do not link");
   gl.view_projection = glGetUniformLocation(gl.program, "view_projection");
   gl.axis_depth = glGetUniformLocation(gl.program, "axis_depth");
-  // A framebuffer with two colour images (RGBA8 colour, 32-bit ids) and 24-bit depth.
+  // A framebuffer with three colour images (RGBA8 colour, 32-bit ids, float metres) and 24-bit depth.
   glGenFramebuffers(1, &gl.framebuffer);
   glBindFramebuffer(GL_FRAMEBUFFER, gl.framebuffer);
   const auto attach = [&](GLuint& buffer, GLenum format, GLenum attachment) {

@@ -8,7 +8,6 @@ namespace hrisim::sim {
 
 namespace {
 
-/// Bytes a sample takes in memory, near enough to bound many recordings together.
 /// Memory a sample would take unpacked: more than it takes packed, so a lease that covers it covers
 /// what appending the sample adds.
 std::size_t sample_bytes(const metrics::Sample& sample) {

@@ -192,5 +192,33 @@ TEST(Crowd, ControlledAgentsKeepTheirVelocity) {
   EXPECT_EQ(velocities[0], robot.velocity);
 }
 
+// Two crowds, one on three threads: 300 people counterflowing, then 200 of them (below kCrowdToShare,
+// so the loops run on the caller), then all 300 again. Their velocities agree bit for bit throughout.
+TEST(Crowd, ThreadsGiveTheSameVelocitiesAsTheCrowdGrowsAndShrinksPastTheShare) {
+  std::vector<CrowdAgent> everyone;
+  for (int i = 0; i < 300; ++i) {
+    CrowdAgent agent = walker({(i % 20) * 0.9, (i / 20) * 0.9}, i % 3 ? LocalAvoidance::social_force : LocalAvoidance::orca);
+    agent.preferred_velocity = {i % 2 ? kSpeed : -kSpeed, 0.0};
+    everyone.push_back(agent);
+  }
+  Crowd one, three;
+  three.set_threads(3);
+  static_assert(kCrowdToShare > 200 && kCrowdToShare <= 300);
+  for (const std::size_t people : {300u, 200u, 200u, 300u}) {
+    std::vector<CrowdAgent> agents(everyone.begin(), everyone.begin() + static_cast<std::ptrdiff_t>(people));
+    std::vector<Vec2> by_one, by_three;
+    for (int tick = 0; tick < 5; ++tick) {
+      one.compute_velocities(agents, no_obstacles, kDt, by_one);
+      three.compute_velocities(agents, no_obstacles, kDt, by_three);
+      ASSERT_EQ(by_one, by_three) << people << " people, tick " << tick;
+      for (std::size_t i = 0; i < agents.size(); ++i) {
+        agents[i].velocity = by_one[i];
+        agents[i].position += by_one[i] * kDt;
+      }
+    }
+    std::copy(agents.begin(), agents.end(), everyone.begin());
+  }
+}
+
 }  // namespace
 }  // namespace hrisim::humans

@@ -77,7 +77,8 @@ TEST(SceneRenderer, RenderIntoFillsTheCallersMemoryAsRenderDoesAndLeavesOutWhatI
   EXPECT_TRUE(std::all_of(ids.begin(), ids.end(), [](std::uint32_t id) { return id == 0xDEADBEEF; })) << "ids were not asked for";
   renderer.render_into(scene, camera, {nullptr, nullptr, ids.data()});
   EXPECT_EQ(ids, frame.ids);
-  EXPECT_EQ(std::count(ids.begin(), ids.end(), 6u) > 0 && std::count(ids.begin(), ids.end(), 5u) > 0, true) << "both near parts are in view";
+  EXPECT_GT(std::count(ids.begin(), ids.end(), 5u), 0) << "the box is in view";
+  EXPECT_GT(std::count(ids.begin(), ids.end(), 6u), 0) << "the capsule is in view";
 }
 
 TEST(SceneRenderer, LeftIsLeftAndUpIsUpAndTheNearerBoxHides) {

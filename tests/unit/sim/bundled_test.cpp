@@ -79,7 +79,7 @@ TEST(EpisodeRecorder, RecordingsSharingAMemoryBudgetStopWhenItIsSpentAndGiveItBa
   EXPECT_LE(memory.used(), memory.limit());
   EXPECT_GT(memory.used(), memory.limit() - metrics::PackedSamples::kBlockBytes) << "stopped a block short of the ceiling at most";
   EXPECT_LT(first->recorded_until(), session.state().tick);
-  // Both recorded alternately: they share the MiB, neither was given all of it.
+  // Both recorded alternately: they share the 256 KiB, neither was given all of it.
   EXPECT_LT(std::abs(first->recorded_until() - second.recorded_until()), 2);
   const std::size_t before = memory.used();
   first.reset();
