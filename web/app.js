@@ -1,8 +1,8 @@
 // The browser UI: a hash router over the pages in pages/. Each page module exports
 // `render(root, params, query)`, which fills `root` and may return a function that cleans up (closes
 // sockets, stops timers) when the user leaves the page.
-import { api, savedToken, saveToken } from './lib/api.js';
-import { h, showError } from './lib/ui.js';
+import { api, ApiError, savedToken, saveToken } from './lib/api.js';
+import { h, showError, errorPage } from './lib/ui.js';
 
 const routes = [
   { pattern: /^\/?$/, page: 'scenarios', nav: 'scenarios' },
@@ -17,8 +17,18 @@ const routes = [
 
 let cleanup = null;
 let navigation = 0;
+const HOME = { href: '#/', text: 'Back to the scenarios' };
 
-async function show() {
+/**
+ * After a navigation, keyboard and screen reader users start at the new page's heading, unless they
+ * already went on into the page while it loaded.
+ */
+function focusHeading(root) {
+  if (root.contains(document.activeElement) && document.activeElement !== root) return;
+  root.querySelector('h1')?.focus();
+}
+
+async function show({ navigated = true } = {}) {
   const current = ++navigation;
   if (cleanup) {
     try { cleanup(); } catch (error) { console.warn('cleaning up the last page failed', error); }
@@ -34,7 +44,8 @@ async function show() {
     else link.removeAttribute('aria-current');
   }
   if (!route) {
-    showError(root, new Error(`No page at ${path}`));
+    errorPage(root, 'Page', new ApiError(404, { error: { code: 'not_found', message: `No page at ${path}` } }), HOME);
+    if (navigated) focusHeading(root);
     return;
   }
   const match = route.pattern.exec(path);
@@ -49,8 +60,11 @@ async function show() {
     }
     cleanup = typeof done === 'function' ? done : null;
   } catch (error) {
-    if (current === navigation) showError(root, error);
+    if (current !== navigation) return;
+    if (root.querySelector('h1')) showError(root, error);
+    else errorPage(root, 'Page', error, HOME);
   }
+  if (navigated && current === navigation) focusHeading(root);
 }
 
 async function showServer() {
@@ -84,7 +98,12 @@ function askForToken() {
   input.focus();
 }
 
+// The skip link would change the hash (and so the page): it moves the focus instead.
+document.querySelector('a.skip').addEventListener('click', (event) => {
+  event.preventDefault();
+  (document.querySelector('#main h1') ?? document.getElementById('main')).focus();
+});
 window.addEventListener('hrisim-unauthorized', askForToken);
-window.addEventListener('hashchange', show);
-show();
+window.addEventListener('hashchange', () => show());
+show({ navigated: false });
 showServer();

@@ -42,6 +42,16 @@ export function statusBadge(status) {
   return h('span', { class: `badge status ${STATUS_TONE[status] ?? ''}` }, status);
 }
 
+/** A run still has episodes to run: its verdict and gates are not settled yet. */
+export const isRunning = (status) => status === 'queued' || status === 'running';
+
+/** A run's verdict as a badge: passed, pending (still running), failed, or incomplete (cancelled, interrupted). */
+export function verdictBadge(verdict, status) {
+  if (verdict.passed) return h('span', { class: 'badge good' }, 'passed');
+  if (isRunning(status)) return h('span', { class: 'badge' }, 'pending');
+  return verdict.complete ? h('span', { class: 'badge bad' }, 'failed') : h('span', { class: 'badge warn' }, 'incomplete');
+}
+
 /** Hall's proxemic zones (m), as the proxemic_zone series and the intrusion metrics count them. */
 export const PROXEMIC_BANDS = [
   { name: 'intimate', from: 0, to: 0.45, colour: 'rgba(192, 57, 43, 0.16)' },

@@ -10,7 +10,8 @@ export function h(tag, attributes = {}, ...children) {
     else if (value === true) element.setAttribute(name, '');
     else element.setAttribute(name, String(value));
   }
-  for (const child of children.flat()) {
+  // Any depth: a child may be a list of lists ([' ', h('code')] per item of a map()).
+  for (const child of children.flat(Infinity)) {
     if (child === undefined || child === null || child === false) continue;
     element.append(child instanceof Node ? child : document.createTextNode(String(child)));
   }
@@ -24,13 +25,56 @@ export function loading(root, what = 'Loading') {
   return line;
 }
 
-/** An error shown as a message in the page (never only in the console). */
+/** Where an API error's problem lies, in words: "at /seeds", "line 3, column 7". */
+function place(problem) {
+  if (problem.pointer) return ['at ', h('code', {}, problem.pointer)];
+  if (Number.isInteger(problem.line)) return Number.isInteger(problem.column) ? `line ${problem.line}, column ${problem.column}` : `line ${problem.line}`;
+  return null;
+}
+
+/**
+ * An API error's details as readable lines: each listed problem with its place, else the place of the
+ * one problem, and other plain values (a limit, a parameter) that the message does not already name.
+ */
+function readableDetails(error) {
+  const details = error.details ?? {};
+  if (Array.isArray(details.errors) && details.errors.length) {
+    return h('ul', { class: 'details' }, details.errors.map((problem) => {
+      const where = place(problem);
+      return h('li', {}, where ? [where, ': '] : null, problem.message);
+    }));
+  }
+  const where = place(details);
+  const known = new Set(['pointer', 'line', 'column', 'errors']);
+  const others = Object.entries(details).filter(([key, value]) => !known.has(key) && ['string', 'number'].includes(typeof value)
+    && !String(error.message).includes(String(value)));
+  if (!where && !others.length) return null;
+  return h('p', { class: 'details' }, where, where && others.length ? '; ' : null,
+    others.map(([key, value], index) => [index ? '; ' : null, `${key.replaceAll('_', ' ')} ${value}`]));
+}
+
+/** An error shown as a message where it happened (never only in the console), after what `root` holds. */
 export function showError(root, error) {
-  const details = error && error.details && Object.keys(error.details).length
-    ? h('pre', { class: 'details' }, JSON.stringify(error.details, null, 2)) : null;
-  const box = h('div', { class: 'message error', role: 'alert' }, h('strong', {}, 'Error: '), error.message ?? String(error), details);
-  root.prepend(box);
+  const box = h('div', { class: 'message error', role: 'alert' }, h('strong', {}, 'Error: '), error?.message ?? String(error),
+    error?.details ? readableDetails(error) : null);
+  root.append(box);
   return box;
+}
+
+/**
+ * A page whose subject could not be loaded, as a page: a heading that says so, the error under it and
+ * a way back. `subject` names what was asked for ("Run r1234"), `back` is {href, text} or null.
+ */
+export function errorPage(root, subject, error, back = null) {
+  root.replaceChildren();
+  pageTitle(root, error?.status === 404 ? `${subject}: not found` : `${subject}: could not be loaded`);
+  showError(root, error);
+  if (back) root.append(h('p', {}, h('a', { href: back.href }, back.text)));
+}
+
+/** A table in a box that scrolls sideways when the table is wider than its panel; keyboard users scroll it once focused. */
+export function scrollBox(table, label) {
+  return h('div', { class: 'table-scroll', tabindex: 0, role: 'region', 'aria-label': label }, table);
 }
 
 /** A number with a sensible count of digits; '—' for null. */
@@ -43,9 +87,9 @@ export function formatNumber(value, digits = 3) {
   return value.toLocaleString('en', { maximumSignificantDigits: digits + 1 });
 }
 
-/** A page title (h1) and its subtitle. */
+/** A page title (h1, focused after each navigation: app.js) and its subtitle. */
 export function pageTitle(root, title, subtitle) {
-  root.append(h('h1', {}, title));
+  root.append(h('h1', { tabindex: -1 }, title));
   if (subtitle) root.append(h('p', { class: 'subtitle' }, subtitle));
   document.title = `${title} · hrisim`;
 }

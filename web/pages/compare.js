@@ -1,9 +1,9 @@
 // #/compare/A/B: two runs metric by metric (both means, the difference, the test's p-value, better or
 // worse for B), their summaries side by side, and the robot's paths of a few episodes of each on a map.
 import { api } from '../lib/api.js';
-import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
+import { h, loading, showError, errorPage, scrollBox, formatNumber, pageTitle } from '../lib/ui.js';
 import { MapView } from '../lib/map2d.js';
-import { withUnit, unitLabel, betterArrow, statusBadge } from '../lib/plots.js';
+import { withUnit, unitLabel, betterArrow, statusBadge, verdictBadge, isRunning } from '../lib/plots.js';
 
 const EPISODES_DRAWN = 5;
 const COLOURS = { a: '#2f6fd1', b: '#d1492f' };
@@ -23,8 +23,14 @@ function runSummary(report, which) {
       h('dt', {}, 'Time limit'), h('dd', {}, config.max_time === null ? "the scenario's" : `${formatNumber(config.max_time)} s`),
       h('dt', {}, 'Success rate'), h('dd', {}, report.rates.success_rate === null ? '—' : `${formatNumber(report.rates.success_rate * 100, 2)} %`),
       h('dt', {}, 'Collision rate'), h('dd', {}, report.rates.collision_rate === null ? '—' : `${formatNumber(report.rates.collision_rate * 100, 2)} %`),
-      h('dt', {}, 'Verdict'), h('dd', {}, h('span', { class: `badge ${report.verdict.passed ? 'good' : 'bad'}` }, report.verdict.passed ? 'passed' : 'failed'),
-        report.verdict.gates.filter((g) => !g.passed).map((g) => [' ', h('code', {}, g.gate)]))));
+      h('dt', {}, 'Verdict'), h('dd', { class: 'verdict-facts' }, verdictBadge(report.verdict, report.status), failedGates(report))));
+}
+
+/** The gates a run failed, as chips after its verdict (none while it runs: its gates are pending). */
+function failedGates(report) {
+  const failed = isRunning(report.status) ? [] : report.verdict.gates.filter((g) => !g.passed);
+  if (!failed.length) return null;
+  return [' failed gate', failed.length === 1 ? '' : 's', ': ', failed.map((g) => h('code', { class: 'chip bad' }, g.gate))];
 }
 
 function comparisonTable(comparison) {
@@ -64,12 +70,12 @@ function comparisonTable(comparison) {
   return h('div', {},
     h('p', { class: 'muted' }, `${significant.length} of ${comparison.metrics.length} metrics differ significantly (p < ${comparison.significance_level}); `
       + 'better or worse says how B compares with A by each metric\'s direction. No correction for testing many metrics at once.'),
-    h('table', { class: 'comparison' },
+    scrollBox(h('table', { class: 'comparison' },
       h('thead', {}, h('tr', {},
         h('th', { scope: 'col' }, 'Metric'), h('th', { scope: 'col' }, 'Better'), h('th', { scope: 'col' }, 'Unit'),
         h('th', { scope: 'col', class: 'number' }, 'A mean'), h('th', { scope: 'col', class: 'number' }, 'B mean'),
         h('th', { scope: 'col', class: 'number' }, 'B − A'), h('th', { scope: 'col' }, 'Test'), pHeader, h('th', { scope: 'col' }, 'Change'))),
-      body));
+      body), 'Metrics of A and B'));
 }
 
 /** The first robot's path in the first few stored episodes of a run: [{seed, points}]. */
@@ -115,8 +121,7 @@ export async function render(root, params) {
       api.get(`/api/v1/runs/${encodeURIComponent(b)}`),
     ]);
   } catch (error) {
-    wait.remove();
-    showError(root, error);
+    errorPage(root, `Comparison of ${a} and ${b}`, error, { href: '#/runs', text: 'All runs' });
     return null;
   }
   wait.remove();

@@ -3,7 +3,7 @@
 // scripts/compare-controllers, and the command that makes it again: the script runs each controller
 // as the scenario's own robot controller with only the type changed, so a run made otherwise is marked.
 import { api } from '../lib/api.js';
-import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
+import { h, loading, showError, scrollBox, formatNumber, pageTitle } from '../lib/ui.js';
 
 const PAGE_SIZE = 100;
 const ENDED = new Set(['finished', 'failed']);  // cancelled and interrupted runs are partial
@@ -200,5 +200,5 @@ export async function render(root, params, query) {
   const controllers = [...new Set(shown.map((r) => r.controller))].sort(byControllerOrder);
   const seeds = commonSeeds(shown);
   for (const row of shown) row.differences = differences(row, seeds);
-  root.append(comparisonTable(shown), reproduction(shown, scenarios, controllers, seeds));
+  root.append(scrollBox(comparisonTable(shown), 'Controllers on scenarios'), reproduction(shown, scenarios, controllers, seeds));
 }

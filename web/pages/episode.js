@@ -2,7 +2,7 @@
 // scrubber's time, events on the timeline, per-step series plots whose cursor follows the scrubber
 // (and hovering a plot moves it), and the episode's metrics with units.
 import { api } from '../lib/api.js';
-import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
+import { h, loading, showError, errorPage, formatNumber, pageTitle } from '../lib/ui.js';
 import { MapView, palette } from '../lib/map2d.js';
 import { loadMetrics, withUnit, betterArrow, statusBadge, timePlot, PROXEMIC_BANDS } from '../lib/plots.js';
 
@@ -71,8 +71,7 @@ export async function render(root, params) {
       loadMetrics(),
     ]);
   } catch (error) {
-    wait.remove();
-    showError(root, error);
+    errorPage(root, `Episode ${id}`, error, { href: '#/runs', text: 'All runs' });
     return null;
   }
   wait.textContent = 'Loading the map and series…';

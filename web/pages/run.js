@@ -2,8 +2,8 @@
 // metric's aggregates with units and which way is better, per-episode values as dot plots, and the
 // episodes with links to their replays.
 import { api, authorisedUrl } from '../lib/api.js';
-import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
-import { loadMetrics, withUnit, unitLabel, betterArrow, statusBadge, dotPlot } from '../lib/plots.js';
+import { h, loading, showError, errorPage, scrollBox, formatNumber, pageTitle } from '../lib/ui.js';
+import { loadMetrics, withUnit, unitLabel, betterArrow, statusBadge, verdictBadge, isRunning, dotPlot } from '../lib/plots.js';
 
 const CATEGORY_NAMES = {
   task_and_path: 'Task and path', proximity: 'Proximity', contact: 'Contact', social_forces: 'Social forces',
@@ -25,7 +25,7 @@ function seedRanges(seeds) {
   return parts.join(', ');
 }
 
-const running = (report) => report.status === 'queued' || report.status === 'running';
+const running = (report) => isRunning(report.status);
 
 function summaryPanel(report) {
   const p = report.progress;
@@ -54,18 +54,24 @@ function summaryPanel(report) {
       h('dt', {}, 'hrisim'), h('dd', {}, `${config.hrisim_version} (${config.git_commit.slice(0, 12)})`)));
 }
 
+/**
+ * A gate's row. While the run goes on a gate is pending, whatever its statistic says so far: the
+ * episodes still to come may change it.
+ */
+function gateRow(gate, pending) {
+  const actual = gate.actual === null ? (pending ? '—' : 'no value') : `${formatNumber(gate.actual)}${pending ? ' so far' : ''}`;
+  const result = pending ? h('span', { class: 'badge' }, 'pending')
+    : h('span', { class: `badge ${gate.passed ? 'good' : 'bad'}` }, gate.passed ? 'passed' : 'failed');
+  return h('tr', { 'data-gate': gate.gate }, h('td', {}, h('code', {}, gate.gate)), h('td', { class: 'number' }, actual), h('td', {}, result));
+}
+
 function verdictPanel(report) {
   const v = report.verdict;
-  const badge = v.passed ? h('span', { class: 'badge good' }, 'passed')
-    : running(report) ? h('span', { class: 'badge' }, 'pending') : h('span', { class: 'badge bad' }, 'failed');
   return h('section', { class: 'panel verdict', 'aria-labelledby': 'verdict-title' },
-    h('h2', { id: 'verdict-title' }, 'Verdict ', badge),
-    v.gates.length ? h('table', { class: 'gates' },
+    h('h2', { id: 'verdict-title' }, 'Verdict ', verdictBadge(v, report.status)),
+    v.gates.length ? scrollBox(h('table', { class: 'gates' },
       h('thead', {}, h('tr', {}, h('th', { scope: 'col' }, 'Gate'), h('th', { scope: 'col', class: 'number' }, 'Actual'), h('th', { scope: 'col' }, 'Result'))),
-      h('tbody', {}, v.gates.map((g) => h('tr', {},
-        h('td', {}, h('code', {}, g.gate)),
-        h('td', { class: 'number' }, g.actual === null ? 'no value' : formatNumber(g.actual)),
-        h('td', {}, h('span', { class: `badge ${g.passed ? 'good' : 'bad'}` }, g.passed ? 'passed' : 'failed'))))))
+      h('tbody', {}, v.gates.map((g) => gateRow(g, running(report))))), 'Gates')
       : h('p', { class: 'muted' }, 'No gates: the verdict needs only every episode to finish.'),
     v.reasons.length ? h('ul', { class: 'reasons' }, v.reasons.map((r) => h('li', {}, r))) : null);
 }
@@ -126,8 +132,7 @@ export async function render(root, params) {
   try {
     [report, metrics] = await Promise.all([api.get(`/api/v1/runs/${encodeURIComponent(id)}`), loadMetrics()]);
   } catch (error) {
-    wait.remove();
-    showError(root, error);
+    errorPage(root, `Run ${id}`, error, { href: '#/runs', text: 'All runs' });
     return null;
   }
   wait.remove();
@@ -157,7 +162,7 @@ export async function render(root, params) {
     if (stored === shownStored && report.status === shownStatus) return;
     shownStored = stored;
     shownStatus = report.status;
-    aggregates.replaceChildren(h('h2', { id: 'aggregates-title' }, 'Metrics'), aggregatesTable(report, metrics));
+    aggregates.replaceChildren(h('h2', { id: 'aggregates-title' }, 'Metrics'), scrollBox(aggregatesTable(report, metrics), 'Metrics'));
     let episodes = [];
     try {
       episodes = (await api.get(`/api/v1/runs/${encodeURIComponent(id)}/episodes`)).items;
@@ -166,7 +171,7 @@ export async function render(root, params) {
       showError(episodesArea, error);
       return;
     }
-    episodesArea.replaceChildren(h('h2', { id: 'episodes-title' }, 'Episodes'), episodesTable(report, episodes, keys, metrics));
+    episodesArea.replaceChildren(h('h2', { id: 'episodes-title' }, 'Episodes'), scrollBox(episodesTable(report, episodes, keys, metrics), 'Episodes'));
     destroyPlots();
     const finished = episodes.filter((e) => e.status === 'finished');
     const grid = h('div', { class: 'dot-plots' });

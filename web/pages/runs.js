@@ -1,8 +1,8 @@
 // #/runs: the runs newest first (filters, paging, two chosen for a comparison) and a form that starts
 // a run, with the API's objections shown next to the field each JSON pointer names.
 import { api } from '../lib/api.js';
-import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
-import { statusBadge } from '../lib/plots.js';
+import { h, loading, showError, scrollBox, formatNumber, pageTitle } from '../lib/ui.js';
+import { statusBadge, verdictBadge } from '../lib/plots.js';
 
 const STATUSES = ['queued', 'running', 'finished', 'failed', 'cancelled', 'interrupted'];
 const PAGE_SIZE = 20;
@@ -28,6 +28,27 @@ async function allScenarios() {
     cursor = reply.items.length ? reply.next_cursor : null;
   } while (cursor);
   return scenarios;
+}
+
+const STATISTICS = ['count', 'nulls', 'mean', 'std', 'min', 'max', 'ci95_low', 'ci95_high'];
+const GATE = /^([A-Za-z0-9_]+)\.([A-Za-z0-9_]+)\s*(==|!=|<=|>=|<|>)\s*(-?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)$/;
+const MAX_SEED = 9007199254740990;
+
+/** What is wrong with one gate's text (null: nothing the page can tell; the server knows the metrics). */
+function gateProblem(text) {
+  const gate = GATE.exec(text);
+  if (!gate) return `"${text}" is not metric.statistic OP number, e.g. collisions.max == 0`;
+  if (!STATISTICS.includes(gate[2])) return `unknown statistic '${gate[2]}' (${STATISTICS.join(', ')})`;
+  return null;
+}
+
+/** An integer field's problem: empty, not a number, not whole or out of [low, high]; null when fine. */
+function integerProblem(input, name, low, high, { optional = false } = {}) {
+  if (input.validity.badInput) return `${name} must be a number`;
+  if (input.value.trim() === '') return optional ? null : `give ${name}`;
+  const value = Number(input.value);
+  if (!Number.isInteger(value) || value < low || value > high) return `${name} must be a whole number from ${low.toLocaleString('en')} to ${high.toLocaleString('en')}`;
+  return null;
 }
 
 /** "1,2,5", "1-20" or a mix ("1-3, 7") → seeds; throws with a message for anything else. */
@@ -150,14 +171,17 @@ function startForm(scenarios, preselected) {
     return null;
   };
 
-  form.addEventListener('submit', async (event) => {
-    event.preventDefault();
-    clearErrors();
+  /** The request the form asks for, and every problem the page can see in it, each beside its field. */
+  const readForm = () => {
     const body = { scenario: scenarioSelect.value };
     let problems = 0;
+    const problem = (f, message) => { if (message) { appendError(f, message); problems++; } };
+    if (!scenarioSelect.value) problem(fields.scenario, 'choose a scenario');
     if (seedMode.value === 'list') {
-      try { body.seeds = parseSeeds(seedList.value); } catch (error) { appendError(fields.seeds, error.message); problems++; }
+      try { body.seeds = parseSeeds(seedList.value); } catch (error) { problem(fields.seeds, error.message); }
     } else {
+      problem(fields.count, integerProblem(count, 'the count', 1, 100000));
+      problem(fields.first_seed, integerProblem(firstSeed, 'the first seed', 0, MAX_SEED, { optional: true }));
       body.count = Number(count.value);
       if (firstSeed.value !== '') body.first_seed = Number(firstSeed.value);
     }
@@ -165,15 +189,30 @@ function startForm(scenarios, preselected) {
       body.controller = { type: controller.value };
       if (DRIVING.includes(controller.value) && goal.value) body.controller.goal = { location: goal.value };
     }
+    if (maxTime.validity.badInput || (maxTime.value.trim() !== '' && !(Number(maxTime.value) > 0))) {
+      problem(fields.max_time, 'the time limit must be a number of seconds above 0 (or empty: the scenario\'s)');
+    }
     if (maxTime.value.trim() !== '') body.max_time = Number(maxTime.value);
     gateLines = [];
     body.gates = [];
     gates.value.split('\n').forEach((line, i) => {
       if (!line.trim()) return;
+      const gateError = gateProblem(line.trim());
+      if (gateError) problem(fields.gates, `line ${i + 1}: ${gateError}`);
       body.gates.push(line.trim());
       gateLines.push(i + 1);
     });
-    if (problems) return;
+    return { body, problems };
+  };
+
+  form.addEventListener('submit', async (event) => {
+    event.preventDefault();
+    clearErrors();
+    const { body, problems } = readForm();
+    if (problems) {
+      form.querySelector('[aria-invalid=true]')?.focus();
+      return;
+    }
     submit.disabled = true;
     submit.textContent = 'Starting…';
     try {
@@ -195,7 +234,8 @@ function startForm(scenarios, preselected) {
 function setError(f, message) {
   f.error.replaceChildren();
   f.error.hidden = !message;
-  f.control.toggleAttribute('aria-invalid', Boolean(message));
+  if (message) f.control.setAttribute('aria-invalid', 'true');
+  else f.control.removeAttribute('aria-invalid');
   if (message) f.error.append(h('span', {}, message));
 }
 
@@ -207,15 +247,14 @@ function appendError(f, message) {
 
 function runRow(run, chosen, onChoose) {
   const done = run.progress.finished + run.progress.error;
-  const verdict = run.verdict.passed ? h('span', { class: 'badge good' }, 'passed')
-    : run.verdict.complete ? h('span', { class: 'badge bad' }, 'failed')
-      : h('span', { class: 'badge' }, run.status === 'queued' || run.status === 'running' ? 'pending' : 'incomplete');
+  const verdict = verdictBadge(run.verdict, run.status);
   const gatesCell = h('span', { class: 'failing-gates' }, run.verdict.complete && !run.verdict.passed ? run.verdict.reasons.join('; ') : '');
   const box = h('input', { type: 'checkbox', checked: chosen.includes(run.id), 'aria-label': `Compare run ${run.id}`, onchange: (e) => onChoose(run.id, e.target.checked) });
   return {
     row: h('tr', {},
       h('td', {}, box),
-      h('td', {}, h('a', { href: `#/runs/${run.id}`, class: 'run-id', title: run.id, 'aria-label': `run ${run.id}` }, run.id.slice(0, 9))),
+      // The accessible name starts with the visible text (voice control users say what they see).
+      h('td', {}, h('a', { href: `#/runs/${run.id}`, class: 'run-id', title: run.id, 'aria-label': `${run.id.slice(0, 9)}: run ${run.id}` }, run.id.slice(0, 9))),
       h('td', {}, statusBadge(run.status)),
       h('td', {}, run.scenario),
       h('td', {}, run.controller),
@@ -299,10 +338,10 @@ export async function render(root, params, query) {
     const rows = reply.items.map((run) => ({ run, ...runRow(run, chosen, onChoose) }));
     // A refresh replaces the table: keep the keyboard focus on the same control.
     const focused = listArea.contains(document.activeElement) ? document.activeElement.getAttribute('aria-label') : null;
-    listArea.replaceChildren(h('table', { class: 'runs-table' },
+    listArea.replaceChildren(scrollBox(h('table', { class: 'runs-table' },
       h('thead', {}, h('tr', {}, ['Compare', 'Run', 'Status', 'Scenario', 'Controller', 'Episodes done', 'Success', 'Verdict', 'Created']
         .map((title, i) => h('th', { scope: 'col', class: i === 5 || i === 6 ? 'number' : null }, title)))),
-      h('tbody', {}, rows.map((r) => r.row))));
+      h('tbody', {}, rows.map((r) => r.row))), 'Runs'));
     if (focused) listArea.querySelector(`[aria-label="${CSS.escape(focused)}"]`)?.focus();
     // Keep the progress of unfinished runs current.
     if (reply.items.some((run) => run.status === 'queued' || run.status === 'running')) timer = setTimeout(() => load({ quiet: true }), 2000);

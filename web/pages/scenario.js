@@ -1,7 +1,7 @@
 // One scenario (#/scenarios/ID): its facts, its map with what is on it, its choreography as a timeline
 // (one row per agent, one column per step), and starting a live session or a batch run of it.
 import { api } from '../lib/api.js';
-import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
+import { h, loading, errorPage, formatNumber, pageTitle } from '../lib/ui.js';
 import { MapView, palette } from '../lib/map2d.js';
 
 /** Scenarios uploaded from the catalogue in this page's life, with their warnings, shown once on arrival. */
@@ -261,11 +261,7 @@ export async function render(root, params) {
   try {
     [doc, world] = await Promise.all([api.get(path), api.get(`${path}/world`)]);
   } catch (error) {
-    wait.remove();
-    pageTitle(root, 'Scenario', id);
-    const place = h('div');
-    root.append(place, h('p', {}, h('a', { href: '#/' }, '← All scenarios')));
-    showError(place, error);
+    errorPage(root, `Scenario ${id}`, error, { href: '#/', text: '← All scenarios' });
     return;
   }
   wait.remove();

@@ -4,7 +4,7 @@
 // happen, and lets the user drive the robot, command a human or make a robot request.
 // The driver (session/driver.js) talks to the server; each panel under session/ renders its part of
 // what the driver hears. This page lays them out and owns the session's head and its end.
-import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
+import { h, loading, errorPage, formatNumber, pageTitle } from '../lib/ui.js';
 import { loadSession } from '../session/driver.js';
 import { errorText, showMessage } from '../session/messages.js';
 import { toolbar } from '../session/toolbar.js';
@@ -22,10 +22,7 @@ export async function render(root, { id }) {
   try {
     loaded = await loadSession(id);
   } catch (error) {
-    wait.remove();
-    pageTitle(root, 'Session', id);
-    showError(root, error);
-    root.append(h('p', {}, h('a', { href: '#/' }, 'Back to the scenarios')));
+    errorPage(root, `Session ${id}`, error, { href: '#/', text: 'Back to the scenarios' });
     return undefined;
   }
   wait.remove();

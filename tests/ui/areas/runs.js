@@ -1,7 +1,9 @@
 'use strict';
 // Runs, episode replays and comparisons: a run started from the form reaches its report (progress,
-// then metrics with units and arrows), a bad gate is refused next to the gates field, an episode
-// replays (the scrubber moves the agents and the plots' cursor), and two runs compare with p-values.
+// then metrics with units and arrows; gates pending while it runs), every problem of the form shows
+// beside its field at once, an episode replays (the scrubber moves the agents and the plots' cursor),
+// two runs compare with p-values and failed gates as chips, and the tables scroll in their panels on
+// a narrow screen.
 const assert = require('node:assert/strict');
 const { describe, it } = require('node:test');
 const context = require('../lib/context');
@@ -10,6 +12,12 @@ const { newPage, screenshot } = require('../lib/browser');
 const WAIT = { timeout: 20000 };
 // Shared by the tests below, in order: the run started from the form and one of its episodes.
 const state = { runA: null, episode: null };
+
+/** The page is no wider than the window: wide tables scroll in their own boxes. */
+async function assertNoSidewaysScroll(page, what) {
+  const { scrollWidth, innerWidth } = await page.evaluate(() => ({ scrollWidth: document.scrollingElement.scrollWidth, innerWidth }));
+  assert.ok(scrollWidth <= innerWidth, `${what}: the page is ${scrollWidth} px wide in a ${innerWidth} px window`);
+}
 
 /** Starts a run through the form on #/runs?scenario=queue; resolves to its id once its page opened. */
 async function startRunFromForm(tab, { seeds, gates }) {
@@ -56,17 +64,22 @@ describe('runs', () => {
     }
   });
 
-  it('a running run shows its progress and can be cancelled', async () => {
+  it('a running run shows its progress, its gates pending, and can be cancelled', async () => {
     const tab = await newPage(context.browser, context.server.port);
     const page = tab.page;
     try {
       await tab.open('/runs');
       // The elevator's episodes take long enough (hundreds of ms each) to catch the run running.
       const run = await page.evaluate(async () => (await (await fetch('/api/v1/runs', { method: 'POST', headers: { 'content-type': 'application/json' },
-        body: JSON.stringify({ scenario: 'elevator', count: 20 }) })).json()).id);
+        body: JSON.stringify({ scenario: 'elevator', count: 20, gates: ['collisions.max >= 0', 'success.mean > 2'] }) })).json()).id);
       await tab.open(`/runs/${run}`);
       await page.waitForSelector('.run-summary .badge:text-matches("queued|running")', WAIT);
       assert.match(await page.textContent('label[for=run-progress]'), /of 20 episodes done/);
+      // Neither gate is settled while episodes remain, not even the one that cannot pass.
+      assert.deepEqual(await page.$$eval('.verdict tr[data-gate] td:nth-child(3)', (cells) => cells.map((c) => c.textContent)), ['pending', 'pending']);
+      assert.equal(await page.textContent('#verdict-title .badge'), 'pending');
+      assert.equal(await page.$('.verdict .badge.bad'), null, 'nothing failed yet');
+      assert.doesNotMatch(await page.textContent('.verdict table'), /no value/);
       await page.click('button:has-text("Cancel the run")');
       await page.waitForSelector('.run-summary .badge:has-text("cancelled")', WAIT);
       assert.equal(await page.isVisible('button:has-text("Cancel the run")'), false);
@@ -77,19 +90,36 @@ describe('runs', () => {
     }
   });
 
-  it('a bad gate and a bad seed list are shown next to their fields', async () => {
+  it('every problem of the form shows beside its field at once, and so does each of the server\'s', async () => {
     const tab = await newPage(context.browser, context.server.port);
+    const page = tab.page;
+    const posted = [];
+    page.on('request', (request) => { if (request.method() === 'POST') posted.push(request.url()); });
     try {
-      await startRunFromForm(tab, { seeds: '1-3', gates: 'collisions.max == 0\ncollisions.median < 1' });
-      await tab.page.waitForSelector('#run-gates-error:not([hidden])', WAIT);
-      assert.match(await tab.page.textContent('#run-gates-error'), /line 2: .*median/);
-      assert.equal(await tab.page.getAttribute('#run-gates', 'aria-invalid'), '');
-      assert.match(await tab.page.evaluate(() => location.hash), /^#\/runs/, 'stays on the form');
-      await screenshot(tab.page, 'runs-form-errors');
-      await tab.page.fill('#run-seeds', '3-1');
-      await tab.page.click('.run-form button[type=submit]');
-      await tab.page.waitForSelector('#run-seeds-error:not([hidden])', WAIT);
-      assert.match(await tab.page.textContent('#run-seeds-error'), /backwards/);
+      await startRunFromForm(tab, { seeds: '3-1', gates: 'collisions.max == 0\ncollisions.median < 1\nfast please' });
+      await page.fill('#run-max-time', '-2');
+      await page.click('.run-form button[type=submit]');
+      await page.waitForSelector('#run-seeds-error:not([hidden])', WAIT);
+      assert.match(await page.textContent('#run-seeds-error'), /backwards/);
+      assert.match(await page.textContent('#run-max-time-error'), /above 0/);
+      const gates = await page.textContent('#run-gates-error');
+      assert.match(gates, /line 2: unknown statistic 'median'/);
+      assert.match(gates, /line 3: "fast please" is not metric\.statistic OP number/);
+      assert.doesNotMatch(gates, /line 1/);
+      for (const field of ['#run-seeds', '#run-max-time', '#run-gates']) assert.equal(await page.getAttribute(field, 'aria-invalid'), 'true', field);
+      assert.equal(await page.evaluate(() => document.activeElement.id), 'run-seeds', 'the first field in error takes the focus');
+      assert.deepEqual(posted, [], 'nothing sent while the page sees problems');
+      await screenshot(page, 'runs-form-errors');
+
+      // What only the server knows (its metrics) comes back as a list of pointers, each beside its field.
+      await page.fill('#run-seeds', '1-3');
+      await page.fill('#run-max-time', '20');
+      await page.fill('#run-gates', 'no_such_metric.max == 0\n\nnor_this.min > 1');
+      await page.click('.run-form button[type=submit]');
+      await page.waitForFunction(() => /line 3/.test(document.querySelector('#run-gates-error').textContent), null, WAIT);
+      assert.match(await page.textContent('#run-gates-error'), /line 1: .*unknown metric 'no_such_metric'.*line 3: .*unknown metric 'nor_this'/);
+      assert.equal(await page.isVisible('#run-seeds-error'), false, 'the seeds are fine now');
+      assert.equal(posted.length, 1);
       // Chromium logs every HTTP error response; the refused run's 400 is the answer this test asks for.
       assert.deepEqual(tab.errors.filter((e) => !/Failed to load resource: .* 400 \(Bad Request\)/.test(e)), []);
     } finally {
@@ -129,11 +159,11 @@ describe('runs', () => {
     }
   });
 
-  it('two runs compare metric by metric, with p-values, and the list leads there', async () => {
+  it('two runs compare metric by metric, with p-values and failed gates, and the list leads there; tables scroll on a narrow screen', async () => {
     assert.ok(state.runA, 'the first test started a run');
     const tab = await newPage(context.browser, context.server.port);
     try {
-      await startRunFromForm(tab, { seeds: '3-5', gates: '' });
+      await startRunFromForm(tab, { seeds: '3-5', gates: 'success.mean > 1\ncollisions.max >= 0' });
       await tab.page.waitForFunction((a) => /^#\/runs\/r[0-9a-f]{32}$/.test(location.hash) && !location.hash.endsWith(a), state.runA, WAIT);
       const runB = await tab.page.evaluate(() => location.hash.slice('#/runs/'.length));
       await tab.page.waitForSelector('.run-summary .badge:has-text("finished")', WAIT);
@@ -150,7 +180,24 @@ describe('runs', () => {
       assert.equal(await tab.page.getAttribute('table.comparison th[aria-sort]', 'aria-sort'), 'ascending');
       // The queue's robot stands still under its own controller: its paths are points, attached but not "visible".
       await tab.page.waitForSelector('.compare-map svg.map polyline', { ...WAIT, state: 'attached' });
+      // A's gates passed; B failed one, shown as a chip after its verdict.
+      assert.equal(await tab.page.textContent('.side-a .verdict-facts'), 'passed');
+      assert.doesNotMatch(await tab.page.textContent('.side-b .verdict-facts'), /object|,/);
+      assert.deepEqual(await tab.page.$$eval('.side-b .verdict-facts code.chip', (chips) => chips.map((c) => c.textContent)), ['success.mean > 1']);
       await screenshot(tab.page, 'runs-compare');
+
+      await tab.page.setViewportSize({ width: 800, height: 800 });
+      await assertNoSidewaysScroll(tab.page, 'the comparison');
+      assert.ok(await tab.page.$eval('.table-scroll:has(table.comparison)', (box) => box.scrollWidth > box.clientWidth), 'the metrics table scrolls in its box');
+      await screenshot(tab.page, 'runs-compare-800px');
+      await tab.open(`/runs/${runB}`);
+      await tab.page.waitForSelector('table.episodes', WAIT);
+      await assertNoSidewaysScroll(tab.page, 'the run report');
+      await screenshot(tab.page, 'runs-run-report-800px');
+      await tab.open('/runs');
+      await tab.page.waitForSelector('table.runs-table', WAIT);
+      await assertNoSidewaysScroll(tab.page, 'the runs list');
+      await screenshot(tab.page, 'runs-list-800px');
       assert.deepEqual(tab.errors, []);
     } finally {
       await tab.close();
