@@ -2,9 +2,12 @@
 // Debian's Chromium driven by playwright-core: headless, --no-sandbox (tests run as root in CI), WebGL
 // through SwiftShader (three.js needs it; there is no GPU). Every page records its console errors and
 // uncaught exceptions, and screenshots go to HRISIM_UI_ARTIFACTS (build/test/ui-artifacts by ctest).
+// Every screenshot also checks the page with axe-core (lib/axe.js): a page worth a picture is a page
+// worth checking, and the picture is there to look at when the check fails.
 const fs = require('node:fs');
 const path = require('node:path');
 const { chromium } = require('playwright-core');
+const { assertAccessible } = require('./axe');
 
 const CHROMIUM = process.env.HRISIM_CHROMIUM || '/usr/bin/chromium';
 const ARTIFACTS = process.env.HRISIM_UI_ARTIFACTS || path.resolve(__dirname, '../../../build/ui-artifacts');
@@ -43,11 +46,15 @@ async function newPage(browser, port) {
   };
 }
 
-/** Saves a PNG of the whole page as ARTIFACTS/name.png and returns its path. */
+/**
+ * Saves a PNG of the whole page as ARTIFACTS/name.png, then fails on axe-core's serious and critical
+ * violations on it; returns the PNG's path.
+ */
 async function screenshot(page, name) {
   fs.mkdirSync(ARTIFACTS, { recursive: true });
   const file = path.join(ARTIFACTS, `${name}.png`);
   await page.screenshot({ path: file, fullPage: true });
+  await assertAccessible(page, `${name} (${page.url()})`);
   return file;
 }
 
