@@ -1,7 +1,27 @@
 // A scenario's map from above as SVG, from GET /api/v1/scenarios/{id}/world: walls, obstacles
 // (furniture), doors, locations, social spaces and agents' start poses, with x to the right and y up
-// as in the map frame. Pages add paths and markers on top (trajectories, people, the robot).
+// as in the map frame, and a scale bar. Pages add paths and markers on top (trajectories, people, the
+// robot). Labels never overlap: each takes the first free place near its point, or is left out (its
+// mark keeps the name as a tooltip).
 const SVG = 'http://www.w3.org/2000/svg';
+/** As `svg.map .map-label` in style.css: labels are measured in this font before they are placed. */
+const LABEL_FONT = '11px system-ui, sans-serif';
+const LABEL_HEIGHT = 13;
+/** Scale bar lengths (m) to choose from: the longest that fits in SCALE_BAR_MAX_PX. */
+const SCALE_BAR_LENGTHS = [0.1, 0.2, 0.5, 1, 2, 5, 10, 20, 50, 100, 200, 500];
+const SCALE_BAR_MAX_PX = 110;
+
+let measuring = null;
+function labelWidth(text) {
+  measuring ??= document.createElement('canvas').getContext('2d');
+  measuring.font = LABEL_FONT;
+  return measuring.measureText(text).width;
+}
+
+/** "0.5 m", "2 m", "12.5 m". */
+const formatMetres = (metres) => `${Number(metres.toFixed(2))} m`;
+
+const overlaps = (a, b) => a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
 
 function svg(tag, attributes = {}, parent = null) {
   const element = document.createElementNS(SVG, tag);
@@ -19,6 +39,8 @@ export const palette = {
   space: '#8a5cb8',
   human: '#2f6fd1',
   robot: '#e07b18',
+  /** The robot's orange is too light for text (4.5:1 on the labels' white halo): its labels take this. */
+  robotText: '#9c530c',
   path: ['#2f6fd1', '#d1492f', '#2f9d5b', '#c99016', '#7d4fb8', '#1f9aa6'],
 };
 
@@ -40,8 +62,9 @@ export class MapView {
     this.width = spanX * this.scale;
     this.height = spanY * this.scale;
     this.svg = svg('svg', { class: 'map', viewBox: `0 0 ${this.width} ${this.height}`, width: this.width, height: this.height, role: 'img' });
-    this.svg.setAttribute('aria-label', `Map of ${world.name}`);
     svg('rect', { x: 0, y: 0, width: this.width, height: this.height, class: 'map-floor' }, this.svg);
+    /** Boxes (SVG px) that labels keep clear of: the scale bar and the labels placed so far. */
+    this.taken = [];
     const base = svg('g', { class: 'map-base' }, this.svg);
     for (const obstacle of world.obstacles) {
       const polygon = svg('polygon', { points: obstacle.polygon.map(([x, y]) => this.point(x, y).join(',')).join(' '),
@@ -53,21 +76,26 @@ export class MapView {
       if (world.obstacles.length === 0) this.line(wall.from, wall.to, { stroke: palette.wall, 'stroke-width': 2 }, base);
     }
     for (const door of world.doors) this.line(door.from, door.to, { stroke: palette.door, 'stroke-width': 4, class: 'map-door' }, base);
-    this.layers = { spaces: svg('g', {}, this.svg), locations: svg('g', {}, this.svg), paths: svg('g', {}, this.svg), marks: svg('g', {}, this.svg) };
+    this.layers = { spaces: svg('g', {}, this.svg), locations: svg('g', {}, this.svg), paths: svg('g', {}, this.svg), marks: svg('g', {}, this.svg),
+      labels: svg('g', {}, this.svg) };
+    this.scaleBar();
     for (const space of world.social_spaces) {
       const [cx, cy] = this.point(space.centre.x, space.centre.y);
-      svg('circle', { cx, cy, r: 0.6 * this.scale, fill: 'none', stroke: palette.space, 'stroke-dasharray': '4 3' }, this.layers.spaces);
+      const ring = svg('circle', { cx, cy, r: 0.6 * this.scale, fill: 'none', stroke: palette.space, 'stroke-dasharray': '4 3' }, this.layers.spaces);
+      svg('title', {}, ring).textContent = `social space ${space.name}`;
       for (const slot of space.slots) {
         const [sx, sy] = this.point(slot.x, slot.y);
         svg('circle', { cx: sx, cy: sy, r: 3, fill: palette.space }, this.layers.spaces);
       }
-      if (labels) this.text(space.centre.x, space.centre.y + 0.7, space.name, palette.space, this.layers.spaces);
+      if (labels) this.text(space.centre.x, space.centre.y + 0.7, space.name, palette.space);
     }
     for (const location of world.locations) {
       const [lx, ly] = this.point(location.x, location.y);
-      svg('circle', { cx: lx, cy: ly, r: Math.max(location.radius * this.scale, 3), fill: 'none', stroke: palette.location }, this.layers.locations);
-      if (labels) this.text(location.x, location.y - 0.35, location.name, palette.location, this.layers.locations);
+      const ring = svg('circle', { cx: lx, cy: ly, r: Math.max(location.radius * this.scale, 3), fill: 'none', stroke: palette.location }, this.layers.locations);
+      svg('title', {}, ring).textContent = `location ${location.name}`;
+      if (labels) this.text(location.x, location.y - 0.35, location.name, palette.location);
     }
+    this.svg.setAttribute('aria-label', `Map of ${world.name}, ${formatMetres(spanX - 2 * margin)} by ${formatMetres(spanY - 2 * margin)}`);
     if (starts) {
       for (const agent of world.agents) this.agent(agent.start.x, agent.start.y, agent.start.theta, agent.kind, agent.radius, agent.id, this.layers.marks, 0.5);
     }
@@ -85,11 +113,41 @@ export class MapView {
     return svg('line', { x1: ax, y1: ay, x2: bx, y2: by, ...attributes }, parent);
   }
 
-  text(x, y, label, colour, parent) {
+  /**
+   * A label centred on (x, y) in map coordinates, or as near as it fits without covering another label
+   * or the scale bar: a line up or down, or beside. Returns the element, or null when no place is free.
+   */
+  text(x, y, label, colour) {
     const [tx, ty] = this.point(x, y);
-    const element = svg('text', { x: tx, y: ty, fill: colour, 'text-anchor': 'middle', class: 'map-label' }, parent);
-    element.textContent = label;
-    return element;
+    const width = labelWidth(label) + 2;
+    const side = width / 2 + 4;
+    const places = [[0, 0], [0, LABEL_HEIGHT], [0, -LABEL_HEIGHT], [side, 0], [-side, 0], [0, 2 * LABEL_HEIGHT], [0, -2 * LABEL_HEIGHT],
+      [side, LABEL_HEIGHT], [-side, LABEL_HEIGHT], [side, -LABEL_HEIGHT], [-side, -LABEL_HEIGHT]];
+    for (const [dx, dy] of places) {
+      // The box of text anchored at its middle and its baseline.
+      const box = { x: tx + dx - width / 2, y: ty + dy - LABEL_HEIGHT + 3, width, height: LABEL_HEIGHT };
+      const inside = box.x >= 0 && box.y >= 0 && box.x + box.width <= this.width && box.y + box.height <= this.height;
+      if (!inside || this.taken.some((other) => overlaps(box, other))) continue;
+      this.taken.push(box);
+      const element = svg('text', { x: tx + dx, y: ty + dy, fill: colour, 'text-anchor': 'middle', class: 'map-label' }, this.layers.labels);
+      element.textContent = label;
+      return element;
+    }
+    return null;
+  }
+
+  /** A bar of a round length in metres in the bottom left corner, on a pale backing. */
+  scaleBar() {
+    const metres = SCALE_BAR_LENGTHS.filter((length) => length * this.scale <= SCALE_BAR_MAX_PX).pop() ?? SCALE_BAR_LENGTHS[0];
+    const length = metres * this.scale;
+    const [left, bottom] = [8, this.height - 6];
+    const text = formatMetres(metres);
+    const box = { x: left - 4, y: bottom - 22, width: Math.max(length, labelWidth(text)) + 8, height: 24 };
+    const group = svg('g', { class: 'map-scale', 'data-metres': metres, 'data-pixels': length }, this.svg);
+    svg('rect', { ...box, rx: 3, class: 'map-scale-backing' }, group);
+    svg('path', { d: `M ${left} ${bottom - 5} V ${bottom} H ${left + length} V ${bottom - 5}`, class: 'map-scale-bar' }, group);
+    svg('text', { x: left, y: bottom - 8, class: 'map-label map-scale-text' }, group).textContent = text;
+    this.taken.push(box);
   }
 
   /** An agent as a disc with a heading tick; returns the SVG group (for removing or moving it). */
@@ -112,7 +170,7 @@ export class MapView {
     return element;
   }
 
-  /** Removes what pages added (paths and agents), keeping the map. */
+  /** Removes what pages added (paths and agents), keeping the map and its labels. */
   clear() {
     this.layers.paths.replaceChildren();
     this.layers.marks.replaceChildren();

@@ -3,6 +3,7 @@
 import { api } from '../lib/api.js';
 import { h, loading, errorPage, formatNumber, pageTitle } from '../lib/ui.js';
 import { MapView, palette } from '../lib/map2d.js';
+import { taskSummary } from '../lib/tasks.js';
 
 /** Scenarios uploaded from the catalogue in this page's life, with their warnings, shown once on arrival. */
 export const recentUploads = new Map();
@@ -168,7 +169,7 @@ function facts(id, doc, world) {
     ['Id', h('code', {}, id)],
     ['Humans', humans.length ? `${humans.length}: ${humans.map((agent) => agent.id).join(', ')}` : '0'],
     ['Robots', robots.length ? robots.map((agent) => `${agent.id} (${agent.model ?? 'disc, no model'})`).join(', ') : 'none'],
-    ['Task', doc.task ?? '—'],
+    ['Task', doc.task ? taskSummary(doc.task) : '—'],
     ['Duration (time limit)', number(world.time_limit, 's')],
     ['Steps', formatNumber((doc.steps ?? []).length)],
     ['Time step', `${number(world.dt, 's')} (${formatNumber(1 / world.dt)} Hz)`],
@@ -291,7 +292,7 @@ export async function render(root, params) {
     h('div', { class: 'sc-map-layout' }, h('div', { class: 'panel sc-map-panel' }, mapBox, legend()), h('div', { class: 'panel' }, worldLists(world)))));
   const map = new MapView(mapBox, world, { width: 640, maxHeight: 640 });
   for (const agent of world.agents) {
-    map.text(agent.start.x, agent.start.y + agent.radius + 0.15, agent.id, agent.kind === 'robot' ? palette.robot : palette.human, map.layers.marks);
+    map.text(agent.start.x, agent.start.y + agent.radius + 0.15, agent.id, agent.kind === 'robot' ? palette.robotText : palette.human);
   }
 
   root.append(h('section', { 'aria-labelledby': 'timeline-heading' }, h('h2', { id: 'timeline-heading' }, 'Choreography'),

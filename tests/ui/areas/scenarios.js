@@ -1,7 +1,8 @@
 'use strict';
 // The scenario catalogue and a scenario's page: a card per scenario with its thumbnail, searching and
-// filtering, the elevator's map and timeline, uploads whose errors appear at the lines they concern, and
-// starting a live session from a scenario.
+// filtering, the elevator's map (labels that do not overlap, a true scale bar) and timeline, a benchmark
+// task's settings in words, uploads whose errors appear at the lines they concern, and starting a live
+// session from a scenario.
 const assert = require('node:assert/strict');
 const path = require('node:path');
 const { describe, it } = require('node:test');
@@ -30,6 +31,18 @@ function roomScenario(name, extraAction = null) {
 }
 
 const lineOf = (text, fragment) => text.split('\n').findIndex((line) => line.includes(fragment)) + 1;
+
+/** Pairs of the map's labels whose boxes overlap, as "a/b". */
+function overlappingLabels(page) {
+  return page.$$eval('svg.map text.map-label', (texts) => {
+    const boxes = texts.map((text) => ({ name: text.textContent, box: text.getBoundingClientRect() }));
+    const pairs = [];
+    boxes.forEach((a, i) => boxes.slice(i + 1).forEach((b) => {
+      if (a.box.left < b.box.right && b.box.left < a.box.right && a.box.top < b.box.bottom && b.box.top < a.box.bottom) pairs.push(`${a.name}/${b.name}`);
+    }));
+    return pairs;
+  });
+}
 
 async function serverGet(path) {
   const reply = await fetch(`http://127.0.0.1:${context.server.port}${path}`);
@@ -125,7 +138,42 @@ describe('scenarios', () => {
       assert.match(eliSwap, /wait 4 s.*goto cabin/);
       assert.match(await tab.page.textContent('tr[data-agent=ada] td:nth-of-type(1)'), /task call_up.*goto button_floor1/);
       assert.equal(await tab.page.getAttribute('a:has-text("Run in batch")', 'href'), '#/runs?scenario=elevator');
+      // Queues and buttons of both floors sit close together: their labels make room for each other.
+      assert.deepEqual(await overlappingLabels(tab.page), []);
+      assert.match(await tab.page.textContent('svg.map'), /queue_floor1.*button_floor1|button_floor1.*queue_floor1/);
+      // The scale bar's length in pixels per metre is the map's: as far apart as two locations are drawn.
+      const world = (await serverGet('/api/v1/scenarios/elevator/world')).json;
+      const [a, b] = ['centre_floor1', 'printer_floor1'].map((name) => world.locations.find((l) => l.name === name));
+      const drawn = await tab.page.$$eval('svg.map circle', (circles, names) => names.map((name) => Number(circles.find((c) => c.querySelector('title')?.textContent === `location ${name}`).getAttribute('cx'))),
+        [a.name, b.name]);
+      const pixelsPerMetre = (drawn[1] - drawn[0]) / (b.x - a.x);
+      const bar = await tab.page.$eval('svg.map g.map-scale', (g) => ({ metres: Number(g.dataset.metres), width: g.querySelector('.map-scale-bar').getBBox().width, text: g.textContent }));
+      assert.equal(bar.text, `${bar.metres} m`);
+      assert.ok(Math.abs(bar.width / bar.metres - pixelsPerMetre) < 0.01 * pixelsPerMetre, `bar ${bar.width} px for ${bar.metres} m; the map ${pixelsPerMetre} px/m`);
       await screenshot(tab.page, 'scenario-elevator');
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+    }
+  });
+
+  it('a benchmark task reads as its name, what it asks and the settings the scenario gives', async () => {
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open('/scenarios/pick_and_place');
+      await tab.page.waitForSelector('.sc-facts');
+      const task = async () => tab.page.$eval('.sc-facts dt:text-is("Task") + dd', (dd) => dd.textContent);
+      assert.doesNotMatch(await task(), /object Object/);
+      assert.match(await task(), /^pick_and_place: pick up an object and put it on a target/);
+      assert.deepEqual(await tab.page.$$eval('.task-settings li', (items) => items.map((item) => item.textContent)),
+        ['object cup', 'penalised 16 (cuttingboard, cheese01, cheese02, …)', 'target (0, 0.68, 0.45) m']);
+      await screenshot(tab.page, 'scenario-pick-and-place');
+      await tab.open('/scenarios/approach_human_apartment');
+      await tab.page.waitForSelector('.task-settings');
+      assert.match(await tab.page.textContent('.task-settings li[data-setting=spawn]'), /^spawn \[-4, -3\] to \[4, 3\] m$/);
+      await tab.open('/scenarios/mirror_gesture');
+      await tab.page.waitForSelector('.sc-facts');
+      assert.match(await task(), /^mirror_gesture: point to the side .* \(every setting its default/);
       assert.deepEqual(tab.errors, []);
     } finally {
       await tab.close();
@@ -163,6 +211,14 @@ describe('scenarios', () => {
       await tab.page.click('.sc-issue-list button:has-text("line 7")');
       assert.equal(await tab.page.evaluate(() => document.activeElement.dataset.line), '7');
       await screenshot(tab.page, 'scenarios-upload-xml-errors');
+
+      // Malformed XML, uploaded: the server's words and line, nothing of the parser's own.
+      await tab.page.fill('#upload-text', ['<?xml version="1.0"?>', '<map_name name="elevator"/>', '<agents><human id="ann"/>', '</agentz>'].join('\n'));
+      await tab.page.click('button:has-text("Upload")');
+      await tab.page.waitForSelector('.sc-source-note.error[data-line="3"]');
+      assert.equal(await tab.page.textContent('.sc-source-note.error[data-line="3"]'),
+        'Error: malformed XML: <agents> opened at line 3 is never closed (</agentz> at line 4 comes first)');
+      assert.match(await tab.page.textContent('.sc-upload-result [role=alert]'), /^Not stored: 1 error in the IMHuS XML scenario/);
       assert.deepEqual(tab.errors.filter((error) => !/status of 400/.test(error)), []);
     } finally {
       await tab.close();
