@@ -1,9 +1,10 @@
 // uPlot helpers for runs and episodes: time series synchronised with a replay scrubber (a marker
-// line that follows the replay, hovering that moves the replay) and per-episode dot plots; and the
+// line that follows the replay, hovering that moves the replay) and per-episode dot plots, each with
+// a text alternative (a summary as its accessible name, its data as a table on demand); and the
 // metric formatting (units, "better" arrows, status badges) the runs pages share with their plots.
 import uPlot from 'uplot';
 import { api } from './api.js';
-import { h, formatNumber } from './ui.js';
+import { h, formatNumber, scrollBox } from './ui.js';
 
 let metricsRequest = null;
 
@@ -87,20 +88,53 @@ function valueRange(min, max) {
 
 const axisValues = (u, splits) => splits.map((v) => formatNumber(v, 2));
 
+/** "from 0.1 to 3.2 m, mean 1.4 m" over the values that are not null; "no value" when none is. */
+function valueSummary(values, unit) {
+  const present = values.filter((v) => v !== null && v !== undefined);
+  if (!present.length) return 'no value';
+  const mean = present.reduce((a, b) => a + b, 0) / present.length;
+  const withIt = (v) => `${formatNumber(v)}${unit ? ` ${unit}` : ''}`;
+  const missing = values.length - present.length;
+  return `from ${withIt(Math.min(...present))} to ${withIt(Math.max(...present))}, mean ${withIt(mean)}${missing ? `, ${missing} without a value` : ''}`;
+}
+
+/**
+ * A plot's text alternative: `summary` as the plot's accessible name, and after it a button that shows
+ * the plotted data as a table (`headings`, `rows` of cells; built on first use).
+ */
+function textAlternative(plot, container, { title, summary, headings, rows }) {
+  plot.root.setAttribute('role', 'img');
+  plot.root.setAttribute('aria-label', summary);
+  const box = h('div', { class: 'plot-table', hidden: true });
+  const toggle = h('button', { type: 'button', class: 'link plot-table-toggle', 'aria-expanded': 'false' }, 'Show as table');
+  toggle.addEventListener('click', () => {
+    const open = box.hidden;
+    if (open && !box.firstChild) {
+      box.append(scrollBox(h('table', { class: 'compact' }, h('caption', {}, title),
+        h('thead', {}, h('tr', {}, headings.map((heading) => h('th', { scope: 'col', class: 'number' }, heading)))),
+        h('tbody', {}, rows().map((cells) => h('tr', {}, cells.map((cell) => h('td', { class: 'number' }, cell)))))), `${title} as a table`));
+    }
+    box.hidden = !open;
+    toggle.setAttribute('aria-expanded', String(open));
+    toggle.textContent = open ? 'Hide the table' : 'Show as table';
+  });
+  container.append(toggle, box);
+}
+
 function plotWidth(container, fallback = 520) {
   return Math.max(240, Math.floor(container.clientWidth || fallback));
 }
 
 /**
  * A time-series plot of `values` over `times` (s) in `container`. Options: title, unit, colour,
- * bands (shaded y ranges), syncKey (plots sharing it share their cursor), onHover(time) (the user
- * hovers a sample). Returns {plot, setMarker(time), destroy()}: setMarker moves the vertical line
- * that shows the replay's time.
+ * bands (shaded y ranges), clipAbove (the y axis ends there: larger values are drawn at that
+ * height, the legend and the table keep them as they are), syncKey (plots sharing it share their cursor), onHover(time) (the user hovers a sample). Returns
+ * {plot, setMarker(time), destroy()}: setMarker moves the vertical line that shows the replay's time.
  */
-export function timePlot(container, { times, values, title, unit, colour = '#2f6fd1', bands = null, syncKey = null, onHover = null, height = 150 }) {
-  const yRange = bands
-    ? (u, min, max) => [0, Math.max(max ?? 0, bands[bands.length - 1].to) * 1.05]
-    : (u, min, max) => valueRange(min, max);
+export function timePlot(container, { times, values, title, unit, colour = '#2f6fd1', bands = null, clipAbove = null, syncKey = null, onHover = null, height = 150 }) {
+  const yRange = clipAbove !== null ? () => [0, clipAbove * 1.05]
+    : bands ? (u, min, max) => [0, Math.max(max ?? 0, bands[bands.length - 1].to) * 1.05]
+      : (u, min, max) => valueRange(min, max);
   // The replay's time as a DOM line over the plot: cheap to move many times a second, no redraw.
   // Its place needs the scales, which uPlot sets up after the constructor returns: placed when ready.
   const marker = document.createElement('div');
@@ -126,7 +160,8 @@ export function timePlot(container, { times, values, title, unit, colour = '#2f6
     cursor: { y: false, sync: syncKey ? { key: syncKey } : undefined, drag: { x: false, y: false }, points: { size: 6 } },
     series: [
       { label: 'time', value: (u, v) => (v === null ? '—' : `${formatNumber(v, 2)} s`) },
-      { label: title, stroke: colour, width: 1.5, spanGaps: false, value: (u, v) => (v === null ? '—' : `${formatNumber(v)} ${unit}`) },
+      { label: title, stroke: colour, width: 1.5, spanGaps: false,
+        value: (u, v, series, i) => (i === null || values[i] === null ? '—' : `${formatNumber(values[i])} ${unit}`) },
     ],
     axes: [
       { label: 'time (s)', labelSize: 18, size: 32 },
@@ -136,8 +171,18 @@ export function timePlot(container, { times, values, title, unit, colour = '#2f6
       ready: [(u) => { u.over.append(marker); place(u); }],
       drawClear: bands ? [bandsHook(bands)] : [],
       setCursor: onHover ? [(u) => { if (u.cursor.idx !== null && u.cursor.idx !== undefined) onHover(u.data[0][u.cursor.idx]); }] : [],
+      // The y axis's extent, for a look from outside the canvas (tests).
+      setScale: [(u, key) => { if (key === 'y') u.root.dataset.yMax = String(u.scales.y.max); }],
     },
-  }, [times, values], container);
+  }, [times, clipAbove === null ? values : values.map((v) => (v === null ? null : Math.min(v, clipAbove)))], container);
+  const end = times.length ? times[times.length - 1] : 0;
+  textAlternative(plot, container, {
+    title: `${title} over time`,
+    summary: `${title} over ${formatNumber(end, 2)} s, ${times.length} samples: ${valueSummary(values, unit)}`
+      + `${clipAbove !== null ? `; the plot shows 0 to ${formatNumber(clipAbove)} ${unit}, more drawn at ${formatNumber(clipAbove)} ${unit}` : ''}.`,
+    headings: ['time (s)', `${title} (${unit})`],
+    rows: () => times.map((time, i) => [formatNumber(time, 2), values[i] === null ? '—' : formatNumber(values[i])]),
+  });
   return {
     plot,
     setMarker(time) { markerTime = time; place(plot); },
@@ -156,7 +201,7 @@ export function dotPlot(container, { points, title, unit, bool = false, colour =
   const present = ys.filter((v) => v !== null && v !== undefined);
   const mean = present.length ? present.reduce((a, b) => a + b, 0) / present.length : null;
   const seeds = points.map((p) => p.seed);
-  return new uPlot({
+  const plot = new uPlot({
     width: plotWidth(container, 300),
     height,
     title,
@@ -181,4 +226,12 @@ export function dotPlot(container, { points, title, unit, bool = false, colour =
         : { label: unit, labelSize: 18, size: 52, values: axisValues },
     ],
   }, [xs, ys, xs.map(() => mean)], container);
+  const valueText = (v) => (v === null || v === undefined ? '—' : bool ? (v >= 0.5 ? 'yes' : 'no') : formatNumber(v));
+  textAlternative(plot, container, {
+    title: `${title} per episode`,
+    summary: `${title} per episode, ${points.length} episode${points.length === 1 ? '' : 's'}: ${valueSummary(ys, bool ? '' : unit)}.`,
+    headings: ['seed', bool ? title : `${title} (${unit})`],
+    rows: () => points.map((p) => [String(p.seed), valueText(p.value)]),
+  });
+  return plot;
 }

@@ -11,6 +11,9 @@ const SPEEDS = [0.25, 0.5, 1, 2, 4, 10];
 const SERIES_ORDER = ['distance_to_closest_person', 'robot_speed', 'time_to_collision', 'social_force_on_robot'];
 const SERIES_SHOWN_AS_BANDS = 'proxemic_zone';
 const SERIES_COLOURS = { distance_to_closest_person: '#2f6fd1', robot_speed: '#e07b18', time_to_collision: '#c0392b', social_force_on_robot: '#7d4fb8' };
+// Where a series' y axis ends: a time to collision runs to days when nobody is on a collision course,
+// and only its first seconds matter (longer ones are drawn at this height).
+const SERIES_CLIPPED_ABOVE = { time_to_collision: 10 };
 const CATEGORY_NAMES = {
   task_and_path: 'Task and path', proximity: 'Proximity', contact: 'Contact', social_forces: 'Social forces',
   interaction: 'Interaction', task_rewards: 'Task rewards',
@@ -176,11 +179,16 @@ export async function render(root, params) {
     }
     const seriesTimes = series.values.map((_, k) => k * series.dt);
     const bands = name === 'distance_to_closest_person' ? PROXEMIC_BANDS : null;
+    const clipAbove = SERIES_CLIPPED_ABOVE[name] ?? null;
     plots.push(timePlot(figure, {
       times: seriesTimes, values: series.values, title: name.replaceAll('_', ' '), unit: series.unit,
-      colour: SERIES_COLOURS[name] ?? '#2f6fd1', bands, syncKey,
+      colour: SERIES_COLOURS[name] ?? '#2f6fd1', bands, clipAbove, syncKey,
       onHover: (time) => setIndex(nearest(times, time), 'plot'),
     }));
+    if (clipAbove !== null) {
+      figure.querySelector('figcaption').append(`. Clipped at ${formatNumber(clipAbove)} ${series.unit}: longer times are drawn at `
+        + `${formatNumber(clipAbove)} ${series.unit}, the legend and the table give every value.`);
+    }
     if (bands) {
       figure.append(h('p', { class: 'legend muted small' }, 'Shaded: Hall\'s zones — ',
         PROXEMIC_BANDS.flatMap((b) => [h('span', { class: 'swatch', style: `background:${b.colour.replace(/[\d.]+\)$/, '0.5)')}` }), ` ${b.name} < ${b.to} m `])));

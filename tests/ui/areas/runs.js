@@ -1,7 +1,8 @@
 'use strict';
 // Runs, episode replays and comparisons: a run started from the form reaches its report (progress,
 // then metrics with units and arrows; gates pending while it runs), every problem of the form shows
-// beside its field at once, an episode replays (the scrubber moves the agents and the plots' cursor),
+// beside its field at once, an episode replays (the scrubber moves the agents and the plots' cursor;
+// each plot has a summary and its data as a table; the time to collision is clipped at 10 s),
 // two runs compare with p-values and failed gates as chips, and the tables scroll in their panels on
 // a narrow screen.
 const assert = require('node:assert/strict');
@@ -49,6 +50,13 @@ describe('runs', () => {
       assert.match(await tab.page.textContent('table.aggregates tr[data-metric=collisions]'), /↓/);
       assert.match(await tab.page.textContent('.verdict'), /passed/);
       await tab.page.waitForSelector('.dot-plot .uplot', WAIT);
+      // Each dot plot reads as a summary, and its dots as a table of seeds.
+      const distance = '.dot-plot[data-metric=minimum_distance_to_people]';
+      assert.match(await tab.page.getAttribute(`${distance} .uplot`, 'aria-label'),
+        /^minimum distance to people ↑ per episode, 2 episodes: from [\d.]+ m to [\d.]+ m, mean [\d.]+ m\.$/);
+      await tab.page.click(`${distance} button:has-text("Show as table")`);
+      assert.equal(await tab.page.getAttribute(`${distance} .plot-table-toggle`, 'aria-expanded'), 'true');
+      assert.deepEqual(await tab.page.$$eval(`${distance} .plot-table tbody tr`, (rows) => rows.map((row) => row.cells[0].textContent)), ['1', '2']);
       await tab.page.waitForSelector('table.episodes a[href^="#/episodes/e"]', WAIT);
       state.episode = (await tab.page.getAttribute('table.episodes a[href^="#/episodes/e"]', 'href')).slice('#/episodes/'.length);
       assert.equal(await tab.page.getAttribute('a[href$="/junit"]', 'href'), `/api/v1/runs/${state.runA}/junit`);
@@ -127,7 +135,7 @@ describe('runs', () => {
     }
   });
 
-  it('an episode replays: the scrubber moves the agents and the plots follow it', async () => {
+  it('an episode replays: the scrubber moves the agents and the plots follow it; each plot reads as a summary and a table', async () => {
     assert.ok(state.episode, 'the first test stored an episode');
     const tab = await newPage(context.browser, context.server.port);
     try {
@@ -151,6 +159,16 @@ describe('runs', () => {
       await page.waitForFunction(() => Number(document.querySelector('#replay-time').value) > 100, null, WAIT);
       assert.ok(await page.$$eval('.event-tick', (ticks) => ticks.length) > 0, 'events on the timeline');
       assert.match(await page.textContent('.reward-note'), /no benchmark task/);
+      // A plot's text alternative: a summary as its name, every sample in a table on demand.
+      const plot = '.series-plot[data-series=distance_to_closest_person]';
+      const summary = await page.getAttribute(`${plot} .uplot`, 'aria-label');
+      const samples = Number(/, (\d+) samples: from [\d.]+ m to [\d.]+ m, mean [\d.]+ m/.exec(summary)?.[1]);
+      assert.ok(samples > 100, summary);
+      assert.equal(await page.getAttribute(`${plot} .uplot`, 'role'), 'img');
+      assert.equal(await page.isVisible(`${plot} .plot-table`), false);
+      await page.click(`${plot} button:has-text("Show as table")`);
+      assert.equal(await page.$$eval(`${plot} .plot-table tbody tr`, (rows) => rows.length), samples);
+      assert.match(await page.textContent(`${plot} .plot-table tbody tr`), /^0[\d.]+$/, 'time 0 s and its distance');
       assert.match(await page.textContent('.episode-metrics tr[data-metric=minimum_distance_to_people]'), /\d m/);
       await screenshot(page, 'runs-episode');
       assert.deepEqual(tab.errors, []);
@@ -204,7 +222,7 @@ describe('runs', () => {
     }
   });
 
-  it('a run with another controller goes to a chosen location; runs of two scenarios are drawn apart', async () => {
+  it('a run with another controller goes to a chosen location, its time to collision clipped at 10 s; runs of two scenarios are drawn apart', async () => {
     assert.ok(state.runA, 'the first test started a run');
     const tab = await newPage(context.browser, context.server.port);
     const page = tab.page;
@@ -227,6 +245,16 @@ describe('runs', () => {
       const runC = await page.evaluate(() => location.hash.slice('#/runs/'.length));
       await page.waitForSelector('.run-summary .badge:has-text("finished")', WAIT);
       assert.match(await page.textContent('.run-summary'), /goal → kitchen/);
+      // The robot drives past people: times to collision of tens of seconds, drawn at the plot's top of 10 s.
+      await page.click('table.episodes a[href^="#/episodes/e"]');
+      const ttc = '.series-plot[data-series=time_to_collision]';
+      await page.waitForSelector(`${ttc} .uplot`, WAIT);
+      assert.equal(Number(await page.getAttribute(`${ttc} .uplot`, 'data-y-max')), 10.5);
+      assert.match(await page.textContent(`${ttc} figcaption`), /Clipped at 10 s/);
+      await page.click(`${ttc} button:has-text("Show as table")`);
+      const longest = Math.max(...await page.$$eval(`${ttc} .plot-table tbody td:nth-child(2)`, (cells) => cells.map((c) => Number(c.textContent.replace(/,/g, ''))).filter(Number.isFinite)));
+      assert.ok(longest > 10, `the table keeps the longest time, ${longest} s`);
+      await screenshot(page, 'runs-episode-apartment');
       await tab.open(`/compare/${state.runA}/${runC}`);
       await page.waitForSelector('.compare-map .message.info', WAIT);
       assert.match(await page.textContent('.compare-map .message.info'), /different scenarios/);
