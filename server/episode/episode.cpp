@@ -126,6 +126,28 @@ std::unique_ptr<Episode> Episode::restore(const Snapshot& snapshot) const {
   return restored;
 }
 
+std::unique_ptr<Episode> Episode::rewind(std::int64_t tick) const {
+  auto rewound = std::make_unique<Episode>(model_, seed_, settings_);
+  const auto at_tick = [&] { return rewound->session().state().tick >= tick; };
+  for (const Snapshot::Entry& entry : log_) {
+    if (entry.kind == Snapshot::Entry::Kind::input) {
+      rewound->give(entry.input);
+      continue;
+    }
+    std::int64_t done = 0;
+    for (; done < entry.count && !at_tick() && !rewound->over(); ++done) {
+      // One env step at a time, the action at the first: the same ticks as step(action, count).
+      if (entry.kind == Snapshot::Entry::Kind::step) {
+        rewound->step(done == 0 ? entry.action : std::nullopt, 1);
+      } else {
+        rewound->tick();
+      }
+    }
+    if (done < entry.count && at_tick()) break;  // cut short: what follows was given after `tick`
+  }
+  return rewound;
+}
+
 void Episode::replay(const Snapshot::Entry& entry) {
   switch (entry.kind) {
     case Snapshot::Entry::Kind::input:

@@ -82,6 +82,10 @@ class Episode {
   /// A fresh episode of the same scenario, seed and settings driven by the snapshot's log: the state
   /// the snapshot was taken in, bit for bit (checked by its hash; core::Error(internal) otherwise).
   std::unique_ptr<Episode> restore(const Snapshot& snapshot) const;
+  /// This episode as it was at `tick` (at most the present tick), with the inputs given at that tick:
+  /// a fresh episode of the same scenario, seed and settings given this one's inputs until then. With
+  /// a benchmark task it stops at the end of the env step that reaches `tick`.
+  std::unique_ptr<Episode> rewind(std::int64_t tick) const;
 
   /// The session finished: the scenario's end, its time limit, or the benchmark task's ending.
   bool over() const { return session_->state().finished; }

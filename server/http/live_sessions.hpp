@@ -47,7 +47,10 @@ struct Live {
   std::uint64_t generation = 0;     ///< counts resets and restores, so that viewers notice a fresh start
   std::map<std::string, episode::Episode::Snapshot> snapshots;  ///< of this episode (a reset drops them)
   std::uint64_t snapshots_taken = 0;
-  Clock::time_point last_used;
+  std::atomic<Clock::time_point> last_used;  ///< by a request, a WebSocket's message or push, or its close
+  /// Ends the session this long after its last WebSocket closed (the browser asks for it, so that a
+  /// closed tab's session goes); none: the idle timeout alone.
+  std::optional<std::chrono::seconds> unwatched_grace;
   /// WebSockets open on it; shared with them, as they hold no reference to the session.
   std::shared_ptr<std::atomic<int>> clients = std::make_shared<std::atomic<int>>(0);
   // Realtime: the wall-clock time and tick it was last (re)started from.
@@ -77,6 +80,8 @@ inline constexpr double kRealtimeTick = 1.0 / 60.0;
 inline constexpr double kRealtimeMaxCatchUp = 0.5;
 /// Largest realtime factor accepted.
 inline constexpr double kMaxRealtimeFactor = 100.0;
+/// Longest unwatched grace a session may ask for, s.
+inline constexpr std::chrono::seconds kMaxUnwatchedGrace{3600};
 /// Snapshots one session keeps at most.
 inline constexpr std::size_t kMaxSnapshots = 32;
 
@@ -84,6 +89,22 @@ inline constexpr std::size_t kMaxSnapshots = 32;
 /// I/O thread never waits behind a long step (health checks and other sessions stay answered).
 Response locked(std::shared_ptr<Live> live, std::function<Response(Live&)> work);
 
+/// What a new session is made of (POST /api/v1/sessions, checked).
+struct NewSession {
+  std::string scenario;
+  std::shared_ptr<const scenario::Model> model;
+  std::int64_t seed = 0;
+  std::string mode = "lockstep";
+  double realtime_factor = 1.0;
+  std::optional<nlohmann::json> controller;
+  std::string owner;
+  std::optional<std::chrono::seconds> unwatched_grace;
+};
+
+/// The live sessions. At most `max_sessions` run at once; finished ones do not count, but the registry
+/// keeps at most that many of them too (creating a session ends the least recently used unwatched
+/// finished ones beyond it). A session goes when nobody used it for the idle timeout, or, with an
+/// unwatched grace, that long after its last WebSocket closed; one with a WebSocket open stays.
 class Registry {
  public:
   explicit Registry(SessionLimits limits) : limits_(limits), ticker_([this](std::stop_token stop) { step_realtime(stop); }) {}
@@ -92,115 +113,23 @@ class Registry {
     ticker_.join();
   }
 
-  std::shared_ptr<Live> create(const std::string& scenario, std::shared_ptr<const scenario::Model> model, std::int64_t seed,
-                               const std::string& mode, double realtime_factor, std::optional<nlohmann::json> controller, const std::string& owner) {
-    std::lock_guard lock(mutex_);
-    expire_idle();
-    if (static_cast<int>(sessions_.size()) >= limits_.max_sessions) {
-      throw core::Error(core::ErrorCode::unavailable,
-                        "the server holds its maximum of " + std::to_string(limits_.max_sessions) + " sessions: delete one or retry later",
-                        {{"max_sessions", limits_.max_sessions}, {"retry_after", kSessionRetryAfter}});
-    }
-    auto live = std::make_shared<Live>();
-    live->id = core::unguessable_id('s');
-    live->scenario = scenario;
-    live->seed = seed;
-    live->mode = mode;
-    live->realtime_factor = realtime_factor;
-    live->controller = std::move(controller);
-    live->owner = owner;
-    live->recording_memory = limits_.recording_memory;
-    live->crowd_threads = limits_.crowd_threads;
-    live->start(std::move(model));
-    live->last_used = Clock::now();
-    sessions_.emplace(live->id, live);
-    return live;
-  }
-
+  /// Throws core::Error(unavailable) when `max_sessions` run already.
+  std::shared_ptr<Live> create(NewSession request);
   /// The session as `caller` may see it: another owner's is absent (404), as an unknown one.
-  std::shared_ptr<Live> find(const std::string& id, const Caller& caller) {
-    std::lock_guard lock(mutex_);
-    expire_idle();
-    const auto found = sessions_.find(id);
-    if (found == sessions_.end() || !visible_to(caller, found->second->owner)) {
-      throw core::Error(core::ErrorCode::not_found, "no session '" + id + "'", {{"id", id}});
-    }
-    found->second->last_used = Clock::now();
-    return found->second;
-  }
-
+  std::shared_ptr<Live> find(const std::string& id, const Caller& caller);
   /// The session if it is still there, or null (for its WebSockets, which hold no reference to it).
-  std::shared_ptr<Live> find_if_live(const std::string& id) {
-    std::lock_guard lock(mutex_);
-    const auto found = sessions_.find(id);
-    if (found == sessions_.end()) return nullptr;
-    found->second->last_used = Clock::now();
-    return found->second;
-  }
-
-  void remove(const std::string& id, const Caller& caller) {
-    std::lock_guard lock(mutex_);
-    const auto found = sessions_.find(id);
-    if (found == sessions_.end() || !visible_to(caller, found->second->owner)) {
-      throw core::Error(core::ErrorCode::not_found, "no session '" + id + "'", {{"id", id}});
-    }
-    sessions_.erase(found);
-  }
-
-  std::vector<std::shared_ptr<Live>> all(const Caller& caller) {
-    std::lock_guard lock(mutex_);
-    expire_idle();
-    std::vector<std::shared_ptr<Live>> list;
-    for (const auto& [id, live] : sessions_) {
-      if (visible_to(caller, live->owner)) list.push_back(live);
-    }
-    return list;
-  }
+  std::shared_ptr<Live> find_if_live(const std::string& id);
+  /// Whether the session is still there, without counting as a use (a socket watching for its end).
+  bool contains(const std::string& id);
+  void remove(const std::string& id, const Caller& caller);
+  std::vector<std::shared_ptr<Live>> all(const Caller& caller);
 
  private:
-  /// Idle sessions go (checked whenever the registry is used; the wall clock never enters a session);
-  /// one with a WebSocket open is in use, even when its client is silent.
-  void expire_idle() {
-    const auto now = Clock::now();
-    std::erase_if(sessions_, [&](const auto& entry) { return *entry.second->clients == 0 && now - entry.second->last_used > limits_.idle_timeout; });
-  }
-
-  /// Steps every realtime session to where the wall clock says it should be, kRealtimeTick apart. A
-  /// session busy with a request is skipped this time; one that fell far behind skips ahead in wall
-  /// time (it never steps more than kRealtimeMaxCatchUp at once).
-  void step_realtime(std::stop_token stop) {
-    auto next = Clock::now();
-    while (!stop.stop_requested()) {
-      next += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kRealtimeTick));
-      std::this_thread::sleep_until(next);
-      std::vector<std::shared_ptr<Live>> realtime;
-      {
-        std::lock_guard lock(mutex_);
-        for (const auto& [id, live] : sessions_) {
-          if (live->mode == "realtime") realtime.push_back(live);
-        }
-      }
-      const auto now = Clock::now();
-      for (const auto& live : realtime) {
-        std::unique_lock lock(live->mutex, std::try_to_lock);
-        if (!lock) continue;
-        const sim::Session& session = live->session();
-        const double dt = session.model().dt;
-        const double elapsed = std::chrono::duration<double>(now - live->realtime_origin).count() * live->realtime_factor;
-        const auto due = live->realtime_origin_tick + static_cast<std::int64_t>(elapsed / dt);
-        // At most what two ticks of wall clock are worth at this factor, and kRealtimeMaxCatchUp at least.
-        const auto most = static_cast<std::int64_t>(std::max(kRealtimeMaxCatchUp, 2.0 * kRealtimeTick * live->realtime_factor) / dt);
-        std::int64_t steps = due - session.state().tick;
-        if (steps > most) {
-          // Too far behind: start the clock again from here rather than rushing.
-          steps = most;
-          live->realtime_origin = now;
-          live->realtime_origin_tick = session.state().tick + most;
-        }
-        for (std::int64_t i = 0; i < steps && !live->episode->over(); ++i) live->episode->tick();
-      }
-    }
-  }
+  /// Idle and unwatched sessions go (checked whenever the registry is used, and every second by the
+  /// ticker; the wall clock never enters a session).
+  void expire_idle();
+  /// Steps every realtime session to where the wall clock says it should be, kRealtimeTick apart.
+  void step_realtime(std::stop_token stop);
 
   SessionLimits limits_;
   std::mutex mutex_;

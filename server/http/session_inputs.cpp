@@ -251,12 +251,30 @@ static const episode::Episode::Snapshot& snapshot_named(const Live& live, const 
 
 /// Goes back (or forth) to a snapshot: the episode again from its start with the snapshot's inputs, up
 /// to its tick (the session's lock held). Gymnasium's observation and info, with the status.
-json restore_snapshot(Live& live, const json& body) {
-  live.episode = live.episode->restore(snapshot_named(live, body));
+/// The session goes on from `episode` (restored or rewound): viewers see a fresh start; the events up
+/// to here are not reported again; a realtime session's clock starts from its tick.
+static json go_on_from(Live& live, std::unique_ptr<episode::Episode> episode) {
+  live.episode = std::move(episode);
   ++live.generation;
   live.events_reported = live.session().state().events.size();
   live.realtime_origin = Clock::now();
   live.realtime_origin_tick = live.session().state().tick;
+  json reply = status_of(live);
+  add_observation(live, reply);
+  return reply;
+}
+
+json restore_snapshot(Live& live, const json& body) { return go_on_from(live, live.episode->restore(snapshot_named(live, body))); }
+
+json seek_session(Live& live, const json& body) {
+  refuse_unknown_keys(body, {"tick"});
+  const std::int64_t now = live.session().state().tick;
+  const bool lockstep = live.mode == "lockstep";
+  if (!body.contains("tick")) throw core::Error(core::ErrorCode::bad_request, "tick: the tick to go to is required", {{"pointer", "/tick"}});
+  const std::int64_t tick = integer_field(body, "tick", 0, lockstep ? now + kMaxStepsPerRequest : now, 0);
+  if (tick <= now) return go_on_from(live, live.episode->rewind(tick));
+  // Forward: the ticks a clock would give, no new inputs.
+  while (live.session().state().tick < tick && !live.episode->over()) live.episode->tick();
   json reply = status_of(live);
   add_observation(live, reply);
   return reply;

@@ -1,6 +1,6 @@
 #pragma once
 // What a client gives a live session (its lock held by the caller): env steps with actions, commands,
-// placements, snapshots and restores — checked first, then given through the episode, which keeps
+// placements, snapshots, restores and seeks — checked first, then given through the episode, which keeps
 // them in its input log.
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -37,6 +37,10 @@ nlohmann::json take_snapshot(Live& live);
 /// Goes back (or forth) to the snapshot the body names: the episode again from its start with the
 /// snapshot's inputs, up to its tick. Gymnasium's observation and info, with the status.
 nlohmann::json restore_snapshot(Live& live, const nlohmann::json& body);
+/// Goes to the tick the body names ({"tick"}): back, the episode again from its start with its inputs
+/// up to that tick (a new branch from there); forward (lockstep only, at most kMaxStepsPerRequest
+/// ticks), the ticks a clock would give. Gymnasium's observation and info, with the status.
+nlohmann::json seek_session(Live& live, const nlohmann::json& body);
 /// The input that places an agent or object by name at a pose {x, y, z, roll, pitch, yaw} (checked; `at`
 /// is its JSON pointer prefix): seed 000's uniform pose interface. People and robots stay upright on
 /// the floor; a place off the floor is refused when the input is given.

@@ -30,16 +30,19 @@ class SessionSocket : public WebSocketPeer {
     Response (SessionSocket::*handle)(const std::shared_ptr<Live>&, json&);
     bool changes_session;
   };
-  static const std::array<MessageType, 11> kMessageTypes;
+  static const std::array<MessageType, 12> kMessageTypes;
 
   /// Holds no reference to the session: a deleted one is freed, and the socket then closes.
   SessionSocket(std::shared_ptr<Registry> registry, const std::shared_ptr<Live>& live, Caller caller)
       : registry_(std::move(registry)), id_(live->id), clients_(live->clients), caller_(std::move(caller)) {
     ++*clients_;
   }
-  ~SessionSocket() override { --*clients_; }
+  ~SessionSocket() override {
+    --*clients_;
+    registry_->find_if_live(id_);  // marks it used: an unwatched grace counts from the close
+  }
 
-  std::string close_reason() const override { return registry_->find_if_live(id_) ? "" : "session " + id_ + " ended"; }
+  std::string close_reason() const override { return registry_->contains(id_) ? "" : "session " + id_ + " ended"; }
 
   Response on_message(const std::string& text) override;
 
@@ -111,11 +114,16 @@ class SessionSocket : public WebSocketPeer {
     return answer_locked(live, [](Live& session) { return reply("snapshot", take_snapshot(session)); });
   }
 
-  Response on_restore(const std::shared_ptr<Live>& live, json& body) {
-    return Response::later([live, body] {
+  Response on_restore(const std::shared_ptr<Live>& live, json& body) { return simulated_again(live, body, "restore", restore_snapshot); }
+
+  Response on_seek(const std::shared_ptr<Live>& live, json& body) { return simulated_again(live, body, "seek", seek_session); }
+
+  /// Restoring and seeking back simulate again from tick 0: work for the pool.
+  static Response simulated_again(const std::shared_ptr<Live>& live, const json& body, const char* type, json (*go)(Live&, const json&)) {
+    return Response::later([live, body, type, go] {
       try {
         std::lock_guard lock(live->mutex);
-        return reply("restore", restore_snapshot(*live, body));
+        return reply(type, go(*live, body));
       } catch (const core::Error& e) {
         return failure(e);
       }
@@ -245,12 +253,13 @@ class SessionSocket : public WebSocketPeer {
   std::uint64_t pushed_generation_ = 0;  ///< the session's resets when the last frame was pushed
 };
 
-const std::array<SessionSocket::MessageType, 11> SessionSocket::kMessageTypes{{
+const std::array<SessionSocket::MessageType, 12> SessionSocket::kMessageTypes{{
     {"step", &SessionSocket::on_step, true},
     {"step_many", &SessionSocket::on_step_many, true},
     {"commands", &SessionSocket::on_commands, true},
     {"snapshot", &SessionSocket::on_snapshot, true},
     {"restore", &SessionSocket::on_restore, true},
+    {"seek", &SessionSocket::on_seek, true},
     {"state", &SessionSocket::on_state, false},
     {"sensors", &SessionSocket::on_sensors, false},
     {"laser", &SessionSocket::on_laser, false},

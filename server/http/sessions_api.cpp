@@ -31,7 +31,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
 
   router.add("POST", "/api/v1/sessions", [catalogue, registry](const Request& request) {
     const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"scenario", "seed", "mode", "realtime_factor", "controller"});
+    refuse_unknown_keys(body, {"scenario", "seed", "mode", "realtime_factor", "controller", "unwatched_grace"});
     if (!body.contains("scenario") || !body["scenario"].is_string()) {
       throw core::Error(core::ErrorCode::bad_request, "scenario: the id of a scenario is required", {{"pointer", "/scenario"}});
     }
@@ -52,8 +52,12 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       }
       factor = value.get<double>();
     }
+    std::optional<std::chrono::seconds> unwatched_grace;
+    if (body.contains("unwatched_grace") && !body["unwatched_grace"].is_null()) {
+      unwatched_grace = std::chrono::seconds(integer_field(body, "unwatched_grace", 1, kMaxUnwatchedGrace.count(), 0));
+    }
     // Compiling an upload and building the session's world (physics, sensors) are work for the pool.
-    return Response::later([catalogue, registry, body, scenario, seed, mode, factor, caller = request.caller] {
+    return Response::later([catalogue, registry, body, scenario, seed, mode, factor, unwatched_grace, caller = request.caller] {
       const auto entry = catalogue->find(scenario, caller);
       if (!entry || !entry->source.model) {
         throw core::Error(core::ErrorCode::not_found, "no scenario '" + scenario + "'", {{"pointer", "/scenario"}, {"id", scenario}});
@@ -67,7 +71,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
         controller = body["controller"];
       }
       try {
-        const auto live = registry->create(scenario, model, seed, mode, factor, controller, caller.owner);
+        const auto live = registry->create({scenario, model, seed, mode, factor, controller, caller.owner, unwatched_grace});
         std::lock_guard lock(live->mutex);
         Response response = Response::json(201, status_of(*live));
         response.headers.emplace_back("Location", "/api/v1/sessions/" + live->id);
@@ -82,9 +86,12 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     // Each session's lock is taken: on the pool, where waiting behind a long step holds no I/O thread.
     return Response::later([registry, caller = request.caller] {
       json items = json::array();
+      const auto now = Clock::now();
       for (const auto& live : registry->all(caller)) {
         std::lock_guard lock(live->mutex);
-        items.push_back(status_of(*live));
+        json item = status_of(*live);
+        item["unused_for"] = std::chrono::duration<double>(now - live->last_used.load()).count();
+        items.push_back(std::move(item));
       }
       return Response::json(200, {{"items", items}});
     });
@@ -143,6 +150,16 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     return Response::later([live, body] {
       std::lock_guard lock(live->mutex);
       return Response::json(200, restore_snapshot(*live, body));
+    });
+  });
+
+  router.add("POST", "/api/v1/sessions/{id}/seek", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
+    const json body = json_object_body(request);
+    // Going back simulates again up to the tick: work for the pool.
+    return Response::later([live, body] {
+      std::lock_guard lock(live->mutex);
+      return Response::json(200, seek_session(*live, body));
     });
   });
 

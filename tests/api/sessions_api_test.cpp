@@ -192,6 +192,41 @@ TEST(SessionLimits, BeyondTheMaximumIs503AndIdleSessionsExpire) {
   EXPECT_EQ(post().status, 201) << "room again";
 }
 
+/// A scenario without steps, people or robot: over at its first tick.
+const char* kOverAtOnce = R"({"name": "over", "world": {"bounds": {"min": [0, 0], "max": [4, 4]}}, "steps": []})";
+
+TEST(SessionLimits, FinishedSessionsDoNotCountAndTheLeastRecentlyUsedBeyondTheMaximumGo) {
+  TestServer server({"--max-sessions", "2"});
+  const std::uint16_t port = server.port();
+  const HttpReply upload = http(port, "POST", "/api/v1/scenarios", kOverAtOnce);
+  ASSERT_EQ(upload.status, 201) << upload.body;
+  const std::string over = json_of(upload)["summary"]["id"];
+  const auto create = [&](const std::string& scenario) { return http(port, "POST", "/api/v1/sessions", json{{"scenario", scenario}}.dump()); };
+  const auto finished_session = [&] {
+    const HttpReply created = create(over);
+    EXPECT_EQ(created.status, 201) << created.body;
+    const std::string id = json_of(created)["id"];
+    EXPECT_EQ(json_of(http(port, "POST", "/api/v1/sessions/" + id + "/step", R"({"n": 1})"))["status"], "finished");
+    return id;
+  };
+  const std::string a = finished_session(), b = finished_session();
+  const HttpReply first = create("queue");
+  ASSERT_EQ(first.status, 201);
+  ASSERT_EQ(create("queue").status, 201) << "two finished sessions leave room for two running ones";
+  const HttpReply refused = create("queue");
+  ASSERT_EQ(refused.status, 503) << "two running";
+  EXPECT_NE(json_of(refused)["error"]["message"].get<std::string>().find("finished ones do not count"), std::string::npos);
+  EXPECT_EQ(json_of(refused)["error"]["details"]["running"], 2);
+  ASSERT_EQ(http(port, "DELETE", "/api/v1/sessions/" + json_of(first)["id"].get<std::string>()).status, 204);
+  const std::string d = finished_session();
+  // Three finished sessions, one more than the maximum kept: creating one ends the least recently used.
+  http(port, "GET", "/api/v1/sessions/" + b);
+  ASSERT_EQ(create("queue").status, 201);
+  EXPECT_EQ(http(port, "GET", "/api/v1/sessions/" + a).status, 404) << "the least recently used finished session went";
+  EXPECT_EQ(http(port, "GET", "/api/v1/sessions/" + b).status, 200);
+  EXPECT_EQ(http(port, "GET", "/api/v1/sessions/" + d).status, 200);
+}
+
 }  // namespace
 }  // namespace hrisim::testing
 
@@ -290,6 +325,49 @@ TEST(SessionPoses, AgentsAndObjectsArePlacedAndResetStartsAgain) {
 
 namespace hrisim::testing {
 namespace {
+
+TEST(SessionLimits, AnUnwatchedGraceEndsASessionThatLongAfterItsLastWebSocketClosed) {
+  TestServer server;
+  const std::uint16_t port = server.port();
+  const auto create = [&](const json& grace) {
+    const HttpReply created = http(port, "POST", "/api/v1/sessions", json{{"scenario", "queue"}, {"unwatched_grace", grace}}.dump());
+    EXPECT_EQ(created.status, 201) << created.body;
+    return json_of(created);
+  };
+  const auto listed = [&](const std::string& id) {
+    const json list = json_of(http(port, "GET", "/api/v1/sessions"));
+    for (const json& item : list["items"]) {
+      if (item["id"] == id) return item;
+    }
+    return json();
+  };
+  const json watched = create(1), never_watched = create(1), plain = create(nullptr);
+  EXPECT_EQ(watched["unwatched_grace"], 1);
+  EXPECT_TRUE(plain["unwatched_grace"].is_null());
+  const std::string id = watched["id"];
+  {
+    WebSocketClient socket(port, "/api/v1/sessions/" + id + "/ws");
+    ASSERT_EQ(socket.status, 0);
+    socket.exchange({{"type", "step"}, {"n", 1}});
+    std::this_thread::sleep_for(std::chrono::milliseconds(1600));
+    const json item = listed(id);
+    ASSERT_FALSE(item.is_null()) << "a session with a WebSocket open stays: " << http(port, "GET", "/api/v1/sessions").body;
+    EXPECT_EQ(item["connected_clients"], 1);
+    EXPECT_GT(item["unused_for"].get<double>(), 1.0) << "a silent socket does not use it";
+  }
+  EXPECT_TRUE(listed(never_watched["id"]).is_null()) << "one second after its creation, no WebSocket having opened";
+  EXPECT_FALSE(listed(id).is_null()) << "its grace counts from the close";
+  EXPECT_FALSE(listed(plain["id"]).is_null());
+  std::this_thread::sleep_for(std::chrono::milliseconds(1600));
+  EXPECT_TRUE(listed(id).is_null()) << "a second after its last WebSocket closed";
+  EXPECT_EQ(http(port, "GET", "/api/v1/sessions/" + id).status, 404);
+  EXPECT_FALSE(listed(plain["id"]).is_null()) << "without a grace, only the idle timeout ends it";
+  for (const json& wrong : {json(0), json(3601), json("30"), json(1.5)}) {
+    const HttpReply refused = http(port, "POST", "/api/v1/sessions", json{{"scenario", "queue"}, {"unwatched_grace", wrong}}.dump());
+    EXPECT_EQ(refused.status, 400) << wrong;
+    EXPECT_EQ(json_of(refused)["error"]["details"]["pointer"], "/unwatched_grace") << wrong;
+  }
+}
 
 TEST(SessionWebSocket, LockstepStepsCommandsAndStateInOrder) {
   TestServer server;

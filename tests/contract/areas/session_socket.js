@@ -95,6 +95,21 @@ describe('session WebSocket', () => {
     assert.equal((await socket.send({ type: 'restore', snapshot: snapshot.snapshot })).tick, snapshot.tick);
   });
 
+  it('seek goes back to a tick bit for bit and forth by ticks; a tick out of range is an error at /tick', async () => {
+    const start = await socket.send({ type: 'state', events_since: 0 });
+    const stepped = await socket.send({ type: 'step', n: 8 });
+    const back = await socket.send({ type: 'seek', tick: start.tick });
+    assert.equal(back.type, 'seek');
+    assert.equal(back.state_hash, start.state_hash);
+    const forth = await socket.send({ type: 'seek', tick: stepped.tick });
+    assert.equal(forth.state_hash, stepped.state_hash);
+    const wrong = await socket.send({ type: 'seek', tick: -3 });
+    assert.equal(wrong.type, 'error');
+    assert.equal(wrong.error.details.pointer, '/tick');
+    // Back to where it was for the tests that follow.
+    assert.equal((await socket.send({ type: 'seek', tick: start.tick })).tick, start.tick);
+  });
+
   it('state answers with agents and the events since a tick', async () => {
     const reply = await socket.send({ type: 'state', events_since: 0 });
     assert.equal(reply.type, 'state');

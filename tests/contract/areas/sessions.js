@@ -383,6 +383,26 @@ describe('sessions', () => {
     assert.equal((await api.delete(at(`/snapshots/${taken.json.snapshot}`))).status, 404);
   });
 
+  it('POST …/seek: back to a tick bit for bit with the commands given up to it, forth by ticks; a tick out of range is a 400 at /tick', async () => {
+    const start = (await api.get(at())).json;
+    const states = [];
+    for (let i = 0; i < 3; i += 1) states.push((await api.post(at('/step'), { n: 10 })).json);
+    const back = await api.post(at('/seek'), { tick: states[0].tick });
+    assert.equal(back.status, 200, back.body);
+    assert.equal(back.json.tick, states[0].tick);
+    assert.equal(back.json.state_hash, states[0].state_hash);
+    assert.ok(Array.isArray(back.json.observation) || typeof back.json.observation === 'object');
+    const forth = await api.post(at('/seek'), { tick: states[2].tick });
+    assert.equal(forth.status, 200, forth.body);
+    assert.equal(forth.json.state_hash, states[2].state_hash, 'forth by ticks: the same states, as no inputs were given');
+    for (const [body, pointer] of [[{}, '/tick'], [{ tick: -1 }, '/tick'], [{ tick: states[2].tick + 100001 }, '/tick'], [{ tick: 1, at: 2 }, '/at']]) {
+      const wrong = await api.post(at('/seek'), body);
+      assert.equal(wrong.status, 400, JSON.stringify(body));
+      assert.equal(wrong.json.error.details.pointer, pointer, JSON.stringify(body));
+    }
+    assert.equal((await api.post(at('/seek'), { tick: start.tick })).json.state_hash, start.state_hash);
+  });
+
   it('GET /api/v1/sessions/{id}/cameras: overview, follow and the HSR\'s head and hand cameras where they are; the segmentation legend', async () => {
     const reply = await api.get(at('/cameras'));
     assert.equal(reply.status, 200);

@@ -71,6 +71,46 @@ TEST(Episode, ABadActionChangesNothing) {
   EXPECT_EQ(run.snapshot().log.size(), 0u) << "nothing was kept in the input log";
 }
 
+TEST(Episode, RewindingGivesTheStateOfThatTickWithItsInputs) {
+  // The elevator with the HSR: ticks, a velocity command at tick 120, more ticks.
+  const auto model = bundled("elevator");
+  Episode original(model, 3);
+  std::vector<std::uint64_t> hashes;  // at each tick
+  const auto drive = [](sim::Session& session) { session.command_robot_twist(session.agent_id("robot"), {0.2, 0.1}); };
+  for (int t = 0; t < 240; ++t) {
+    if (t == 120) original.give(drive);
+    hashes.push_back(original.session().state_hash());
+    original.tick();
+  }
+  for (const std::int64_t tick : {0, 60, 119, 120, 121, 200}) {
+    const std::unique_ptr<Episode> rewound = original.rewind(tick);
+    EXPECT_EQ(rewound->session().state().tick, tick);
+    EXPECT_EQ(rewound->session().state_hash(), hashes[static_cast<std::size_t>(tick)]) << "tick " << tick;
+  }
+  // The rewound episode goes on as the original did.
+  const std::unique_ptr<Episode> rewound = original.rewind(100);
+  for (int t = 100; t < 240; ++t) {
+    if (t == 120) rewound->give(drive);
+    rewound->tick();
+  }
+  EXPECT_EQ(rewound->session().state_hash(), original.session().state_hash());
+}
+
+TEST(Episode, RewindingATaskStopsAtTheEndOfTheEnvStepThatReachesTheTick) {
+  // follow_human: a step is 10 ticks.
+  const auto model = bundled("follow_human");
+  Episode original(model, 6);
+  original.step(std::vector<double>{0.2, 0.0}, 3);
+  original.step(std::vector<double>{0.1, 0.3}, 4);
+  Episode expected(model, 6);
+  expected.step(std::vector<double>{0.2, 0.0}, 3);
+  expected.step(std::vector<double>{0.1, 0.3}, 2);
+  const std::unique_ptr<Episode> rewound = original.rewind(45);
+  EXPECT_EQ(rewound->session().state().tick, 50);
+  EXPECT_EQ(rewound->session().state_hash(), expected.session().state_hash());
+  EXPECT_EQ(rewound->total_reward(), expected.total_reward());
+}
+
 class Snapshots : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(Snapshots, RestoringThenSteppingIsBitIdenticalToSteppingTheOriginal) {
