@@ -281,8 +281,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
     auto message = std::make_shared<bhttp::response<bhttp::string_body>>(
         static_cast<bhttp::status>(response.status), version);
     message->set(bhttp::field::server, std::string("hrisim/") + core::version());
-    // A 204 has no body, so no type either.
-    if (response.status != 204) message->set(bhttp::field::content_type, response.content_type);
+    // A 204 or 304 has no body, so no type either.
+    if (response.status != 204 && response.status != 304) message->set(bhttp::field::content_type, response.content_type);
     message->set("X-Content-Type-Options", "nosniff");
     for (const auto& [name, value] : response.headers) message->set(name, value);
     message->keep_alive(keep_alive);

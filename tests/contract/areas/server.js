@@ -4,6 +4,7 @@
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const path = require('node:path');
+const zlib = require('node:zlib');
 const YAML = require('yaml');
 const { describe, it, before, after } = require('node:test');
 const { api, Client } = require('../lib/client');
@@ -63,6 +64,27 @@ describe('server', () => {
     assert.match(page.headers['content-type'], /^text\/html/);
     assert.equal((await api.get('/missing.html')).status, 404);
     assert.equal((await api.get('/..')).status, 400);
+  });
+
+  it('GET /{path}: the UI\'s libraries at the versions web/package.json pins, kept a year; text gzipped; a conditional GET is 304', async () => {
+    const page = (await api.get('/index.html')).body;
+    const pinned = JSON.parse(fs.readFileSync(path.join(repoRoot, 'web', 'package.json'), 'utf8')).dependencies;
+    const libraries = [...page.matchAll(/"(\/lib\/([a-z0-9-]+)@([0-9.]+)\/[^"]*)"/g)];
+    assert.deepEqual([...new Set(libraries.map((match) => match[2]))].sort(), Object.keys(pinned).sort(), 'every library the page uses, and only those');
+    for (const [, url, name, version] of libraries) {
+      assert.equal(version, pinned[name], `${url}: the version web/package.json pins`);
+      if (url.endsWith('/')) continue;  // an import map prefix
+      const reply = await api.get(url, { headers: { 'accept-encoding': 'gzip' } });
+      assert.equal(reply.status, 200, url);
+      assert.equal(reply.headers['cache-control'], 'public, max-age=31536000, immutable', url);
+    }
+    const script = await api.get('/app.js', { headers: { 'accept-encoding': 'gzip' } });
+    assert.equal(script.headers['content-encoding'], 'gzip');
+    assert.equal(zlib.gunzipSync(script.bytes).toString('utf8'), fs.readFileSync(path.join(repoRoot, 'web', 'app.js'), 'utf8'));
+    assert.equal(script.headers['cache-control'], 'no-cache');
+    const again = await api.get('/app.js', { headers: { 'accept-encoding': 'gzip', 'if-none-match': script.headers.etag } });
+    assert.equal(again.status, 304);
+    assert.equal(again.bytes.length, 0);
   });
 
   it('an unknown API path is a JSON 404', async () => {

@@ -74,6 +74,8 @@ const isParameter = (segment) => segment.startsWith('{') && segment.endsWith('}'
 /** The operation that `method` on `pathname` is, preferring literal segments ("validate") over parameters. */
 function findOperation(method, pathname) {
   const segments = pathname.split('/').slice(1);
+  // Outside /api/, any path of any depth is a UI file (/{path} in the spec).
+  if (segments.length > 1 && segments[0] !== 'api') return findOperation(method, '/file');
   const matches = httpOperations.filter((operation) => operation.method === method &&
     operation.segments.length === segments.length &&
     operation.segments.every((expected, i) => (isParameter(expected) ? segments[i] !== '' : expected === segments[i])));
