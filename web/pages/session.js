@@ -51,11 +51,13 @@ export async function render(root, { id }) {
   root.append(connection);
 
   const scene = new SessionScene(driver, { world, robot, drivable: canDrive });
-  root.append(...toolbar(driver, { steps, onView: (view) => scene.setView(view) }));
+  // The page's keys listen on the document: they stop when the page is left.
+  const keys = new AbortController();
+  root.append(...toolbar(driver, { steps, onView: (view) => scene.setView(view), signal: keys.signal }));
   root.append(h('div', { class: 'session-main' },
     scene.panel,
     h('div', { class: 'session-side' }, cameraPanel(driver, cameras.cameras), status.task ? taskPanel(driver) : null,
-      robot ? teleopPanel(driver, { robot, actionSpace, canDrive, keyTarget: scene.box }) : null)));
+      robot ? teleopPanel(driver, { robot, actionSpace, canDrive, signal: keys.signal }) : null)));
   root.append(h('div', { class: 'session-lower' },
     eventsPanel(driver),
     agentsPanel(driver, world.agents),
@@ -83,6 +85,7 @@ export async function render(root, { id }) {
   return cleanup;
 
   function cleanup() {
+    keys.abort();
     driver.dispose();
     scene.dispose();
   }

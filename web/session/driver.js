@@ -10,6 +10,7 @@
 //   frame (buffer)      a frame (HRCF) of the camera set by setCamera(); cameraError (error) when refused
 //   round ()            a round of requests starts; stepError (error) when its step failed
 //   playing (boolean)   play() and pause()
+//   reset (status)      reset() started the session again from tick 0
 //   closed (event)      the server closed the socket
 import { api, ApiError, sessionSocketUrl } from '../lib/api.js';
 import { Lockstep } from './lockstep.js';
@@ -162,6 +163,25 @@ export class SessionDriver {
       this.#lastSensors = -Infinity;
       (this.#inFlight ?? Promise.resolve()).then(() => this.#refresh());
     }
+  }
+
+  /**
+   * Starts the session again from tick 0 with its own seed (POST …/reset), paused, then fetches the
+   * fresh state, laser and camera. Rejects when the server refuses.
+   */
+  async reset() {
+    this.pause();
+    this.#queuedSteps = 0;
+    await this.#inFlight;  // the step in flight lands before the reset, not after it
+    const { observation, info, ...status } = await api.post(`/api/v1/sessions/${encodeURIComponent(this.id)}/reset`, { seed: this.status.seed });
+    this.#eventsFrom = 0;
+    this.#applyStatus(status);
+    this.#emit('reset', this.status);
+    // A round sent while the reset was under way may bring the old state: the fresh one comes after it.
+    await this.#inFlight;
+    this.#lastCamera = -Infinity;
+    this.#lastSensors = -Infinity;
+    this.#refresh();
   }
 
   /** One step per call; calls while a reply is awaited are added up and sent together after it. */

@@ -29,5 +29,9 @@ export function eventsPanel(driver) {
     list.prepend(...items.reverse());
     while (list.children.length > MAX_EVENTS) list.lastElementChild.remove();
   });
+  driver.on('reset', () => {
+    list.replaceChildren();
+    none.hidden = false;
+  });
   return h('section', { class: 'panel events-panel', 'aria-label': 'Events' }, h('h2', {}, 'Events'), none, list);
 }

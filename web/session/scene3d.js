@@ -26,7 +26,7 @@ export class SessionScene {
     this.#robot = robot;
     this.#radii = Object.fromEntries(world.agents.map((agent) => [agent.id, agent.radius]));
     this.#layers = { laser: Boolean(robot?.model), rings: Boolean(robot), trails: true, plans: true };
-    /** Where the scene draws, and what takes the driving keys. */
+    /** Where the scene draws (the driving keys are heard on the whole page: teleop.js). */
     this.box = h('div', {
       class: 'scene-box', tabindex: '0', role: 'application',
       'aria-label': `3D view of ${world.name}. Drag to move the view, scroll to zoom${drivable ? '; with teleop on, arrow keys or W A S D drive the robot' : ''}.`,

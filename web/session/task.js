@@ -9,8 +9,16 @@ export function taskPanel(driver) {
   const total = h('dd', { class: 'number', 'data-field': 'return' }, '0');
   const ending = h('dd', { 'data-field': 'ending' }, task.terminated ? 'terminated' : 'running');
   const terms = h('dl', { class: 'facts task-terms', 'aria-label': 'The last step\'s reward terms' });
+  driver.on('reset', (status) => {
+    episodeReturn = 0;
+    episodeTicks = status.tick;
+    reward.textContent = '—';
+    total.textContent = '0';
+    ending.textContent = 'running';
+    terms.replaceChildren();
+  });
   driver.on('step', (reply) => {
-    if (reply.tick < episodeTicks) episodeReturn = 0;  // a reset started a new episode
+    if (reply.tick < episodeTicks) episodeReturn = 0;  // another client reset the session
     episodeTicks = reply.tick;
     episodeReturn += reply.reward;
     reward.textContent = formatNumber(reply.reward, 3);

@@ -1,19 +1,32 @@
-// Driving the robot by keys: while teleop is on, the arrow keys or W A S D held in the 3D view send
-// the robot a velocity at once (keys up: stop); the panel shows the keys held and the velocity sent.
+// Driving the robot by keys: while teleop is on, the arrow keys or W A S D held anywhere on the page
+// (but in a form field) send the robot a velocity at once (keys up: stop); the panel shows the keys
+// held and the velocity sent. A robot that takes no velocity gets a line saying why.
 import { h, formatNumber } from '../lib/ui.js';
+import { taskActions } from '../lib/tasks.js';
 import { errorText, showMessage } from './messages.js';
+import { isTyping, plainKey } from './keys.js';
 
 const KEY_DIRECTIONS = { ArrowUp: 'forward', KeyW: 'forward', ArrowDown: 'back', KeyS: 'back', ArrowLeft: 'left', KeyA: 'left',
   ArrowRight: 'right', KeyD: 'right' };
 
+/** Why `robot` cannot be driven by keys, from its action space (null when the session has none for it). */
+function whyNotDriven(robot, actionSpace, task) {
+  if (!robot.model) return 'Only a robot with a model can be driven.';
+  if (!actionSpace) return `The ${robot.model} has no drive to steer.`;
+  const size = actionSpace.shape.join(' × ');
+  const actions = (task && taskActions(task.name)) ?? `${size} values`;
+  return `${task ? `The ${task.name} task's actions are` : 'Its actions are'} ${actions} (action space: ${actionSpace.name} of ${size} `
+    + `${actionSpace.dtype}), not a forward speed and a yaw rate: this session is not driven by the velocity keys.`;
+}
+
 /**
  * The panel to drive `robot` with `actionSpace`'s top speeds (a robot that `canDrive` only; others
- * get a line saying why not). `keyTarget` (the 3D view) takes the keys.
+ * get a line saying why not). Keys are heard on the document until `signal` aborts.
  */
-export function teleopPanel(driver, { robot, actionSpace, canDrive, keyTarget }) {
+export function teleopPanel(driver, { robot, actionSpace, canDrive, signal }) {
   if (!canDrive) {
     return h('section', { class: 'panel teleop', 'aria-label': 'Drive the robot' }, h('h2', {}, `Drive ${robot.id}`),
-      h('p', { class: 'muted' }, robot.model ? `The ${robot.model} has no drive to steer.` : 'Only a robot with a model can be driven.'));
+      h('p', { class: 'muted teleop-unavailable' }, whyNotDriven(robot, actionSpace, driver.status.task)));
   }
   const teleopController = driver.status.controller?.type === 'teleop';
   let teleopOn = teleopController;
@@ -26,7 +39,6 @@ export function teleopPanel(driver, { robot, actionSpace, canDrive, keyTarget })
     toggle.setAttribute('aria-pressed', String(teleopOn));
     toggle.textContent = teleopOn ? 'Release control' : 'Take control';
     if (!teleopOn) releaseKeys();
-    else keyTarget.focus();
   } }, teleopOn ? 'Release control' : 'Take control');
   const error = h('p', { class: 'message error', role: 'alert', hidden: true });
   const velocity = h('p', { class: 'teleop-velocity', 'aria-live': 'polite' }, 'v 0.00 m/s · ω 0.00 rad/s');
@@ -46,28 +58,29 @@ export function teleopPanel(driver, { robot, actionSpace, canDrive, keyTarget })
     sendVelocity();
   }
 
-  keyTarget.addEventListener('keydown', (event) => {
+  document.addEventListener('keydown', (event) => {
     const which = KEY_DIRECTIONS[event.code];
-    if (!which || !teleopOn || event.altKey || event.ctrlKey || event.metaKey) return;
+    if (!which || !teleopOn || !plainKey(event) || isTyping(event.target)) return;
     event.preventDefault();  // no scrolling while driving
     if (pressed.has(which)) return;  // key repeat
     pressed.add(which);
     sendVelocity();
-  });
-  keyTarget.addEventListener('keyup', (event) => {
+  }, { signal });
+  // A key let go anywhere stops its direction, even in a field the focus moved to meanwhile.
+  document.addEventListener('keyup', (event) => {
     const which = KEY_DIRECTIONS[event.code];
     if (!which || !pressed.has(which)) return;
     event.preventDefault();
     pressed.delete(which);
     sendVelocity();
-  });
-  keyTarget.addEventListener('blur', releaseKeys);
+  }, { signal });
+  window.addEventListener('blur', releaseKeys, { signal });
 
   return h('section', { class: 'panel teleop', 'aria-label': 'Drive the robot' },
     h('h2', {}, `Drive ${robot.id}`),
     h('p', { class: 'muted' }, teleopController
-      ? 'Teleop controller: focus the 3D view and hold the keys.'
-      : 'Take control, then focus the 3D view and hold the keys; the robot keeps to any path it is following.'),
+      ? 'Teleop controller: hold the keys, wherever the focus is but in a text field.'
+      : 'Take control, then hold the keys, wherever the focus is but in a text field; the robot keeps to any path it is following.'),
     h('div', { class: 'row teleop-row' }, toggle,
       h('div', { class: 'keys', role: 'group', 'aria-label': 'Driving keys' }, h('span'), keys.forward, h('span'), keys.left, keys.back, keys.right)),
     velocity,

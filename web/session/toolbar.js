@@ -1,7 +1,9 @@
-// The session's toolbar: playback (play / pause, single steps, speed and the speed actually reached),
-// the view of the 3D scene, the clock and run state, and the choreography's progress.
+// The session's toolbar: playback (play / pause, single steps, reset, speed and the speed actually
+// reached) with its keyboard shortcuts, the view of the 3D scene, the clock and run state, and the
+// choreography's progress.
 import { h, formatNumber } from '../lib/ui.js';
 import { errorText, showMessage } from './messages.js';
+import { playbackShortcuts } from './keys.js';
 
 /** Playback speeds, simulated seconds per wall-clock second. */
 const SPEEDS = [0.25, 0.5, 1, 2, 4];
@@ -9,15 +11,17 @@ const SPEEDS = [0.25, 0.5, 1, 2, 4];
 const SPEED_WINDOW_MS = 2000;
 
 /**
- * The toolbar and, under it, the line where stepping errors show: [toolbar, error line]. `steps` are
- * the choreography's; `onView(view)` turns the scene to 'top' or 'perspective'.
+ * The toolbar and, under it, its shortcuts and the line where stepping errors show: [toolbar,
+ * shortcuts, error line]. `steps` are the choreography's; `onView(view)` turns the scene to 'top' or
+ * 'perspective'; the shortcuts listen until `signal` aborts.
  */
-export function toolbar(driver, { steps, onView }) {
+export function toolbar(driver, { steps, onView, signal }) {
   const { status } = driver;
   const speedSamples = [];
   const playButton = h('button', { type: 'button', class: 'play', onclick: () => (driver.playing ? driver.pause() : driver.play()), 'aria-pressed': 'false' }, 'Play');
   const stepButton = h('button', { type: 'button', class: 'secondary', onclick: () => driver.step() },
     status.task ? `Step 1 step (${driver.stepTicks} ticks)` : `Step 1 tick (${formatNumber(driver.dt, 2)} s)`);
+  const resetButton = h('button', { type: 'button', class: 'secondary', onclick: () => reset() }, `Reset (seed ${status.seed})`);
   const speedSelect = h('select', { onchange: () => { driver.speed = Number(speedSelect.value); } },
     SPEEDS.map((value) => h('option', { value, selected: value === driver.speed }, `${value}× real time`)));
   const actualSpeed = h('span', { class: 'muted actual-speed' });
@@ -34,9 +38,23 @@ export function toolbar(driver, { steps, onView }) {
   const stepBar = h('progress', { max: Math.max(steps.length, 1), value: 0, 'aria-label': 'Choreography progress' });
   const playError = h('p', { class: 'message error', role: 'alert', hidden: true });
   const playback = driver.realtime
-    ? h('div', { class: 'toolbar-group' }, h('span', {}, `Realtime: the server steps it at ${formatNumber(status.realtime_factor)}× real time.`))
-    : h('div', { class: 'toolbar-group', role: 'group', 'aria-label': 'Playback' }, playButton, stepButton,
+    ? h('div', { class: 'toolbar-group' }, h('span', {}, `Realtime: the server steps it at ${formatNumber(status.realtime_factor)}× real time.`), resetButton)
+    : h('div', { class: 'toolbar-group', role: 'group', 'aria-label': 'Playback' }, playButton, stepButton, resetButton,
       h('label', { class: 'inline' }, 'Speed', speedSelect), actualSpeed);
+
+  async function reset() {
+    if (resetButton.disabled) return;
+    resetButton.disabled = true;
+    try {
+      await driver.reset();
+      playError.hidden = true;
+    } catch (error) {
+      showMessage(playError, 'error', `Reset failed: ${errorText(error)}`);
+    } finally {
+      resetButton.disabled = false;
+    }
+  }
+  const shortcuts = playbackShortcuts(driver, { onReset: reset, signal });
 
   driver.on('playing', (playing) => {
     playButton.textContent = playing ? 'Pause' : 'Play';
@@ -60,10 +78,9 @@ export function toolbar(driver, { steps, onView }) {
       stepBar.value = steps.length;
       stepText.textContent = steps.length ? `all ${steps.length} steps done` : 'no steps';
     }
-    if (finished) {
-      playButton.disabled = true;
-      stepButton.disabled = true;
-    }
+    // Finished until a reset starts it again.
+    playButton.disabled = finished;
+    stepButton.disabled = finished || driver.playing;
     if (driver.playing) {
       const now = performance.now();
       speedSamples.push([now, next.time]);
@@ -78,5 +95,5 @@ export function toolbar(driver, { steps, onView }) {
     h('div', { class: 'toolbar-group', role: 'group', 'aria-label': 'View' }, h('span', { class: 'muted' }, 'View'), viewButtons),
     h('div', { class: 'toolbar-group status-group' }, clock, runState),
     h('div', { class: 'toolbar-group choreography' }, h('span', { class: 'muted' }, 'Choreography'), stepBar, stepText));
-  return [bar, playError];
+  return [bar, shortcuts, playError];
 }

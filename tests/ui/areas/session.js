@@ -1,7 +1,9 @@
 'use strict';
 // The live session page (#/sessions/ID): the 3D scene renders, Play / Pause / Step drive the lockstep
 // session over its WebSocket, a camera frame shows, humans take commands (and a refused one says why),
-// the robot drives with the arrow keys under teleop, and ending the session goes back to its scenario.
+// the robot drives with the arrow keys under teleop wherever the focus is, Space, N and R play, step and
+// reset (not while typing), a task whose actions are no velocity says so, and ending the session goes
+// back to its scenario.
 const assert = require('node:assert/strict');
 const { describe, it } = require('node:test');
 const context = require('../lib/context');
@@ -135,6 +137,11 @@ describe('session', () => {
       assert.match(await tab.page.textContent('.task-terms'), /distance reward/);
       assert.equal(await tab.page.textContent('.task-panel [data-field=ending]'), 'running');
       await screenshot(tab.page, 'session-task');
+      // Reset: a new episode from tick 0, its reward and terms gone.
+      await tab.page.click('button:has-text("Reset (seed 2)")');
+      await tab.page.waitForFunction(() => document.querySelector('.session-toolbar .clock').dataset.tick === '0');
+      assert.equal(await tab.page.textContent('.task-panel [data-field=reward]'), '—');
+      assert.equal(await tab.page.$('.task-terms dt'), null);
       assert.deepEqual(tab.errors, []);
     } finally {
       await tab.close();
@@ -199,25 +206,77 @@ describe('session', () => {
     }
   });
 
-  it('drives the robot with the arrow keys under teleop, and ends the session', async () => {
-    const id = await createSession({ scenario: 'elevator', controller: { type: 'teleop' } });
+  it('says why a task whose actions are arm joint targets is not driven by keys', async () => {
+    const id = await createSession({ scenario: 'mirror_gesture', seed: 1 });
     const tab = await newPage(context.browser, context.server.port);
     try {
       await tab.open(`/sessions/${id}`);
-      await tab.page.waitForSelector('.agent-table tr[data-agent=robot][data-x]');
-      const [x0, y0] = (await positions(tab.page)).robot;
-      await tab.page.click('button.play');
-      await tab.page.focus('.scene-box');
-      await tab.page.keyboard.down('ArrowUp');
-      await tab.page.waitForSelector('.teleop kbd[data-direction=forward].pressed');
-      await tab.page.waitForTimeout(1500);
-      await screenshot(tab.page, 'session-teleop');
-      await tab.page.keyboard.up('ArrowUp');
-      await tab.page.waitForTimeout(300);
-      await tab.page.click('button.play');
-      const [x1, y1] = (await positions(tab.page)).robot;
+      await tab.page.waitForSelector('.teleop-unavailable');
+      assert.equal(await tab.page.textContent('.teleop-unavailable'), "The mirror_gesture task's actions are 6 arm joint targets "
+        + '(action space: Box of 6 float64), not a forward speed and a yaw rate: this session is not driven by the velocity keys.');
+      await screenshot(tab.page, 'session-mirror-gesture');
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+      await call('DELETE', `/api/v1/sessions/${id}`);
+    }
+  });
+
+  it('drives the robot with the arrow keys under teleop after pressing Play, plays, steps and resets by keys, and ends the session', async () => {
+    const id = await createSession({ scenario: 'elevator', controller: { type: 'teleop' } });
+    const tab = await newPage(context.browser, context.server.port);
+    const page = tab.page;
+    try {
+      await tab.open(`/sessions/${id}`);
+      await page.waitForSelector('.agent-table tr[data-agent=robot][data-x]');
+      assert.equal(await page.textContent('.shortcuts'), 'Keys: Space play / pause · N one step · R reset (seed 0) (not while typing in a field).');
+      const [x0, y0] = (await positions(page)).robot;
+      // The focus stays on Play: the keys drive all the same.
+      await page.click('button.play');
+      assert.equal(await page.evaluate(() => document.activeElement.className), 'play');
+      await page.keyboard.down('ArrowUp');
+      await page.waitForSelector('.teleop kbd[data-direction=forward].pressed');
+      await page.waitForTimeout(1500);
+      await screenshot(page, 'session-teleop');
+      await page.keyboard.up('ArrowUp');
+      await page.waitForTimeout(300);
+      // Space on Play presses it once (the button's own Space), not twice.
+      await page.keyboard.press('Space');
+      await page.waitForSelector('button.play[aria-pressed=false]');
+      await page.waitForTimeout(300);  // the step in flight, if any, lands
+      const [x1, y1] = (await positions(page)).robot;
       assert.ok(Math.hypot(x1 - x0, y1 - y0) > 0.1, `the robot drove from (${x0}, ${y0}) to (${x1}, ${y1})`);
-      assert.match(await tab.page.textContent('.teleop-velocity'), /v 0\.00 m\/s · ω 0\.00 rad\/s/, 'keys up: stop');
+      assert.match(await page.textContent('.teleop-velocity'), /v 0\.00 m\/s · ω 0\.00 rad\/s/, 'keys up: stop');
+
+      // Shortcuts from anywhere but a field: N steps one tick, Space plays and pauses.
+      await page.focus('h1');
+      const paused = await tick(page);
+      await page.keyboard.press('n');
+      await page.waitForFunction((t) => Number(document.querySelector('.session-toolbar .clock').dataset.tick) === t + 1, paused);
+      await page.keyboard.press('Space');
+      await page.waitForSelector('button.play[aria-pressed=true]');
+      await page.keyboard.press('Space');
+      await page.waitForSelector('button.play[aria-pressed=false]');
+      await page.waitForTimeout(300);
+      // Typed into a field, the same keys are text.
+      const before = await tick(page);
+      await page.fill('.human-command input', '');
+      await page.type('.human-command input', 'n r walk');
+      await page.press('.human-command input', 'ArrowLeft');
+      await page.waitForTimeout(300);
+      assert.equal(await page.inputValue('.human-command input'), 'n r walk');
+      assert.equal(await tick(page), before, 'no step, no reset');
+      assert.equal(await page.$('.teleop kbd.pressed'), null, 'no driving');
+      // R resets to the session's seed: tick 0, the robot at its start.
+      await page.focus('h1');
+      await page.keyboard.press('r');
+      await page.waitForFunction(() => document.querySelector('.session-toolbar .clock').dataset.tick === '0');
+      assert.equal((await call('GET', `/api/v1/sessions/${id}`)).body.tick, 0);
+      await page.waitForFunction(([x, y]) => {
+        const row = document.querySelector('.agent-table tr[data-agent=robot]');
+        return Math.hypot(Number(row.dataset.x) - x, Number(row.dataset.y) - y) < 1e-6;
+      }, [x0, y0]);
+      assert.equal(await page.$$eval('.event-list li', (items) => items.length), 0, 'the events start again');
 
       await tab.page.click('text=End session');
       await tab.page.waitForFunction(() => location.hash === '#/scenarios/elevator');
