@@ -2,7 +2,7 @@
 // what a person is doing (the activity of their activity model and the room of their daily
 // schedule, else the motion they play; the seat they sit on and what they carry), their behaviour (and the robot they react to) and whether it
 // is busy, as of the driver's last state (rows of inactive agents hidden), and the robots' open requests.
-import { h } from '../lib/ui.js';
+import { h, scrollBox } from '../lib/ui.js';
 
 export function agentsPanel(driver, agents) {
   const rows = new Map();
@@ -42,5 +42,5 @@ export function agentsPanel(driver, agents) {
     openRequests.textContent = state.requests.length
       ? `Open requests: ${state.requests.map((r) => `${r.robot} → ${r.routine}`).join(', ')}` : '';
   });
-  return h('section', { class: 'panel agents-panel', 'aria-label': 'Agents' }, h('h2', {}, 'Agents'), clock, table, openRequests);
+  return h('section', { class: 'panel agents-panel', 'aria-label': 'Agents' }, h('h2', {}, 'Agents'), clock, scrollBox(table, 'Agents'), openRequests);
 }

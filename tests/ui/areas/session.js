@@ -109,6 +109,12 @@ describe('session', () => {
       assert.match(await tab.page.textContent('.human-command .message'), /not free floor/);
 
       await screenshot(tab.page, 'session');
+      // On a narrow screen the agents' table scrolls in its panel, not the page.
+      await tab.page.setViewportSize({ width: 800, height: 800 });
+      await tab.page.waitForTimeout(200);
+      const widths = await tab.page.evaluate(() => [document.scrollingElement.scrollWidth, innerWidth]);
+      assert.ok(widths[0] <= widths[1], `the page is ${widths[0]} px wide in a ${widths[1]} px window`);
+      assert.ok(await tab.page.$eval('.table-scroll:has(.agent-table)', (box) => box.scrollWidth > box.clientWidth), 'the agents scroll in their box');
 
       // Leaving the page closes its socket.
       assert.equal((await call('GET', `/api/v1/sessions/${id}`)).body.connected_clients, 1);
