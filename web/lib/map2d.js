@@ -143,7 +143,7 @@ export class MapView {
     const [left, bottom] = [8, this.height - 6];
     const text = formatMetres(metres);
     const box = { x: left - 4, y: bottom - 22, width: Math.max(length, labelWidth(text)) + 8, height: 24 };
-    const group = svg('g', { class: 'map-scale', 'data-metres': metres, 'data-pixels': length }, this.svg);
+    const group = svg('g', { class: 'map-scale', 'data-metres': metres }, this.svg);
     svg('rect', { ...box, rx: 3, class: 'map-scale-backing' }, group);
     svg('path', { d: `M ${left} ${bottom - 5} V ${bottom} H ${left + length} V ${bottom - 5}`, class: 'map-scale-bar' }, group);
     svg('text', { x: left, y: bottom - 8, class: 'map-label map-scale-text' }, group).textContent = text;

@@ -128,8 +128,9 @@ function plotWidth(container, fallback = 520) {
 /**
  * A time-series plot of `values` over `times` (s) in `container`. Options: title, unit, colour,
  * bands (shaded y ranges), clipAbove (the y axis ends there: larger values are drawn at that
- * height, the legend and the table keep them as they are), syncKey (plots sharing it share their cursor), onHover(time) (the user hovers a sample). Returns
- * {plot, setMarker(time), destroy()}: setMarker moves the vertical line that shows the replay's time.
+ * height, the legend and the table keep them as they are), syncKey (plots sharing it share their
+ * cursor), onHover(time) (the user hovers a sample). Returns {plot, setMarker(time), destroy()}:
+ * setMarker moves the vertical line that shows the replay's time.
  */
 export function timePlot(container, { times, values, title, unit, colour = '#2f6fd1', bands = null, clipAbove = null, syncKey = null, onHover = null, height = 150 }) {
   const yRange = clipAbove !== null ? () => [0, clipAbove * 1.05]

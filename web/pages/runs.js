@@ -116,7 +116,7 @@ function startForm(scenarios, preselected) {
       fields.seeds.wrapper, fields.controller.wrapper, fields.goal.wrapper, fields.max_time.wrapper, fields.gates.wrapper),
     controllerNote,
     h('div', { class: 'row' }, submit, h('span', { class: 'muted small' },
-      'Gates: statistic count, nulls, mean, std, min, max, ci95_low or ci95_high; OP ==, !=, <, <=, >, >=.')),
+      `Gates: statistic ${STATISTICS.join(', ')}; OP ==, !=, <, <=, >, >=.`)),
     formError);
 
   const showSeedMode = () => {

@@ -173,6 +173,7 @@ export class SessionDriver {
     this.pause();
     this.#queuedSteps = 0;
     await this.#inFlight;  // the step in flight lands before the reset, not after it
+    // The reply is the fresh status with Gymnasium's first observation and info, which no panel shows.
     const { observation, info, ...status } = await api.post(`/api/v1/sessions/${encodeURIComponent(this.id)}/reset`, { seed: this.status.seed });
     this.#eventsFrom = 0;
     this.#applyStatus(status);
