@@ -189,13 +189,48 @@ std::vector<ScenarioRecord> Store::scenarios(int limit, const std::string& after
                                              const std::optional<std::string>& owner) {
   std::lock_guard lock(mutex_);
   Statement select = db_->prepare("SELECT " + std::string(kScenarioColumnsWithoutSource) +
-                                  " FROM scenarios WHERE id > ?1 AND substr(id, 1, length(?3)) = ?3 AND (?4 IS NULL OR owner = ?4)"
+                                  " FROM scenarios WHERE id > ?1 AND substr(id, 1, length(?3)) = ?3 AND (?4 IS NULL OR owner = ?4) AND listed"
                                   " ORDER BY id LIMIT ?2");
   select.bind(1, after_id).bind(2, std::int64_t{limit}).bind(3, id_prefix);
   if (owner) select.bind(4, *owner);
   std::vector<ScenarioRecord> result;
   while (select.step()) result.push_back(read_scenario(select));
   return result;
+}
+
+std::optional<std::string> Store::scenario_with_content(const std::string& sha256, const std::string& format, const std::string& owner,
+                                                        const std::string& id_prefix) {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare(
+      "SELECT id FROM scenarios WHERE sha256 = ?1 AND format = ?2 AND owner = ?3 AND substr(id, 1, length(?4)) = ?4 ORDER BY rowid LIMIT 1");
+  select.bind(1, sha256).bind(2, format).bind(3, owner).bind(4, id_prefix);
+  if (!select.step()) return std::nullopt;
+  return select.text(0);
+}
+
+void Store::set_scenario_listed(const std::string& id, bool listed) {
+  std::lock_guard lock(mutex_);
+  Statement update = db_->prepare("UPDATE scenarios SET listed = ?2 WHERE id = ?1");
+  update.bind(1, id).bind(2, std::int64_t{listed});
+  update.run();
+}
+
+bool Store::delete_scenario(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  Transaction transaction(*db_);
+  bool used = false;
+  {
+    Statement uses = db_->prepare(
+        "SELECT EXISTS (SELECT 1 FROM runs WHERE scenario_id = ?1) OR EXISTS (SELECT 1 FROM episodes WHERE scenario_id = ?1)");
+    uses.bind(1, id);
+    uses.step();
+    used = uses.integer(0) != 0;
+  }
+  Statement change = db_->prepare(used ? "UPDATE scenarios SET listed = 0 WHERE id = ?1" : "DELETE FROM scenarios WHERE id = ?1");
+  change.bind(1, id);
+  change.run();
+  transaction.commit();
+  return !used;
 }
 
 RunRecord Store::put_run(RunRecord run) {

@@ -127,8 +127,17 @@ class Store {
   ScenarioRecord put_scenario(ScenarioRecord scenario);
   /// A scenario; its source and files left empty unless `with_source` (they may be megabytes).
   std::optional<ScenarioRecord> scenario(const std::string& id, bool with_source = true);
-  /// Scenarios ordered by id, at most `limit`, starting after `after_id` (paging cursor), only ids
-  /// starting with `id_prefix` when given, only `owner`'s when given; without their sources.
+  /// The id of a listed or unlisted scenario of `owner` whose id starts with `id_prefix`, of this
+  /// format and content (scenario_sha256); none when there is none.
+  std::optional<std::string> scenario_with_content(const std::string& sha256, const std::string& format, const std::string& owner,
+                                                   const std::string& id_prefix);
+  /// Lists or unlists a scenario (see delete_scenario).
+  void set_scenario_listed(const std::string& id, bool listed);
+  /// Deletes a scenario and its files when no run or episode refers to it (true); otherwise only
+  /// unlists it (false), so that what ran it still finds it by id.
+  bool delete_scenario(const std::string& id);
+  /// Listed scenarios ordered by id, at most `limit`, starting after `after_id` (paging cursor), only
+  /// ids starting with `id_prefix` when given, only `owner`'s when given; without their sources.
   std::vector<ScenarioRecord> scenarios(int limit, const std::string& after_id = "", const std::string& id_prefix = "",
                                         const std::optional<std::string>& owner = std::nullopt);
 

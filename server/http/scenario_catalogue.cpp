@@ -142,7 +142,16 @@ scenario::CompiledSource ScenarioCatalogue::check(const Upload& upload) {
   return compiled;
 }
 
-std::string ScenarioCatalogue::add(const Upload& upload, const std::string& owner, scenario::CompiledSource& compiled) {
+ScenarioCatalogue::Added ScenarioCatalogue::add(const Upload& upload, const std::string& owner, scenario::CompiledSource& compiled) {
+  const std::string format(scenario::to_string(upload.format));
+  const std::string sha256 = storage::scenario_sha256(upload.text, upload.files);
+  if (const auto existing = store_->scenario_with_content(sha256, format, owner, std::string(1, kUploadedPrefix))) {
+    if (const auto entry = find(*existing)) {
+      store_->set_scenario_listed(*existing, true);
+      compiled = entry->source;
+      return {*existing, true};
+    }
+  }
   storage::ScenarioRecord record;
   record.id = core::unguessable_id(kUploadedPrefix);
   const std::filesystem::path files = write_files(record.id, upload.files);
@@ -150,7 +159,7 @@ std::string ScenarioCatalogue::add(const Upload& upload, const std::string& owne
   if (!compiled.errors.empty()) {
     std::error_code ignored;
     if (!files.empty()) std::filesystem::remove_all(files, ignored);
-    return "";
+    return {};
   }
   record.name = compiled.model->name;
   record.format = std::string(scenario::to_string(compiled.format));
@@ -161,7 +170,28 @@ std::string ScenarioCatalogue::add(const Upload& upload, const std::string& owne
   record = store_->put_scenario(std::move(record));
   std::lock_guard lock(mutex_);
   remember(record.id, std::make_shared<const Entry>(Entry{"uploaded", compiled, record.sha256, owner, files}), upload.text.size());
-  return record.id;
+  return {record.id, false};
+}
+
+void ScenarioCatalogue::remove(const std::string& id, const Caller& caller) {
+  if (bundled_.contains(id)) {
+    throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' is bundled with the server: only uploads can be deleted", {{"id", id}});
+  }
+  const auto record = store_->scenario(id, false);
+  if (!record || id.empty() || id.front() != kUploadedPrefix || !visible_to(caller, record->owner)) {
+    throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
+  }
+  if (!store_->delete_scenario(id)) return;  // runs ran it: unlisted, kept for them
+  std::lock_guard lock(mutex_);
+  if (const auto found = uploaded_.find(id); found != uploaded_.end()) {
+    held_bytes_ -= found->second.bytes;
+    uses_.erase(found->second.use);
+    if (!found->second.entry->files.empty()) {
+      std::error_code ignored;
+      std::filesystem::remove_all(found->second.entry->files, ignored);
+    }
+    uploaded_.erase(found);
+  }
 }
 
 std::shared_ptr<const ScenarioCatalogue::Entry> ScenarioCatalogue::find(const std::string& id) {

@@ -67,9 +67,18 @@ class ScenarioCatalogue {
   scenario::SourceOptions options(const Entry& entry) const;
   /// Compiles an upload without keeping it (validation).
   scenario::CompiledSource check(const Upload& upload);
-  /// Compiles an upload and, when it is valid, stores it for `owner`: its new id, or empty (nothing
-  /// stored) with the errors in `compiled`.
-  std::string add(const Upload& upload, const std::string& owner, scenario::CompiledSource& compiled);
+  /// What add() did: the scenario's id (empty when it is not valid) and whether `owner` had uploaded
+  /// the same content in the same format before (then that one's id, listed again).
+  struct Added {
+    std::string id;
+    bool existed = false;
+  };
+  /// Compiles an upload and, when it is valid, stores it for `owner`: its new id, or the id of the same
+  /// content uploaded before, or empty (nothing stored) with the errors in `compiled`.
+  Added add(const Upload& upload, const std::string& owner, scenario::CompiledSource& compiled);
+  /// Takes an upload out of the catalogue: deleted when no run ran it, else unlisted (found by id by
+  /// what ran it). 404 for an unknown one or another owner's; 409 for a bundled scenario.
+  void remove(const std::string& id, const Caller& caller);
   /// The scenario with this id, or null; an upload not in the cache is compiled first.
   std::shared_ptr<const Entry> find(const std::string& id);
   /// The same as `caller` may see it: null also for another owner's upload.

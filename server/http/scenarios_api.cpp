@@ -173,16 +173,23 @@ void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> cata
   router.add("POST", "/api/v1/scenarios", [catalogue](const Request& request) {
     return Response::later([catalogue, request] {
       scenario::CompiledSource compiled;
-      const std::string id = catalogue->add(upload_of(request), request.caller.owner, compiled);
-      if (id.empty()) {
+      const auto added = catalogue->add(upload_of(request), request.caller.owner, compiled);
+      if (added.id.empty()) {
         throw core::Error(core::ErrorCode::bad_request, "the scenario is not valid: nothing was stored",
                           {{"format", scenario::to_string(compiled.format)}, {"errors", issues(compiled.errors)}});
       }
       const json warnings = issues(compiled.warnings);
-      Response response = Response::json(201, {{"summary", catalogue->summary(id)}, {"warnings", warnings}});
-      response.headers.emplace_back("Location", "/api/v1/scenarios/" + id);
+      // The same content again: the upload it duplicates, 200 rather than 201.
+      Response response = Response::json(added.existed ? 200 : 201,
+                                         {{"summary", catalogue->summary(added.id)}, {"warnings", warnings}, {"existed", added.existed}});
+      response.headers.emplace_back("Location", "/api/v1/scenarios/" + added.id);
       return response;
     });
+  });
+
+  router.add("DELETE", "/api/v1/scenarios/{id}", [catalogue](const Request& request) {
+    catalogue->remove(request.path_params.at("id"), request.caller);
+    return Response{204, "application/json", "", {}, {}};
   });
 }
 

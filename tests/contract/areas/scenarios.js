@@ -205,7 +205,7 @@ describe('scenarios', () => {
   });
 
   it('POST /api/v1/scenarios stores a valid scenario: 201, Location, SHA-256 of the source', async () => {
-    const source = JSON.stringify(cupOnASideTable);
+    const source = JSON.stringify({ ...cupOnASideTable, name: 'cup_stored' });
     const reply = await api.request('POST', '/api/v1/scenarios', { body: source, contentType: 'application/json' });
     assert.equal(reply.status, 201);
     const { summary } = reply.json;
@@ -215,7 +215,32 @@ describe('scenarios', () => {
     assert.equal(reply.headers.location, `/api/v1/scenarios/${summary.id}`);
     const stored = await api.get(reply.headers.location);
     assert.equal(stored.status, 200);
-    assert.equal(stored.json.name, cupOnASideTable.name);
+    assert.equal(stored.json.name, 'cup_stored');
+  });
+
+  it('POST /api/v1/scenarios with content uploaded before is 200 with that upload; DELETE …/scenarios/{id} deletes an upload no run ran', async () => {
+    const scenario = { ...cupOnASideTable, name: 'cup_to_delete' };
+    const first = await api.post('/api/v1/scenarios', scenario);
+    assert.equal(first.status, 201, first.body);
+    assert.equal(first.json.existed, false);
+    const again = await api.post('/api/v1/scenarios', scenario);
+    assert.equal(again.status, 200, again.body);
+    assert.equal(again.json.existed, true);
+    assert.equal(again.json.summary.id, first.json.summary.id);
+    assert.equal(again.headers.location, first.headers.location);
+    const id = first.json.summary.id;
+    assert.equal((await api.delete(`/api/v1/scenarios/${id}`)).status, 204);
+    assert.equal((await api.get(`/api/v1/scenarios/${id}`)).status, 404);
+    const listed = await api.get('/api/v1/scenarios?limit=200');
+    assert.ok(!listed.json.items.some((item) => item.id === id));
+    assert.equal((await api.delete(`/api/v1/scenarios/${id}`)).status, 404);
+    const bundled = await api.delete('/api/v1/scenarios/elevator');
+    assert.equal(bundled.status, 409);
+    assert.match(bundled.json.error.message, /bundled/);
+    const anew = await api.post('/api/v1/scenarios', scenario);
+    assert.equal(anew.status, 201, 'deleted: stored anew');
+    assert.notEqual(anew.json.summary.id, id);
+    assert.equal((await api.delete(`/api/v1/scenarios/${anew.json.summary.id}`)).status, 204);
   });
 
   it('POST /api/v1/scenarios takes Pedsim XML by its content', async () => {

@@ -741,7 +741,7 @@ describe('a session with a cup in the HSR\'s open hand', () => {
   let scenario;
   before(async () => {
     const uploaded = await api.post('/api/v1/scenarios', cupOnASideTable);
-    assert.equal(uploaded.status, 201);
+    assert.ok([200, 201].includes(uploaded.status), 'stored, or the same content stored by another test');
     scenario = uploaded.json.summary.id;
   });
 
