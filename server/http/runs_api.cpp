@@ -23,34 +23,63 @@ using nlohmann::json;
 /// Most runs one list request returns.
 constexpr int kMaxRunsPerPage = 100;
 
-[[noreturn]] void bad(const std::string& pointer, const std::string& message) {
-  throw core::Error(core::ErrorCode::bad_request, message, {{"pointer", pointer}});
-}
+/// The problems found in a run request so far: {pointer, message} each (runs::throw_if_problems).
+class Problems {
+ public:
+  void add(const std::string& pointer, const std::string& message) { list_.push_back({{"pointer", pointer}, {"message", message}}); }
+  /// A field's value from `read`, or `fallback` with the problem noted when it throws a bad request.
+  template <typename Read>
+  auto checked(Read read, decltype(read()) fallback) {
+    try {
+      return read();
+    } catch (const core::Error& e) {
+      if (e.code() != core::ErrorCode::bad_request) throw;
+      add(e.details().value("pointer", ""), e.what());
+      return fallback;
+    }
+  }
+  json& list() { return list_; }
 
-std::vector<std::uint64_t> seeds_of(const json& body) {
-  if (body.contains("seeds") == body.contains("count")) bad("/seeds", "give either seeds (a list) or count (with an optional first_seed)");
-  if (body.contains("seeds") && body.contains("first_seed")) bad("/first_seed", "first_seed goes with count, not with a list of seeds");
+ private:
+  json list_ = json::array();
+};
+
+std::vector<std::uint64_t> seeds_of(const json& body, Problems& problems) {
   std::vector<std::uint64_t> seeds;
+  if (body.contains("seeds") == body.contains("count")) {
+    problems.add("/seeds", "give either seeds (a list) or count (with an optional first_seed)");
+    return seeds;
+  }
   if (body.contains("seeds")) {
-    if (!body["seeds"].is_array()) bad("/seeds", "seeds must be a list of integers");
+    if (body.contains("first_seed")) problems.add("/first_seed", "first_seed goes with count, not with a list of seeds");
+    if (!body["seeds"].is_array()) {
+      problems.add("/seeds", "seeds must be a list of integers");
+      return seeds;
+    }
     for (std::size_t i = 0; i < body["seeds"].size(); ++i) {
       const json& seed = body["seeds"][i];
       if (!seed.is_number_integer() || seed.get<std::int64_t>() < 0 || seed.get<std::int64_t>() > kMaxSeed) {
-        bad("/seeds/" + std::to_string(i), "a seed is an integer from 0 to " + std::to_string(kMaxSeed));
+        problems.add("/seeds/" + std::to_string(i), "a seed is an integer from 0 to " + std::to_string(kMaxSeed));
+        continue;
       }
       seeds.push_back(seed.get<std::uint64_t>());
     }
     return seeds;
   }
-  const auto count = integer_field(body, "count", 1, static_cast<std::int64_t>(runs::kMaxSeedsPerRun), 1);
-  const auto first = integer_field(body, "first_seed", 0, kMaxSeed - count + 1, 0);
+  // A wrong count or first seed stands as one seed from 0, so that nothing else is reported of it.
+  const auto count = problems.checked([&] { return integer_field(body, "count", 1, static_cast<std::int64_t>(runs::kMaxSeedsPerRun), 1); },
+                                      std::int64_t{1});
+  const auto first = problems.checked([&] { return integer_field(body, "first_seed", 0, kMaxSeed - count + 1, 0); }, std::int64_t{0});
   for (std::int64_t i = 0; i < count; ++i) seeds.push_back(static_cast<std::uint64_t>(first + i));
   return seeds;
 }
 
-runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue, const Caller& caller) {
+/// The run the body asks for, every problem of its fields in `problems` (the scenario must be there).
+runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue, const Caller& caller, Problems& problems) {
   refuse_unknown_keys(body, {"scenario", "seeds", "count", "first_seed", "controller", "max_time", "gates", "requests", "baseline_without_robot"});
-  if (!body.contains("scenario") || !body["scenario"].is_string()) bad("/scenario", "scenario: the id of a scenario is required");
+  if (!body.contains("scenario") || !body["scenario"].is_string()) {
+    throw core::Error(core::ErrorCode::bad_request, "scenario: the id of a scenario is required", {{"pointer", "/scenario"}});
+  }
   const std::string id = body["scenario"];
   const auto entry = catalogue.find(id, caller);
   if (!entry || !entry->source.model) {
@@ -61,35 +90,42 @@ runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue, con
   request.document = entry->source.document;
   request.load = catalogue.options(*entry).load;
   request.scenario_sha256 = entry->sha256.empty() ? core::sha256_hex(core::json_text(entry->source.document)) : entry->sha256;
-  request.seeds = seeds_of(body);
+  request.seeds = seeds_of(body, problems);
   if (body.contains("controller") && !body["controller"].is_null()) request.controller = body["controller"];
   if (body.contains("baseline_without_robot")) {
-    if (!body["baseline_without_robot"].is_boolean()) bad("/baseline_without_robot", "baseline_without_robot must be true or false");
-    request.baseline_without_robot = body["baseline_without_robot"];
+    if (body["baseline_without_robot"].is_boolean()) {
+      request.baseline_without_robot = body["baseline_without_robot"];
+    } else {
+      problems.add("/baseline_without_robot", "baseline_without_robot must be true or false");
+    }
   }
   if (body.contains("max_time")) {
-    if (!body["max_time"].is_number() || !(body["max_time"].get<double>() > 0.0) || !std::isfinite(body["max_time"].get<double>())) {
-      bad("/max_time", "max_time must be a number of seconds > 0");
+    if (body["max_time"].is_number() && body["max_time"].get<double>() > 0.0 && std::isfinite(body["max_time"].get<double>())) {
+      request.max_time = body["max_time"].get<double>();
+    } else {
+      problems.add("/max_time", "max_time must be a number of seconds > 0");
     }
-    request.max_time = body["max_time"].get<double>();
   }
   if (body.contains("gates")) {
-    if (!body["gates"].is_array()) bad("/gates", "gates must be a list of expressions such as \"collisions.max == 0\"");
-    for (std::size_t i = 0; i < body["gates"].size(); ++i) {
-      if (!body["gates"][i].is_string()) bad("/gates/" + std::to_string(i), "a gate is a string such as \"collisions.max == 0\"");
-      request.gates.push_back(body["gates"][i]);
+    if (!body["gates"].is_array()) problems.add("/gates", "gates must be a list of expressions such as \"collisions.max == 0\"");
+    for (std::size_t i = 0; body["gates"].is_array() && i < body["gates"].size(); ++i) {
+      if (body["gates"][i].is_string()) {
+        request.gates.push_back(body["gates"][i]);
+      } else {
+        problems.add("/gates/" + std::to_string(i), "a gate is a string such as \"collisions.max == 0\"");
+      }
     }
   }
   if (body.contains("requests")) {
-    if (!body["requests"].is_array()) bad("/requests", "requests must be a list of {time, routine}");
-    for (std::size_t i = 0; i < body["requests"].size(); ++i) {
+    if (!body["requests"].is_array()) problems.add("/requests", "requests must be a list of {time, routine}");
+    for (std::size_t i = 0; body["requests"].is_array() && i < body["requests"].size(); ++i) {
       const json& item = body["requests"][i];
-      const std::string at = "/requests/" + std::to_string(i);
       // "task" is the routine's former name, still accepted for one version.
       const char* routine = item.is_object() && item.contains("task") ? "task" : "routine";
       if (!item.is_object() || !item.contains("time") || !item["time"].is_number() || !(item["time"].get<double>() >= 0.0) ||
           !item.contains(routine) || !item[routine].is_string() || item.size() != 2) {
-        bad(at, "a request is {\"time\": seconds >= 0, \"routine\": name}");
+        problems.add("/requests/" + std::to_string(i), "a request is {\"time\": seconds >= 0, \"routine\": name}");
+        continue;
       }
       request.requests.emplace_back(item["time"].get<double>(), item[routine].get<std::string>());
     }
@@ -167,8 +203,9 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
 
   router.add("POST", "/api/v1/runs", [catalogue, store, executor](const Request& request) {
     const json body = json_object_body(request);
-    const runs::RunRequest asked = run_request(body, *catalogue, request.caller);
-    runs::RunSpec spec = runs::make_run_spec(asked);
+    Problems problems;
+    const runs::RunRequest asked = run_request(body, *catalogue, request.caller, problems);
+    runs::RunSpec spec = runs::make_run_spec(asked, problems.list());
     spec.owner = request.caller.owner;
     spec.scenario_id = stored_scenario_id(*store, asked.scenario_id, *catalogue->find(asked.scenario_id), asked.scenario_sha256);
     const storage::RunRecord run = executor->submit(std::move(spec));

@@ -44,10 +44,18 @@ void throw_if_problems(const nlohmann::json& errors) {
                     {{"errors", errors}, {"pointer", errors[0]["pointer"]}});
 }
 
-RunSpec make_run_spec(const RunRequest& request) {
+RunSpec make_run_spec(const RunRequest& request, const nlohmann::json& found) {
   using nlohmann::json;
-  json errors = json::array();
+  json errors = found;
+  // A field the reader found wrong (or a part of it) is not reported again from what it left.
+  const auto reported = [&found](const std::string& pointer) {
+    return std::any_of(found.begin(), found.end(), [&](const json& error) {
+      const std::string other = error.value("pointer", "");
+      return other == pointer || other.starts_with(pointer + "/") || pointer.starts_with(other + "/");
+    });
+  };
   const auto problem = [&](std::string pointer, std::string message) {
+    if (reported(pointer)) return;
     errors.push_back({{"pointer", std::move(pointer)}, {"message", std::move(message)}});
   };
 

@@ -43,7 +43,8 @@ scenario::LoadResult with_controller(nlohmann::json document, const nlohmann::js
 void throw_if_problems(const nlohmann::json& errors);
 
 /// Checks the request and builds the spec. Throws core::Error(bad_request) with every problem found
-/// in details.errors, each with a pointer into the request ("/gates/1", "/controller/goal", "/seeds").
-RunSpec make_run_spec(const RunRequest& request);
+/// in details.errors, each with a pointer into the request ("/gates/1", "/controller/goal", "/seeds"):
+/// `found` (the problems a reader of the request found already, first), then its own at other pointers.
+RunSpec make_run_spec(const RunRequest& request, const nlohmann::json& found = nlohmann::json::array());
 
 }  // namespace hrisim::runs

@@ -146,6 +146,22 @@ nlohmann::json world_geometry(const Model& model) {
                       {"radius", agent.radius},
                       {"start", pose_json(agent.start)}});
   }
+  nlohmann::json objects = nlohmann::json::array();
+  for (const MovableObject& object : model.objects) {
+    static constexpr const char* kKinds[] = {"box", "cylinder", "sphere", "capsule"};
+    nlohmann::json shape = {{"kind", kKinds[static_cast<int>(object.shape.kind)]}};
+    if (object.shape.kind == robots::Shape::Kind::box) {
+      shape["size"] = {object.shape.size.x(), object.shape.size.y(), object.shape.size.z()};
+    } else {
+      shape["radius"] = object.shape.radius;
+      if (object.shape.kind != robots::Shape::Kind::sphere) shape["length"] = object.shape.length;
+    }
+    const core::Pose3& pose = object.pose;
+    objects.push_back({{"name", object.name},
+                       {"shape", shape},
+                       {"mass", object.mass},
+                       {"pose", {{"x", pose.x}, {"y", pose.y}, {"z", pose.z}, {"roll", pose.roll}, {"pitch", pose.pitch}, {"yaw", pose.yaw}}}});
+  }
   return {{"name", model.name},
           {"bounds", {{"min", point_json(low)}, {"max", point_json(high)}}},
           {"walls", walls},
@@ -155,6 +171,7 @@ nlohmann::json world_geometry(const Model& model) {
           {"locations", locations},
           {"social_spaces", spaces},
           {"agents", agents},
+          {"objects", objects},
           {"dt", model.dt},
           {"time_limit", model.time_limit}};
 }

@@ -271,6 +271,12 @@ describe('runs', () => {
       assert.equal(reply.json.error.details.pointer, pointer, JSON.stringify(body));
       assert.equal(specAllows('POST', '/api/v1/runs', body), Boolean(allowedBySpec), `the spec allows ${JSON.stringify(body)}`);
     }
+    // Every wrong field at once, each at its pointer, none of them reported twice.
+    const many = await api.post('/api/v1/runs', { scenario: 'queue', count: 0, max_time: -1, gates: ['bogus.mean > 1', 7],
+      requests: [{ time: -1, routine: 'help_robot' }], controller: { type: 'warp' } });
+    assert.equal(many.status, 400);
+    assert.deepEqual(many.json.error.details.errors.map((error) => error.pointer).sort(),
+      ['/controller/type', '/count', '/gates/0', '/gates/1', '/max_time', '/requests/0']);
     assert.equal((await api.request('POST', '/api/v1/runs', { body: '{"scenario": ' })).status, 400);
     assert.equal((await api.request('POST', '/api/v1/runs', { body: '["queue"]' })).status, 400);
     assert.equal((await api.get('/api/v1/runs?limit=100')).json.items.length, before);

@@ -124,6 +124,16 @@ describe('scenarios', () => {
     assert.equal(chair.mesh, 'chair');
     assert.equal(chair.polygon.length, 4);
     assert.ok(apartment.obstacles.some((o) => o.name.startsWith('wall ') && o.mesh === null), 'walls come as obstacles too');
+    assert.deepEqual(world.objects, [], 'the elevator has no movable objects');
+    // pick_and_place's objects, each as its document gives it.
+    const kitchen = (await api.get('/api/v1/scenarios/pick_and_place/world')).json;
+    const objects = (await api.get('/api/v1/scenarios/pick_and_place')).json.objects;
+    assert.deepEqual(kitchen.objects.map((o) => o.name), objects.map((o) => o.name));
+    for (const [object, given] of kitchen.objects.map((o, i) => [o, objects[i]])) {
+      assert.equal(object.shape.kind, given.shape.kind, object.name);
+      assert.equal(object.mass, given.mass, object.name);
+      assert.deepEqual([object.pose.x, object.pose.y, object.pose.z], [given.pose.x, given.pose.y, given.pose.z ?? object.pose.z], object.name);
+    }
     const unknown = await api.get('/api/v1/scenarios/no_such_scenario/world');
     assert.equal(unknown.status, 404);
     assert.equal(unknown.json.error.details.id, 'no_such_scenario');
