@@ -22,7 +22,7 @@ export async function render(root, { id }) {
   try {
     loaded = await loadSession(id);
   } catch (error) {
-    errorPage(root, `Session ${id}`, error, { href: '#/', text: 'Back to the scenarios' });
+    errorPage(root, `Session ${id}`, error, { href: '#/sessions', text: 'Back to the sessions' });
     return undefined;
   }
   wait.remove();
@@ -67,7 +67,7 @@ export async function render(root, { id }) {
 
   // ---- Connection ----
   driver.on('closed', (event) => {
-    for (const control of root.querySelectorAll('.session-toolbar button, .session-toolbar select, .session-commands button, .teleop button')) {
+    for (const control of root.querySelectorAll('.session-toolbar button, .session-toolbar select, .session-toolbar input, .session-commands button, .teleop button')) {
       control.disabled = true;
     }
     showMessage(connection, 'error', `The connection to the session closed (code ${event.code}${event.reason ? `: ${event.reason}` : ''}). `

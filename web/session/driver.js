@@ -10,7 +10,8 @@
 //   frame (buffer)      a frame (HRCF) of the camera set by setCamera(); cameraError (error) when refused
 //   round ()            a round of requests starts; stepError (error) when its step failed
 //   playing (boolean)   play() and pause()
-//   reset (status)      reset() started the session again from tick 0
+//   reset (status)      reset() started the session again from tick 0, or seek() put it at another
+//                       tick: trails, events and returns start over (the events up to that tick follow)
 //   closed (event)      the server closed the socket
 import { api, ApiError, sessionSocketUrl } from '../lib/api.js';
 import { Lockstep } from './lockstep.js';
@@ -64,13 +65,14 @@ export class SessionDriver {
   #stepsWaiting = false;
   #lastCamera = -Infinity;
   #lastSensors = -Infinity;
-  #eventsFrom = 0;  // realtime: events come with the state, from this tick on
+  #eventsFrom;  // the next state brings the events from this tick on (null: the step replies bring them)
 
   constructor(id, status) {
     this.id = id;
     this.status = status;
     this.dt = status.dt;
     this.realtime = status.mode === 'realtime';
+    this.#eventsFrom = this.realtime ? 0 : null;
   }
 
   /** A benchmark task's step is its frame skip in ticks (docs/benchmark.md); otherwise one tick. */
@@ -153,6 +155,7 @@ export class SessionDriver {
   }
 
   pause() {
+    if (this.realtime) return;  // the server plays it: the page's watching goes on (#timer is the watch's)
     const wasPlaying = this.playing;
     this.playing = false;
     clearTimeout(this.#timer);
@@ -170,15 +173,42 @@ export class SessionDriver {
    * fresh state, laser and camera. Rejects when the server refuses.
    */
   async reset() {
+    await this.#startOver(async () => {
+      // The reply is the fresh status with Gymnasium's first observation and info, which no panel shows.
+      const { observation, info, ...status } = await api.post(`/api/v1/sessions/${encodeURIComponent(this.id)}/reset`, { seed: this.status.seed });
+      return { status, eventsFrom: this.realtime ? 0 : null };
+    });
+  }
+
+  /**
+   * Puts the session at `tick` (the WebSocket's seek): back, the state it had then bit for bit; forth
+   * (lockstep only), the ticks a clock gives. Paused, then the state with every event up to the tick,
+   * the laser and the camera. Rejects when the server refuses.
+   */
+  async seek(tick) {
+    await this.#startOver(async () => {
+      const { type, observation, info, ...status } = await this.#socket.send({ type: 'seek', tick });
+      // Step replies bring only the events after the tick: the earlier ones come with the next state.
+      return { status, eventsFrom: 0 };
+    });
+  }
+
+  /**
+   * A reset or a seek: `move()` asks the server and resolves with the new status and where the next
+   * state's events start. It is the round in flight meanwhile: no step or state goes out before it
+   * lands (one sent during it would land on either side of it).
+   */
+  async #startOver(move) {
     this.pause();
     this.#queuedSteps = 0;
-    await this.#inFlight;  // the step in flight lands before the reset, not after it
-    // The reply is the fresh status with Gymnasium's first observation and info, which no panel shows.
-    const { observation, info, ...status } = await api.post(`/api/v1/sessions/${encodeURIComponent(this.id)}/reset`, { seed: this.status.seed });
-    this.#eventsFrom = 0;
-    this.#applyStatus(status);
-    this.#emit('reset', this.status);
-    // A round sent while the reset was under way may bring the old state: the fresh one comes after it.
+    while (this.#inFlight) await this.#inFlight;  // the step in flight lands before the move, not after it
+    const moved = move().then(({ status, eventsFrom }) => {
+      this.#eventsFrom = eventsFrom;
+      this.#applyStatus(status);
+      this.#emit('reset', this.status);
+    });
+    this.#inFlight = moved.catch(() => {}).finally(() => { this.#inFlight = null; });
+    await moved;
     await this.#inFlight;
     this.#lastCamera = -Infinity;
     this.#lastSensors = -Infinity;
@@ -232,7 +262,7 @@ export class SessionDriver {
   /** A realtime session: its state, laser and camera, over and over. */
   #watch() {
     this.#timer = 0;
-    if (this.disposed) return;
+    if (this.disposed || !this.#socket.open) return;
     (this.#inFlight ?? this.#cycle(0)).finally(() => {
       if (!this.disposed) this.#timer = setTimeout(() => this.#watch(), WATCH_INTERVAL_MS);
     });
@@ -262,9 +292,9 @@ export class SessionDriver {
         this.#emit('stepError', error);
       }));
     }
-    // In lockstep every event comes with a step reply, once; the state need not repeat them.
-    const since = this.realtime ? this.#eventsFrom : Number.MAX_SAFE_INTEGER;
-    work.push(socket.send({ type: 'state', events_since: since }).then((state) => this.#applyState(state), () => {}));
+    // In lockstep the step replies bring every event once; the state brings them only after a seek.
+    const since = this.#eventsFrom;
+    work.push(socket.send({ type: 'state', events_since: since ?? Number.MAX_SAFE_INTEGER }).then((state) => this.#applyState(state, since !== null), () => {}));
     if (this.#sensorsOf && now - this.#lastSensors >= SENSORS_INTERVAL_MS) {
       this.#lastSensors = now;
       work.push(socket.send({ type: 'sensors', robot: this.#sensorsOf }).then((sensors) => this.#emit('sensors', sensors), () => {}));
@@ -284,11 +314,12 @@ export class SessionDriver {
     this.#emit('status', this.status);
   }
 
-  #applyState(state) {
+  /** `withEvents`: the state was asked for the events from #eventsFrom on. */
+  #applyState(state, withEvents) {
     this.#applyStatus(state);
-    if (this.realtime) {
+    if (withEvents) {
       this.#emitEvents(state.events.slice(-MAX_EVENTS));
-      this.#eventsFrom = state.tick + 1;
+      this.#eventsFrom = this.realtime ? state.tick + 1 : null;
     }
     this.#emit('state', state);
   }

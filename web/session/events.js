@@ -17,7 +17,8 @@ function eventTone(kind) {
 }
 
 export function eventsPanel(driver) {
-  const list = h('ol', { class: 'event-list', 'aria-label': 'Events, newest first' });
+  // Focusable: a long list scrolls in its box, which keyboard users scroll once it has the focus.
+  const list = h('ol', { class: 'event-list', 'aria-label': 'Events, newest first', tabindex: 0 });
   const none = h('p', { class: 'muted' }, 'No events yet: they appear as the session steps.');
   driver.on('events', (events) => {
     none.hidden = true;

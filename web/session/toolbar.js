@@ -1,18 +1,25 @@
 // The session's toolbar: playback (play / pause, single steps, reset, speed and the speed actually
-// reached) with its keyboard shortcuts, the view of the 3D scene, the clock and run state, and the
-// choreography's progress.
+// reached) with its keyboard shortcuts, going to a tick, the view of the 3D scene, the clock and run
+// state, and the choreography's progress; under it, why a finished session ended.
 import { h, formatNumber } from '../lib/ui.js';
 import { errorText, showMessage } from './messages.js';
 import { playbackShortcuts } from './keys.js';
+import { seekGroup } from './seek.js';
 
 /** Playback speeds, simulated seconds per wall-clock second. */
 const SPEEDS = [0.25, 0.5, 1, 2, 4];
 /** The "actual speed" readout averages over this window, ms. */
 const SPEED_WINDOW_MS = 2000;
+/** Why a session ended, by its termination. */
+const ENDINGS = {
+  scenario_end: "its choreography's last step is done",
+  timeout: 'it reached its time limit',
+  goal: 'its task ended the episode',
+};
 
 /**
- * The toolbar and, under it, its shortcuts and the line where stepping errors show: [toolbar,
- * shortcuts, error line]. `steps` are the choreography's; `onView(view)` turns the scene to 'top' or
+ * The toolbar and, under it, its shortcuts, the line where stepping errors show and the line that
+ * says why the session ended: [toolbar, shortcuts, error line, end line]. `steps` are the choreography's; `onView(view)` turns the scene to 'top' or
  * 'perspective'; the shortcuts listen until `signal` aborts.
  */
 export function toolbar(driver, { steps, onView, signal }) {
@@ -37,6 +44,8 @@ export function toolbar(driver, { steps, onView, signal }) {
   const stepText = h('span', { class: 'step-name' });
   const stepBar = h('progress', { max: Math.max(steps.length, 1), value: 0, 'aria-label': 'Choreography progress' });
   const playError = h('p', { class: 'message error', role: 'alert', hidden: true });
+  const ended = h('p', { class: 'message info session-ended', role: 'status', hidden: true });
+  const seeker = seekGroup(driver, { onError: (text) => showMessage(playError, 'error', text) });
   const playback = driver.realtime
     ? h('div', { class: 'toolbar-group' }, h('span', {}, `Realtime: the server steps it at ${formatNumber(status.realtime_factor)}× real time.`), resetButton)
     : h('div', { class: 'toolbar-group', role: 'group', 'aria-label': 'Playback' }, playButton, stepButton, resetButton,
@@ -47,6 +56,7 @@ export function toolbar(driver, { steps, onView, signal }) {
     resetButton.disabled = true;
     try {
       await driver.reset();
+      seeker.restart();
       playError.hidden = true;
     } catch (error) {
       showMessage(playError, 'error', `Reset failed: ${errorText(error)}`);
@@ -78,7 +88,12 @@ export function toolbar(driver, { steps, onView, signal }) {
       stepBar.value = steps.length;
       stepText.textContent = steps.length ? `all ${steps.length} steps done` : 'no steps';
     }
-    // Finished until a reset starts it again.
+    // Finished until a reset (or going back) starts it again.
+    ended.hidden = !finished;
+    if (finished) {
+      ended.textContent = `The session ended: ${ENDINGS[next.termination] ?? next.termination}. `
+        + 'Press R or Reset to start it again, or go back to an earlier tick.';
+    }
     playButton.disabled = finished;
     stepButton.disabled = finished || driver.playing;
     if (driver.playing) {
@@ -92,8 +107,9 @@ export function toolbar(driver, { steps, onView, signal }) {
 
   const bar = h('div', { class: 'panel session-toolbar' },
     playback,
+    seeker.element,
     h('div', { class: 'toolbar-group', role: 'group', 'aria-label': 'View' }, h('span', { class: 'muted' }, 'View'), viewButtons),
     h('div', { class: 'toolbar-group status-group' }, clock, runState),
     h('div', { class: 'toolbar-group choreography' }, h('span', { class: 'muted' }, 'Choreography'), stepBar, stepText));
-  return [bar, shortcuts, playError];
+  return [bar, shortcuts, playError, ended];
 }

@@ -2,8 +2,9 @@
 // The live session page (#/sessions/ID): the 3D scene renders, Play / Pause / Step drive the lockstep
 // session over its WebSocket, a camera frame shows, humans take commands (and a refused one says why),
 // the robot drives with the arrow keys under teleop wherever the focus is, Space, N and R play, step and
-// reset (not while typing), a task whose actions are no velocity says so, and ending the session goes
-// back to its scenario.
+// reset (not while typing), going to a tick back gives the state the session had then (and its events)
+// and forth to its end says why it ended, a task whose actions are no velocity says so, and ending the
+// session goes back to its scenario.
 const assert = require('node:assert/strict');
 const { describe, it } = require('node:test');
 const context = require('../lib/context');
@@ -148,6 +149,77 @@ describe('session', () => {
       await tab.page.waitForFunction(() => document.querySelector('.session-toolbar .clock').dataset.tick === '0');
       assert.equal(await tab.page.textContent('.task-panel [data-field=reward]'), '—');
       assert.equal(await tab.page.$('.task-terms dt'), null);
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+      await call('DELETE', `/api/v1/sessions/${id}`);
+    }
+  });
+
+  it('goes back to a tick bit for bit with the events up to it, forth to the end, which says why it ended, and not while playing', async () => {
+    const id = await createSession({ scenario: 'queue', seed: 1 });
+    // The API's states at ticks 60 and 200 (queue: a step starts at tick 0, a request at 30, accepted at 330).
+    const at60 = (await call('POST', `/api/v1/sessions/${id}/step`, { n: 60 })).body.state_hash;
+    const at200 = (await call('POST', `/api/v1/sessions/${id}/step`, { n: 140 })).body.state_hash;
+    const tab = await newPage(context.browser, context.server.port);
+    const page = tab.page;
+    const stateHash = async () => (await call('GET', `/api/v1/sessions/${id}`)).body.state_hash;
+    const waitTick = (t) => page.waitForFunction((want) => document.querySelector('.session-toolbar .clock').dataset.tick === String(want), t);
+    try {
+      await tab.open(`/sessions/${id}`);
+      await page.waitForSelector('.agent-table tr[data-agent=p1][data-x]');
+      assert.equal(await page.getAttribute('.seek-slider', 'max'), '200', 'the slider spans the ticks reached');
+      assert.equal(await page.$$eval('.event-list li', (items) => items.length), 0, 'the API took the events so far');
+
+      // Back to tick 60: the state it had then, and the events up to it.
+      await page.fill('.seek-tick', '60');
+      await page.click('.seek button:has-text("Go")');
+      await waitTick(60);
+      assert.equal(await stateHash(), at60);
+      await page.waitForSelector('.event-list li[data-kind=request]');
+      assert.deepEqual(await page.$$eval('.event-list li', (items) => items.map((item) => item.dataset.kind)), ['request', 'step_started']);
+      assert.equal(await page.getAttribute('.seek-slider', 'max'), '200', 'going back keeps the ticks reached');
+      assert.equal(await page.inputValue('.seek-slider'), '60');
+
+      // Forth with the slider, to where the API had it.
+      await page.$eval('.seek-slider', (slider) => {
+        slider.value = '200';
+        slider.dispatchEvent(new Event('input'));
+        slider.dispatchEvent(new Event('change'));
+      });
+      await waitTick(200);
+      assert.equal(await stateHash(), at200);
+      await page.waitForSelector('.event-list li[data-kind=request]');
+      assert.equal(await page.$$eval('.event-list li', (items) => items.length), 2, 'the events up to tick 200, once each');
+
+      // Not while playing.
+      await page.click('button.play');
+      assert.equal(await page.isDisabled('.seek-slider'), true);
+      assert.equal(await page.isDisabled('.seek button:has-text("Go")'), true);
+      await page.click('button.play');
+      await page.waitForSelector('.seek-slider:not([disabled])');
+
+      // Forth past the choreography's end: the session stops there and says why.
+      assert.equal(await page.isHidden('.session-ended'), true);
+      await page.fill('.seek-tick', '5000');
+      await page.press('.seek-tick', 'Enter');
+      await page.waitForSelector('.session-ended:not([hidden])');
+      assert.equal(await page.textContent('.session-ended'),
+        "The session ended: its choreography's last step is done. Press R or Reset to start it again, or go back to an earlier tick.");
+      const end = (await call('GET', `/api/v1/sessions/${id}`)).body;
+      assert.deepEqual([end.status, end.termination], ['finished', 'scenario_end']);
+      assert.equal(await tick(page), end.tick);
+      assert.equal(await page.isDisabled('button.play'), true);
+      await page.waitForSelector('.event-list li[data-kind=request_accepted]');
+      await screenshot(page, 'session-seek-end');
+
+      // Back from the end: it runs again.
+      await page.fill('.seek-tick', '100');
+      await page.click('.seek button:has-text("Go")');
+      await waitTick(100);
+      await page.waitForSelector('.session-ended', { state: 'hidden' });
+      assert.equal((await call('GET', `/api/v1/sessions/${id}`)).body.status, 'running');
+      assert.equal(await page.isDisabled('button.play'), false);
       assert.deepEqual(tab.errors, []);
     } finally {
       await tab.close();
