@@ -6,6 +6,7 @@
 
 #include <bit>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <cmath>
 #include <cstring>
@@ -34,10 +35,27 @@ ScenarioRecord read_scenario(const Statement& row) {
 constexpr std::string_view kScenarioColumns = "id, name, format, source, sha256, created_at, summary, owner";
 constexpr std::string_view kScenarioColumnsWithoutSource = "id, name, format, '', sha256, created_at, summary, owner";
 
-constexpr std::string_view kRunColumns = "id, scenario_id, controller, config, status, created_at, finished_at, owner";
+constexpr std::string_view kRunColumns = "id, scenario_id, controller, config, status, created_at, finished_at, owner, name, tags, notes";
 
 RunRecord read_run(const Statement& row) {
-  return {row.text(0), row.text(1), row.text(2), nlohmann::json::parse(row.text(3)), row.text(4), row.text(5), row.optional_text(6), row.text(7)};
+  return {row.text(0), row.text(1),        row.text(2),
+          nlohmann::json::parse(row.text(3)), row.text(4), row.text(5),
+          row.optional_text(6), row.text(7), row.text(8),
+          nlohmann::json::parse(row.text(9)).get<std::vector<std::string>>(), row.text(10)};
+}
+
+/// The SQL path of a metric's statistic in a run's summary (names are checked against the metric
+/// definitions before they get here; quoted all the same).
+std::string summary_path(const std::string& metric, const std::string& statistic) {
+  const auto quoted = [](const std::string& name) {
+    std::string out = "\"";
+    for (const char c : name) {
+      if (c == '"' || c == '\\') out.push_back('\\');
+      out.push_back(c);
+    }
+    return out + "\"";
+  };
+  return "$." + quoted(metric) + "." + quoted(statistic);
 }
 
 /// What tells this process apart from any other, even one that later gets the same pid: the machine's
@@ -236,10 +254,11 @@ bool Store::delete_scenario(const std::string& id) {
 RunRecord Store::put_run(RunRecord run) {
   std::lock_guard lock(mutex_);
   Statement insert = db_->prepare(
-      "INSERT INTO runs (id, scenario_id, controller, config, status, owner, process_id, process_identity)"
-      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8) RETURNING created_at");
+      "INSERT INTO runs (id, scenario_id, controller, config, status, owner, process_id, process_identity, name, tags, notes)"
+      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11) RETURNING created_at");
   insert.bind(1, run.id).bind(2, run.scenario_id).bind(3, run.controller).bind(4, core::json_text(run.config));
   insert.bind(5, run.status).bind(6, run.owner).bind(7, std::int64_t{getpid()}).bind(8, process_identity(getpid()));
+  insert.bind(9, run.name).bind(10, core::json_text(nlohmann::json(run.tags))).bind(11, run.notes);
   insert.step();
   run.created_at = insert.text(0);
   return run;
@@ -263,6 +282,73 @@ std::vector<RunRecord> Store::runs(int limit, const std::string& after_id, const
       " ORDER BY rowid DESC LIMIT ?4");
   select.bind(1, after_id).bind(2, status).bind(3, scenario_id).bind(4, std::int64_t{limit});
   if (owner) select.bind(5, *owner);
+  std::vector<RunRecord> list;
+  while (select.step()) list.push_back(read_run(select));
+  return list;
+}
+
+std::vector<RunRecord> Store::runs(const RunQuery& query) {
+  static const std::set<std::string> kOperators{"==", "!=", "<", "<=", ">", ">="};
+  std::string sql = "SELECT " + std::string(kRunColumns) +
+                    " FROM runs WHERE (?1 = '' OR status = ?1)"
+                    " AND (?2 = '' OR scenario_id = ?2 OR json_extract(config, '$.scenario') = ?2) AND (?3 IS NULL OR owner = ?3)"
+                    " AND (?4 = '' OR instr(lower(name || ' ' || notes || ' ' || tags || ' ' || coalesce(json_extract(config, '$.scenario'), scenario_id) ||"
+                    " ' ' || controller), lower(?4)) > 0)"
+                    " AND (?5 = '' OR EXISTS (SELECT 1 FROM json_each(runs.tags) WHERE value = ?5))";
+  int parameter = 6;
+  for (const RunFilter& filter : query.filters) {
+    if (!kOperators.contains(filter.op)) throw core::Error(core::ErrorCode::bad_request, "unknown comparison '" + filter.op + "'");
+    const std::string op = filter.op == "==" ? "=" : filter.op;
+    sql += " AND json_extract(summary, ?" + std::to_string(parameter) + ") " + op + " ?" + std::to_string(parameter + 1);
+    parameter += 2;
+  }
+  const int limit_at = parameter, page_at = parameter + 1;
+  if (query.sort) {
+    const int sort_at = parameter + 2;
+    sql += " ORDER BY json_extract(summary, ?" + std::to_string(sort_at) + ") IS NULL, json_extract(summary, ?" + std::to_string(sort_at) +
+           ") " + (query.descending ? "DESC" : "ASC") + ", rowid DESC LIMIT ?" + std::to_string(limit_at) + " OFFSET ?" + std::to_string(page_at);
+  } else {
+    sql += " AND (?" + std::to_string(page_at) + " = '' OR rowid < (SELECT rowid FROM runs WHERE id = ?" + std::to_string(page_at) +
+           ")) ORDER BY rowid DESC LIMIT ?" + std::to_string(limit_at);
+  }
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare(sql);
+  select.bind(1, query.status).bind(2, query.scenario_id).bind(4, query.text).bind(5, query.tag);
+  if (query.owner) select.bind(3, *query.owner);
+  parameter = 6;
+  for (const RunFilter& filter : query.filters) {
+    select.bind(parameter, summary_path(filter.metric, filter.statistic)).bind(parameter + 1, filter.threshold);
+    parameter += 2;
+  }
+  select.bind(limit_at, std::int64_t{query.limit});
+  if (query.sort) {
+    select.bind(page_at, query.offset).bind(parameter + 2, summary_path(query.sort->first, query.sort->second));
+  } else {
+    select.bind(page_at, query.after_id);
+  }
+  std::vector<RunRecord> list;
+  while (select.step()) list.push_back(read_run(select));
+  return list;
+}
+
+void Store::set_run_labels(const std::string& id, const std::string& name, const std::vector<std::string>& tags, const std::string& notes) {
+  std::lock_guard lock(mutex_);
+  Statement update = db_->prepare("UPDATE runs SET name = ?2, tags = ?3, notes = ?4 WHERE id = ?1");
+  update.bind(1, id).bind(2, name).bind(3, core::json_text(nlohmann::json(tags))).bind(4, notes);
+  update.run();
+}
+
+void Store::set_run_summary(const std::string& id, const nlohmann::json& summary) {
+  std::lock_guard lock(mutex_);
+  Statement update = db_->prepare("UPDATE runs SET summary = ?2 WHERE id = ?1");
+  update.bind(1, id).bind(2, core::json_text(summary));
+  update.run();
+}
+
+std::vector<RunRecord> Store::ended_runs_without_summary() {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare("SELECT " + std::string(kRunColumns) +
+                                  " FROM runs WHERE summary IS NULL AND status IN ('finished', 'failed', 'cancelled', 'interrupted')");
   std::vector<RunRecord> list;
   while (select.step()) list.push_back(read_run(select));
   return list;

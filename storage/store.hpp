@@ -45,6 +45,32 @@ struct RunRecord {
   std::string created_at;
   std::optional<std::string> finished_at;
   std::string owner;  ///< name of the token that started it; empty without owners
+  std::string name;   ///< given by its user; may be empty
+  std::vector<std::string> tags;
+  std::string notes;
+};
+
+/// A run's aggregate statistic compared with a number: what a list keeps (a gate's form).
+struct RunFilter {
+  std::string metric, statistic;
+  std::string op;  ///< ==, !=, <, <=, >, >=
+  double threshold = 0.0;
+};
+
+/// Which runs a list gives, in which order.
+struct RunQuery {
+  int limit = 20;
+  std::string after_id;     ///< newest first: the page after this run
+  std::int64_t offset = 0;  ///< sorted by a metric: runs to skip
+  std::string status;
+  std::string scenario_id;  ///< the stored record's id or the catalogue id in config.scenario
+  std::optional<std::string> owner;
+  std::string text;  ///< in the name, notes, tags, scenario or controller, any case
+  std::string tag;   ///< one of its tags, exactly
+  /// Sorted by this metric's statistic (runs without it last), else newest first.
+  std::optional<std::pair<std::string, std::string>> sort;
+  bool descending = true;
+  std::vector<RunFilter> filters;  ///< every one holds (a run without the statistic is left out)
 };
 
 /// One metric of an episode: a finite value, or no value and the reason why.
@@ -150,6 +176,14 @@ class Store {
   /// the run with id `after_id` (paging cursor).
   std::vector<RunRecord> runs(int limit, const std::string& after_id = "", const std::string& status = "",
                               const std::string& scenario_id = "", const std::optional<std::string>& owner = std::nullopt);
+  /// The runs a query asks for. Sorting and filtering by a metric read the stored summaries.
+  std::vector<RunRecord> runs(const RunQuery& query);
+  /// Sets what the user gives a run: its name, tags and notes.
+  void set_run_labels(const std::string& id, const std::string& name, const std::vector<std::string>& tags, const std::string& notes);
+  /// Keeps an ended run's summary: {metric: {statistic: value or null}}.
+  void set_run_summary(const std::string& id, const nlohmann::json& summary);
+  /// Ended runs without a summary yet (stored before summaries were, or by another process).
+  std::vector<RunRecord> ended_runs_without_summary();
   /// Marks 'interrupted' every queued or running run whose process has ended (a server or `hrisim run`
   /// that was killed): each run records the process that computes it, so runs of a process still
   /// alive — another one sharing the file — are left alone. Returns how many.

@@ -159,7 +159,7 @@ std::function<std::optional<Response>(Request&)> make_guard(AccessPolicy policy,
     }
     if (policy.tokens.empty()) {
       request.caller = {};
-      if ((request.method == "POST" || request.method == "PUT") && !safe_content_type(request)) {
+      if ((request.method == "POST" || request.method == "PUT" || request.method == "PATCH") && !safe_content_type(request)) {
         return refusal(core::ErrorCode::unsupported_media_type,
                        "a " + request.method + " needs Content-Type: application/json (application/xml for an XML scenario, application/yaml for a YAML one) on a server without tokens",
                        {{"content_type", header(request, "content-type")}});

@@ -17,7 +17,11 @@ std::optional<std::string> query_value(const std::string& query, const std::stri
   std::string pair;
   while (std::getline(in, pair, '&')) {
     const std::size_t equals = pair.find('=');
-    if (pair.substr(0, equals) == key) return equals == std::string::npos ? "" : pair.substr(equals + 1);
+    if (pair.substr(0, equals) != key) continue;
+    // As browsers encode a form: '+' for a space, %XX for the rest.
+    std::string value = equals == std::string::npos ? "" : pair.substr(equals + 1);
+    std::replace(value.begin(), value.end(), '+', ' ');
+    return percent_decode(value);
   }
   return std::nullopt;
 }

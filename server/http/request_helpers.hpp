@@ -12,7 +12,8 @@ namespace hrisim::http {
 /// Deepest nesting of arrays and objects accepted in a JSON body (a scenario needs about 10).
 inline constexpr int kMaxJsonDepth = 64;
 
-/// The value of `key` in a raw query string (no percent-decoding: the values used here are plain).
+/// The value of `key` in a raw query string, decoded as browsers encode a form (%XX, and + for a
+/// space); core::Error(bad_request) for a malformed escape.
 std::optional<std::string> query_value(const std::string& query, const std::string& key);
 
 /// An integer query parameter in [low, high], or `fallback` when absent; 400 naming it otherwise.

@@ -159,16 +159,16 @@ std::string percent_decode(std::string_view text) {
     const int high = i + 2 < text.size() ? hex_value(text[i + 1]) : -1;
     const int low = i + 2 < text.size() ? hex_value(text[i + 2]) : -1;
     if (high < 0 || low < 0) {
-      throw core::Error(core::ErrorCode::bad_request, "malformed percent escape in request path",
+      throw core::Error(core::ErrorCode::bad_request, "malformed percent escape in the request's path or query",
                         {{"offset", i}});
     }
     const char c = static_cast<char>(high * 16 + low);
-    if (c == '\0') throw core::Error(core::ErrorCode::bad_request, "encoded NUL in request path", {{"offset", i}});
+    if (c == '\0') throw core::Error(core::ErrorCode::bad_request, "encoded NUL in the request's path or query", {{"offset", i}});
     decoded += c;
     i += 2;
   }
   if (const auto bad = core::invalid_utf8_offset(decoded)) {
-    throw core::Error(core::ErrorCode::bad_request, "request path is not UTF-8 once decoded", {{"offset", *bad}});
+    throw core::Error(core::ErrorCode::bad_request, "the request's path or query is not UTF-8 once decoded", {{"offset", *bad}});
   }
   return decoded;
 }

@@ -135,7 +135,8 @@ Response complete(Response response, const std::string& where);
 /// Whether `caller` may see something `owner` made.
 inline bool visible_to(const Caller& caller, const std::string& owner) { return caller.sees_all || caller.owner == owner; }
 
-/// Decodes %XX escapes; throws core::Error(bad_request) on a malformed escape or an encoded NUL.
+/// Decodes %XX escapes (of a path, or a query's value); throws core::Error(bad_request) on a malformed
+/// escape, an encoded NUL or what is not UTF-8 once decoded.
 std::string percent_decode(std::string_view text);
 
 }  // namespace hrisim::http

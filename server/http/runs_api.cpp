@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -10,6 +11,7 @@
 #include "http/request_helpers.hpp"
 #include "http/session_limits.hpp"
 #include "metrics/definitions.hpp"
+#include "metrics/gates.hpp"
 #include "runs/executor.hpp"
 #include "runs/report.hpp"
 #include "runs/spec.hpp"
@@ -44,6 +46,51 @@ class Problems {
   json list_ = json::array();
 };
 
+/// Longest run name and notes, most tags and longest tag.
+constexpr std::size_t kMaxRunNameLength = 200;
+constexpr std::size_t kMaxRunNotesLength = 20000;
+constexpr std::size_t kMaxRunTags = 32;
+constexpr std::size_t kMaxRunTagLength = 64;
+
+struct RunLabels {
+  std::string name;
+  std::vector<std::string> tags;
+  std::string notes;
+};
+
+/// The name, tags and notes the body gives (the others kept as `labels` has them), problems noted.
+void read_labels(const json& body, RunLabels& labels, Problems& problems) {
+  const auto text = [&](const char* key, std::size_t most, std::string& into) {
+    if (!body.contains(key)) return;
+    if (!body[key].is_string() || body[key].get<std::string>().size() > most) {
+      problems.add(std::string("/") + key, std::string(key) + " must be text of at most " + std::to_string(most) + " bytes");
+      return;
+    }
+    into = body[key].get<std::string>();
+  };
+  text("name", kMaxRunNameLength, labels.name);
+  text("notes", kMaxRunNotesLength, labels.notes);
+  if (!body.contains("tags")) return;
+  if (!body["tags"].is_array() || body["tags"].size() > kMaxRunTags) {
+    problems.add("/tags", "tags must be a list of at most " + std::to_string(kMaxRunTags) + " words");
+    return;
+  }
+  std::vector<std::string> tags;
+  for (std::size_t i = 0; i < body["tags"].size(); ++i) {
+    const json& tag = body["tags"][i];
+    const std::string word = tag.is_string() ? tag.get<std::string>() : "";
+    const bool plain = !word.empty() && word.size() <= kMaxRunTagLength && word.find_first_of(", \t\r\n") == std::string::npos;
+    if (!plain) {
+      problems.add("/tags/" + std::to_string(i), "a tag is a word of 1 to " + std::to_string(kMaxRunTagLength) + " bytes without spaces or commas");
+    } else if (std::find(tags.begin(), tags.end(), word) != tags.end()) {
+      problems.add("/tags/" + std::to_string(i), "tag '" + word + "' is given twice");
+    } else {
+      tags.push_back(word);
+    }
+  }
+  labels.tags = std::move(tags);
+}
+
 std::vector<std::uint64_t> seeds_of(const json& body, Problems& problems) {
   std::vector<std::uint64_t> seeds;
   if (body.contains("seeds") == body.contains("count")) {
@@ -76,7 +123,8 @@ std::vector<std::uint64_t> seeds_of(const json& body, Problems& problems) {
 
 /// The run the body asks for, every problem of its fields in `problems` (the scenario must be there).
 runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue, const Caller& caller, Problems& problems) {
-  refuse_unknown_keys(body, {"scenario", "seeds", "count", "first_seed", "controller", "max_time", "gates", "requests", "baseline_without_robot"});
+  refuse_unknown_keys(body, {"scenario", "seeds", "count", "first_seed", "controller", "max_time", "gates", "requests", "baseline_without_robot",
+                             "name", "tags", "notes"});
   if (!body.contains("scenario") || !body["scenario"].is_string()) {
     throw core::Error(core::ErrorCode::bad_request, "scenario: the id of a scenario is required", {{"pointer", "/scenario"}});
   }
@@ -181,6 +229,75 @@ storage::EpisodeRecord find_episode(storage::Store& store, const std::string& id
   return std::move(*episode);
 }
 
+/// A query parameter's comma-separated values; none when absent.
+std::vector<std::string> list_parameter(const Request& request, const std::string& key) {
+  std::vector<std::string> values;
+  std::istringstream list(query_value(request.query, key).value_or(""));
+  for (std::string value; std::getline(list, value, ',');) {
+    if (!value.empty()) values.push_back(value);
+  }
+  return values;
+}
+
+/// "metric.statistic" checked against the metric definitions (a gate's left side).
+std::pair<std::string, std::string> metric_statistic(const std::string& text, const std::string& parameter) {
+  try {
+    const metrics::Gate gate = metrics::parse_gate(text + " == 0");
+    return {gate.metric, gate.statistic};
+  } catch (const core::Error& e) {
+    throw core::Error(core::ErrorCode::bad_request, parameter + ": " + e.what(), {{"parameter", parameter}});
+  }
+}
+
+/// The list a GET /api/v1/runs asks for: status, scenario, text, tag, sorting by a metric (cursor
+/// "@offset" then) or newest first (cursor: the last run's id), and filters in a gate's form.
+storage::RunQuery run_query(const Request& request, storage::Store& store) {
+  storage::RunQuery query;
+  query.limit = static_cast<int>(integer_query(request, "limit", 1, kMaxRunsPerPage, 20));
+  query.status = query_value(request.query, "status").value_or("");
+  query.scenario_id = query_value(request.query, "scenario").value_or("");
+  query.text = query_value(request.query, "q").value_or("");
+  query.tag = query_value(request.query, "tag").value_or("");
+  query.owner = request.caller.sees_all ? std::nullopt : std::optional(request.caller.owner);
+  static const std::set<std::string> kStatuses{"", "queued", "running", "finished", "failed", "cancelled", "interrupted"};
+  if (!kStatuses.contains(query.status)) {
+    throw core::Error(core::ErrorCode::bad_request,
+                      "status must be one of queued, running, finished, failed, cancelled, interrupted", {{"parameter", "status"}});
+  }
+  if (const auto sort = query_value(request.query, "sort"); sort && *sort != "created") query.sort = metric_statistic(*sort, "sort");
+  const std::string order = query_value(request.query, "order").value_or("desc");
+  if (order != "asc" && order != "desc") throw core::Error(core::ErrorCode::bad_request, "order: asc or desc", {{"parameter", "order"}});
+  query.descending = order == "desc";
+  for (const std::string& where : list_parameter(request, "where")) {
+    try {
+      const metrics::Gate gate = metrics::parse_gate(where);
+      query.filters.push_back({gate.metric, gate.statistic, gate.op, gate.threshold});
+    } catch (const core::Error& e) {
+      throw core::Error(core::ErrorCode::bad_request, std::string("where: ") + e.what(), {{"parameter", "where"}});
+    }
+  }
+  const std::string cursor = query_value(request.query, "cursor").value_or("");
+  if (query.sort) {
+    char* end = nullptr;
+    const long long offset = cursor.starts_with('@') ? std::strtoll(cursor.c_str() + 1, &end, 10) : 0;
+    if (!cursor.empty() && (!cursor.starts_with('@') || end == cursor.c_str() + 1 || *end != '\0' || offset < 0)) {
+      throw core::Error(core::ErrorCode::bad_request, "cursor: the next_cursor of the previous page of this sorted list", {{"parameter", "cursor"}});
+    }
+    query.offset = offset;
+  } else {
+    if (!cursor.empty() && !store.run(cursor)) throw core::Error(core::ErrorCode::bad_request, "cursor: no run '" + cursor + "'", {{"parameter", "cursor"}});
+    query.after_id = cursor;
+  }
+  return query;
+}
+
+/// Stores the summary of every ended run that has none yet, so that lists sort and filter them all.
+void summarize_ended_runs(storage::Store& store, runs::Executor& executor) {
+  for (const storage::RunRecord& run : store.ended_runs_without_summary()) {
+    store.set_run_summary(run.id, report_of(store, executor, run)["aggregates"]);
+  }
+}
+
 }  // namespace
 
 void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, storage::Store* store, runs::Executor* executor) {
@@ -205,8 +322,13 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
     const json body = json_object_body(request);
     Problems problems;
     const runs::RunRequest asked = run_request(body, *catalogue, request.caller, problems);
+    RunLabels labels;
+    read_labels(body, labels, problems);
     runs::RunSpec spec = runs::make_run_spec(asked, problems.list());
     spec.owner = request.caller.owner;
+    spec.name = labels.name;
+    spec.tags = labels.tags;
+    spec.notes = labels.notes;
     spec.scenario_id = stored_scenario_id(*store, asked.scenario_id, *catalogue->find(asked.scenario_id), asked.scenario_sha256);
     const storage::RunRecord run = executor->submit(std::move(spec));
     Response response = Response::json(201, report_of(*store, *executor, find_run(*store, run.id, request.caller)));
@@ -215,37 +337,48 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
   });
 
   router.add("GET", "/api/v1/runs", [store, executor](const Request& request) {
-    const auto limit = static_cast<int>(integer_query(request, "limit", 1, kMaxRunsPerPage, 20));
-    const std::string cursor = query_value(request.query, "cursor").value_or("");
-    const std::string status = query_value(request.query, "status").value_or("");
-    const std::string scenario = query_value(request.query, "scenario").value_or("");
-    static const std::set<std::string> kStatuses{"", "queued", "running", "finished", "failed", "cancelled", "interrupted"};
-    if (!kStatuses.contains(status)) {
-      throw core::Error(core::ErrorCode::bad_request,
-                        "status must be one of queued, running, finished, failed, cancelled, interrupted", {{"parameter", "status"}});
-    }
-    if (!cursor.empty() && !store->run(cursor)) {
-      throw core::Error(core::ErrorCode::bad_request, "cursor: no run '" + cursor + "'", {{"parameter", "cursor"}});
-    }
+    const storage::RunQuery query = run_query(request, *store);
+    if (query.sort || !query.filters.empty()) summarize_ended_runs(*store, *executor);
+    std::vector<std::pair<std::string, std::string>> columns;
+    for (const std::string& name : list_parameter(request, "metrics")) columns.push_back(metric_statistic(name, "metrics"));
     json items = json::array();
-    const auto page = store->runs(limit, cursor, status, scenario, request.caller.sees_all ? std::nullopt : std::optional(request.caller.owner));
+    const auto page = store->runs(query);
     for (const storage::RunRecord& run : page) {
       const json report = report_of(*store, *executor, run);
-      items.push_back({{"id", report["id"]},
-                       {"scenario", report["scenario"]},
-                       {"controller", report["controller"]},
-                       {"status", report["status"]},
-                       {"created_at", report["created_at"]},
-                       {"finished_at", report["finished_at"]},
-                       {"progress", report["progress"]},
-                       {"success_rate", report["rates"]["success_rate"]},
-                       {"verdict", {{"passed", report["verdict"]["passed"]},
-                                    {"complete", report["verdict"]["complete"]},
-                                    {"reasons", report["verdict"]["reasons"]}}}});
+      json item{{"id", report["id"]},
+                {"name", report["name"]},
+                {"tags", report["tags"]},
+                {"scenario", report["scenario"]},
+                {"controller", report["controller"]},
+                {"status", report["status"]},
+                {"created_at", report["created_at"]},
+                {"finished_at", report["finished_at"]},
+                {"progress", report["progress"]},
+                {"success_rate", report["rates"]["success_rate"]},
+                {"verdict", {{"passed", report["verdict"]["passed"]},
+                             {"complete", report["verdict"]["complete"]},
+                             {"reasons", report["verdict"]["reasons"]}}}};
+      json values = json::object();
+      for (const auto& [metric, statistic] : columns) values[metric + "." + statistic] = report["aggregates"][metric][statistic];
+      item["metrics"] = std::move(values);
+      items.push_back(std::move(item));
     }
     json reply{{"items", items}};
-    reply["next_cursor"] = static_cast<int>(page.size()) == limit ? json(page.back().id) : json();
+    const bool full = static_cast<int>(page.size()) == query.limit;
+    reply["next_cursor"] = !full ? json() : query.sort ? json("@" + std::to_string(query.offset + query.limit)) : json(page.back().id);
     return Response::json(200, reply);
+  });
+
+  router.add("PATCH", "/api/v1/runs/{id}", [store, executor](const Request& request) {
+    const storage::RunRecord run = find_run(*store, request.path_params.at("id"), request.caller);
+    const json body = json_object_body(request);
+    refuse_unknown_keys(body, {"name", "tags", "notes"});
+    RunLabels labels{run.name, run.tags, run.notes};
+    Problems problems;
+    read_labels(body, labels, problems);
+    runs::throw_if_problems(problems.list());
+    store->set_run_labels(run.id, labels.name, labels.tags, labels.notes);
+    return Response::json(200, report_of(*store, *executor, find_run(*store, run.id, request.caller)));
   });
 
   router.add("GET", "/api/v1/runs/compare", [store](const Request& request) {

@@ -35,7 +35,8 @@ Executor::~Executor() {
 
 storage::RunRecord Executor::submit(RunSpec spec) {
   auto run = std::make_shared<ActiveRun>();
-  run->record = store_.put_run({core::unguessable_id('r'), spec.scenario_id, spec.controller, spec.config, "queued", "", std::nullopt, spec.owner});
+  run->record = store_.put_run({core::unguessable_id('r'), spec.scenario_id, spec.controller, spec.config, "queued", "", std::nullopt, spec.owner,
+                                spec.name, spec.tags, spec.notes});
   run->spec = std::move(spec);
   {
     std::lock_guard lock(mutex_);

@@ -33,6 +33,9 @@ struct RunSpec {
   std::vector<std::pair<double, std::string>> requests;  ///< scripted robot requests (time, routine)
   bool baseline_without_robot = false;                    ///< see EpisodeOptions
   std::string owner;  ///< who started it (a token's name); empty without owners
+  std::string name;   ///< what its user calls it, its tags and notes (editable later)
+  std::vector<std::string> tags;
+  std::string notes;
 };
 
 class Executor {

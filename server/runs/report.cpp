@@ -147,6 +147,9 @@ json run_report(const storage::RunRecord& run, const std::vector<storage::Episod
   passed = passed && complete && counts["error"] == 0;
 
   return {{"id", run.id},
+          {"name", run.name},
+          {"tags", run.tags},
+          {"notes", run.notes},
           {"scenario", run.config.value("scenario", run.scenario_id)},
           {"scenario_record", run.scenario_id},
           {"controller", run.controller},

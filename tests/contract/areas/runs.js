@@ -224,6 +224,51 @@ describe('runs', () => {
     assert.equal(await listed(), true, 'listed again');
   });
 
+  it('PATCH /api/v1/runs/{id} names, tags and notes a run; GET /api/v1/runs finds it by text and tag, sorts and filters by a metric, gives metric columns', async () => {
+    const label = `labels${Date.now()}`;
+    const started = await startRun({ scenario: 'queue', count: 2, name: 'first of two', tags: [label, 'queue'], notes: 'with the default controller' });
+    assert.equal(started.json.name, 'first of two');
+    assert.deepEqual(started.json.tags, [label, 'queue']);
+    const first = await waitForRun(started.json.id);
+    const second = await waitForRun((await startRun({ scenario: 'queue', count: 1, first_seed: 5, tags: [label] })).json.id);
+    const patched = await api.patch(`/api/v1/runs/${second.id}`, { name: 'second', notes: 'one seed only' });
+    assert.equal(patched.status, 200, patched.body);
+    assert.equal(patched.json.name, 'second');
+    assert.deepEqual(patched.json.tags, [label], 'tags not given stay');
+    assert.equal(patched.json.notes, 'one seed only');
+    const wrong = await api.patch(`/api/v1/runs/${second.id}`, { name: 7, tags: ['a b', 'x', 'x'] });
+    assert.equal(wrong.status, 400);
+    assert.deepEqual(wrong.json.error.details.errors.map((error) => error.pointer), ['/name', '/tags/0', '/tags/2']);
+    assert.equal((await api.patch('/api/v1/runs/r0', { name: 'x' })).status, 404);
+
+    const list = async (query) => {
+      const reply = await api.get(`/api/v1/runs?tag=${label}&${query}`);
+      assert.equal(reply.status, 200, `${query}: ${reply.body}`);
+      return reply.json;
+    };
+    assert.deepEqual((await list('')).items.map((item) => item.id), [second.id, first.id], 'newest first');
+    assert.deepEqual((await list('q=ONE%20SEED')).items.map((item) => item.id), [second.id], 'text in the notes, any case');
+    const columns = await list('metrics=time_to_goal.mean,collisions.max');
+    assert.deepEqual(Object.keys(columns.items[0].metrics).sort(), ['collisions.max', 'time_to_goal.mean']);
+    assert.equal(columns.items[1].metrics['collisions.max'], first.aggregates.collisions.max);
+    // Seeds 0 and 1 against seed 5: episodes of different lengths (ties would go newest first).
+    const length = (run) => run.aggregates.episode_length.mean;
+    assert.notEqual(length(first), length(second));
+    const longestFirst = [first, second].sort((a, b) => length(b) - length(a)).map((run) => run.id);
+    assert.deepEqual((await list('sort=episode_length.mean')).items.map((item) => item.id), longestFirst);
+    assert.deepEqual((await list('sort=episode_length.mean&order=asc')).items.map((item) => item.id), [...longestFirst].reverse());
+    const paged = await list('sort=episode_length.mean&limit=1');
+    assert.equal(paged.next_cursor, '@1');
+    assert.deepEqual((await list('sort=episode_length.mean&limit=1&cursor=@1')).items.map((item) => item.id), [longestFirst[1]]);
+    const longest = Math.max(length(first), length(second));
+    assert.deepEqual((await list(`where=episode_length.mean>=${longest}`)).items.map((item) => item.id), [longestFirst[0]]);
+    for (const query of ['sort=nonsense.mean', 'sort=episode_length.median', 'order=up', 'where=episode_length.mean', 'metrics=x.y',
+      'sort=episode_length.mean&cursor=r1']) {
+      const refused = await api.get(`/api/v1/runs?${query}`);
+      assert.equal(refused.status, 400, query);
+    }
+  });
+
   it('POST /api/v1/runs: requests make the robot ask at the given times', async () => {
     const plain = await waitForRun((await startRun({ scenario: 'queue', seeds: [0] })).json.id);
     const asking = await waitForRun((await startRun({ scenario: 'queue', seeds: [0], requests: [{ time: 1, routine: 'help_robot' }] })).json.id);
@@ -314,7 +359,7 @@ describe('runs', () => {
   it('GET /api/v1/runs: the summary agrees with the report, with the reasons of its verdict', async () => {
     const listed = (await api.get('/api/v1/runs?limit=100')).json.items.find((item) => item.id === report.id);
     assert.deepEqual(listed, {
-      id: report.id, scenario: 'queue', controller: 'scenario', status: 'finished', created_at: report.created_at,
+      id: report.id, name: '', tags: [], metrics: {}, scenario: 'queue', controller: 'scenario', status: 'finished', created_at: report.created_at,
       finished_at: report.finished_at, progress: report.progress, success_rate: report.rates.success_rate,
       verdict: { passed: false, complete: true, reasons: report.verdict.reasons },
     });

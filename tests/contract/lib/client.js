@@ -46,8 +46,8 @@ class Client {
     if (token !== undefined) headers.authorization = `Bearer ${token}`;
     if (json !== undefined) body = JSON.stringify(json);
     if (body !== undefined) headers['content-type'] = contentType ?? 'application/json';
-    // A server without tokens takes POST and PUT only as JSON (or XML), a body or not.
-    else if (method === 'POST' || method === 'PUT') headers['content-type'] = contentType ?? 'application/json';
+    // A server without tokens takes POST, PUT and PATCH only as JSON (or XML), a body or not.
+    else if (method === 'POST' || method === 'PUT' || method === 'PATCH') headers['content-type'] = contentType ?? 'application/json';
     const reply = await exchange(this.port, method, target, headers, body);
     checkHttpExchange({ method, target, json }, reply);
     reply.json = (reply.headers['content-type'] ?? '').startsWith('application/json') && reply.body !== '' ? JSON.parse(reply.body) : undefined;
@@ -57,6 +57,7 @@ class Client {
   get(target, options) { return this.request('GET', target, options); }
   post(target, json, options) { return this.request('POST', target, { json, ...options }); }
   put(target, json, options) { return this.request('PUT', target, { json, ...options }); }
+  patch(target, json, options) { return this.request('PATCH', target, { json, ...options }); }
   delete(target, options) { return this.request('DELETE', target, options); }
 
   /**

@@ -149,7 +149,7 @@ TEST(Store, DataSurvivesReopen) {
   {
     Store store(dir / "db");
     store.put_scenario(make_scenario("s"));
-    store.put_run({"run-1", "s", "teleop", {{"seeds", {1, 2}}}, "running", "", std::nullopt, ""});
+    store.put_run({"run-1", "s", "teleop", {{"seeds", {1, 2}}}, "running", "", std::nullopt, "", "first try", {"baseline"}, "notes"});
     EpisodeRecord episode = make_episode("s", 1);
     episode.run_id = "run-1";
     store.write_episode(episode);
@@ -162,8 +162,58 @@ TEST(Store, DataSurvivesReopen) {
   EXPECT_EQ(run->status, "finished");
   EXPECT_TRUE(run->finished_at);
   EXPECT_EQ(run->config["seeds"][1], 2);
+  EXPECT_EQ(run->name, "first try");
+  EXPECT_EQ(run->tags, std::vector<std::string>{"baseline"});
+  EXPECT_EQ(run->notes, "notes");
   EXPECT_EQ(store.episode_ids_of_run("run-1"), std::vector<std::string>{"episode-1"});
   ASSERT_TRUE(store.episode("episode-1"));
+}
+
+TEST(Store, RunsAreFoundByTextAndTagAndSortedAndFilteredByTheirSummaries) {
+  TempDir dir;
+  Store store(dir / "db");
+  store.put_scenario(make_scenario("s"));
+  const auto put = [&](const std::string& id, const std::string& name, std::vector<std::string> tags, std::optional<double> success) {
+    store.put_run({id, "s", "social", {{"scenario", "elevator"}}, "finished", "", std::nullopt, "", name, std::move(tags), ""});
+    if (success) store.set_run_summary(id, {{"success", {{"mean", *success}, {"max", 1.0}}}});
+  };
+  put("r1", "Baseline DWA", {"dwa", "v1"}, 0.5);
+  put("r2", "tuned", {"dwa"}, 0.9);
+  put("r3", "other", {"orca"}, 0.7);
+  put("r4", "no summary yet", {}, std::nullopt);
+  const auto ids = [](const std::vector<RunRecord>& runs) {
+    std::vector<std::string> list;
+    for (const RunRecord& run : runs) list.push_back(run.id);
+    return list;
+  };
+  RunQuery query;
+  EXPECT_EQ(ids(store.runs(query)), (std::vector<std::string>{"r4", "r3", "r2", "r1"})) << "newest first";
+  query.text = "baseline";
+  EXPECT_EQ(ids(store.runs(query)), std::vector<std::string>{"r1"}) << "any case, in the name";
+  query.text = "ELEVATOR";
+  EXPECT_EQ(store.runs(query).size(), 4u) << "in the scenario";
+  query.text = "";
+  query.tag = "dwa";
+  EXPECT_EQ(ids(store.runs(query)), (std::vector<std::string>{"r2", "r1"}));
+  query.tag = "dw";
+  EXPECT_TRUE(store.runs(query).empty()) << "a tag exactly";
+  query.tag = "";
+  query.sort = {"success", "mean"};
+  EXPECT_EQ(ids(store.runs(query)), (std::vector<std::string>{"r2", "r3", "r1", "r4"})) << "highest first, without a value last";
+  query.descending = false;
+  EXPECT_EQ(ids(store.runs(query)), (std::vector<std::string>{"r1", "r3", "r2", "r4"}));
+  query.limit = 2;
+  query.offset = 2;
+  EXPECT_EQ(ids(store.runs(query)), (std::vector<std::string>{"r2", "r4"})) << "the second page";
+  query = RunQuery{};
+  query.filters = {{"success", "mean", ">=", 0.7}};
+  EXPECT_EQ(ids(store.runs(query)), (std::vector<std::string>{"r3", "r2"}));
+  query.filters.push_back({"success", "mean", "<", 0.8});
+  EXPECT_EQ(ids(store.runs(query)), std::vector<std::string>{"r3"}) << "every filter holds";
+  EXPECT_EQ(ids(store.ended_runs_without_summary()), std::vector<std::string>{"r4"});
+  store.set_run_labels("r4", "named", {"a", "b"}, "a note");
+  EXPECT_EQ(store.run("r4")->tags, (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(store.run("r4")->notes, "a note");
 }
 
 TEST(Store, FailedEpisodeWriteStoresNothing) {
@@ -223,7 +273,7 @@ TEST(Store, InvalidRunStatusIsRefusedByTheSchema) {
   TempDir dir;
   Store store(dir / "db");
   store.put_scenario(make_scenario("s"));
-  EXPECT_THROW(store.put_run({"r", "s", "teleop", {}, "exploded", "", std::nullopt, ""}), core::Error);
+  EXPECT_THROW(store.put_run({"r", "s", "teleop", {}, "exploded", "", std::nullopt, "", "", {}, ""}), core::Error);
 }
 
 // Migration from an older schema: a file made by the first migrations keeps its data when a newer
