@@ -7,7 +7,8 @@ import { h, showError, errorPage } from './lib/ui.js';
 const routes = [
   { pattern: /^\/?$/, page: 'scenarios', nav: 'scenarios' },
   { pattern: /^\/scenarios\/([^/]+)$/, page: 'scenario', nav: 'scenarios', keys: ['id'] },
-  { pattern: /^\/sessions\/([^/]+)$/, page: 'session', nav: 'scenarios', keys: ['id'] },
+  { pattern: /^\/sessions$/, page: 'sessions', nav: 'sessions' },
+  { pattern: /^\/sessions\/([^/]+)$/, page: 'session', nav: 'sessions', keys: ['id'] },
   { pattern: /^\/runs$/, page: 'runs', nav: 'runs' },
   { pattern: /^\/runs\/([^/]+)$/, page: 'run', nav: 'runs', keys: ['id'] },
   { pattern: /^\/episodes\/([^/]+)$/, page: 'episode', nav: 'runs', keys: ['id'] },

@@ -1,12 +1,17 @@
 // One scenario (#/scenarios/ID): its facts, its map with what is on it, its choreography as a timeline
-// (one row per agent, one column per step), and starting a live session or a batch run of it.
+// (one row per agent, one column per step), starting a live session or a batch run of it, and deleting
+// an upload.
 import { api } from '../lib/api.js';
-import { h, loading, errorPage, formatNumber, pageTitle } from '../lib/ui.js';
+import { h, loading, errorPage, showError, formatNumber, pageTitle } from '../lib/ui.js';
 import { MapView, palette } from '../lib/map2d.js';
 import { taskSummary } from '../lib/tasks.js';
 
-/** Scenarios uploaded from the catalogue in this page's life, with their warnings, shown once on arrival. */
+/** Scenarios uploaded from the catalogue in this page's life, with their warnings and whether they existed, shown once on arrival. */
 export const recentUploads = new Map();
+/** Uploads deleted from their own page, id → name, said once by the catalogue. */
+export const recentDeletions = new Map();
+/** A session started here ends this long (s) after its last tab closed (or after its start, if no tab opens it). */
+export const UNWATCHED_GRACE_S = 30;
 
 const number = (value, unit) => `${formatNumber(value)} ${unit}`;
 // To the centimetre: imported files carry rounding noise (7.96e-4 m) nobody means.
@@ -133,6 +138,16 @@ function legend() {
   return h('ul', { class: 'sc-map-legend', 'aria-label': 'Map legend' }, entries.map(([colour, shape, text]) => h('li', {}, swatch(colour, shape), text)));
 }
 
+/** Asks whether to delete the upload `summary` ({id, name}), then does; true once deleted (the API's error is thrown). */
+export async function deleteUpload({ id, name }) {
+  if (!confirm(`Delete the uploaded scenario “${name}” (${id})?`)) return false;
+  await api.delete(`/api/v1/scenarios/${encodeURIComponent(id)}`);
+  return true;
+}
+
+/** What a deletion did: an upload runs ran is only out of the list (docs/api.md, Uploading a scenario). */
+export const deletedText = (name) => `Deleted “${name}”. If runs used it, their reports and replays still have it; it is no longer listed.`;
+
 function table(caption, headings, rows) {
   if (!rows.length) return null;
   return h('table', { class: 'sc-world-table' }, h('caption', {}, caption),
@@ -219,7 +234,7 @@ function sessionForm(id, doc, world) {
     for (const element of [seedError, controllerError]) if (element) element.textContent = '';
     for (const element of [seed, controller, goal]) element?.removeAttribute('aria-invalid');
     status.replaceChildren();
-    const body = { scenario: id };
+    const body = { scenario: id, unwatched_grace: UNWATCHED_GRACE_S };
     if (seed.value.trim() !== '') body.seed = Number(seed.value);
     if (controller && controller.value) {
       body.controller = { type: controller.value };
@@ -242,15 +257,21 @@ function sessionForm(id, doc, world) {
         }
         return false;
       });
-      if (!problems.length || placed.length < problems.length) {
-        const retry = error.status === 503 ? ' The server holds its maximum of live sessions; end one or try again in 10 s.' : '';
-        status.append(h('p', { class: 'message error', role: 'alert' }, h('strong', {}, `Not started (HTTP ${error.status ?? '?'}): `), error.message, retry));
+      if (error.details?.max_sessions !== undefined) {
+        // The server's message names its API; in the browser the way out is the Sessions page.
+        status.append(h('p', { class: 'message error', role: 'alert' }, h('strong', {}, 'Not started: '),
+          `the server already runs its maximum of ${error.details.max_sessions} sessions (finished ones do not count). End one on the `,
+          h('a', { href: '#/sessions' }, 'Sessions page'), `, or try again in ${error.details.retry_after ?? 10} s.`));
+      } else if (!problems.length || placed.length < problems.length) {
+        status.append(h('p', { class: 'message error', role: 'alert' }, h('strong', {}, `Not started (HTTP ${error.status ?? '?'}): `), error.message));
       }
     } finally {
       wait.remove();
       start.disabled = false;
     }
-  } }, h('div', { class: 'fields' }, fields), note ? h('p', { class: 'muted' }, note) : null, h('div', { class: 'row' }, start), status);
+  } }, h('div', { class: 'fields' }, fields), note ? h('p', { class: 'muted' }, note) : null, h('div', { class: 'row' }, start),
+  h('p', { class: 'muted sc-session-note' }, `It ends ${UNWATCHED_GRACE_S} s after its last tab closes; the `, h('a', { href: '#/sessions' }, 'Sessions page'), ' lists the live ones.'),
+  status);
   return form;
 }
 
@@ -269,12 +290,28 @@ export async function render(root, params) {
   const uploaded = /^u[0-9a-f]{32}$/.test(id);
   root.append(h('p', { class: 'sc-breadcrumb' }, h('a', { href: '#/' }, '← All scenarios')));
   pageTitle(root, doc.name ?? id);
-  root.append(h('p', { class: 'subtitle' }, h('span', { class: `badge ${uploaded ? 'warn' : 'good'}` }, uploaded ? 'uploaded' : 'bundled'), ' ', h('code', {}, id)));
+  const deleteButton = uploaded ? h('button', { type: 'button', class: 'secondary danger', onclick: async () => {
+    deleteButton.disabled = true;
+    try {
+      if (!(await deleteUpload({ id, name: doc.name ?? id }))) return;
+      recentDeletions.set(id, doc.name ?? id);
+      location.hash = '#/';
+    } catch (error) {
+      showError(deleteArea, error);
+    } finally {
+      deleteButton.disabled = false;
+    }
+  } }, 'Delete this upload') : null;
+  const deleteArea = h('div', { 'aria-live': 'polite' });
+  root.append(h('div', { class: 'sc-scenario-head' },
+    h('p', { class: 'subtitle' }, h('span', { class: `badge ${uploaded ? 'warn' : 'good'}` }, uploaded ? 'uploaded' : 'bundled'), ' ', h('code', {}, id)),
+    deleteButton), deleteArea);
 
   const recent = recentUploads.get(id);
   if (recent) {
     recentUploads.delete(id);
-    root.append(h('div', { class: 'message info', role: 'status' }, `Uploaded and stored as ${id}.`,
+    root.append(h('div', { class: 'message info', role: 'status' },
+      recent.existed ? `Already uploaded: this is ${id}, stored before with the same content; nothing new was stored.` : `Uploaded and stored as ${id}.`,
       recent.warnings?.length ? h('ul', {}, recent.warnings.map((warning) => h('li', {}, h('code', {}, warning.pointer ?? `line ${warning.line}`), ' ', warning.message))) : null));
   }
   if (doc.description) root.append(h('p', { class: 'sc-scenario-description' }, doc.description));

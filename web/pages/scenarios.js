@@ -1,8 +1,9 @@
 // The scenario catalogue (#/): every scenario the server holds as a card with its thumbnail, searched
-// and filtered in the page, and an upload form that shows the server's errors at their lines.
+// and filtered in the page, uploads deleted from their cards, and an upload form that shows the
+// server's errors at their lines.
 import { api, authorisedUrl } from '../lib/api.js';
 import { h, loading, showError, formatNumber, pageTitle } from '../lib/ui.js';
-import { recentUploads } from './scenario.js';
+import { recentUploads, recentDeletions, deleteUpload, deletedText } from './scenario.js';
 
 /** Every scenario summary, following `next_cursor` through the pages. */
 async function allScenarios() {
@@ -23,7 +24,8 @@ function robotsText(robots) {
   return robots.map((robot) => `${robot.id} (${robot.model ?? 'disc'})`).join(', ');
 }
 
-function card(scenario) {
+/** A scenario's card; an upload's has a Delete button, which calls `onDelete(scenario)`. */
+function card(scenario, onDelete) {
   const link = `#/scenarios/${encodeURIComponent(scenario.id)}`;
   const image = h('img', { alt: `${scenario.name} from above at its start`, width: 320, height: 240, loading: 'lazy', decoding: 'async' });
   // A scenario whose picture cannot be drawn (an upload this server no longer compiles) says so in place.
@@ -45,7 +47,9 @@ function card(scenario) {
     h('dl', { class: 'sc-card-facts' }, facts.flatMap(([term, value]) => [h('dt', {}, term), h('dd', {}, value)])),
     h('p', { class: 'sc-card-badges' },
       h('span', { class: `badge ${scenario.origin === 'uploaded' ? 'warn' : 'good'}` }, scenario.origin),
-      ' ', h('span', { class: 'badge' }, FORMATS[scenario.format] ?? scenario.format)));
+      ' ', h('span', { class: 'badge' }, FORMATS[scenario.format] ?? scenario.format),
+      scenario.origin === 'uploaded' ? h('button', { type: 'button', class: 'secondary danger sc-card-delete', 'aria-label': `Delete ${scenario.name}`,
+        onclick: () => onDelete(scenario) }, 'Delete') : null));
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -263,9 +267,10 @@ function uploadForm() {
     event.preventDefault();
     const sent = await send('/api/v1/scenarios');
     if (!sent) return;
-    const { summary, warnings } = sent.reply;
-    recentUploads.set(summary.id, { warnings });
-    result.append(h('p', { class: 'message info', role: 'status' }, `Stored “${summary.name}” as ${summary.id}; opening it…`));
+    const { summary, warnings, existed } = sent.reply;
+    recentUploads.set(summary.id, { warnings, existed });
+    result.append(h('p', { class: 'message info', role: 'status' },
+      existed ? `Already uploaded as ${summary.id} (“${summary.name}”); opening it…` : `Stored “${summary.name}” as ${summary.id}; opening it…`));
     location.hash = `#/scenarios/${encodeURIComponent(summary.id)}`;
   } },
   h('div', { class: 'fields' },
@@ -301,7 +306,12 @@ export async function render(root) {
   pageTitle(root, 'Scenarios', 'Choreographed situations of people around robots. Open one to see its map and steps, start a live session or run it in batch.');
   const uploadPanel = h('details', { class: 'panel sc-upload-panel' },
     h('summary', {}, 'Upload a scenario (native JSON, IMHuS XML or Pedsim XML)'), uploadForm());
-  root.append(uploadPanel);
+  const notice = h('div', { class: 'sc-notice', 'aria-live': 'polite' });
+  root.append(uploadPanel, notice);
+  for (const [id, name] of recentDeletions) {
+    recentDeletions.delete(id);
+    notice.append(h('p', { class: 'message info', role: 'status' }, deletedText(name)));
+  }
   const wait = loading(root, 'Loading scenarios');
   let scenarios;
   try {
@@ -323,7 +333,7 @@ export async function render(root) {
   const maxHumans = h('input', { type: 'number', id: 'scenario-max-humans', min: 0, step: 1, inputmode: 'numeric' });
   const count = h('p', { class: 'sc-scenario-count muted', role: 'status', 'aria-live': 'polite' });
   const empty = h('p', { class: 'message info', hidden: true }, 'No scenario matches these filters.');
-  const cards = scenarios.map((scenario) => ({ scenario, element: card(scenario) }));
+  const cards = scenarios.map((scenario) => ({ scenario, element: card(scenario, remove) }));
   const grid = h('div', { class: 'sc-scenario-grid' }, cards.map((entry) => entry.element));
 
   const filter = () => {
@@ -345,6 +355,21 @@ export async function render(root) {
     empty.hidden = shown > 0;
   };
   for (const control of [search, origin, robot, minHumans, maxHumans]) control.addEventListener('input', filter);
+
+  async function remove(scenario) {
+    notice.replaceChildren();
+    try {
+      if (!(await deleteUpload(scenario))) return;
+    } catch (error) {
+      showError(notice, error);
+      return;
+    }
+    const at = cards.findIndex((entry) => entry.scenario === scenario);
+    cards[at].element.remove();
+    cards.splice(at, 1);
+    filter();
+    notice.append(h('p', { class: 'message info', role: 'status' }, deletedText(scenario.name)));
+  }
 
   root.append(
     h('form', { class: 'sc-scenario-filters panel', role: 'search', 'aria-label': 'Filter scenarios', onsubmit: (event) => event.preventDefault() },

@@ -1,8 +1,8 @@
 'use strict';
 // The scenario catalogue and a scenario's page: a card per scenario with its thumbnail, searching and
 // filtering, the elevator's map (labels that do not overlap, a true scale bar) and timeline, a benchmark
-// task's settings in words, uploads whose errors appear at the lines they concern, and starting a live
-// session from a scenario.
+// task's settings in words, uploads whose errors appear at the lines they concern, the same content
+// uploaded again, deleting uploads, and starting a live session from a scenario.
 const assert = require('node:assert/strict');
 const path = require('node:path');
 const { describe, it } = require('node:test');
@@ -262,12 +262,69 @@ describe('scenarios', () => {
     }
   });
 
+  it('the same content uploaded again is the earlier upload; an upload is deleted from its card or its page, after asking', async () => {
+    const api = (method, path, body) => fetch(`http://127.0.0.1:${context.server.port}${path}`, { method, body,
+      headers: body ? { 'content-type': 'application/json' } : {} });
+    const text = roomScenario('ui room to delete');
+    const first = await (await api('POST', '/api/v1/scenarios', text)).json();
+    const other = await (await api('POST', '/api/v1/scenarios', roomScenario('ui room deleted from its page'))).json();
+    const { id } = first.summary;
+    const tab = await newPage(context.browser, context.server.port);
+    const page = tab.page;
+    try {
+      // Uploaded again from the page: no new upload, the earlier one opens and says so.
+      await tab.open('/');
+      await page.click('.sc-upload-panel summary');
+      await page.fill('#upload-text', text);
+      await page.click('button:has-text("Upload")');
+      await page.waitForFunction((want) => location.hash === `#/scenarios/${want}`, id);
+      await page.waitForSelector('table.sc-timeline, .sc-scenario-top');
+      assert.equal(await page.textContent('main [role=status]'), `Already uploaded: this is ${id}, stored before with the same content; nothing new was stored.`);
+
+      // From its card: declined, it stays; accepted, it leaves the catalogue, which says what that means.
+      await tab.open('/');
+      await page.waitForSelector(`.sc-scenario-card[data-id="${id}"]`);
+      const uploaded = await page.$$eval('.sc-scenario-card', (cards) => cards.filter((card) => card.querySelector('.badge').textContent === 'uploaded').map((card) => card.dataset.id));
+      assert.deepEqual(await page.$$eval('.sc-scenario-card:has(.sc-card-delete)', (cards) => cards.map((card) => card.dataset.id)), uploaded, 'only uploads can be deleted');
+      page.once('dialog', (dialog) => dialog.dismiss());
+      await page.click(`.sc-scenario-card[data-id="${id}"] .sc-card-delete`);
+      await page.waitForTimeout(300);
+      assert.equal((await api('GET', `/api/v1/scenarios/${id}`)).status, 200);
+      await page.evaluate(() => window.scrollTo(0, 0));
+      page.once('dialog', (dialog) => {
+        assert.equal(dialog.message(), `Delete the uploaded scenario “ui room to delete” (${id})?`);
+        dialog.accept();
+      });
+      await page.click(`.sc-scenario-card[data-id="${id}"] .sc-card-delete`);
+      await page.waitForSelector(`.sc-scenario-card[data-id="${id}"]`, { state: 'detached' });
+      const deleted = 'Deleted “ui room to delete”. If runs used it, their reports and replays still have it; it is no longer listed.';
+      assert.equal(await page.textContent('.sc-notice [role=status]'), deleted);
+      assert.match(await page.textContent('.sc-scenario-count'), new RegExp(`of ${uploaded.length + BUNDLED.length - 1} scenarios`));
+      await screenshot(page, 'scenarios-upload-deleted');
+      assert.equal((await api('GET', `/api/v1/scenarios/${id}`)).status, 404, 'no run ran it: gone');
+
+      // From its own page: back to the catalogue, which says so.
+      await tab.open(`/scenarios/${other.summary.id}`);
+      page.once('dialog', (dialog) => dialog.accept());
+      await page.click('button:has-text("Delete this upload")');
+      await page.waitForFunction(() => location.hash === '#/');
+      await page.waitForSelector('.sc-scenario-card');
+      assert.equal(await page.textContent('.sc-notice [role=status]'), deleted.replace('ui room to delete', 'ui room deleted from its page'));
+      assert.equal(await page.$(`.sc-scenario-card[data-id="${other.summary.id}"]`), null);
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+      for (const upload of [id, other.summary.id]) await api('DELETE', `/api/v1/scenarios/${upload}`);
+    }
+  });
+
   it('starting a live session from a scenario opens the session; a refused one says why next to the form', async () => {
     const tab = await newPage(context.browser, context.server.port);
     let session = null;
     try {
       await tab.open('/scenarios/elevator');
       await tab.page.waitForSelector('#session-controller');
+      assert.equal(await tab.page.textContent('.sc-session-note'), 'It ends 30 s after its last tab closes; the Sessions page lists the live ones.');
       // A seed out of range is named beside the seed.
       await tab.page.fill('#session-seed', '-1');
       await tab.page.click('button:has-text("Start live session")');
@@ -286,6 +343,8 @@ describe('scenarios', () => {
       assert.equal(status.json.scenario, 'elevator');
       assert.equal(status.json.seed, 7);
       assert.deepEqual(status.json.controller, { type: 'social', goal: { location: 'centre_floor1' } });
+      // A closed tab's session goes: the page asks for an unwatched grace, and says so by its button.
+      assert.equal(status.json.unwatched_grace, 30);
     } finally {
       await tab.close();
       if (session) await fetch(`http://127.0.0.1:${context.server.port}/api/v1/sessions/${session}`, { method: 'DELETE' });

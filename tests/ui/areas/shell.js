@@ -51,6 +51,8 @@ describe('shell', () => {
       await page.keyboard.press('Tab');
       assert.equal(await page.evaluate(() => document.activeElement.textContent), 'Scenarios');
       await page.keyboard.press('Tab');
+      assert.equal(await page.evaluate(() => document.activeElement.textContent), 'Sessions');
+      await page.keyboard.press('Tab');
       await page.keyboard.press('Enter');
       await page.waitForFunction(() => location.hash === '#/runs');
       await page.waitForFunction(() => document.activeElement.tagName === 'H1');
