@@ -24,6 +24,8 @@ using nlohmann::json;
 
 /// Most runs one list request returns.
 constexpr int kMaxRunsPerPage = 100;
+/// Most runs one comparison takes.
+constexpr std::size_t kMaxComparedRuns = 10;
 
 /// The problems found in a run request so far: {pointer, message} each (runs::throw_if_problems).
 class Problems {
@@ -229,6 +231,41 @@ storage::EpisodeRecord find_episode(storage::Store& store, const std::string& id
   return std::move(*episode);
 }
 
+/// ?format=: json (the default) or csv.
+std::string format_of(const Request& request) {
+  const std::string format = query_value(request.query, "format").value_or("json");
+  if (format != "json" && format != "csv") throw core::Error(core::ErrorCode::bad_request, "format must be json or csv", {{"parameter", "format"}});
+  return format;
+}
+
+/// A CSV text as a file to save under `filename`.
+Response csv_download(const std::string& csv, const std::string& filename) {
+  Response response{200, "text/csv; charset=utf-8", csv, {}, {}};
+  response.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + filename + "\"");
+  return response;
+}
+
+/// A run's episodes as CSV: one row each, its facts then every metric (empty for no value).
+std::string episodes_csv(const std::vector<storage::EpisodeRecord>& episodes) {
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << "episode,seed,controller,status,termination,ticks,sim_time";
+  for (const metrics::Definition& definition : metrics::definitions()) csv << ',' << definition.key;
+  csv << '\n';
+  for (const storage::EpisodeRecord& episode : episodes) {
+    csv << episode.id << ',' << episode.seed << ',' << episode.controller << ',' << episode.status << ',' << episode.termination_reason << ','
+        << episode.ticks << ',' << episode.sim_time;
+    for (const metrics::Definition& definition : metrics::definitions()) {
+      csv << ',';
+      const auto found = std::find_if(episode.metrics.begin(), episode.metrics.end(),
+                                      [&](const storage::MetricValue& metric) { return metric.key == definition.key; });
+      if (found != episode.metrics.end() && found->value) csv << *found->value;
+    }
+    csv << '\n';
+  }
+  return csv.str();
+}
+
 /// A query parameter's comma-separated values; none when absent.
 std::vector<std::string> list_parameter(const Request& request, const std::string& key) {
   std::vector<std::string> values;
@@ -382,6 +419,29 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
   });
 
   router.add("GET", "/api/v1/runs/compare", [store](const Request& request) {
+    if (query_value(request.query, "runs")) {
+      const std::vector<std::string> ids = list_parameter(request, "runs");
+      if (ids.size() < 2 || ids.size() > kMaxComparedRuns) {
+        throw core::Error(core::ErrorCode::bad_request, "runs: from 2 to " + std::to_string(kMaxComparedRuns) + " run ids, comma-separated, the baseline first",
+                          {{"parameter", "runs"}});
+      }
+      const std::string correction = query_value(request.query, "correction").value_or("holm");
+      if (correction != "holm" && correction != "none") {
+        throw core::Error(core::ErrorCode::bad_request, "correction: holm or none", {{"parameter", "correction"}});
+      }
+      std::vector<storage::RunRecord> records;
+      std::vector<std::vector<storage::EpisodeRecord>> episodes;
+      for (const std::string& id : ids) {
+        if (std::any_of(records.begin(), records.end(), [&](const storage::RunRecord& run) { return run.id == id; })) {
+          throw core::Error(core::ErrorCode::bad_request, "runs: run '" + id + "' is named twice", {{"parameter", "runs"}});
+        }
+        records.push_back(find_run(*store, id, request.caller));
+        episodes.push_back(store->episodes_of_run(id));
+      }
+      std::vector<runs::RunWithEpisodes> compared;
+      for (std::size_t i = 0; i < records.size(); ++i) compared.push_back({&records[i], &episodes[i]});
+      return Response::json(200, runs::compare_many_runs(compared, correction == "holm"));
+    }
     const auto a = query_value(request.query, "a"), b = query_value(request.query, "b");
     if (!a || a->empty() || !b || b->empty()) {
       throw core::Error(core::ErrorCode::bad_request, "give the two runs as ?a=ID&b=ID", {{"parameter", a && !a->empty() ? "b" : "a"}});
@@ -404,9 +464,12 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
   });
 
   router.add("GET", "/api/v1/runs/{id}/episodes", [store](const Request& request) {
+    const std::string format = format_of(request);
     const storage::RunRecord run = find_run(*store, request.path_params.at("id"), request.caller);
+    const std::vector<storage::EpisodeRecord> episodes = store->episodes_of_run(run.id);
+    if (format == "csv") return csv_download(episodes_csv(episodes), run.id + "-episodes.csv");
     json items = json::array();
-    for (const storage::EpisodeRecord& episode : store->episodes_of_run(run.id)) items.push_back(episode_json(episode));
+    for (const storage::EpisodeRecord& episode : episodes) items.push_back(episode_json(episode));
     return Response::json(200, {{"items", items}});
   });
 
@@ -438,9 +501,8 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
   });
 
   router.add("GET", "/api/v1/episodes/{id}/series", [store](const Request& request) {
-    const std::string format = query_value(request.query, "format").value_or("json");
+    const std::string format = format_of(request);
     const std::string name = query_value(request.query, "name").value_or("");
-    if (format != "json" && format != "csv") throw core::Error(core::ErrorCode::bad_request, "format must be json or csv", {{"parameter", "format"}});
     const auto& known = metrics::series_definitions();
     const auto definition = std::find_if(known.begin(), known.end(), [&](const metrics::SeriesDefinition& d) { return d.name == name; });
     if (!name.empty() && definition == known.end()) {
@@ -462,9 +524,7 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
           csv << '\n';
         }
       }
-      Response response{200, "text/csv; charset=utf-8", csv.str(), {}, {}};
-      response.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + episode.id + "-" + name + ".csv\"");
-      return response;
+      return csv_download(csv.str(), episode.id + "-" + name + ".csv");
     }
     json items = json::array();
     for (const storage::SeriesRecord& series : stored) {
@@ -484,10 +544,7 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
   });
 
   router.add("GET", "/api/v1/episodes/{id}/trajectory", [store](const Request& request) {
-    const std::string format = query_value(request.query, "format").value_or("json");
-    if (format != "json" && format != "csv") {
-      throw core::Error(core::ErrorCode::bad_request, "format must be json or csv", {{"parameter", "format"}});
-    }
+    const std::string format = format_of(request);
     const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"), request.caller);
     const double dt = episode.ticks > 0 ? episode.sim_time / static_cast<double>(episode.ticks) : 0.0;
     if (format == "csv") {
@@ -497,9 +554,7 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
       for (const storage::TrajectorySample& s : episode.trajectory) {
         csv << s.agent_id << ',' << s.tick << ',' << static_cast<double>(s.tick) * dt << ',' << s.x << ',' << s.y << ',' << s.theta << '\n';
       }
-      Response response{200, "text/csv; charset=utf-8", csv.str(), {}, {}};
-      response.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + episode.id + ".csv\"");
-      return response;
+      return csv_download(csv.str(), episode.id + ".csv");
     }
     json agents = json::object();
     for (const storage::TrajectorySample& s : episode.trajectory) {

@@ -89,4 +89,20 @@ double fisher_exact_p_value(int a_hits, int a_total, int b_hits, int b_total) {
   return std::min(1.0, p);
 }
 
+std::vector<std::optional<double>> holm_adjusted(std::span<const std::optional<double>> p_values) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < p_values.size(); ++i) {
+    if (p_values[i]) order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return *p_values[a] < *p_values[b]; });
+  std::vector<std::optional<double>> adjusted(p_values.size());
+  const double tests = static_cast<double>(order.size());
+  double running = 0.0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    running = std::max(running, std::min(1.0, (tests - static_cast<double>(k)) * *p_values[order[k]]));
+    adjusted[order[k]] = running;
+  }
+  return adjusted;
+}
+
 }  // namespace hrisim::metrics

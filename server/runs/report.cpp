@@ -166,50 +166,129 @@ json run_report(const storage::RunRecord& run, const std::vector<storage::Episod
           {"verdict", {{"passed", passed}, {"complete", complete}, {"gates", gate_results}, {"reasons", reasons}}}};
 }
 
+namespace {
+
+/// A metric's non-null values in the finished episodes.
+std::vector<double> values_of(const std::vector<storage::EpisodeRecord>& episodes, std::string_view key) {
+  std::vector<double> values;
+  for (const auto& value : finished_values(episodes, key)) {
+    if (value) values.push_back(*value);
+  }
+  return values;
+}
+
+json mean_of(const std::vector<double>& values) {
+  return values.empty() ? json() : json(std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size()));
+}
+
+/// The test of two runs' values of a metric: Fisher's exact test for 0/1 metrics, else Welch's t-test.
+std::pair<std::string, std::optional<double>> test_of(const metrics::Definition& definition, const std::vector<double>& a,
+                                                      const std::vector<double>& b) {
+  if (definition.unit != "bool") return {"welch_t", metrics::welch_p_value(a, b)};
+  if (a.empty() || b.empty()) return {"fisher_exact", std::nullopt};
+  const auto hits = [](const std::vector<double>& v) { return static_cast<int>(std::count(v.begin(), v.end(), 1.0)); };
+  return {"fisher_exact", metrics::fisher_exact_p_value(hits(a), static_cast<int>(a.size()), hits(b), static_cast<int>(b.size()))};
+}
+
+/// better, worse (by the metric's direction), different (it has none), or no significant change.
+std::string change_of(const metrics::Definition& definition, bool significant, const json& difference) {
+  if (!significant) return "no significant change";
+  if (definition.better == metrics::Better::none) return "different";
+  return (difference.get<double>() > 0.0) == (definition.better == metrics::Better::higher) ? "better" : "worse";
+}
+
+/// Quantile q of sorted values, linearly between the two nearest (Hyndman and Fan's type 7, as R's
+/// default and NumPy's).
+double quantile(const std::vector<double>& sorted, double q) {
+  const double at = q * static_cast<double>(sorted.size() - 1);
+  const auto below = static_cast<std::size_t>(at);
+  const double fraction = at - static_cast<double>(below);
+  return below + 1 < sorted.size() ? sorted[below] + fraction * (sorted[below + 1] - sorted[below]) : sorted[below];
+}
+
+/// A run's values of a metric for a box or strip plot: count, mean, std, the five numbers and the values.
+json distribution_of(const std::string& run, std::vector<double> values) {
+  const metrics::Aggregate aggregate = metrics::aggregate(std::vector<std::optional<double>>(values.begin(), values.end()), false);
+  json item{{"run", run}, {"count", values.size()}, {"mean", mean_of(values)}, {"std", optional_json(aggregate.std)}, {"values", values}};
+  std::sort(values.begin(), values.end());
+  for (const auto& [name, q] : {std::pair{"min", 0.0}, {"q1", 0.25}, {"median", 0.5}, {"q3", 0.75}, {"max", 1.0}}) {
+    item[name] = values.empty() ? json() : json(quantile(values, q));
+  }
+  return item;
+}
+
+}  // namespace
+
 json compare_runs(const storage::RunRecord& a, const std::vector<storage::EpisodeRecord>& a_episodes, const storage::RunRecord& b,
                   const std::vector<storage::EpisodeRecord>& b_episodes) {
-  const auto values_of = [](const std::vector<storage::EpisodeRecord>& episodes, std::string_view key) {
-    std::vector<double> values;
-    for (const auto& value : finished_values(episodes, key)) {
-      if (value) values.push_back(*value);
-    }
-    return values;
-  };
-  const auto mean = [](const std::vector<double>& values) {
-    return values.empty() ? json() : json(std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size()));
-  };
   json items = json::array();
   for (const metrics::Definition& definition : metrics::definitions()) {
     const std::vector<double> va = values_of(a_episodes, definition.key), vb = values_of(b_episodes, definition.key);
-    const bool binary = definition.unit == "bool";
-    std::optional<double> p;
-    if (binary && !va.empty() && !vb.empty()) {
-      const auto hits = [](const std::vector<double>& v) { return static_cast<int>(std::count(v.begin(), v.end(), 1.0)); };
-      p = metrics::fisher_exact_p_value(hits(va), static_cast<int>(va.size()), hits(vb), static_cast<int>(vb.size()));
-    } else if (!binary) {
-      p = metrics::welch_p_value(va, vb);
-    }
+    const auto [test, p] = test_of(definition, va, vb);
     json item{{"key", definition.key},
               {"unit", definition.unit},
               {"better", metrics::to_string(definition.better)},
-              {"a", {{"count", va.size()}, {"mean", mean(va)}}},
-              {"b", {{"count", vb.size()}, {"mean", mean(vb)}}},
-              {"difference", va.empty() || vb.empty() ? json() : json(mean(vb).get<double>() - mean(va).get<double>())},
-              {"test", binary ? "fisher_exact" : "welch_t"},
+              {"a", {{"count", va.size()}, {"mean", mean_of(va)}}},
+              {"b", {{"count", vb.size()}, {"mean", mean_of(vb)}}},
+              {"difference", va.empty() || vb.empty() ? json() : json(mean_of(vb).get<double>() - mean_of(va).get<double>())},
+              {"test", test},
               {"p_value", optional_json(p)}};
     const bool significant = p && *p < metrics::kSignificanceLevel;
     item["significant"] = significant;
-    std::string change = "no significant change";
-    if (significant && definition.better != metrics::Better::none) {
-      const bool higher = item["difference"].get<double>() > 0.0;
-      change = higher == (definition.better == metrics::Better::higher) ? "better" : "worse";
-    } else if (significant) {
-      change = "different";
-    }
-    item["change"] = change;
+    item["change"] = change_of(definition, significant, item["difference"]);
     items.push_back(std::move(item));
   }
   return {{"a", a.id}, {"b", b.id}, {"significance_level", metrics::kSignificanceLevel}, {"metrics", items}};
+}
+
+json compare_many_runs(const std::vector<RunWithEpisodes>& runs, bool holm) {
+  json items = json::array();
+  std::vector<std::optional<double>> p_values;  // every test of the reply, in order: the family Holm adjusts
+  for (const metrics::Definition& definition : metrics::definitions()) {
+    std::vector<std::vector<double>> values;
+    json distributions = json::array();
+    for (const RunWithEpisodes& run : runs) {
+      values.push_back(values_of(*run.episodes, definition.key));
+      distributions.push_back(distribution_of(run.run->id, values.back()));
+    }
+    json comparisons = json::array();
+    for (std::size_t r = 1; r < runs.size(); ++r) {
+      const auto [test, p] = test_of(definition, values[0], values[r]);
+      p_values.push_back(p);
+      comparisons.push_back({{"run", runs[r].run->id},
+                             {"difference", values[0].empty() || values[r].empty() ? json()
+                                                                                   : json(mean_of(values[r]).get<double>() - mean_of(values[0]).get<double>())},
+                             {"test", test},
+                             {"p_value", optional_json(p)}});
+    }
+    items.push_back({{"key", definition.key},
+                     {"unit", definition.unit},
+                     {"better", metrics::to_string(definition.better)},
+                     {"runs", distributions},
+                     {"comparisons", comparisons}});
+  }
+  const std::vector<std::optional<double>> adjusted = holm ? metrics::holm_adjusted(p_values) : p_values;
+  std::size_t test = 0;
+  std::size_t tests = 0;
+  for (const auto& p : p_values) tests += p.has_value();
+  for (std::size_t m = 0; m < items.size(); ++m) {
+    const metrics::Definition& definition = metrics::definitions()[m];
+    for (json& comparison : items[m]["comparisons"]) {
+      const std::optional<double>& p = adjusted[test++];
+      const bool significant = p && *p < metrics::kSignificanceLevel;
+      comparison["p_adjusted"] = optional_json(p);
+      comparison["significant"] = significant;
+      comparison["change"] = change_of(definition, significant, comparison["difference"]);
+    }
+  }
+  json ids = json::array();
+  for (const RunWithEpisodes& run : runs) ids.push_back(run.run->id);
+  return {{"runs", ids},
+          {"baseline", ids[0]},
+          {"significance_level", metrics::kSignificanceLevel},
+          {"correction", holm ? "holm" : "none"},
+          {"tests", tests},
+          {"metrics", items}};
 }
 
 std::string junit_xml(const json& report) {

@@ -26,6 +26,19 @@ nlohmann::json run_report(const storage::RunRecord& run, const std::vector<stora
 nlohmann::json compare_runs(const storage::RunRecord& a, const std::vector<storage::EpisodeRecord>& a_episodes,
                             const storage::RunRecord& b, const std::vector<storage::EpisodeRecord>& b_episodes);
 
+/// A run and its stored episodes, for comparing.
+struct RunWithEpisodes {
+  const storage::RunRecord* run;
+  const std::vector<storage::EpisodeRecord>* episodes;
+};
+
+/// Two or more runs, metric by metric over their finished episodes: each run's distribution (count,
+/// mean, std, min, quartiles, max and the values, for box and strip plots), and each later run against
+/// the first (the baseline): the difference of means, the test as compare_runs makes it, its p-value
+/// and, with `holm`, Holm's adjustment over every test of the reply; significance and the change
+/// (better, worse) follow the adjusted p-value.
+nlohmann::json compare_many_runs(const std::vector<RunWithEpisodes>& runs, bool holm);
+
 /// A JUnit XML document of a report: one test case per gate, one per episode that did not finish
 /// (error, cancelled, interrupted), so that it fails exactly when the verdict does.
 std::string junit_xml(const nlohmann::json& report);

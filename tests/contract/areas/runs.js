@@ -562,6 +562,77 @@ describe('runs', () => {
     assert.equal(typeof success.p_value, 'number', 'Fisher needs one value a side');
   });
 
+  it('GET /api/v1/runs/compare?runs=: three runs, each one\'s distribution and each against the baseline, Holm-adjusted over the reply', async () => {
+    const short = await waitForRun((await startRun({ scenario: 'queue', seeds: [0, 1, 2], max_time: 5 })).json.id);
+    const shorter = await waitForRun((await startRun({ scenario: 'queue', seeds: [3, 4, 5], max_time: 3 })).json.id);
+    const ids = [report.id, short.id, shorter.id];
+    const reply = await api.get(`/api/v1/runs/compare?runs=${ids.join(',')}`);
+    assert.equal(reply.status, 200, reply.body);
+    const holm = reply.json;
+    assert.deepEqual(holm.runs, ids);
+    assert.equal(holm.baseline, report.id);
+    assert.equal(holm.correction, 'holm');
+    const plain = (await api.get(`/api/v1/runs/compare?runs=${ids.join(',')}&correction=none`)).json;
+    // Each later run against the baseline: the two-run form's test and p-value.
+    for (const [r, other] of [[0, short], [1, shorter]]) {
+      const pair = (await api.get(`/api/v1/runs/compare?a=${report.id}&b=${other.id}`)).json;
+      for (const [m, item] of plain.metrics.entries()) {
+        const comparison = item.comparisons[r];
+        assert.equal(comparison.run, other.id);
+        assert.equal(comparison.p_value, pair.metrics[m].p_value, item.key);
+        assert.equal(comparison.p_adjusted, comparison.p_value, `${item.key}: no correction`);
+        assert.equal(comparison.change, pair.metrics[m].change, item.key);
+      }
+    }
+    // Holm by hand: sort the p-values of the whole reply, multiply the k-th smallest by m − k + 1, running maximum, cap 1.
+    const tests = holm.metrics.flatMap((item) => item.comparisons).filter((comparison) => comparison.p_value !== null);
+    assert.equal(holm.tests, tests.length);
+    const order = [...tests].sort((x, y) => x.p_value - y.p_value);
+    let running = 0;
+    for (const [k, comparison] of order.entries()) {
+      running = Math.max(running, Math.min(1, (order.length - k) * comparison.p_value));
+      assert.ok(Math.abs(comparison.p_adjusted - running) < 1e-12, `${comparison.run}: ${comparison.p_adjusted} vs ${running}`);
+      assert.equal(comparison.significant, comparison.p_adjusted < holm.significance_level);
+    }
+    // Distributions: the episodes' values with their five numbers.
+    const length = holm.metrics.find((item) => item.key === 'episode_length');
+    const shortest = length.runs[2];
+    assert.deepEqual(shortest.values, [180, 180, 180], '3 s at 60 Hz');
+    assert.deepEqual([shortest.min, shortest.q1, shortest.median, shortest.q3, shortest.max], [180, 180, 180, 180, 180]);
+    const baseline = length.runs[0];
+    const sorted = [...baseline.values].sort((x, y) => x - y);
+    assert.equal(baseline.median, sorted[1]);
+    assert.equal(baseline.q1, sorted[0] + 0.5 * (sorted[1] - sorted[0]), 'linear between the nearest two');
+    for (const query of ['runs=' + report.id, `runs=${report.id},${report.id}`, `runs=${ids.join(',')}&correction=bonferroni`, `runs=${Array(11).fill(report.id).join(',')}`]) {
+      const refused = await api.get(`/api/v1/runs/compare?${query}`);
+      assert.equal(refused.status, 400, query);
+      assert.equal(refused.json.error.details.parameter, query.includes('correction') ? 'correction' : 'runs', query);
+    }
+    assert.equal((await api.get(`/api/v1/runs/compare?runs=${report.id},${UNKNOWN_RUN}`)).status, 404);
+  });
+
+  it('GET /api/v1/runs/{id}/episodes?format=csv: one row per episode, a column per metric', async () => {
+    const reply = await api.get(`/api/v1/runs/${report.id}/episodes?format=csv`);
+    assert.equal(reply.status, 200);
+    assert.match(reply.headers['content-type'], /^text\/csv/);
+    assert.match(reply.headers['content-disposition'], new RegExp(`attachment; filename="${report.id}-episodes.csv"`));
+    const [header, ...rows] = reply.body.trim().split('\n').map((line) => line.split(','));
+    const metricKeys = (await api.get('/api/v1/metrics')).json.items.map((metric) => metric.key);
+    assert.deepEqual(header, ['episode', 'seed', 'controller', 'status', 'termination', 'ticks', 'sim_time', ...metricKeys]);
+    const episodes = (await api.get(`/api/v1/runs/${report.id}/episodes`)).json.items;
+    assert.equal(rows.length, episodes.length);
+    for (const [i, row] of rows.entries()) {
+      assert.equal(row[0], episodes[i].id);
+      assert.equal(Number(row[1]), episodes[i].seed);
+      for (const [k, key] of metricKeys.entries()) {
+        const value = episodes[i].metrics[key];
+        if (value === null || value === undefined) assert.equal(row[7 + k], '', key);
+        else assert.equal(Number(row[7 + k]), value, key);
+      }
+    }
+    assert.equal((await api.get(`/api/v1/runs/${report.id}/episodes?format=xml`)).status, 400);
+  });
+
   it('GET /api/v1/runs/compare: 400 naming the missing run, 404 for an unknown one', async () => {
     for (const [query, parameter] of [[`a=${report.id}`, 'b'], [`b=${report.id}`, 'a'], ['', 'a']]) {
       const reply = await api.get(`/api/v1/runs/compare${query && `?${query}`}`);

@@ -40,5 +40,23 @@ TEST(Fisher, TheLadyTastingTea) {
   EXPECT_NEAR(fisher_exact_p_value(0, 20, 0, 20), 1.0, 1e-12);
 }
 
+TEST(Holm, StepDownAdjustmentAsInHolm1979) {
+  // Four tests (one empty): sorted 0.01, 0.02, 0.04 → ×3, ×2, ×1 = 0.03, 0.04, 0.04 (kept non-decreasing).
+  const std::vector<std::optional<double>> p{0.04, std::nullopt, 0.01, 0.02};
+  const auto adjusted = holm_adjusted(p);
+  ASSERT_EQ(adjusted.size(), 4u);
+  EXPECT_NEAR(*adjusted[2], 0.03, 1e-15);
+  EXPECT_NEAR(*adjusted[3], 0.04, 1e-15);
+  EXPECT_NEAR(*adjusted[0], 0.04, 1e-15) << "not below the one before it in order";
+  EXPECT_FALSE(adjusted[1]);
+  // Capped at 1; ties keep their order.
+  const std::vector<std::optional<double>> large{0.6, 0.6, 0.9};
+  const auto capped = holm_adjusted(large);
+  EXPECT_EQ(*capped[0], 1.0);
+  EXPECT_EQ(*capped[1], 1.0);
+  EXPECT_EQ(*capped[2], 1.0);
+  EXPECT_TRUE(holm_adjusted(std::vector<std::optional<double>>{}).empty());
+}
+
 }  // namespace
 }  // namespace hrisim::metrics
