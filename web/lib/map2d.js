@@ -1,5 +1,5 @@
 // A scenario's map from above as SVG, from GET /api/v1/scenarios/{id}/world: walls, obstacles
-// (furniture), doors, locations, social spaces and agents' start poses, with x to the right and y up
+// (furniture), doors, movable objects, locations, social spaces and agents' start poses, with x to the right and y up
 // as in the map frame, and a scale bar. Pages add paths and markers on top (trajectories, people, the
 // robot). Labels never overlap: each takes the first free place near its point, or is left out (its
 // mark keeps the name as a tooltip).
@@ -10,6 +10,8 @@ const LABEL_HEIGHT = 13;
 /** Scale bar lengths (m) to choose from: the longest that fits in SCALE_BAR_MAX_PX. */
 const SCALE_BAR_LENGTHS = [0.1, 0.2, 0.5, 1, 2, 5, 10, 20, 50, 100, 200, 500];
 const SCALE_BAR_MAX_PX = 110;
+/** A movable object (a 4 cm cube on a 7 m map is 3 px) is drawn at least this wide, px. */
+const MIN_OBJECT_PX = 4;
 
 let measuring = null;
 function labelWidth(text) {
@@ -37,6 +39,7 @@ export const palette = {
   door: '#7a5236',
   location: '#2f7d4f',
   space: '#8a5cb8',
+  object: '#b5307a',
   human: '#2f6fd1',
   robot: '#e07b18',
   /** The robot's orange is too light for text (4.5:1 on the labels' white halo): its labels take this. */
@@ -47,8 +50,8 @@ export const palette = {
 export class MapView {
   /**
    * Draws `world` into `container`, `width` pixels wide (the height follows the map's shape, at most
-   * `maxHeight`). Options: labels (names of locations and spaces, default true), starts (agents' start
-   * poses, default true).
+   * `maxHeight`). Options: labels (names of locations and spaces, default true), starts (agents' and
+   * movable objects' start poses, default true).
    */
   constructor(container, world, { width = 640, maxHeight = 480, labels = true, starts = true } = {}) {
     this.world = world;
@@ -76,6 +79,7 @@ export class MapView {
       if (world.obstacles.length === 0) this.line(wall.from, wall.to, { stroke: palette.wall, 'stroke-width': 2 }, base);
     }
     for (const door of world.doors) this.line(door.from, door.to, { stroke: palette.door, 'stroke-width': 4, class: 'map-door' }, base);
+    if (starts) for (const object of world.objects) this.object(object, base);
     this.layers = { spaces: svg('g', {}, this.svg), locations: svg('g', {}, this.svg), paths: svg('g', {}, this.svg), marks: svg('g', {}, this.svg),
       labels: svg('g', {}, this.svg) };
     this.scaleBar();
@@ -134,6 +138,22 @@ export class MapView {
       return element;
     }
     return null;
+  }
+
+  /** A movable object at its pose, from above: a box's footprint turned by its yaw, else a disc of its radius. */
+  object({ name, shape, pose }, parent) {
+    const [cx, cy] = this.point(pose.x, pose.y);
+    const style = { fill: palette.object, stroke: '#fff', 'stroke-width': 0.75, class: 'map-object' };
+    let mark;
+    if (shape.kind === 'box') {
+      const [width, depth] = shape.size.map((size) => Math.max(size * this.scale, MIN_OBJECT_PX));
+      // SVG's y points down: a turn to the left in the map is a negative angle here.
+      mark = svg('rect', { x: cx - width / 2, y: cy - depth / 2, width, height: depth,
+        transform: `rotate(${(-pose.yaw * 180) / Math.PI} ${cx} ${cy})`, ...style }, parent);
+    } else {
+      mark = svg('circle', { cx, cy, r: Math.max(shape.radius * this.scale, MIN_OBJECT_PX / 2), ...style }, parent);
+    }
+    svg('title', {}, mark).textContent = `object ${name} (${shape.kind})`;
   }
 
   /** A bar of a round length in metres in the bottom left corner, on a pale backing. */

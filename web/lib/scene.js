@@ -1,5 +1,6 @@
 // A scenario in 3D with three.js, from GET /api/v1/scenarios/{id}/world: floor, walls, furniture,
-// doors, locations and social spaces, with live agents, paths, a laser scan and proxemic rings on top.
+// doors, movable objects (where they start), locations and social spaces, with live agents, paths, a
+// laser scan and proxemic rings on top.
 // Map frame as everywhere in hrisim: x right, y up (north), z up from the floor, metres and radians.
 // It renders on demand only (something changed, or the view is being moved), so an idle page costs
 // nothing.
@@ -35,6 +36,7 @@ const colours = {
   wall: new THREE.Color(palette.wall),
   furniture: new THREE.Color(palette.obstacle),
   door: new THREE.Color(palette.door),
+  object: new THREE.Color(palette.object),
   location: new THREE.Color(palette.location),
   space: new THREE.Color(palette.space),
   human: new THREE.Color(palette.human),
@@ -203,6 +205,9 @@ export class SceneView {
       this.setDoorState(door.name, door.initially_open ? 'open' : 'closed', false);
     }
 
+    const objectMaterial = new THREE.MeshLambertMaterial({ color: colours.object });
+    for (const object of world.objects) base.add(this.movableObject(object, objectMaterial));
+
     const locationMaterial = new THREE.MeshBasicMaterial({ color: colours.location, side: THREE.DoubleSide });
     for (const location of world.locations) {
       const radius = Math.max(location.radius, 0.15);
@@ -241,6 +246,19 @@ export class SceneView {
     const mesh = new THREE.Mesh(new THREE.BoxGeometry(Math.hypot(dx, dy), thickness, height), material);
     mesh.position.set((from[0] + to[0]) / 2, (from[1] + to[1]) / 2, height / 2);
     mesh.rotation.z = Math.atan2(dy, dx);
+    return mesh;
+  }
+
+  /** A movable object at its pose (that of its centre), shaped as the world gives it: a cylinder's or capsule's length is along its z. */
+  movableObject({ name, shape, pose }, material) {
+    const geometry = shape.kind === 'box' ? new THREE.BoxGeometry(...shape.size)
+      : shape.kind === 'sphere' ? new THREE.SphereGeometry(shape.radius, 16, 12)
+        : shape.kind === 'capsule' ? new THREE.CapsuleGeometry(shape.radius, shape.length, 4, 16).rotateX(Math.PI / 2)
+          : new THREE.CylinderGeometry(shape.radius, shape.radius, shape.length, 20).rotateX(Math.PI / 2);
+    const mesh = new THREE.Mesh(geometry, material);
+    mesh.position.set(pose.x, pose.y, pose.z);
+    mesh.rotation.set(pose.roll, pose.pitch, pose.yaw, 'ZYX');
+    mesh.name = name;
     return mesh;
   }
 

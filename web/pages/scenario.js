@@ -128,14 +128,22 @@ function tasksSection(doc) {
   return parts;
 }
 
-function legend() {
+function legend(world) {
   const swatch = (colour, shape) => h('span', { class: `sc-swatch ${shape}`, style: `--swatch: ${colour}`, 'aria-hidden': 'true' });
   const entries = [
     [palette.wall, 'box', 'wall'], [palette.obstacle, 'box', 'obstacle'], [palette.door, 'bar', 'door'],
     [palette.location, 'ring', 'location'], [palette.space, 'dashed', 'social space (dots: slots)'],
     [palette.human, 'disc', 'human at its start'], [palette.robot, 'disc', 'robot at its start'],
+    ...(world.objects.length ? [[palette.object, 'box', 'movable object at its start']] : []),
   ];
   return h('ul', { class: 'sc-map-legend', 'aria-label': 'Map legend' }, entries.map(([colour, shape, text]) => h('li', {}, swatch(colour, shape), text)));
+}
+
+/** A movable object's shape in words: "box 0.3 × 0.2 × 0.02 m", "cylinder, radius 0.035 m, 0.1 m long". */
+function shapeText(shape) {
+  if (shape.kind === 'box') return `box ${shape.size.map((size) => formatNumber(size)).join(' × ')} m`;
+  const radius = `radius ${formatNumber(shape.radius)} m`;
+  return shape.kind === 'sphere' ? `sphere, ${radius}` : `${shape.kind}, ${radius}, ${formatNumber(shape.length)} m long`;
 }
 
 /** Asks whether to delete the upload `summary` ({id, name}), then does; true once deleted (the API's error is thrown). */
@@ -165,6 +173,8 @@ function worldLists(world) {
     table('Agents at their start', [['Agent'], ['Kind'], ['x, m', true], ['y, m', true], ['θ, rad', true], ['Radius, m', true]],
       world.agents.map((agent) => [agent.id, agent.kind === 'robot' ? `robot (${agent.model ?? 'disc'})` : `human${agent.type ? ` (${agent.type})` : ''}`,
         f(agent.start.x), f(agent.start.y), f(agent.start.theta), f(agent.radius)])),
+    table('Movable objects at their start', [['Name'], ['Shape'], ['x, m', true], ['y, m', true], ['z, m', true], ['Mass, kg', true]],
+      world.objects.map((object) => [object.name, shapeText(object.shape), f(object.pose.x), f(object.pose.y), f(object.pose.z), f(object.mass)])),
     table('Locations', [['Name'], ['x, m', true], ['y, m', true], ['θ, rad', true], ['Radius, m', true]],
       world.locations.map((location) => [location.name, f(location.x), f(location.y), f(location.theta), f(location.radius)])),
     table('Social spaces', [['Name'], ['Centre x, m', true], ['Centre y, m', true], ['Slots', true]],
@@ -326,7 +336,7 @@ export async function render(root, params) {
 
   const mapBox = h('div', { class: 'sc-map-box' });
   root.append(h('section', { 'aria-labelledby': 'map-heading' }, h('h2', { id: 'map-heading' }, 'Map'),
-    h('div', { class: 'sc-map-layout' }, h('div', { class: 'panel sc-map-panel' }, mapBox, legend()), h('div', { class: 'panel' }, worldLists(world)))));
+    h('div', { class: 'sc-map-layout' }, h('div', { class: 'panel sc-map-panel' }, mapBox, legend(world)), h('div', { class: 'panel' }, worldLists(world)))));
   const map = new MapView(mapBox, world, { width: 640, maxHeight: 640 });
   for (const agent of world.agents) {
     map.text(agent.start.x, agent.start.y + agent.radius + 0.15, agent.id, agent.kind === 'robot' ? palette.robotText : palette.human);

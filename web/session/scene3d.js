@@ -1,6 +1,7 @@
 // The session's 3D scene (three.js, lib/scene.js): the agents as the driver's states move them, each
 // one's trail and planned path, the robot's laser and proxemic rings, doors as their events set them,
-// and the legend with the toggles of those layers.
+// movable objects where they started (a session's state does not carry them), and the legend with the
+// toggles of those layers.
 import { h } from '../lib/ui.js';
 import { SceneView, PROXEMIC_DISTANCES } from '../lib/scene.js';
 import { palette } from '../lib/map2d.js';
@@ -41,6 +42,7 @@ export class SessionScene {
     const legend = h('div', { class: 'scene-legend' },
       h('span', { class: 'ss-swatch human' }, 'human (pale: idle)'), h('span', { class: 'ss-swatch robot' }, 'robot'),
       h('span', { class: 'ss-swatch location' }, 'location'), h('span', { class: 'ss-swatch space' }, 'social space'),
+      world.objects.length ? h('span', { class: 'ss-swatch object' }, 'movable object (where it started)') : null,
       robot?.model ? h('span', { class: 'ss-swatch laser' }, 'laser') : null, layerToggles);
     this.panel = h('section', { class: 'panel scene-panel', 'aria-label': 'Scene' }, this.box, legend);
 

@@ -167,6 +167,17 @@ describe('scenarios', () => {
       assert.match(await task(), /^pick_and_place: pick up an object and put it on a target/);
       assert.deepEqual(await tab.page.$$eval('.task-settings li', (items) => items.map((item) => item.textContent)),
         ['object cup', 'penalised 16 (cuttingboard, cheese01, cheese02, …)', 'target (0, 0.68, 0.45) m']);
+      // Its movable objects on the map, in the legend and listed, as the world gives them.
+      const { objects } = (await serverGet('/api/v1/scenarios/pick_and_place/world')).json;
+      assert.ok(objects.some((object) => object.name === 'cup'), 'the cup is among them');
+      assert.deepEqual(await tab.page.$$eval('svg.map .map-object title', (titles) => titles.map((title) => title.textContent)),
+        objects.map((object) => `object ${object.name} (${object.shape.kind})`));
+      const cup = await tab.page.$eval('svg.map .map-object:has(title:text-is("object cup (cylinder)"))', (mark) => [Number(mark.getAttribute('cx')), Number(mark.getAttribute('cy'))]);
+      const robot = await tab.page.$eval('svg.map .map-agent.robot circle', (mark) => [Number(mark.getAttribute('cx')), Number(mark.getAttribute('cy'))]);
+      assert.ok(cup[0] > robot[0] + 10 && Math.abs(cup[1] - robot[1]) < 1, `the cup 0.68 m ahead of the robot: ${cup} and ${robot}`);
+      assert.match(await tab.page.textContent('.sc-map-legend'), /movable object at its start/);
+      assert.match(await tab.page.textContent('.sc-world-table:has(caption:text-is("Movable objects at their start")) tr:has-text("cuttingboard")'),
+        /cuttingboard\s*box 0\.3 × 0\.2 × 0\.02 m\s*1\s*0\.22\s*0\.41\s*0\.5/);
       await screenshot(tab.page, 'scenario-pick-and-place');
       await tab.open('/scenarios/approach_human_apartment');
       await tab.page.waitForSelector('.task-settings');

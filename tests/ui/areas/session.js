@@ -4,7 +4,7 @@
 // the robot drives with the arrow keys under teleop wherever the focus is, Space, N and R play, step and
 // reset (not while typing), going to a tick back gives the state the session had then (and its events)
 // and forth to its end says why it ended, a task whose actions are no velocity says so, and ending the
-// session goes back to its scenario.
+// session goes back to its scenario; movable objects are drawn where they started.
 const assert = require('node:assert/strict');
 const { describe, it } = require('node:test');
 const context = require('../lib/context');
@@ -277,6 +277,33 @@ describe('session', () => {
       await tab.page.waitForFunction(() => !/06:00:00/.test(document.querySelector('.scenario-clock').textContent));
       await tab.page.click('button.play');
       assert.match(await tab.page.textContent('.scenario-clock'), /^Time of day 06:\d\d:\d\d, day 1/);
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+      await call('DELETE', `/api/v1/sessions/${id}`);
+    }
+  });
+
+  it('draws the movable objects where they started, in the legend', async () => {
+    const id = await createSession({ scenario: 'pick_and_place', seed: 1 });
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      await tab.open(`/sessions/${id}`);
+      await tab.page.waitForSelector('.scene-box[data-frames]');
+      await tab.page.waitForSelector('.scene-legend .ss-swatch.object:text-is("movable object (where it started)")');
+      // The objects' magenta, lit: nothing else in the scene has a strong red with blue and no green.
+      const magenta = await tab.page.$eval('.scene-box canvas', (canvas) => {
+        const copy = document.createElement('canvas');
+        copy.width = canvas.width;
+        copy.height = canvas.height;
+        const context = copy.getContext('2d');
+        context.drawImage(canvas, 0, 0);
+        const data = context.getImageData(0, 0, copy.width, copy.height).data;
+        let count = 0;
+        for (let i = 0; i < data.length; i += 4) if (data[i] > 120 && data[i + 1] < 90 && data[i + 2] > 70 && data[i] > data[i + 2]) count++;
+        return count;
+      });
+      assert.ok(magenta > 50, `${magenta} pixels of the objects' colour`);
       assert.deepEqual(tab.errors, []);
     } finally {
       await tab.close();
