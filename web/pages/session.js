@@ -1,7 +1,8 @@
 // #/sessions/ID: a live lockstep session. The page steps it itself over the session's WebSocket at the
 // chosen speed (one step message in flight at most), draws the agents in 3D with the robot's laser
 // and proxemic rings, shows a camera's frames, the choreography's progress and the events as they
-// happen, and lets the user drive the robot, command a human or make a robot request.
+// happen, goes back (or forth) to a tick, and lets the user drive the robot, command a human or make a
+// robot request.
 // The driver (session/driver.js) talks to the server; each panel under session/ renders its part of
 // what the driver hears. This page lays them out and owns the session's head and its end.
 import { h, loading, errorPage, formatNumber, pageTitle } from '../lib/ui.js';

@@ -30,18 +30,16 @@ function sessionRow(session, act) {
   const seedField = h('input', { type: 'number', min: 0, step: 1, required: true, inputmode: 'numeric', class: 'session-seed', value: session.seed,
     'aria-label': `Seed to reset session ${session.id} to` });
   let shownSeed = session.seed;
-  const buttons = [];
-  const button = (text, options, onclick) => {
-    const element = h('button', { type: options.submit ? 'submit' : 'button', class: `secondary ${options.class ?? ''}`, onclick }, text);
-    buttons.push(element);
-    return element;
-  };
+  const button = (text, options, onclick) => h('button', { type: options.submit ? 'submit' : 'button', class: `secondary ${options.class ?? ''}`, onclick }, text);
+  // One action of a row at a time; its buttons stay enabled, so that the focus stays on the one pressed.
+  let busy = false;
   const run = async (what, call) => {
-    for (const element of buttons) element.disabled = true;
+    if (busy) return;
+    busy = true;
     try {
       await act(what, call);
     } finally {
-      for (const element of buttons) element.disabled = false;
+      busy = false;
     }
   };
   const reset = (seed) => run(`Session ${session.id} reset with seed ${seed}`, () => api.post(`${sessionPath(session.id)}/reset`, { seed }));

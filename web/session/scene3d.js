@@ -47,6 +47,8 @@ export class SessionScene {
     this.panel = h('section', { class: 'panel scene-panel', 'aria-label': 'Scene' }, this.box, legend);
 
     driver.setSensors(this.#laserRobot());
+    // After a reset or a seek (forth as well) the trails start again where the agents are.
+    driver.on('reset', () => this.#trails.clear());
     driver.on('state', (state) => this.#showState(state));
     driver.on('sensors', (sensors) => this.#showSensors(sensors));
     driver.on('events', (events) => {
@@ -96,7 +98,7 @@ export class SessionScene {
       let trail = this.#trails.get(agent.id);
       if (!trail) this.#trails.set(agent.id, (trail = []));
       const last = trail[trail.length - 1];
-      if (last && time < last.t) trail.length = 0;  // the session was reset
+      if (last && time < last.t) trail.length = 0;  // another client reset the session or took it back
       if (!last || Math.hypot(agent.x - last.x, agent.y - last.y) >= TRAIL_SPACING_M) trail.push({ x: agent.x, y: agent.y, t: time });
       while (trail.length && time - trail[0].t > TRAIL_SECONDS) trail.shift();
     }

@@ -16,8 +16,9 @@ export function seekGroup(driver, { onError }) {
   let reached = driver.status.tick;
   let seeking = false;
   let wanted = null;  // the tick to go to next
-  const slider = h('input', { type: 'range', class: 'seek-slider', min: 0, max: reached, step: driver.stepTicks, value: reached });
-  const field = h('input', { type: 'number', class: 'seek-tick', min: 0, step: driver.stepTicks, value: reached, required: true, inputmode: 'numeric', 'aria-label': 'Tick to go to' });
+  // Any tick: with a benchmark task the server goes on to the end of the env step that reaches it.
+  const slider = h('input', { type: 'range', class: 'seek-slider', min: 0, max: reached, step: 1, value: reached });
+  const field = h('input', { type: 'number', class: 'seek-tick', min: 0, step: 1, value: reached, required: true, inputmode: 'numeric', 'aria-label': 'Tick to go to' });
   const go = h('button', { type: 'submit', class: 'secondary' }, 'Go');
   const form = h('form', { class: 'toolbar-group seek', 'aria-label': 'Go to a tick', onsubmit: (event) => {
     event.preventDefault();
