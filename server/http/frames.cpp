@@ -1,7 +1,11 @@
 #include "http/frames.hpp"
 
+#include <algorithm>
+#include <array>
 #include <bit>
+#include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "core/error.hpp"
 #include "http/request_helpers.hpp"
@@ -104,6 +108,43 @@ std::string camera_message(const render::Scene& scene, const sim::CameraInfo& ca
       .render_into(scene, c,
                    {reinterpret_cast<std::uint8_t*>(colour), reinterpret_cast<float*>(colour + pixels * 4),
                     with_ids ? reinterpret_cast<std::uint32_t*>(colour + pixels * 8) : nullptr});
+  return out;
+}
+
+std::string scene_message(const render::Scene& scene, std::int64_t tick, double time, bool all) {
+  static_assert(std::endian::native == std::endian::little, "binary frames are written in the host's byte order");
+  std::vector<const render::Part*> parts;
+  for (const render::Part& part : scene) {
+    if (all || part.id >= sim::kDoorIdBase) parts.push_back(&part);
+  }
+  std::string out(kSceneHeaderBytes + parts.size() * kScenePartBytes, '\0');
+  char* data = out.data();
+  const auto put = [&](std::size_t offset, auto value) { std::memcpy(data + offset, &value, sizeof value); };
+  std::memcpy(data, "HRSF", 4);
+  put(4, std::uint16_t{1});  // format version
+  put(6, static_cast<std::uint16_t>(kSceneHeaderBytes));
+  put(8, tick);
+  put(16, time);
+  put(24, static_cast<std::uint32_t>(parts.size()));
+  put(28, static_cast<std::uint32_t>(kScenePartBytes));
+  std::size_t at = kSceneHeaderBytes;
+  for (const render::Part* part : parts) {
+    const bool capsule = part->shape == render::Part::Shape::capsule;
+    // A mesh goes as the box its bounds fill.
+    const auto shape = part->shape == render::Part::Shape::mesh ? render::Part::Shape::box : part->shape;
+    put(at, part->id);
+    put(at + 4, static_cast<std::uint8_t>(shape));
+    for (int c = 0; c < 3; ++c) put(at + 5 + c, static_cast<std::uint8_t>(std::lround(std::clamp(part->colour[c], 0.0f, 1.0f) * 255.0f)));
+    const Eigen::Vector3d first = capsule ? part->from : part->pose.translation();
+    const Eigen::Vector3d second = capsule ? part->to : part->size;
+    const Eigen::Quaterniond rotation(part->pose.linear());
+    const std::array<double, 4> last = capsule ? std::array<double, 4>{part->radius, 0.0, 0.0, 0.0}
+                                               : std::array<double, 4>{rotation.x(), rotation.y(), rotation.z(), rotation.w()};
+    for (int i = 0; i < 3; ++i) put(at + 8 + 4 * i, static_cast<float>(first[i]));
+    for (int i = 0; i < 3; ++i) put(at + 20 + 4 * i, static_cast<float>(second[i]));
+    for (int i = 0; i < 4; ++i) put(at + 32 + 4 * i, static_cast<float>(last[i]));
+    at += kScenePartBytes;
+  }
   return out;
 }
 

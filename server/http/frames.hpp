@@ -38,4 +38,13 @@ Response encode_frame(const render::Frame& frame, const FrameRequest& request);
 /// straight into the message.
 std::string camera_message(const render::Scene& scene, const sim::CameraInfo& camera, std::int64_t tick, double time, bool with_ids);
 
+/// Bytes of a scene frame's header and of each of its parts.
+inline constexpr std::size_t kSceneHeaderBytes = 32;
+inline constexpr std::size_t kScenePartBytes = 48;
+
+/// What moves in a scene (doors, movable objects, people's body capsules, robots' links; `all`: the
+/// floor, walls and furniture too, meshes as their bounding boxes) as a binary message a browser draws
+/// in 3D: a 32-byte little-endian header "HRSF", then 48 bytes a part. Layout in api/asyncapi.yaml.
+std::string scene_message(const render::Scene& scene, std::int64_t tick, double time, bool all);
+
 }  // namespace hrisim::http

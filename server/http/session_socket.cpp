@@ -30,7 +30,7 @@ class SessionSocket : public WebSocketPeer {
     Response (SessionSocket::*handle)(const std::shared_ptr<Live>&, json&);
     bool changes_session;
   };
-  static const std::array<MessageType, 12> kMessageTypes;
+  static const std::array<MessageType, 13> kMessageTypes;
 
   /// Holds no reference to the session: a deleted one is freed, and the socket then closes.
   SessionSocket(std::shared_ptr<Registry> registry, const std::shared_ptr<Live>& live, Caller caller)
@@ -174,6 +174,12 @@ class SessionSocket : public WebSocketPeer {
     });
   }
 
+  Response on_scene(const std::shared_ptr<Live>& live, json& body) {
+    refuse_unknown_keys(body, {"all"});
+    if (body.contains("all") && !body["all"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "all: true or false", {{"pointer", "/all"}});
+    return answer_locked(live, [all = body.value("all", false)](Live& session) { return scene_frame(session.session(), all); });
+  }
+
   Response on_subscribe(const std::shared_ptr<Live>& live, json& body) {
     refuse_unknown_keys(body, {"rate", "camera"});
     if (!body.contains("rate") || !body["rate"].is_number() || !(body["rate"].get<double>() >= 0.0) ||
@@ -253,7 +259,7 @@ class SessionSocket : public WebSocketPeer {
   std::uint64_t pushed_generation_ = 0;  ///< the session's resets when the last frame was pushed
 };
 
-const std::array<SessionSocket::MessageType, 12> SessionSocket::kMessageTypes{{
+const std::array<SessionSocket::MessageType, 13> SessionSocket::kMessageTypes{{
     {"step", &SessionSocket::on_step, true},
     {"step_many", &SessionSocket::on_step_many, true},
     {"commands", &SessionSocket::on_commands, true},
@@ -265,6 +271,7 @@ const std::array<SessionSocket::MessageType, 12> SessionSocket::kMessageTypes{{
     {"laser", &SessionSocket::on_laser, false},
     {"audio", &SessionSocket::on_audio, false},
     {"camera", &SessionSocket::on_camera, false},
+    {"scene", &SessionSocket::on_scene, false},
     {"subscribe", &SessionSocket::on_subscribe, false},
 }};
 

@@ -386,4 +386,8 @@ Response camera_frame(const sim::Session& session, const std::string& name, int 
   });
 }
 
+Response scene_frame(const sim::Session& session, bool all) {
+  return Response{200, kBinaryContentType, scene_message(sim::scene_of(session), session.state().tick, session.time(), all), {}, {}};
+}
+
 }  // namespace hrisim::http

@@ -18,6 +18,9 @@ namespace hrisim::http {
 /// Most state frames per second a WebSocket subscription may ask for.
 inline constexpr double kMaxPushRate = 60.0;
 
+/// The session's scene as a binary scene frame (scene_message): what moves, or with `all` everything.
+Response scene_frame(const sim::Session& session, bool all);
+
 nlohmann::json event_json(const sim::Event& event);
 /// Status of a session: id, scenario, seed, mode, tick, time, its end, the choreography step, the task,
 /// the state hash; as members of an object being written, or as a JSON object.

@@ -153,6 +153,12 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     });
   });
 
+  router.add("GET", "/api/v1/sessions/{id}/scene", [registry](const Request& request) {
+    const auto all = query_value(request.query, "all").value_or("false");
+    if (all != "true" && all != "false") throw core::Error(core::ErrorCode::bad_request, "all: true or false", {{"parameter", "all"}});
+    return locked(registry->find(request.path_params.at("id"), request.caller), [all = all == "true"](Live& live) { return scene_frame(live.session(), all); });
+  });
+
   router.add("POST", "/api/v1/sessions/{id}/seek", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
     const json body = json_object_body(request);

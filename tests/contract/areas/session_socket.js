@@ -5,6 +5,7 @@
 // before the upgrade.
 const assert = require('node:assert/strict');
 const { describe, it, before, after } = require('node:test');
+const { decodeSceneFrame } = require('../lib/scene_frame');
 const { api, Client } = require('../lib/client');
 const { LAYOUT, layoutInSpec, decodeLaserFrame } = require('../lib/laser_frame');
 const cameraFrame = require('../lib/camera_frame');
@@ -108,6 +109,19 @@ describe('session WebSocket', () => {
     assert.equal(wrong.error.details.pointer, '/tick');
     // Back to where it was for the tests that follow.
     assert.equal((await socket.send({ type: 'seek', tick: start.tick })).tick, start.tick);
+  });
+
+  it('scene answers with a binary scene frame, the same bytes as GET …/scene', async () => {
+    const frame = await socket.send({ type: 'scene' });
+    assert.ok(Buffer.isBuffer(frame));
+    const rest = await api.get(`/api/v1/sessions/${session.id}/scene`);
+    assert.ok(frame.equals(rest.bytes), 'the same frame over both');
+    assert.ok(decodeSceneFrame(frame).parts.length > 0);
+    const all = await socket.send({ type: 'scene', all: true });
+    assert.ok(decodeSceneFrame(all).parts.length > decodeSceneFrame(frame).parts.length);
+    const wrong = await socket.send({ type: 'scene', all: 1 });
+    assert.equal(wrong.type, 'error');
+    assert.equal(wrong.error.details.pointer, '/all');
   });
 
   it('state answers with agents and the events since a tick', async () => {

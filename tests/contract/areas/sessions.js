@@ -8,6 +8,7 @@ const { api } = require('../lib/client');
 const { specAllows } = require('../lib/contract');
 const { cupOnASideTable } = require('../lib/fixtures');
 const { decodePng, jpegSize, decodeNpy } = require('../lib/images');
+const { decodeSceneFrame } = require('../lib/scene_frame');
 
 const UNKNOWN_SESSION = `s${'0'.repeat(32)}`;
 const POLL_MS = 20;
@@ -381,6 +382,34 @@ describe('sessions', () => {
     assert.equal((await api.post(at('/restore'), {})).status, 400);
     assert.equal((await api.delete(at(`/snapshots/${taken.json.snapshot}`))).status, 204);
     assert.equal((await api.delete(at(`/snapshots/${taken.json.snapshot}`))).status, 404);
+  });
+
+  it('GET …/scene: the people\'s body capsules, the robot\'s links and the doors as a binary frame; all=true adds the floor and walls', async () => {
+    const reply = await api.get(at('/scene'));
+    assert.equal(reply.status, 200);
+    assert.equal(reply.headers['content-type'], 'application/octet-stream');
+    const frame = decodeSceneFrame(reply.bytes);
+    const state = (await api.get(at('/state'))).json;
+    assert.equal(frame.tick, state.tick);
+    const people = state.agents.filter((agent) => agent.kind === 'human');
+    for (const [index, agent] of state.agents.entries()) {
+      const parts = frame.parts.filter((part) => part.id === 10000 + index);
+      if (agent.kind !== 'human') continue;
+      assert.equal(parts.length, 13, `${agent.id}: 13 body capsules`);
+      assert.ok(parts.every((part) => part.shape === 3 && part.radius > 0.01));
+      // The torso (the first capsule) stands over the person's place.
+      const torso = parts[0];
+      assert.ok(Math.hypot((torso.a[0] + torso.b[0]) / 2 - agent.x, (torso.a[1] + torso.b[1]) / 2 - agent.y) < 0.3, agent.id);
+    }
+    const links = frame.parts.filter((part) => part.id >= 1000000);
+    assert.ok(links.length >= 5, 'the HSR\'s links');
+    for (const link of links.filter((part) => part.shape !== 3)) assert.ok(Math.abs(Math.hypot(...link.c) - 1) < 1e-5, 'a unit quaternion');
+    assert.equal(frame.parts.filter((part) => part.id < 2000).length, 0, 'nothing static by default');
+    assert.equal(frame.parts.length, people.length * 13 + links.length + frame.parts.filter((part) => part.id >= 2000 && part.id < 4000).length);
+    const all = decodeSceneFrame((await api.get(at('/scene?all=true'))).bytes);
+    assert.ok(all.parts.some((part) => part.id === 1), 'the floor');
+    assert.equal(all.parts.length - frame.parts.length, all.parts.filter((part) => part.id < 2000).length);
+    assert.equal((await api.get(at('/scene?all=yes'))).status, 400);
   });
 
   it('POST …/seek: back to a tick bit for bit with the commands given up to it, forth by ticks; a tick out of range is a 400 at /tick', async () => {
