@@ -122,7 +122,7 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
 
   auto catalogue = std::make_shared<ScenarioCatalogue>(store, context.scenarios_dir, context.scenario_limits, context.scenario_cache_bytes);
   add_scenario_routes(*router, catalogue);
-  add_session_routes(*router, catalogue, context.sessions, tickets);
+  add_session_routes(*router, catalogue, context.sessions, tickets, store);
   add_run_routes(*router, catalogue, store, context.executor);
 
   auto files = std::make_shared<StaticFiles>(context.web_root);

@@ -62,6 +62,9 @@ std::shared_ptr<Live> Registry::create(NewSession request) {
   live->controller = std::move(request.controller);
   live->owner = std::move(request.owner);
   live->unwatched_grace = request.unwatched_grace;
+  live->episode_id = std::move(request.episode_id);
+  live->time_limit = request.time_limit;
+  live->requests = std::move(request.requests);
   live->recording_memory = limits_.recording_memory;
   live->crowd_threads = limits_.crowd_threads;
   live->start(std::move(request.model));

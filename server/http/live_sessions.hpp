@@ -39,6 +39,10 @@ struct Live {
   std::string mode = "lockstep";  ///< lockstep: clients step it; realtime: the server does, by the wall clock
   double realtime_factor = 1.0;   ///< realtime: simulated seconds per wall-clock second
   std::optional<nlohmann::json> controller;  ///< replaced the robot under test's, when given
+  /// A replay of a stored episode: its id; its run's time limit and scripted requests hold here too.
+  std::string episode_id;
+  std::optional<double> time_limit;
+  std::vector<std::pair<double, std::string>> requests;
   std::mutex mutex;  ///< one request at a time works on the session
   std::unique_ptr<episode::Episode> episode;
   core::MemoryBudget* recording_memory = nullptr;  ///< shared by every recording of the server
@@ -66,7 +70,7 @@ struct Live {
   void start(std::shared_ptr<const scenario::Model> model) {
     episode = std::make_unique<episode::Episode>(
         std::move(model), static_cast<std::uint64_t>(seed),
-        episode::Settings{std::nullopt, {}, true, sim::RecorderLimits{kMaxLiveRecordedBodies, recording_memory}, crowd_threads});
+        episode::Settings{time_limit, requests, true, sim::RecorderLimits{kMaxLiveRecordedBodies, recording_memory}, crowd_threads});
     events_reported = 0;
     realtime_origin = Clock::now();
     realtime_origin_tick = 0;
@@ -99,6 +103,9 @@ struct NewSession {
   std::optional<nlohmann::json> controller;
   std::string owner;
   std::optional<std::chrono::seconds> unwatched_grace;
+  std::string episode_id;  ///< a replay of this stored episode, with its run's settings below
+  std::optional<double> time_limit;
+  std::vector<std::pair<double, std::string>> requests;
 };
 
 /// The live sessions. At most `max_sessions` run at once; finished ones do not count, but the registry

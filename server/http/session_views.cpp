@@ -67,6 +67,8 @@ void write_status(core::JsonWriter& out, const Live& live) {
   out.key("controller");
   live.controller ? out.value(*live.controller) : out.null();
   out.key("connected_clients").value(live.clients->load());
+  out.key("episode");
+  live.episode_id.empty() ? out.null() : out.value(live.episode_id);
   out.key("unwatched_grace");
   live.unwatched_grace ? out.value(static_cast<std::int64_t>(live.unwatched_grace->count())) : out.null();
   out.key("tick").value(state.tick).key("time").value(session.time()).key("dt").value(session.model().dt);

@@ -13,6 +13,7 @@
 #include "http/session_views.hpp"
 #include "metrics/episode_metrics.hpp"
 #include "runs/spec.hpp"
+#include "storage/store.hpp"
 #include "sim/scene_view.hpp"
 
 namespace hrisim::http {
@@ -26,16 +27,68 @@ Response refused(const core::Error& error) {
   return response;
 }
 
-void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, std::shared_ptr<TicketBook> tickets) {
+/// 201 with the new session's status, or 503 when the server runs its maximum.
+Response created(Registry& registry, NewSession request) {
+  try {
+    const auto live = registry.create(std::move(request));
+    std::lock_guard lock(live->mutex);
+    Response response = Response::json(201, status_of(*live));
+    response.headers.emplace_back("Location", "/api/v1/sessions/" + live->id);
+    return response;
+  } catch (const core::Error& error) {
+    return refused(error);
+  }
+}
+
+/// A session that plays a stored episode again: its scenario record, seed, and its run's controller,
+/// time limit and scripted requests. Stepped to its end it reaches the episode's state hash.
+NewSession replay_of(storage::Store& store, ScenarioCatalogue& catalogue, const std::string& id, const Caller& caller) {
+  const auto episode = store.episode(id);
+  const auto run = episode && episode->run_id ? store.run(*episode->run_id) : std::nullopt;
+  if (!episode || !visible_to(caller, run ? run->owner : "")) {
+    throw core::Error(core::ErrorCode::not_found, "no episode '" + id + "'", {{"pointer", "/episode"}, {"id", id}});
+  }
+  const auto entry = catalogue.find(episode->scenario_id);
+  if (!entry || !entry->source.model) {
+    throw core::Error(core::ErrorCode::conflict, "episode " + id + "'s scenario '" + episode->scenario_id + "' no longer loads", {{"pointer", "/episode"}});
+  }
+  const json config = run ? run->config : json::object();
+  NewSession replay;
+  replay.scenario = config.value("scenario", episode->scenario_id);
+  replay.model = entry->source.model;
+  if (config.contains("controller") && !config["controller"].is_null()) {
+    json errors = json::array();
+    replay.model = runs::with_controller(entry->source.document, config["controller"], catalogue.options(*entry).load, errors).model;
+    runs::throw_if_problems(errors);
+    replay.controller = config["controller"];
+  }
+  replay.seed = static_cast<std::int64_t>(episode->seed);
+  replay.owner = caller.owner;
+  replay.episode_id = id;
+  if (config.contains("max_time") && config["max_time"].is_number()) replay.time_limit = config["max_time"].get<double>();
+  for (const json& asked : config.value("requests", json::array())) replay.requests.emplace_back(asked["time"].get<double>(), asked["routine"].get<std::string>());
+  return replay;
+}
+
+void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, std::shared_ptr<TicketBook> tickets,
+                        storage::Store* store) {
   auto registry = std::make_shared<Registry>(limits);
 
-  router.add("POST", "/api/v1/sessions", [catalogue, registry](const Request& request) {
+  router.add("POST", "/api/v1/sessions", [catalogue, registry, store](const Request& request) {
     const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"scenario", "seed", "mode", "realtime_factor", "controller", "unwatched_grace"});
-    if (!body.contains("scenario") || !body["scenario"].is_string()) {
+    refuse_unknown_keys(body, {"scenario", "episode", "seed", "mode", "realtime_factor", "controller", "unwatched_grace"});
+    if (body.contains("episode")) {
+      for (const char* key : {"scenario", "seed", "controller"}) {
+        if (body.contains(key)) {
+          throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": a replay of an episode takes the episode's own",
+                            {{"pointer", std::string("/") + key}});
+        }
+      }
+      if (!body["episode"].is_string()) throw core::Error(core::ErrorCode::bad_request, "episode: the id of a stored episode", {{"pointer", "/episode"}});
+    } else if (!body.contains("scenario") || !body["scenario"].is_string()) {
       throw core::Error(core::ErrorCode::bad_request, "scenario: the id of a scenario is required", {{"pointer", "/scenario"}});
     }
-    const std::string scenario = body["scenario"];
+    const std::string scenario = body.value("scenario", "");
     const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, 0);
     const std::string mode = body.contains("mode") && body["mode"].is_string() ? body["mode"].get<std::string>() : body.contains("mode") ? "" : "lockstep";
     if (mode != "lockstep" && mode != "realtime") {
@@ -57,7 +110,14 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       unwatched_grace = std::chrono::seconds(integer_field(body, "unwatched_grace", 1, kMaxUnwatchedGrace.count(), 0));
     }
     // Compiling an upload and building the session's world (physics, sensors) are work for the pool.
-    return Response::later([catalogue, registry, body, scenario, seed, mode, factor, unwatched_grace, caller = request.caller] {
+    return Response::later([catalogue, registry, store, body, scenario, seed, mode, factor, unwatched_grace, caller = request.caller] {
+      if (body.contains("episode")) {
+        NewSession replay = replay_of(*store, *catalogue, body["episode"], caller);
+        replay.mode = mode;
+        replay.realtime_factor = factor;
+        replay.unwatched_grace = unwatched_grace;
+        return created(*registry, std::move(replay));
+      }
       const auto entry = catalogue->find(scenario, caller);
       if (!entry || !entry->source.model) {
         throw core::Error(core::ErrorCode::not_found, "no scenario '" + scenario + "'", {{"pointer", "/scenario"}, {"id", scenario}});
@@ -70,15 +130,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
         runs::throw_if_problems(errors);
         controller = body["controller"];
       }
-      try {
-        const auto live = registry->create({scenario, model, seed, mode, factor, controller, caller.owner, unwatched_grace});
-        std::lock_guard lock(live->mutex);
-        Response response = Response::json(201, status_of(*live));
-        response.headers.emplace_back("Location", "/api/v1/sessions/" + live->id);
-        return response;
-      } catch (const core::Error& error) {
-        return refused(error);
-      }
+      return created(*registry, {scenario, model, seed, mode, factor, controller, caller.owner, unwatched_grace, "", std::nullopt, {}});
     });
   });
 
@@ -220,6 +272,8 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       fresh->seed = seed;
       fresh->recording_memory = live->recording_memory;
       fresh->crowd_threads = live->crowd_threads;
+      fresh->time_limit = live->time_limit;
+      fresh->requests = live->requests;
       fresh->start(live->session().shared_model());
       for (const auto& [name, pose] : poses.items()) {
         fresh->episode->give(place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name)));

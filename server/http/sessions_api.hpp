@@ -13,7 +13,9 @@
 
 namespace hrisim::http {
 
-/// `tickets`: issued by POST …/ws-ticket, for browsers that cannot send a token on an upgrade.
-void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, std::shared_ptr<TicketBook> tickets);
+/// `tickets`: issued by POST …/ws-ticket, for browsers that cannot send a token on an upgrade; `store`:
+/// the stored episodes a session may replay.
+void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, std::shared_ptr<TicketBook> tickets,
+                        storage::Store* store);
 
 }  // namespace hrisim::http

@@ -269,6 +269,33 @@ describe('runs', () => {
     }
   });
 
+  it('POST /api/v1/sessions with an episode replays it: the run\'s controller and time limit, stepped to the same final state hash', async () => {
+    const run = await waitForRun((await startRun({ scenario: 'elevator', seeds: [3], controller: { type: 'goal', goal: { pose: { x: 1.0, y: -0.8, theta: 0 } } }, max_time: 2 })).json.id);
+    const episode = (await api.get(`/api/v1/runs/${run.id}/episodes`)).json.items[0];
+    assert.ok(episode.state_hash, 'the episode keeps its final state hash');
+    const created = await api.post('/api/v1/sessions', { episode: episode.id });
+    assert.equal(created.status, 201, created.body);
+    const replay = created.json;
+    assert.equal(replay.episode, episode.id);
+    assert.equal(replay.seed, 3);
+    assert.equal(replay.scenario, 'elevator');
+    assert.deepEqual(replay.controller, run.config.controller);
+    const end = await api.post(`/api/v1/sessions/${replay.id}/step`, { n: 100000 });
+    assert.equal(end.json.status, 'finished');
+    assert.equal(end.json.termination, 'timeout', 'the run\'s max_time');
+    assert.equal(end.json.tick, episode.ticks);
+    assert.equal(end.json.state_hash, episode.state_hash, 'bit for bit the episode it replays');
+    await api.delete(`/api/v1/sessions/${replay.id}`);
+    for (const [body, pointer] of [[{ episode: episode.id, seed: 4 }, '/seed'], [{ episode: episode.id, scenario: 'queue' }, '/scenario'], [{ episode: 7 }, '/episode']]) {
+      const refused = await api.post('/api/v1/sessions', body);
+      assert.equal(refused.status, 400, JSON.stringify(body));
+      assert.equal(refused.json.error.details.pointer, pointer);
+    }
+    const unknown = await api.post('/api/v1/sessions', { episode: 'e0' });
+    assert.equal(unknown.status, 404);
+    assert.equal(unknown.json.error.details.pointer, '/episode');
+  });
+
   it('POST /api/v1/runs: requests make the robot ask at the given times', async () => {
     const plain = await waitForRun((await startRun({ scenario: 'queue', seeds: [0] })).json.id);
     const asking = await waitForRun((await startRun({ scenario: 'queue', seeds: [0], requests: [{ time: 1, routine: 'help_robot' }] })).json.id);
