@@ -488,15 +488,7 @@ int render_command(const std::vector<std::string>& args) {
   source.load.map_search_path = {parsed.last("--scenarios").value_or(bundled_scenarios_dir())};
   const scenario::CompiledSource compiled = scenario::compile_source(stored->source, scenario::source_format(stored->format).value_or(scenario::SourceFormat::json), source);
   if (!compiled.model) throw core::Error(core::ErrorCode::internal, "the stored scenario of episode " + parsed.file + " no longer loads");
-  runs::RunRequest request;
-  request.document = compiled.document;
-  request.load = source.load;
-  request.seeds = {episode->seed};
-  if (config.contains("controller") && !config["controller"].is_null()) request.controller = config["controller"];
-  if (config.contains("max_time") && config["max_time"].is_number()) request.max_time = config["max_time"].get<double>();
-  // Episodes stored before the rename to "routine" keep "task".
-  for (const nlohmann::json& asked : config.value("requests", nlohmann::json::array())) request.requests.emplace_back(asked["time"], asked.value("routine", asked.value("task", "")));
-  const runs::RunSpec spec = runs::make_run_spec(request);
+  const runs::RunSpec spec = runs::make_run_spec(runs::replay_request(compiled.document, source.load, config, episode->seed));
 
   // A frame every `stride` ticks, as close to the asked rate as whole ticks allow.
   const auto stride = std::max<std::int64_t>(1, std::llround(1.0 / (spec.model->dt * fps)));

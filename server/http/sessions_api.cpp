@@ -12,6 +12,7 @@
 #include "http/session_socket.hpp"
 #include "http/session_views.hpp"
 #include "metrics/episode_metrics.hpp"
+#include "runs/executor.hpp"
 #include "runs/spec.hpp"
 #include "storage/store.hpp"
 #include "sim/scene_view.hpp"
@@ -53,20 +54,17 @@ NewSession replay_of(storage::Store& store, ScenarioCatalogue& catalogue, const 
     throw core::Error(core::ErrorCode::conflict, "episode " + id + "'s scenario '" + episode->scenario_id + "' no longer loads", {{"pointer", "/episode"}});
   }
   const json config = run ? run->config : json::object();
+  const runs::RunRequest request = runs::replay_request(entry->source.document, catalogue.options(*entry).load, config, episode->seed);
+  const runs::RunSpec spec = runs::make_run_spec(request);
   NewSession replay;
   replay.scenario = config.value("scenario", episode->scenario_id);
-  replay.model = entry->source.model;
-  if (config.contains("controller") && !config["controller"].is_null()) {
-    json errors = json::array();
-    replay.model = runs::with_controller(entry->source.document, config["controller"], catalogue.options(*entry).load, errors).model;
-    runs::throw_if_problems(errors);
-    replay.controller = config["controller"];
-  }
+  replay.model = spec.model;
+  replay.controller = request.controller;
   replay.seed = static_cast<std::int64_t>(episode->seed);
   replay.owner = caller.owner;
   replay.episode_id = id;
-  if (config.contains("max_time") && config["max_time"].is_number()) replay.time_limit = config["max_time"].get<double>();
-  for (const json& asked : config.value("requests", json::array())) replay.requests.emplace_back(asked["time"].get<double>(), asked["routine"].get<std::string>());
+  replay.time_limit = spec.max_time;
+  replay.requests = spec.requests;
   return replay;
 }
 

@@ -37,6 +37,19 @@ scenario::LoadResult with_controller(nlohmann::json document, const nlohmann::js
   return loaded;
 }
 
+RunRequest replay_request(const nlohmann::json& document, const scenario::LoadOptions& load, const nlohmann::json& config, std::uint64_t seed) {
+  RunRequest request;
+  request.document = document;
+  request.load = load;
+  request.seeds = {seed};
+  if (config.contains("controller") && !config["controller"].is_null()) request.controller = config["controller"];
+  if (config.contains("max_time") && config["max_time"].is_number()) request.max_time = config["max_time"].get<double>();
+  for (const nlohmann::json& asked : config.value("requests", nlohmann::json::array())) {
+    request.requests.emplace_back(asked["time"].get<double>(), asked.value("routine", asked.value("task", "")));
+  }
+  return request;
+}
+
 void throw_if_problems(const nlohmann::json& errors) {
   if (errors.empty()) return;
   const std::string first = errors[0]["message"];

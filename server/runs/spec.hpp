@@ -38,6 +38,11 @@ struct RunRequest {
 scenario::LoadResult with_controller(nlohmann::json document, const nlohmann::json& controller, const scenario::LoadOptions& load,
                                      nlohmann::json& errors);
 
+/// The request that runs a stored episode again: `document` (its scenario as stored) with `load`, its
+/// seed, and its run's controller, max_time and requests from the run's `config` (empty for an episode
+/// without a run). Episodes stored before the rename of "task" to "routine" keep "task".
+RunRequest replay_request(const nlohmann::json& document, const scenario::LoadOptions& load, const nlohmann::json& config, std::uint64_t seed);
+
 /// Throws core::Error(bad_request) for a non-empty list of {pointer, message}: the first message (and
 /// how many more), every one in details.errors, the first pointer in details.pointer.
 void throw_if_problems(const nlohmann::json& errors);
