@@ -12,6 +12,7 @@ const routes = [
   { pattern: /^\/runs$/, page: 'runs', nav: 'runs' },
   { pattern: /^\/runs\/([^/]+)$/, page: 'run', nav: 'runs', keys: ['id'] },
   { pattern: /^\/episodes\/([^/]+)$/, page: 'episode', nav: 'runs', keys: ['id'] },
+  { pattern: /^\/compare$/, page: 'compare', nav: 'runs' },
   { pattern: /^\/compare\/([^/]+)\/([^/]+)$/, page: 'compare', nav: 'runs', keys: ['a', 'b'] },
   { pattern: /^\/controllers$/, page: 'controllers', nav: 'controllers' },
 ];
@@ -35,7 +36,9 @@ async function show({ navigated = true } = {}) {
     try { cleanup(); } catch (error) { console.warn('cleaning up the last page failed', error); }
     cleanup = null;
   }
-  const [path, queryText = ''] = decodeURIComponent(location.hash.slice(1) || '/').split('?');
+  // Only the path is decoded here: URLSearchParams decodes the query's values once ('&', '+' or '%' in a search stay theirs).
+  const [encodedPath, queryText = ''] = (location.hash.slice(1) || '/').split('?');
+  const path = decodeURIComponent(encodedPath);
   const query = new URLSearchParams(queryText);
   const root = document.getElementById('main');
   root.replaceChildren();

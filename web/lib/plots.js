@@ -15,6 +15,12 @@ export function loadMetrics() {
   return metricsRequest;
 }
 
+/** The metrics' categories (GET /api/v1/metrics `category`) in words. */
+export const CATEGORY_NAMES = {
+  task_and_path: 'Task and path', proximity: 'Proximity', contact: 'Contact', social_forces: 'Social forces',
+  interaction: 'Interaction', task_rewards: 'Task rewards',
+};
+
 /** A metric's value with its unit: "0.42 m", "12 %", "3" (count), "yes"/"no" (bool, one episode). */
 export function withUnit(value, unit, { bool = 'number' } = {}) {
   if (value === null || value === undefined) return '—';
@@ -34,6 +40,11 @@ export function betterArrow(better) {
   const text = { higher: ['↑', 'higher is better'], lower: ['↓', 'lower is better'], none: ['–', 'descriptive: neither way is better'] }[better]
     ?? ['', ''];
   return h('span', { class: `better ${better}`, title: text[1], 'aria-label': text[1] }, text[0]);
+}
+
+/** A metric's key as a plot's title, with ↑ or ↓ when one way is better: "minimum distance to people ↑". */
+export function metricTitle(key, better) {
+  return `${key.replaceAll('_', ' ')}${better === 'higher' ? ' ↑' : better === 'lower' ? ' ↓' : ''}`;
 }
 
 const STATUS_TONE = { finished: 'good', failed: 'bad', error: 'bad', cancelled: 'warn', interrupted: 'warn', running: '', queued: '' };
@@ -99,12 +110,12 @@ function valueSummary(values, unit) {
 }
 
 /**
- * A plot's text alternative: `summary` as the plot's accessible name, and after it a button that shows
- * the plotted data as a table (`headings`, `rows` of cells; built on first use).
+ * A plot's text alternative: `summary` as the accessible name of the plot's `element`, and after it in
+ * `container` a button that shows the plotted data as a table (`headings`, `rows` of cells; built on first use).
  */
-function textAlternative(plot, container, { title, summary, headings, rows }) {
-  plot.root.setAttribute('role', 'img');
-  plot.root.setAttribute('aria-label', summary);
+export function textAlternative(element, container, { title, summary, headings, rows }) {
+  element.setAttribute('role', 'img');
+  element.setAttribute('aria-label', summary);
   const box = h('div', { class: 'plot-table', hidden: true });
   const toggle = h('button', { type: 'button', class: 'link plot-table-toggle', 'aria-expanded': 'false' }, 'Show as table');
   toggle.addEventListener('click', () => {
@@ -177,7 +188,7 @@ export function timePlot(container, { times, values, title, unit, colour = '#2f6
     },
   }, [times, clipAbove === null ? values : values.map((v) => (v === null ? null : Math.min(v, clipAbove)))], container);
   const end = times.length ? times[times.length - 1] : 0;
-  textAlternative(plot, container, {
+  textAlternative(plot.root, container, {
     title: `${title} over time`,
     summary: `${title} over ${formatNumber(end, 2)} s, ${times.length} samples: ${valueSummary(values, unit)}`
       + `${clipAbove !== null ? `; the plot shows 0 to ${formatNumber(clipAbove)} ${unit}, more drawn at ${formatNumber(clipAbove)} ${unit}` : ''}.`,
@@ -190,6 +201,9 @@ export function timePlot(container, { times, values, title, unit, colour = '#2f6
     destroy() { plot.destroy(); },
   };
 }
+
+/** A series drawn as dots, without a line between them (lib/plotexport.js draws it so too). */
+export const POINTS_ONLY = () => null;
 
 /**
  * Per-episode values of one metric as dots (x: episodes in run order, labelled by seed) with a dashed
@@ -214,7 +228,7 @@ export function dotPlot(container, { points, title, unit, bool = false, colour =
     cursor: { drag: { x: false, y: false }, points: { size: 9 } },
     series: [
       { label: 'episode' },
-      { label: title, stroke: colour, fill: colour, paths: () => null, points: { show: true, size: 8, fill: colour } },
+      { label: title, stroke: colour, fill: colour, paths: POINTS_ONLY, points: { show: true, size: 8, fill: colour } },
       { label: 'mean', stroke: '#5d6575', dash: [5, 4], width: 1, points: { show: false } },
     ],
     axes: [
@@ -228,7 +242,7 @@ export function dotPlot(container, { points, title, unit, bool = false, colour =
     ],
   }, [xs, ys, xs.map(() => mean)], container);
   const valueText = (v) => (v === null || v === undefined ? '—' : bool ? (v >= 0.5 ? 'yes' : 'no') : formatNumber(v));
-  textAlternative(plot, container, {
+  textAlternative(plot.root, container, {
     title: `${title} per episode`,
     summary: `${title} per episode, ${points.length} episode${points.length === 1 ? '' : 's'}: ${valueSummary(ys, bool ? '' : unit)}.`,
     headings: ['seed', bool ? title : `${title} (${unit})`],

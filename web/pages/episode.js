@@ -1,10 +1,14 @@
 // #/episodes/ID: a stored episode replayed — the map with every agent's path and the agents at the
-// scrubber's time, events on the timeline, per-step series plots whose cursor follows the scrubber
-// (and hovering a plot moves it), and the episode's metrics with units.
+// scrubber's time, events on the timeline, the chosen per-step series' plots whose cursor follows the
+// scrubber (and hovering a plot moves it), the episode's metrics with units, and its trajectory and
+// series as CSV. The address keeps the replay's moment and the series: #/episodes/ID?t=12.3&series=….
 import { api } from '../lib/api.js';
 import { h, loading, showError, errorPage, formatNumber, pageTitle } from '../lib/ui.js';
 import { MapView, palette } from '../lib/map2d.js';
-import { loadMetrics, withUnit, betterArrow, statusBadge, timePlot, PROXEMIC_BANDS } from '../lib/plots.js';
+import { CATEGORY_NAMES, loadMetrics, withUnit, betterArrow, statusBadge, timePlot, PROXEMIC_BANDS } from '../lib/plots.js';
+import { downloadLink } from '../lib/download.js';
+import { showInAddress, listOf } from '../lib/hashquery.js';
+import { checkPicker } from '../runs/picker.js';
 
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 10];
 // Series plotted first, in this order; proxemic_zone is what the distance plot's bands show.
@@ -14,10 +18,8 @@ const SERIES_COLOURS = { distance_to_closest_person: '#2f6fd1', robot_speed: '#e
 // Where a series' y axis ends: a time to collision runs to days when nobody is on a collision course,
 // and only its first seconds matter (longer ones are drawn at this height).
 const SERIES_CLIPPED_ABOVE = { time_to_collision: 10 };
-const CATEGORY_NAMES = {
-  task_and_path: 'Task and path', proximity: 'Proximity', contact: 'Contact', social_forces: 'Social forces',
-  interaction: 'Interaction', task_rewards: 'Task rewards',
-};
+// The replay's time goes into the address once the scrubber rests (every frame would flood the history).
+const ADDRESS_DELAY_MS = 300;
 
 function eventTone(kind) {
   if (/contact|collision|error/.test(kind)) return 'bad';
@@ -62,7 +64,7 @@ function metricsTables(episode, metrics) {
     })))));
 }
 
-export async function render(root, params) {
+export async function render(root, params, query) {
   const id = params.id;
   pageTitle(root, `Episode ${id.slice(0, 9)}`, id);
   const wait = loading(root, 'Loading the episode');
@@ -93,7 +95,8 @@ export async function render(root, params) {
     h('span', {}, `ended by ${episode.termination.replaceAll('_', ' ')}`),
     h('span', {}, `${formatNumber(episode.sim_time)} s simulated (${episode.ticks.toLocaleString('en')} steps)`),
     h('span', {}, `controller ${episode.controller}`),
-    h('span', { class: 'muted' }, `scenario ${episode.scenario}`)));
+    h('span', { class: 'muted' }, `scenario ${episode.scenario}`),
+    downloadLink(`/api/v1/episodes/${encodeURIComponent(id)}/trajectory?format=csv`, `${id}.csv`, 'Trajectory (CSV)')));
 
   const agentIds = Object.keys(trajectory.agents);
   const longest = agentIds.reduce((best, a) => (trajectory.agents[a].length > (trajectory.agents[best]?.length ?? 0) ? a : best), agentIds[0]);
@@ -159,15 +162,32 @@ export async function render(root, params) {
       h('span', { class: 'muted small' }, 'Focus the slider: ← → step 0.1 s, Page Up/Down jump, Home/End.'))));
   if (!times.length) mapPanel.append(h('p', { class: 'message info' }, 'This episode stored no trajectory.'));
 
-  // Plots, one per series, sharing one cursor.
-  const plots = [];
+  // Plots of the chosen series, one each, sharing one cursor; the choice is the address's.
+  let shownSeries = listOf(query, 'series', seriesNames).filter((name) => seriesNames.includes(name));
+  let plots = [];
   const syncKey = `episode-${id}`;
-  seriesNames.forEach((name, i) => {
-    const result = seriesResults[i];
+  const plotsArea = h('div', { class: 'series-plots' });
+  plotsPanel.append(checkPicker({ id: 'series-picker', legend: 'Series plotted',
+    groups: [{ name: '', items: seriesNames.map((name) => ({ key: name, label: name.replaceAll('_', ' '), title: metrics.series.find((s) => s.name === name)?.description })) }],
+    chosen: shownSeries,
+    onChange: (names) => {
+      shownSeries = names;
+      showInAddress(`/episodes/${id}`, addressValues());
+      drawSeries();
+      setIndex(index);
+    } }), plotsArea);
+  const drawSeries = () => {
+    for (const p of plots) p.destroy();
+    plots = [];
+    plotsArea.replaceChildren();
+    for (const name of shownSeries) drawOneSeries(name, seriesResults[seriesNames.indexOf(name)]);
+    if (!shownSeries.length) plotsArea.append(h('p', { class: 'muted' }, 'No series chosen.'));
+  };
+  const drawOneSeries = (name, result) => {
     const definition = metrics.series.find((s) => s.name === name);
     const figure = h('figure', { class: 'series-plot', 'data-series': name },
       h('figcaption', { class: 'muted small' }, definition?.description ?? ''));
-    plotsPanel.append(figure);
+    plotsArea.append(figure);
     if (result.status === 'rejected') {
       showError(figure, new Error(`${name}: ${result.reason.message}`));
       return;
@@ -177,6 +197,8 @@ export async function render(root, params) {
       figure.prepend(h('p', { class: 'muted' }, `${name.replaceAll('_', ' ')}: no value in this episode`));
       return;
     }
+    const csv = downloadLink(`/api/v1/episodes/${encodeURIComponent(id)}/series?name=${encodeURIComponent(name)}&format=csv`,
+      `${id}-${name}.csv`, 'CSV', { class: 'button secondary series-csv', 'aria-label': `${name.replaceAll('_', ' ')} as CSV` });
     const seriesTimes = series.values.map((_, k) => k * series.dt);
     const bands = name === 'distance_to_closest_person' ? PROXEMIC_BANDS : null;
     const clipAbove = SERIES_CLIPPED_ABOVE[name] ?? null;
@@ -193,7 +215,8 @@ export async function render(root, params) {
       figure.append(h('p', { class: 'legend muted small' }, 'Shaded: Hall\'s zones — ',
         PROXEMIC_BANDS.flatMap((b) => [h('span', { class: 'swatch', style: `background:${b.colour.replace(/[\d.]+\)$/, '0.5)')}` }), ` ${b.name} < ${b.to} m `])));
     }
-  });
+    figure.append(csv);
+  };
   // Rewards come from a benchmark task: its episode_reward series is plotted above.
   const reward = episode.metrics.episode_reward;
   if (reward === null || reward === undefined) {
@@ -213,8 +236,15 @@ export async function render(root, params) {
     h('section', { 'aria-labelledby': 'metrics-title' }, h('h2', { id: 'metrics-title' }, 'Metrics'), metricsTables(episode, metrics)));
 
   let index = 0;
+  let addressTimer = null;
+  // The time to a tenth of a second, as the samples are at 10 Hz; the series when not all of them.
+  function addressValues() {
+    return { t: index > 0 ? String(Math.round(times[index] * 10) / 10) : null, series: shownSeries.length === seriesNames.length ? null : shownSeries };
+  }
   function setIndex(next, source = 'code') {
     index = Math.max(0, Math.min(next, times.length - 1));
+    clearTimeout(addressTimer);
+    addressTimer = setTimeout(() => showInAddress(`/episodes/${id}`, addressValues(), { replace: true }), ADDRESS_DELAY_MS);
     if (source !== 'slider') scrubber.value = String(index);
     const time = times[index] ?? 0;
     const text = `${formatNumber(time, 2)} s of ${formatNumber(duration, 2)} s`;
@@ -255,9 +285,11 @@ export async function render(root, params) {
   scrubber.addEventListener('pointerdown', stop);
   scrubber.addEventListener('keydown', stop);
 
-  setIndex(0);
+  drawSeries();
+  setIndex(nearest(times, Number(query.get('t')) || 0));
   return () => {
     stop();
+    clearTimeout(addressTimer);
     for (const p of plots) p.destroy();
   };
 }

@@ -1,17 +1,17 @@
-// #/runs/ID: one run's report — progress (polled every second while it runs), verdict, every
-// metric's aggregates with units and which way is better, per-episode values as dot plots, and the
-// episodes with links to their replays.
-import { api, authorisedUrl } from '../lib/api.js';
+// #/runs/ID: one run's report — its name, tags and notes (edited in place), progress (polled every
+// second while it runs), verdict, every metric's aggregates with units and which way is better,
+// per-episode values of the chosen metrics as dot plots (#/runs/ID?plots=success,collisions), the
+// episodes with links to their replays, and the report as files: episodes CSV, JSON, JUnit XML.
+import { api } from '../lib/api.js';
 import { h, loading, showError, errorPage, scrollBox, formatNumber, pageTitle } from '../lib/ui.js';
-import { loadMetrics, withUnit, unitLabel, betterArrow, statusBadge, verdictBadge, isRunning, dotPlot } from '../lib/plots.js';
+import { CATEGORY_NAMES, loadMetrics, withUnit, unitLabel, betterArrow, statusBadge, verdictBadge, isRunning } from '../lib/plots.js';
+import { downloadLink, saveButton } from '../lib/download.js';
+import { showInAddress, listOf } from '../lib/hashquery.js';
+import { labelsPanel } from '../runs/labels.js';
+import { episodePlots } from '../runs/episode-plots.js';
 
-const CATEGORY_NAMES = {
-  task_and_path: 'Task and path', proximity: 'Proximity', contact: 'Contact', social_forces: 'Social forces',
-  interaction: 'Interaction', task_rewards: 'Task rewards',
-};
-// Shown per episode and plotted, in this order, when the metrics list has them.
+// Shown per episode and plotted (unless the address chooses others), in this order, when the metrics list has them.
 const KEY_METRICS = ['success', 'collisions', 'minimum_distance_to_people', 'path_length', 'time_to_goal'];
-const PLOT_COLOURS = ['#2f8a4f', '#c0392b', '#2f6fd1', '#7d4fb8', '#b7791f'];
 
 /** Seeds as ranges: 1-5, 8, 10-12. */
 function seedRanges(seeds) {
@@ -124,36 +124,49 @@ function episodesTable(report, episodes, keys, metrics) {
     })));
 }
 
-export async function render(root, params) {
+/** The page's heading: the run's name, else its short id. */
+const heading = (report) => (report.name ? `${report.name} (run ${report.id.slice(0, 9)})` : `Run ${report.id.slice(0, 9)}`);
+
+export async function render(root, params, query) {
   const id = params.id;
+  const path = `/api/v1/runs/${encodeURIComponent(id)}`;
   pageTitle(root, `Run ${id.slice(0, 9)}`, id);
   const wait = loading(root, 'Loading the run');
   let report, metrics;
   try {
-    [report, metrics] = await Promise.all([api.get(`/api/v1/runs/${encodeURIComponent(id)}`), loadMetrics()]);
+    [report, metrics] = await Promise.all([api.get(path), loadMetrics()]);
   } catch (error) {
     errorPage(root, `Run ${id}`, error, { href: '#/runs', text: 'All runs' });
     return null;
   }
   wait.remove();
   const keys = KEY_METRICS.filter((k) => metrics.byKey.has(k));
+  const title = root.querySelector('h1');
+  const retitle = () => {
+    title.textContent = heading(report);
+    document.title = `${heading(report)} · hrisim`;
+  };
+  retitle();
 
   const cancelButton = h('button', { type: 'button', class: 'secondary danger' }, 'Cancel the run');
   const actionMessage = h('div', { 'aria-live': 'polite' });
   const actions = h('div', { class: 'row run-actions' },
     cancelButton,
-    junitLink(id),
+    downloadLink(`${path}/episodes?format=csv`, `${id}-episodes.csv`, 'Episodes (CSV)'),
+    saveButton('Report (JSON)', () => ({ blob: new Blob([`${JSON.stringify(report, null, 2)}\n`], { type: 'application/json' }), filename: `hrisim-${id}.json` })),
+    downloadLink(`${path}/junit`, `hrisim-${id}.xml`, 'JUnit report (XML)'),
     h('a', { class: 'button secondary', href: `#/runs?scenario=${encodeURIComponent(report.scenario)}` }, 'Start another run of this scenario'),
     actionMessage);
   const summary = h('div');
   const verdict = h('div');
-  const plots = h('section', { 'aria-labelledby': 'plots-title' });
+  // The plotted metrics' choice is the address's, and goes back into it.
+  const plots = episodePlots({ runId: id, metrics, chosen: listOf(query, 'plots', keys).filter((k) => metrics.byKey.has(k)),
+    onChoose: (chosen) => showInAddress(`/runs/${id}`, { plots: chosen.join(',') === keys.join(',') ? null : chosen }) });
   const aggregates = h('section', { 'aria-labelledby': 'aggregates-title' });
   const episodesArea = h('section', { 'aria-labelledby': 'episodes-title' });
-  root.append(actions, h('div', { class: 'run-top' }, summary, verdict), plots, aggregates, episodesArea);
+  root.append(actions, labelsPanel(report, (edited) => { report = edited; retitle(); }),
+    h('div', { class: 'run-top' }, summary, verdict), plots.element, aggregates, episodesArea);
 
-  let uplots = [];
-  const destroyPlots = () => { for (const u of uplots) u.destroy(); uplots = []; };
   let shownStored = -1;
   let shownStatus = null;
 
@@ -165,37 +178,14 @@ export async function render(root, params) {
     aggregates.replaceChildren(h('h2', { id: 'aggregates-title' }, 'Metrics'), scrollBox(aggregatesTable(report, metrics), 'Metrics'));
     let episodes = [];
     try {
-      episodes = (await api.get(`/api/v1/runs/${encodeURIComponent(id)}/episodes`)).items;
+      episodes = (await api.get(`${path}/episodes`)).items;
     } catch (error) {
       episodesArea.replaceChildren(h('h2', { id: 'episodes-title' }, 'Episodes'));
       showError(episodesArea, error);
       return;
     }
     episodesArea.replaceChildren(h('h2', { id: 'episodes-title' }, 'Episodes'), scrollBox(episodesTable(report, episodes, keys, metrics), 'Episodes'));
-    destroyPlots();
-    const finished = episodes.filter((e) => e.status === 'finished');
-    const grid = h('div', { class: 'dot-plots' });
-    plots.replaceChildren(h('h2', { id: 'plots-title' }, 'Per-episode values'), grid);
-    if (!finished.length) {
-      grid.replaceWith(h('p', { class: 'muted' }, 'No finished episode yet.'));
-      return;
-    }
-    // The seeds' order of the report, so a plot's x axis reads like the episodes table.
-    const order = new Map(report.config.seeds.map((s, i) => [s, i]));
-    finished.sort((a, b) => order.get(a.seed) - order.get(b.seed));
-    keys.forEach((key, i) => {
-      const metric = metrics.byKey.get(key);
-      const points = finished.map((e) => ({ seed: e.seed, value: e.metrics[key] ?? null }));
-      const cell = h('figure', { class: 'dot-plot', 'data-metric': key });
-      grid.append(cell);
-      if (points.every((p) => p.value === null)) {
-        const reason = `${key.replaceAll('_', ' ')}: no value in any episode`;
-        cell.append(h('figcaption', {}, reason));
-        return;
-      }
-      const title = `${key.replaceAll('_', ' ')} ${metric.better === 'higher' ? '↑' : metric.better === 'lower' ? '↓' : ''}`;
-      uplots.push(dotPlot(cell, { points, title, unit: unitLabel(metric.unit), bool: metric.unit === 'bool', colour: PLOT_COLOURS[i % PLOT_COLOURS.length] }));
-    });
+    plots.show(report, episodes);
   };
 
   const show = () => {
@@ -209,7 +199,7 @@ export async function render(root, params) {
   let left = false;
   const poll = async () => {
     try {
-      report = await api.get(`/api/v1/runs/${encodeURIComponent(id)}`);
+      report = await api.get(path);
       if (left) return;
       await show();
     } catch (error) {
@@ -222,7 +212,7 @@ export async function render(root, params) {
   cancelButton.addEventListener('click', async () => {
     cancelButton.disabled = true;
     try {
-      report = await api.post(`/api/v1/runs/${encodeURIComponent(id)}/cancel`);
+      report = await api.post(`${path}/cancel`);
       actionMessage.replaceChildren(h('span', { class: 'muted' }, 'Cancelling: running episodes stop at their next step.'));
       await show();
     } catch (error) {
@@ -237,13 +227,6 @@ export async function render(root, params) {
   return () => {
     left = true;
     clearTimeout(timer);
-    destroyPlots();
+    plots.destroy();
   };
-}
-
-/** The JUnit report as a download; with a token (which a plain link cannot send) fetched with it first. */
-function junitLink(id) {
-  const link = h('a', { class: 'button secondary', href: `/api/v1/runs/${encodeURIComponent(id)}/junit`, download: `hrisim-${id}.xml` }, 'JUnit report (XML)');
-  authorisedUrl(link.getAttribute('href')).then((source) => { link.href = source; }, () => {});
-  return link;
 }

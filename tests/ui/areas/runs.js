@@ -1,11 +1,16 @@
 'use strict';
-// Runs, episode replays and comparisons: a run started from the form reaches its report (progress,
-// then metrics with units and arrows; gates pending while it runs), every problem of the form shows
-// beside its field at once, an episode replays (the scrubber moves the agents and the plots' cursor;
-// each plot has a summary and its data as a table; the time to collision is clipped at 10 s),
-// two runs compare with p-values and failed gates as chips, and the tables scroll in their panels on
-// a narrow screen.
+// Runs, episode replays and comparisons: a run started from the form with a name, tags and notes
+// reaches its report (progress, then metrics with units and arrows; gates pending while it runs), the
+// report edits its labels in place, plots the metrics chosen in its address and saves its episodes,
+// itself and its plots as files; every problem of the form shows beside its field at once; the list
+// searches, filters by tag and by conditions, shows chosen metric columns, sorts and pages, all in the
+// address; an episode replays from the moment its address names (the scrubber moves the agents and the
+// plots' cursor; each plot has a summary and its data as a table; the time to collision is clipped at
+// 10 s) and offers its trajectory and series as CSV; three runs compare against a baseline with
+// p-values, Holm's correction, distributions and failed gates as chips, and the tables scroll in their
+// panels on a narrow screen.
 const assert = require('node:assert/strict');
+const fs = require('node:fs');
 const { describe, it } = require('node:test');
 const context = require('../lib/context');
 const { newPage, screenshot } = require('../lib/browser');
@@ -14,14 +19,44 @@ const WAIT = { timeout: 20000 };
 // Shared by the tests below, in order: the run started from the form and one of its episodes.
 const state = { runA: null, episode: null };
 
+async function call(method, path, body) {
+  const response = await fetch(`http://127.0.0.1:${context.server.port}${path}`, {
+    method,
+    headers: body ? { 'content-type': 'application/json' } : {},
+    body: body ? JSON.stringify(body) : undefined,
+  });
+  const text = await response.text();
+  return { status: response.status, body: text ? JSON.parse(text) : null };
+}
+
+/** Starts a run through the API; resolves to its id once it has ended. */
+async function runThroughApi(body) {
+  const created = await call('POST', '/api/v1/runs', body);
+  assert.equal(created.status, 201, JSON.stringify(created.body));
+  for (let tries = 0; tries < 200; tries++) {
+    if ((await call('GET', `/api/v1/runs/${created.body.id}`)).body.status === 'finished') return created.body.id;
+    await new Promise((resolve) => setTimeout(resolve, 50));
+  }
+  throw new Error(`run ${created.body.id} did not finish`);
+}
+
+/** Clicks what `selector` names and resolves to the download it starts: {name, text}. */
+async function download(page, selector) {
+  const [started] = await Promise.all([page.waitForEvent('download', WAIT), page.click(selector)]);
+  return { name: started.suggestedFilename(), bytes: fs.readFileSync(await started.path()) };
+}
+
+/** The address's query of the page, as an object. */
+const addressQuery = (page) => page.evaluate(() => Object.fromEntries(new URLSearchParams(location.hash.split('?')[1] ?? '')));
+
 /** The page is no wider than the window: wide tables scroll in their own boxes. */
 async function assertNoSidewaysScroll(page, what) {
   const { scrollWidth, innerWidth } = await page.evaluate(() => ({ scrollWidth: document.scrollingElement.scrollWidth, innerWidth }));
   assert.ok(scrollWidth <= innerWidth, `${what}: the page is ${scrollWidth} px wide in a ${innerWidth} px window`);
 }
 
-/** Starts a run through the form on #/runs?scenario=queue; resolves to its id once its page opened. */
-async function startRunFromForm(tab, { seeds, gates }) {
+/** Starts a run through the form on #/runs?scenario=queue. */
+async function startRunFromForm(tab, { seeds, gates, name = '', tags = '', notes = '' }) {
   await tab.open('/runs?scenario=queue');
   const page = tab.page;
   await page.waitForSelector('#run-scenario option[value=queue]', { ...WAIT, state: 'attached' });
@@ -30,17 +65,25 @@ async function startRunFromForm(tab, { seeds, gates }) {
   await page.fill('#run-seeds', seeds);
   await page.fill('#run-max-time', '20');
   await page.fill('#run-gates', gates);
+  await page.fill('#run-name', name);
+  await page.fill('#run-tags', tags);
+  await page.fill('#run-notes', notes);
   await page.click('.run-form button[type=submit]');
 }
 
 describe('runs', () => {
-  it('starts a run from the form; its page shows the progress, then the metrics with units and arrows', async () => {
+  it('starts a run from the form with a name, tags and notes; its page shows them, the progress, then the metrics with units and arrows', async () => {
     const tab = await newPage(context.browser, context.server.port);
     try {
-      await startRunFromForm(tab, { seeds: '1,2', gates: 'collisions.max >= 0\nminimum_distance_to_people.min >= 0' });
+      await startRunFromForm(tab, { seeds: '1,2', gates: 'collisions.max >= 0\nminimum_distance_to_people.min >= 0',
+        name: 'queue baseline', tags: 'nightly, queue  smoke,nightly', notes: 'The first try.\nSecond line.' });
       await tab.page.waitForFunction(() => /^#\/runs\/r[0-9a-f]{32}$/.test(location.hash), null, WAIT);
       state.runA = await tab.page.evaluate(() => location.hash.slice('#/runs/'.length));
       await tab.page.waitForSelector('progress#run-progress', WAIT);
+      assert.equal(await tab.page.textContent('h1'), `queue baseline (run ${state.runA.slice(0, 9)})`);
+      assert.equal(await tab.page.textContent('.run-label-name'), 'queue baseline');
+      assert.deepEqual(await tab.page.$$eval('.run-label-tags button.tag', (tags) => tags.map((t) => t.textContent)), ['nightly', 'queue', 'smoke']);
+      assert.equal(await tab.page.textContent('.run-label-notes'), 'The first try.\nSecond line.');
       await tab.page.waitForSelector('.run-summary .badge:has-text("finished")', WAIT);
       assert.equal(await tab.page.getAttribute('progress#run-progress', 'value'), '2');
       await tab.page.waitForSelector('table.aggregates tr[data-metric=minimum_distance_to_people]', WAIT);
@@ -64,9 +107,91 @@ describe('runs', () => {
 
       await tab.open('/runs');
       await tab.page.waitForSelector(`.runs-table a[href="#/runs/${state.runA}"]`, WAIT);
-      assert.match(await tab.page.textContent('.runs-table tbody tr'), /2 \/ 2/);
+      const listRow = `.runs-table tr:has(a[href="#/runs/${state.runA}"])`;
+      assert.match(await tab.page.textContent(listRow), /2 \/ 2/);
+      assert.equal(await tab.page.textContent(`${listRow} .run-name .name`), 'queue baseline');
+      assert.deepEqual(await tab.page.$$eval(`${listRow} button.tag`, (tags) => tags.map((t) => t.textContent)), ['nightly', 'queue', 'smoke']);
+      // The default metric columns, the success rate first.
+      assert.deepEqual(await tab.page.$$eval('.runs-table th[data-column]', (cells) => cells.map((c) => c.dataset.column)),
+        ['success.mean', 'collisions.max', 'time_to_goal.mean']);
+      assert.equal(await tab.page.textContent(`${listRow} td[data-column="collisions.max"]`), '0');
       await screenshot(tab.page, 'runs-list');
       assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+    }
+  });
+
+  it('a report edits its name, tags and notes in place, plots the metrics its address names, and saves itself and its plots as files', async () => {
+    assert.ok(state.runA, 'the first test started a run');
+    const tab = await newPage(context.browser, context.server.port);
+    const page = tab.page;
+    const patches = [];
+    page.on('request', (request) => { if (request.method() === 'PATCH') patches.push(request.postDataJSON()); });
+    try {
+      await tab.open(`/runs/${state.runA}`);
+      await page.click('button:has-text("Edit the name, tags and notes")', WAIT);
+      assert.equal(await page.evaluate(() => document.activeElement.id), 'edit-name');
+      assert.equal(await page.inputValue('#edit-tags'), 'nightly queue smoke');
+      // What the page sees is shown before anything is sent.
+      await page.fill('#edit-tags', `ok ${'x'.repeat(70)}`);
+      await page.click('.labels-form button[type=submit]');
+      assert.match(await page.textContent('#edit-tags-error'), /longer than 64 bytes/);
+      assert.equal(await page.evaluate(() => document.activeElement.id), 'edit-tags');
+      assert.deepEqual(patches, []);
+      // What the server objects to goes beside the field its pointer names.
+      await page.route('**/api/v1/runs/*', (route) => (route.request().method() !== 'PATCH' ? route.fallback() : route.fulfill({
+        status: 400, contentType: 'application/json',
+        body: JSON.stringify({ error: { code: 'bad_request', message: 'two problems', details: { errors: [
+          { pointer: '/name', message: 'the server dislikes this name' }, { pointer: '/notes', message: 'and these notes' }] } } }) })));
+      await page.fill('#edit-tags', 'ok');
+      await page.click('.labels-form button[type=submit]');
+      await page.waitForSelector('#edit-name-error:not([hidden])', WAIT);
+      assert.equal(await page.textContent('#edit-name-error'), 'the server dislikes this name');
+      assert.equal(await page.textContent('#edit-notes-error'), 'and these notes');
+      assert.equal(await page.isVisible('#edit-tags-error'), false);
+      await screenshot(page, 'runs-run-labels-errors');
+      await page.unroute('**/api/v1/runs/*');
+      await page.fill('#edit-name', 'renamed baseline');
+      await page.fill('#edit-tags', 'nightly,alpha');
+      await page.fill('#edit-notes', '');
+      await page.click('.labels-form button[type=submit]');
+      await page.waitForSelector('.run-label-name:has-text("renamed baseline")', WAIT);
+      assert.deepEqual(patches.at(-1), { name: 'renamed baseline', tags: ['nightly', 'alpha'], notes: '' });
+      assert.equal(await page.textContent('h1'), `renamed baseline (run ${state.runA.slice(0, 9)})`);
+      const stored = (await call('GET', `/api/v1/runs/${state.runA}`)).body;
+      assert.deepEqual([stored.name, stored.tags, stored.notes], ['renamed baseline', ['nightly', 'alpha'], '']);
+
+      // The plotted metrics: chosen on the page, kept in the address, and a link brings them back.
+      await page.click('#plot-metrics summary');
+      await page.uncheck('#plot-metrics input[value=success]');
+      await page.check('#plot-metrics input[value=episode_length]');
+      await page.waitForSelector('.dot-plot[data-metric=episode_length] .uplot', WAIT);
+      assert.equal((await addressQuery(page)).plots, 'collisions,minimum_distance_to_people,path_length,time_to_goal,episode_length');
+      await tab.open(`/runs/${state.runA}?plots=episode_length,collisions`);
+      await page.waitForSelector('.dot-plot[data-metric=episode_length] .uplot', WAIT);
+      assert.deepEqual(await page.$$eval('.dot-plot', (plots) => plots.map((p) => p.dataset.metric)), ['episode_length', 'collisions']);
+
+      // Files: the episodes as CSV from the server, the report as JSON, a plot as PNG and as SVG.
+      assert.equal(await page.getAttribute('a:has-text("Episodes (CSV)")', 'href'), `/api/v1/runs/${state.runA}/episodes?format=csv`);
+      const csv = await download(page, 'a:has-text("Episodes (CSV)")');
+      assert.match(csv.bytes.toString(), /^episode,seed,/);
+      assert.equal(csv.bytes.toString().trim().split('\n').length, 3, 'a header and two episodes');
+      const json = await download(page, 'button:has-text("Report (JSON)")');
+      assert.equal(json.name, `hrisim-${state.runA}.json`);
+      assert.equal(JSON.parse(json.bytes.toString()).name, 'renamed baseline');
+      const png = await download(page, 'button[aria-label="Save the plot of episode_length as PNG"]');
+      assert.equal(png.name, `${state.runA}-episode_length.png`);
+      assert.equal(png.bytes.subarray(1, 4).toString(), 'PNG');
+      const svg = await download(page, 'button[aria-label="Save the plot of episode_length as SVG"]');
+      const text = svg.bytes.toString();
+      assert.match(text, /^<svg xmlns="http:\/\/www\.w3\.org\/2000\/svg"/);
+      assert.match(text, />episode length</, 'its title');
+      assert.equal(text.match(/<circle /g).length, 2, 'a dot per episode');
+      assert.match(text, /stroke-dasharray/, 'the mean as a dashed line');
+      await screenshot(page, 'runs-run-report-chosen-plots');
+      // Chromium logs the faked 400.
+      assert.deepEqual(tab.errors.filter((e) => !/Failed to load resource: .* 400 \(Bad Request\)/.test(e)), []);
     } finally {
       await tab.close();
     }
@@ -135,24 +260,130 @@ describe('runs', () => {
     }
   });
 
-  it('an episode replays: the scrubber moves the agents and the plots follow it; each plot reads as a summary and a table', async () => {
+  it('the list finds runs by text and tag, shows chosen metric columns, sorts by one and pages the sorted list, filters by conditions; all in the address', async () => {
+    // Twelve short runs of one seed each, tagged to be found, with time limits that order their lengths.
+    await Promise.all(Array.from({ length: 12 }, (_, i) => runThroughApi({ scenario: 'queue', seeds: [i], max_time: 0.5 + 0.25 * i,
+      name: `paging ${i}`, tags: ['paging', i % 2 ? 'odd' : 'even'] })));
+    const tab = await newPage(context.browser, context.server.port);
+    const page = tab.page;
+    const listed = [];
+    page.on('request', (request) => { if (/\/api\/v1\/runs\?/.test(request.url())) listed.push(new URL(request.url()).searchParams); });
+    const names = () => page.$$eval('.runs-table tbody .run-name .name', (cells) => cells.map((c) => c.textContent));
+    const lengths = () => page.$$eval('.runs-table tbody td[data-column="episode_length.max"]', (cells) => cells.map((c) => Number(c.textContent.replace(/[^\d.]/g, ''))));
+    const waitForRows = (count) => page.waitForFunction((n) => document.querySelectorAll('.runs-table tbody tr').length === n
+      && !document.querySelector('.runs-list .loading'), count, WAIT);
+    try {
+      await tab.open('/runs?tag=paging&limit=10');
+      await waitForRows(10);
+      assert.equal(await page.inputValue('#filter-tag'), 'paging');
+      assert.equal(await page.inputValue('#page-size'), '10');
+      assert.ok((await names()).every((name) => /^paging \d+$/.test(name)));
+
+      // A metric column, chosen on the page.
+      await page.click('summary:has-text("Metric columns")');
+      await page.selectOption('#column-metric', 'episode_length');
+      await page.selectOption('#column-statistic', 'max');
+      await page.click('button:has-text("Add the column")');
+      await page.waitForSelector('.runs-table th[data-column="episode_length.max"]', WAIT);
+      assert.equal((await addressQuery(page)).metrics, 'success.mean,collisions.max,time_to_goal.mean,episode_length.max');
+
+      // Sorted by it: descending first (neither way is better), then ascending; aria-sort says which.
+      const header = '.runs-table th[data-column="episode_length.max"]';
+      await page.click(`${header} button`);
+      await page.waitForFunction((h) => document.querySelector(h)?.getAttribute('aria-sort') === 'descending', header, WAIT);
+      await page.click(`${header} button`);
+      await page.waitForFunction((h) => document.querySelector(h)?.getAttribute('aria-sort') === 'ascending', header, WAIT);
+      assert.equal(await page.evaluate((h) => document.activeElement === document.querySelector(`${h} button`), header), true, 'the focus stays on the heading');
+      assert.equal(await page.getAttribute('.runs-table th:last-child', 'aria-sort'), 'none');
+      await waitForRows(10);
+      const first = await lengths();
+      assert.deepEqual(first, [...first].sort((a, b) => a - b));
+      assert.deepEqual(await addressQuery(page), { tag: 'paging', sort: 'episode_length.max', order: 'asc',
+        metrics: 'success.mean,collisions.max,time_to_goal.mean,episode_length.max', limit: '10' });
+      assert.match(await page.textContent('.sort-line'), /Sorted by episode_length\.max, lowest first/);
+
+      // The next page of a sorted list: its cursor is an offset, in the address too.
+      await page.click('button:has-text("Next page")');
+      await waitForRows(2);
+      assert.equal((await addressQuery(page)).cursor, '@10');
+      const second = await lengths();
+      assert.ok(second.every((length) => length >= first.at(-1)), `${second} after ${first}`);
+      assert.equal(await page.isVisible('button:has-text("Previous page")'), true);
+      await screenshot(page, 'runs-list-sorted-page-2');
+      // Back: the first page again, as it was.
+      await page.goBack();
+      await waitForRows(10);
+      assert.equal((await addressQuery(page)).cursor, undefined);
+      assert.deepEqual(await lengths(), first);
+      assert.equal(await page.getAttribute(header, 'aria-sort'), 'ascending');
+
+      // Text in any case, then a tag clicked in a row.
+      await page.fill('#filter-q', 'PAGING 1');
+      await page.waitForFunction(() => new URLSearchParams(location.hash.split('?')[1]).get('q') === 'PAGING 1', null, WAIT);
+      await waitForRows(3);
+      assert.deepEqual((await names()).sort(), ['paging 1', 'paging 10', 'paging 11']);
+      await page.click('.runs-table tbody button.tag:text-is("odd")');
+      await page.waitForFunction(() => new URLSearchParams(location.hash.split('?')[1]).get('tag') === 'odd', null, WAIT);
+      await waitForRows(2);
+      assert.deepEqual((await names()).sort(), ['paging 1', 'paging 11']);
+      assert.equal(await page.inputValue('#filter-tag'), 'odd');
+
+      // Conditions: checked against the metrics before anything is asked, then applied.
+      await page.click('summary:has-text("Conditions on metrics")');
+      await page.fill('#where-1', 'nope.max == 1');
+      await page.click('button:has-text("Add a condition")');
+      await page.fill('#where-2', 'episode_length.median > 1');
+      const asked = listed.length;
+      await page.click('button:has-text("Apply the conditions")');
+      assert.equal(await page.textContent('#where-1-error'), "unknown metric 'nope'");
+      assert.match(await page.textContent('#where-2-error'), /unknown statistic 'median'/);
+      assert.equal(await page.evaluate(() => document.activeElement.id), 'where-1');
+      assert.equal(listed.length, asked, 'nothing asked while a condition is wrong');
+      await screenshot(page, 'runs-list-conditions');
+      await page.fill('#where-1', 'collisions.max == 0');
+      await page.fill('#where-2', `episode_length.max > ${first[1]}`);
+      await page.click('button:has-text("Apply the conditions")');
+      await page.waitForFunction(() => new URLSearchParams(location.hash.split('?')[1]).has('where'), null, WAIT);
+      await waitForRows(1);
+      assert.deepEqual(await names(), ['paging 11']);
+      assert.equal(listed.at(-1).get('where'), `collisions.max==0,episode_length.max>${first[1]}`);
+
+      // A link with a condition only the server can judge shows its answer.
+      await tab.open('/runs?where=collisions.max==0,nope.max==1');
+      await page.waitForSelector('.runs-list [role=alert]', WAIT);
+      assert.match(await page.textContent('.runs-list [role=alert]'), /where: gate 'nope\.max==1': unknown metric 'nope'/);
+      assert.equal(await page.inputValue('#where-2'), 'nope.max==1', 'the editor shows the conditions of the address');
+      assert.deepEqual(tab.errors.filter((e) => !/Failed to load resource: .* 400 \(Bad Request\)/.test(e)), []);
+    } finally {
+      await tab.close();
+    }
+  });
+
+  it('an episode replays from the moment its address names: the scrubber moves the agents and the plots follow it; each plot reads as a summary and a table', async () => {
     assert.ok(state.episode, 'the first test stored an episode');
     const tab = await newPage(context.browser, context.server.port);
     try {
-      await tab.open(`/episodes/${state.episode}`);
+      // A shared link opens the replay at its moment.
+      await tab.open(`/episodes/${state.episode}?t=2`);
       const page = tab.page;
       await page.waitForSelector('svg.map g.map-agent[data-agent]', WAIT);
       await page.waitForSelector('.series-plot[data-series=distance_to_closest_person] .uplot', WAIT);
+      assert.equal(await page.inputValue('#replay-time'), '20');
+      assert.match(await page.textContent('.timeline .clock'), /^2 s of/);
+      const entries = await page.evaluate(() => history.length);
       const agents = () => page.$$eval('svg.map g.map-agent[data-agent] circle', (circles) => circles.map((c) => `${c.getAttribute('cx')},${c.getAttribute('cy')}`));
       const marker = () => page.$eval('.series-plot[data-series=distance_to_closest_person] .plot-marker', (m) => parseFloat(m.style.left));
       const before = await agents();
       const markerBefore = await marker();
       await page.focus('#replay-time');
       for (let i = 0; i < 20; i++) await page.keyboard.press('ArrowRight');
-      assert.equal(await page.inputValue('#replay-time'), '20');
-      assert.match(await page.textContent('.timeline .clock'), /^2 s of/);
+      assert.equal(await page.inputValue('#replay-time'), '40');
+      assert.match(await page.textContent('.timeline .clock'), /^4 s of/);
       assert.notDeepEqual(await agents(), before, 'the agents moved');
       assert.ok(await marker() > markerBefore, 'the plot cursor moved right');
+      // Once the scrubber rests, the address has its moment (in place: no history entry per step).
+      await page.waitForFunction(() => location.hash.endsWith('?t=4'), null, WAIT);
+      assert.equal(await page.evaluate(() => history.length), entries);
       // Hovering a plot moves the scrubber.
       const box = await page.$eval('.series-plot[data-series=robot_speed] .u-over', (o) => { const r = o.getBoundingClientRect(); return { x: r.x, y: r.y, w: r.width, h: r.height }; });
       await page.mouse.move(box.x + box.w * 0.75, box.y + box.h / 2);
@@ -171,51 +402,107 @@ describe('runs', () => {
       assert.match(await page.textContent(`${plot} .plot-table tbody tr`), /^0[\d.]+$/, 'time 0 s and its distance');
       assert.match(await page.textContent('.episode-metrics tr[data-metric=minimum_distance_to_people]'), /\d m/);
       await screenshot(page, 'runs-episode');
+
+      // The trajectory and each shown series as CSV.
+      assert.equal(await page.getAttribute('a:has-text("Trajectory (CSV)")', 'href'), `/api/v1/episodes/${state.episode}/trajectory?format=csv`);
+      const series = await download(page, 'a[aria-label="robot speed as CSV"]');
+      assert.equal(series.name, `${state.episode}-robot_speed.csv`);
+      assert.match(series.bytes.toString(), /^tick,time,robot_speed\n0,0,/);
+      // The plotted series: chosen on the page, kept in the address with the moment.
+      await page.click('#series-picker summary');
+      await page.uncheck('#series-picker input[value=robot_speed]');
+      await page.waitForFunction(() => !document.querySelector('.series-plot[data-series=robot_speed]'), null, WAIT);
+      const shown = await page.$$eval('.series-plot', (plots) => plots.map((p) => p.dataset.series));
+      await page.waitForFunction((names) => new URLSearchParams(location.hash.split('?')[1]).get('series') === names, shown.join(','), WAIT);
+      await tab.open(`/episodes/${state.episode}?t=1.5&series=time_to_collision`);
+      await page.waitForSelector('.series-plot[data-series=time_to_collision] .uplot', WAIT);
+      assert.deepEqual(await page.$$eval('.series-plot', (plots) => plots.map((p) => p.dataset.series)), ['time_to_collision']);
+      assert.match(await page.textContent('.timeline .clock'), /^1\.5 s of/);
+      assert.equal(Number(await page.$eval('.series-plot .plot-marker', (m) => m.dataset.time)), 1.5);
       assert.deepEqual(tab.errors, []);
     } finally {
       await tab.close();
     }
   });
 
-  it('two runs compare metric by metric, with p-values and failed gates, and the list leads there; tables scroll on a narrow screen', async () => {
+  it('three runs compare against a baseline: means, p-values with and without Holm\'s correction, distributions, failed gates; the view is in the address', async () => {
     assert.ok(state.runA, 'the first test started a run');
     const tab = await newPage(context.browser, context.server.port);
+    const page = tab.page;
     try {
       await startRunFromForm(tab, { seeds: '3-5', gates: 'success.mean > 1\ncollisions.max >= 0' });
-      await tab.page.waitForFunction((a) => /^#\/runs\/r[0-9a-f]{32}$/.test(location.hash) && !location.hash.endsWith(a), state.runA, WAIT);
-      const runB = await tab.page.evaluate(() => location.hash.slice('#/runs/'.length));
-      await tab.page.waitForSelector('.run-summary .badge:has-text("finished")', WAIT);
+      await page.waitForFunction((a) => /^#\/runs\/r[0-9a-f]{32}$/.test(location.hash) && !location.hash.endsWith(a), state.runA, WAIT);
+      const runB = await page.evaluate(() => location.hash.slice('#/runs/'.length));
+      await page.waitForSelector('.run-summary .badge:has-text("finished")', WAIT);
+      const runC = await runThroughApi({ scenario: 'queue', seeds: [6, 7], max_time: 20, name: 'third' });
       await tab.open('/runs');
-      await tab.page.waitForSelector(`.runs-table a[href="#/runs/${runB}"]`, WAIT);
-      await tab.page.check(`input[aria-label="Compare run ${state.runA}"]`);
-      await tab.page.check(`input[aria-label="Compare run ${runB}"]`);
-      await tab.page.click('button:has-text("Compare the two chosen")');
-      await tab.page.waitForFunction((hash) => location.hash === hash, `#/compare/${state.runA}/${runB}`, WAIT);
-      await tab.page.waitForSelector('table.comparison tbody tr[data-metric=success]', WAIT);
-      const pValues = await tab.page.$$eval('table.comparison td.p-value', (cells) => cells.map((c) => c.textContent));
+      await page.waitForSelector(`.runs-table a[href="#/runs/${runC}"]`, WAIT);
+      for (const run of [state.runA, runB, runC]) await page.check(`input[aria-label="Compare run ${run}"]`);
+      assert.match(await page.textContent('.compare-choice'), new RegExp(`Baseline ${state.runA.slice(0, 9)}, then ${runB.slice(0, 9)}, ${runC.slice(0, 9)}`));
+      await page.click('button:has-text("Compare the chosen")');
+      await page.waitForFunction((hash) => location.hash === hash, `#/compare?runs=${state.runA},${runB},${runC}`, WAIT);
+      await page.waitForSelector('table.comparison tbody tr[data-metric=success]', WAIT);
+      // A mean per run, and for B and C: the difference, p, Holm's p and the change.
+      const success = await page.$$eval('table.comparison tr[data-metric=success] td', (cells) => cells.map((c) => c.textContent));
+      assert.equal(success.length, 2 + 1 + 2 * 5, success.join(' | '));
+      assert.equal(await page.$$eval('table.comparison td.p-adjusted', (cells) => cells.length) > 0, true);
+      const pValues = await page.$$eval('table.comparison td.p-value', (cells) => cells.map((c) => c.textContent));
       assert.ok(pValues.some((p) => /^[<\d]/.test(p)), `some p-value: ${pValues.join(' ')}`);
-      await tab.page.click('table.comparison button.sort');
-      assert.equal(await tab.page.getAttribute('table.comparison th[aria-sort]', 'aria-sort'), 'ascending');
-      // The queue's robot stands still under its own controller: its paths are points, attached but not "visible".
-      await tab.page.waitForSelector('.compare-map svg.map polyline', { ...WAIT, state: 'attached' });
+      assert.match(await page.textContent('.comparison-note'), /Holm-adjusted p < 0\.05 over the reply's \d+ tests/);
+      await page.click('table.comparison button[aria-label^="p of C"]');
+      assert.equal(await page.getAttribute('table.comparison th[aria-sort=ascending] button', 'aria-label'), 'p of C: sort by it (now ascending)');
       // A's gates passed; B failed one, shown as a chip after its verdict.
-      assert.equal(await tab.page.textContent('.side-a .verdict-facts'), 'passed');
-      assert.doesNotMatch(await tab.page.textContent('.side-b .verdict-facts'), /object|,/);
-      assert.deepEqual(await tab.page.$$eval('.side-b .verdict-facts code.chip', (chips) => chips.map((c) => c.textContent)), ['success.mean > 1']);
-      await screenshot(tab.page, 'runs-compare');
+      assert.equal(await page.textContent(`table.compare-runs tr[data-run="${state.runA}"] .verdict-facts`), 'passed');
+      assert.deepEqual(await page.$$eval(`table.compare-runs tr[data-run="${runB}"] .verdict-facts code.chip`, (chips) => chips.map((c) => c.textContent)), ['success.mean > 1']);
+      assert.match(await page.textContent(`table.compare-runs tr[data-run="${runC}"]`), /third/);
+      // Each chosen metric's distribution, a row per run, with a summary and a table.
+      const distance = '.distribution-plot[data-metric=minimum_distance_to_people]';
+      await page.waitForSelector(`${distance} svg`, WAIT);
+      assert.equal(await page.$$eval(`${distance} svg .run-row`, (rows) => rows.length), 3);
+      assert.equal(await page.$$eval(`${distance} svg circle.value`, (dots) => dots.length), 2 + 3 + 2, 'a dot per episode');
+      assert.match(await page.getAttribute(`${distance} svg`, 'aria-label'), /^minimum distance to people ↑, per run: A r\w+ mean [\d.]+ m, median/);
+      await page.click(`${distance} button:has-text("Show as table")`);
+      assert.deepEqual(await page.$$eval(`${distance} .plot-table tbody tr`, (rows) => rows.map((r) => r.cells[1].textContent)), ['2', '3', '2']);
+      // The robot's paths of the baseline and the run chosen (B first). The queue's robot stands still: points, attached but not "visible".
+      await page.waitForSelector('.compare-map svg.map polyline[stroke="#d1492f"]', { ...WAIT, state: 'attached' });
+      await screenshot(page, 'runs-compare');
 
-      await tab.page.setViewportSize({ width: 800, height: 800 });
-      await assertNoSidewaysScroll(tab.page, 'the comparison');
-      assert.ok(await tab.page.$eval('.table-scroll:has(table.comparison)', (box) => box.scrollWidth > box.clientWidth), 'the metrics table scrolls in its box');
-      await screenshot(tab.page, 'runs-compare-800px');
+      // Holm off, another metric plotted, C's paths: all in the address, and a link brings them back.
+      await page.uncheck('#holm');
+      await page.waitForFunction(() => /no correction/.test(document.querySelector('.comparison-note')?.textContent), null, WAIT);
+      assert.equal(await page.$$eval('table.comparison td.p-adjusted', (cells) => cells.length), 0);
+      await page.click('#plot-metrics summary');
+      await page.check('#plot-metrics input[value=episode_length]');
+      await page.waitForSelector('.distribution-plot[data-metric=episode_length] svg', WAIT);
+      await page.selectOption('#paths-run', runC);
+      await page.waitForSelector('.compare-map svg.map polyline[stroke="#2f8a4f"]', { ...WAIT, state: 'attached' });
+      const view = await addressQuery(page);
+      assert.deepEqual(view, { runs: `${state.runA},${runB},${runC}`, correction: 'none',
+        plots: 'success,minimum_distance_to_people,time_to_goal,episode_length', paths: runC });
+      await tab.open(`/compare?runs=${state.runA},${runB},${runC}&correction=none&plots=episode_length&paths=${runC}`);
+      await page.waitForSelector('.distribution-plot[data-metric=episode_length] svg', WAIT);
+      assert.equal(await page.isChecked('#holm'), false);
+      assert.equal(await page.inputValue('#paths-run'), runC);
+      assert.deepEqual(await page.$$eval('.distribution-plot', (plots) => plots.map((p) => p.dataset.metric)), ['episode_length']);
+
+      // The former address of two runs opens the new one.
+      await tab.open(`/compare/${state.runA}/${runB}`);
+      await page.waitForFunction((hash) => location.hash === hash, `#/compare?runs=${state.runA},${runB}`, WAIT);
+      await page.waitForSelector('table.comparison tbody tr[data-metric=success]', WAIT);
+
+      await page.setViewportSize({ width: 800, height: 800 });
+      await assertNoSidewaysScroll(page, 'the comparison');
+      assert.ok(await page.$eval('.table-scroll:has(table.comparison)', (box) => box.scrollWidth > box.clientWidth), 'the metrics table scrolls in its box');
+      assert.ok(await page.$eval('.distribution-plot svg', (svg) => svg.getBoundingClientRect().width >= 700), 'a distribution plot is readable at 800 px');
+      await screenshot(page, 'runs-compare-800px');
       await tab.open(`/runs/${runB}`);
-      await tab.page.waitForSelector('table.episodes', WAIT);
-      await assertNoSidewaysScroll(tab.page, 'the run report');
-      await screenshot(tab.page, 'runs-run-report-800px');
+      await page.waitForSelector('table.episodes', WAIT);
+      await assertNoSidewaysScroll(page, 'the run report');
+      await screenshot(page, 'runs-run-report-800px');
       await tab.open('/runs');
-      await tab.page.waitForSelector('table.runs-table', WAIT);
-      await assertNoSidewaysScroll(tab.page, 'the runs list');
-      await screenshot(tab.page, 'runs-list-800px');
+      await page.waitForSelector('table.runs-table', WAIT);
+      await assertNoSidewaysScroll(page, 'the runs list');
+      await screenshot(page, 'runs-list-800px');
       assert.deepEqual(tab.errors, []);
     } finally {
       await tab.close();
