@@ -4,7 +4,7 @@
 // reopens it and back and forward walk through it. Two to ten chosen runs compare on #/compare.
 import { api } from '../lib/api.js';
 import { h, loading, showError, scrollBox, pageTitle } from '../lib/ui.js';
-import { loadMetrics, withUnit, statusBadge, verdictBadge } from '../lib/plots.js';
+import { loadMetrics, withUnit, statusBadge, verdictBadge, isRunning } from '../lib/plots.js';
 import { showInAddress, listOf } from '../lib/hashquery.js';
 import { allScenarios, startForm } from '../runs/form.js';
 import { tagChips } from '../runs/fields.js';
@@ -91,6 +91,7 @@ function sortHeading(text, sorted, order, onSort, attributes = {}) {
 
 function runsTable(items, view, metrics, handlers) {
   const plain = (text, className = null) => h('th', { scope: 'col', class: className }, text);
+  // A column sorts its best runs first, then the other way; a descriptive metric's highest first.
   const firstOrder = (column) => (metrics.byKey.get(column.split('.')[0])?.better === 'lower' ? 'asc' : 'desc');
   return h('table', { class: 'runs-table' },
     h('thead', {}, h('tr', {},
@@ -150,10 +151,11 @@ export async function render(root, params, query) {
   const compareButton = h('button', { type: 'button', class: 'secondary', disabled: true }, 'Compare the chosen');
   const compareHint = h('span', { class: 'muted small', 'aria-live': 'polite' });
   const chosen = [];
-  const showChosen = (note = '') => {
+  const showChosen = (note = null) => {
     compareButton.disabled = chosen.length < 2;
-    compareHint.textContent = note || (chosen.length ? `Baseline ${chosen[0].slice(0, 9)}${chosen.length > 1 ? `, then ${chosen.slice(1).map((id) => id.slice(0, 9)).join(', ')}` : ''}.` : '')
-      + (chosen.length < 2 ? ` Choose 2 to ${MAX_COMPARED} runs: the first chosen is the baseline.` : '');
+    const [baseline, ...others] = chosen.map((id) => id.slice(0, 9));
+    const order = baseline ? `Baseline ${baseline}${others.length ? `, then ${others.join(', ')}` : ''}.` : '';
+    compareHint.textContent = note ?? (others.length ? order : `${order} Choose 2 to ${MAX_COMPARED} runs: the first chosen is the baseline.`.trim());
   };
   const onChoose = (id, box) => {
     const at = chosen.indexOf(id);
@@ -236,7 +238,7 @@ export async function render(root, params, query) {
     listArea.replaceChildren(scrollBox(runsTable(reply.items, view, metrics, handlers), 'Runs'));
     if (focused) listArea.querySelector(`[data-focus="${CSS.escape(focused)}"]`)?.focus();
     // Keep the progress of unfinished runs current.
-    if (reply.items.some((run) => run.status === 'queued' || run.status === 'running')) timer = setTimeout(() => load({ quiet: true }), 2000);
+    if (reply.items.some((run) => isRunning(run.status))) timer = setTimeout(() => load({ quiet: true }), 2000);
   };
   firstButton.addEventListener('click', () => apply({ cursor: '' }));
   await load();
