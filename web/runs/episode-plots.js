@@ -37,8 +37,10 @@ export function episodePlots({ runId, metrics, chosen, onChoose }) {
     destroy();
     grid.replaceChildren();
     const finished = episodes.filter((e) => e.status === 'finished');
-    if (!finished.length) return grid.append(h('p', { class: 'muted' }, 'No finished episode yet.'));
-    if (!plotted.length) return grid.append(h('p', { class: 'muted' }, 'No metric chosen: choose some above.'));
+    if (!finished.length || !plotted.length) {
+      grid.append(h('p', { class: 'muted' }, finished.length ? 'No metric chosen: choose some above.' : 'No finished episode yet.'));
+      return;
+    }
     // The seeds' order of the report, so a plot's x axis reads like the episodes table.
     const order = new Map(report.config.seeds.map((s, i) => [s, i]));
     finished.sort((a, b) => order.get(a.seed) - order.get(b.seed));
@@ -56,7 +58,6 @@ export function episodePlots({ runId, metrics, chosen, onChoose }) {
       uplots.push(u);
       cell.append(exportButtons(u, key, title));
     });
-    return null;
   };
   return { element, show, destroy };
 }
