@@ -1,12 +1,16 @@
 // A scenario in 3D with three.js, from GET /api/v1/scenarios/{id}/world: floor, walls, furniture,
 // doors, movable objects (where they start), locations and social spaces, with live agents, paths, a
-// laser scan and proxemic rings on top.
+// laser scan and proxemic rings on top. Given a session's scene frames (setSceneFrame), it draws what
+// moves as they have it (lib/scene_bodies.js: people's bodies, robots' links, objects, doors) instead.
 // Map frame as everywhere in hrisim: x right, y up (north), z up from the floor, metres and radians.
-// It renders on demand only (something changed, or the view is being moved), so an idle page costs
-// nothing.
+// It renders on demand (something changed, or the view is being moved), so an idle page costs
+// nothing; while animating (a session playing) at every display frame, moving what moves between the
+// poses it was last given.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { mergeGeometries } from 'three/addons/utils/BufferGeometryUtils.js';
 import { palette } from './map2d.js';
+import { SceneBodies, Motion } from './scene_bodies.js';
 
 /** Hall's proxemic distances (The Hidden Dimension, 1966), outer limits in m. */
 export const PROXEMIC_DISTANCES = Object.freeze({ intimate: 0.45, personal: 1.2, social: 3.6 });
@@ -18,6 +22,8 @@ const DOOR_HEIGHT = 2.0;
 /** A person: body cylinder height and head radius, m (about the adult body of docs/rendering.md). */
 const BODY_HEIGHT = 1.4;
 const HEAD_RADIUS = 0.12;
+/** A person's label, above the head of an adult's body (1.75 m), m. */
+const HUMAN_LABEL_HEIGHT = 2.1;
 /** A robot without a model drawn as a cylinder this high, m, with a mast on top. */
 const ROBOT_BASE_HEIGHT = 0.45;
 const ROBOT_MAST_HEIGHT = 0.6;
@@ -89,6 +95,42 @@ function polyline(points, z, material) {
   return new THREE.Line(geometry, material);
 }
 
+let software = null;
+
+/**
+ * Whether WebGL runs in software (SwiftShader, llvmpipe: no GPU), asked once of a context made to
+ * ask. There 4× multisampling about halves the frame rate, so the view goes without it.
+ */
+function softwareGl() {
+  if (software === null) {
+    const gl = document.createElement('canvas').getContext('webgl2');
+    const info = gl?.getExtension('WEBGL_debug_renderer_info');
+    const name = gl ? gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER) : '';
+    gl?.getExtension('WEBGL_lose_context')?.loseContext();
+    software = /swiftshader|llvmpipe|softpipe|software/i.test(name);
+  }
+  return software;
+}
+
+/** A box from `from` to `to` on the floor, `thickness` wide and `height` high, where it stands. */
+function slabGeometry(from, to, thickness, height) {
+  const dx = to[0] - from[0], dy = to[1] - from[1];
+  return new THREE.BoxGeometry(Math.hypot(dx, dy), thickness, height)
+    .rotateZ(Math.atan2(dy, dx))
+    .translate((from[0] + to[0]) / 2, (from[1] + to[1]) / 2, height / 2);
+}
+
+/**
+ * One mesh of `geometries` (each already where it goes): the static map is a few draw calls, not one a
+ * piece (each costs about 0.3 ms a frame in software GL). null when there are none.
+ */
+function mergedMesh(geometries, material) {
+  if (!geometries.length) return null;
+  const mesh = new THREE.Mesh(mergeGeometries(geometries), material);
+  for (const geometry of geometries) geometry.dispose();
+  return mesh;
+}
+
 /** Frees the GPU resources of everything under `root`. */
 function disposeTree(root) {
   root.traverse((object) => {
@@ -123,7 +165,7 @@ export class SceneView {
     this.labelHeight = Math.min(Math.max(Math.max(this.span.x, this.span.y) / 40, 0.3), 1.0);
 
     // preserveDrawingBuffer keeps the last frame readable (saving the image, checks in tests).
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer = new THREE.WebGLRenderer({ antialias: !softwareGl(), preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
     this.renderer.setClearColor(colours.background);
     this.renderer.domElement.classList.add('scene-canvas');
@@ -148,17 +190,27 @@ export class SceneView {
       robot: new THREE.MeshLambertMaterial({ color: colours.robot }),
       robotDark: new THREE.MeshLambertMaterial({ color: colours.robotDark }),
       humanArrow: new THREE.MeshBasicMaterial({ color: colours.human, side: THREE.DoubleSide }),
+      humanIdleArrow: new THREE.MeshBasicMaterial({ color: colours.humanIdle, side: THREE.DoubleSide }),
       robotArrow: new THREE.MeshBasicMaterial({ color: colours.robotDark, side: THREE.DoubleSide }),
+      laser: new THREE.PointsMaterial({ color: colours.laser, size: 3, sizeAttenuation: false }),
     };
     for (const item of Object.values(this.shared)) item.userData.shared = true;
+    // Paths' materials by colour and dash, kept: a material freed with the last user of its shader frees
+    // the shader, and compiling it again for the next one is slow (tens of ms in software GL).
+    this.lineMaterials = new Map();
 
     this.buildMap();
     this.layers = { paths: new THREE.Group(), agents: new THREE.Group(), laser: new THREE.Group(), rings: new THREE.Group() };
     for (const layer of Object.values(this.layers)) this.scene.add(layer);
     this.agents = new Map();
+    this.agentMotion = new Motion();
     this.paths = new Map();
     this.lasers = new Map();
     this.ringRadii = null;
+    this.ringsFollow = null;
+    this.bodies = new SceneBodies(this.scene);
+    this.bodyMotion = new Motion();
+    this.animating = false;
 
     this.onChange = () => this.invalidate();
     this.setView('top');
@@ -182,43 +234,44 @@ export class SceneView {
     for (let y = Math.ceil(y0); y <= y1; y++) grid.push(new THREE.Vector3(x0, y, 0.002), new THREE.Vector3(x1, y, 0.002));
     base.add(new THREE.LineSegments(new THREE.BufferGeometry().setFromPoints(grid), new THREE.LineBasicMaterial({ color: colours.grid })));
 
-    const wallMaterial = new THREE.MeshLambertMaterial({ color: colours.wall });
-    const furnitureMaterial = new THREE.MeshLambertMaterial({ color: colours.furniture });
+    const walls = [], furniture = [];
     for (const obstacle of world.obstacles) {
       const shape = new THREE.Shape(obstacle.polygon.map(([x, y]) => new THREE.Vector2(x, y)));
-      const geometry = new THREE.ExtrudeGeometry(shape, { depth: obstacle.height, bevelEnabled: false });
-      const mesh = new THREE.Mesh(geometry, obstacle.name.startsWith('wall ') ? wallMaterial : furnitureMaterial);
-      mesh.name = obstacle.name;
-      base.add(mesh);
+      (obstacle.name.startsWith('wall ') ? walls : furniture).push(new THREE.ExtrudeGeometry(shape, { depth: obstacle.height, bevelEnabled: false }));
     }
     // A map from an image has its walls only as segments (a geometry map's are its obstacles' edges).
     if (world.obstacles.length === 0) {
-      for (const wall of world.walls) base.add(this.slab(wall.from, wall.to, 0.08, wall.top ?? DEFAULT_WALL_HEIGHT, wallMaterial));
+      for (const wall of world.walls) {
+        walls.push(slabGeometry(wall.from, wall.to, 0.08, wall.top ?? DEFAULT_WALL_HEIGHT));
+      }
     }
+    for (const mesh of [mergedMesh(walls, new THREE.MeshLambertMaterial({ color: colours.wall })),
+      mergedMesh(furniture, new THREE.MeshLambertMaterial({ color: colours.furniture }))]) if (mesh) base.add(mesh);
+    // What the scene frames draw as it stands once they come: the doors and objects as the world has them.
+    this.worldMovables = new THREE.Group();
+    base.add(this.worldMovables);
     this.doors = new Map();
     for (const door of world.doors) {
       const material = new THREE.MeshLambertMaterial({ color: colours.door, transparent: true, opacity: 0.9 });
-      const slab = this.slab(door.from, door.to, Math.max(door.thickness, 0.04), DOOR_HEIGHT, material);
+      const slab = new THREE.Mesh(slabGeometry(door.from, door.to, Math.max(door.thickness, 0.04), DOOR_HEIGHT), material);
       slab.name = door.name;
-      base.add(slab);
+      this.worldMovables.add(slab);
       this.doors.set(door.name, slab);
       this.setDoorState(door.name, door.initially_open ? 'open' : 'closed', false);
     }
 
     const objectMaterial = new THREE.MeshLambertMaterial({ color: colours.object });
-    for (const object of world.objects) base.add(this.movableObject(object, objectMaterial));
+    for (const object of world.objects) this.worldMovables.add(this.movableObject(object, objectMaterial));
 
-    const locationMaterial = new THREE.MeshBasicMaterial({ color: colours.location, side: THREE.DoubleSide });
-    for (const location of world.locations) {
+    const rings = world.locations.map((location) => {
       const radius = Math.max(location.radius, 0.15);
-      const ring = new THREE.Mesh(new THREE.RingGeometry(radius - 0.04, radius, 40), locationMaterial);
-      ring.position.set(location.x, location.y, FLOOR_LIFT);
-      ring.name = location.name;
-      base.add(ring);
-    }
+      return new THREE.RingGeometry(radius - 0.04, radius, 40).translate(location.x, location.y, FLOOR_LIFT);
+    });
+    const locations = mergedMesh(rings, new THREE.MeshBasicMaterial({ color: colours.location, side: THREE.DoubleSide }));
+    if (locations) base.add(locations);
 
     const dashed = new THREE.LineDashedMaterial({ color: colours.space, dashSize: 0.15, gapSize: 0.1 });
-    const slotMaterial = new THREE.MeshBasicMaterial({ color: colours.space });
+    const slots = [];
     for (const space of world.social_spaces) {
       const { x, y } = space.centre;
       const reach = Math.max(0.6, ...space.slots.map((slot) => Math.hypot(slot.x - x, slot.y - y) + 0.3));
@@ -231,22 +284,11 @@ export class SceneView {
       line.computeLineDistances();
       line.name = space.name;
       base.add(line);
-      for (const slot of space.slots) {
-        const dot = new THREE.Mesh(new THREE.CircleGeometry(0.07, 16), slotMaterial);
-        dot.position.set(slot.x, slot.y, FLOOR_LIFT);
-        base.add(dot);
-      }
+      for (const slot of space.slots) slots.push(new THREE.CircleGeometry(0.07, 16).translate(slot.x, slot.y, FLOOR_LIFT));
     }
+    const slotDots = mergedMesh(slots, new THREE.MeshBasicMaterial({ color: colours.space }));
+    if (slotDots) base.add(slotDots);
     this.scene.add(base);
-  }
-
-  /** A box from `from` to `to` on the floor, `thickness` wide and `height` high. */
-  slab(from, to, thickness, height, material) {
-    const dx = to[0] - from[0], dy = to[1] - from[1];
-    const mesh = new THREE.Mesh(new THREE.BoxGeometry(Math.hypot(dx, dy), thickness, height), material);
-    mesh.position.set((from[0] + to[0]) / 2, (from[1] + to[1]) / 2, height / 2);
-    mesh.rotation.z = Math.atan2(dy, dx);
-    return mesh;
   }
 
   /** A movable object at its pose (that of its centre), shaped as the world gives it: a cylinder's or capsule's length is along its z. */
@@ -311,7 +353,7 @@ export class SceneView {
   /** The camera's projection for the canvas's shape: the top view shows the whole map. */
   fitCamera() {
     const width = Math.max(this.renderer.domElement.clientWidth, 1);
-    const aspect = width / this.height;
+    const aspect = width / this.canvasHeight;
     if (this.camera.isOrthographicCamera) {
       const margin = 0.5;
       let halfWidth = this.span.x / 2 + margin, halfHeight = this.span.y / 2 + margin;
@@ -324,8 +366,12 @@ export class SceneView {
     this.camera.updateProjectionMatrix();
   }
 
-  /** Agents now: [{id, kind: 'human'|'robot', x, y, theta, radius, busy?}]; those left out are removed. */
+  /**
+   * Agents now: [{id, kind: 'human'|'robot', x, y, theta, radius, busy?}]; those left out are removed.
+   * While animating, each goes there from where it is drawn.
+   */
   update(agents) {
+    this.agentMotion.arrive(performance.now());
     const seen = new Set();
     for (const agent of agents) {
       seen.add(agent.id);
@@ -336,18 +382,60 @@ export class SceneView {
         this.agents.set(agent.id, entry);
         this.layers.agents.add(entry.group);
       }
-      entry.group.position.set(agent.x, agent.y, 0);
-      entry.group.rotation.z = agent.theta;
-      if (entry.body && agent.kind === 'human') entry.body.material = agent.busy === false ? this.shared.humanIdle : this.shared.human;
+      entry.from = entry.to ? { x: entry.group.position.x, y: entry.group.position.y, theta: entry.group.rotation.z } : agent;
+      entry.to = { x: agent.x, y: agent.y, theta: agent.theta };
+      if (agent.kind === 'human') {
+        const idle = agent.busy === false;
+        entry.body.material = idle ? this.shared.humanIdle : this.shared.human;
+        entry.arrow.material = idle ? this.shared.humanIdleArrow : this.shared.humanArrow;
+      }
     }
     for (const id of [...this.agents.keys()]) if (!seen.has(id)) this.removeAgent(id);
     this.invalidate();
+  }
+
+  /**
+   * A session's scene frame (lib/scene_frame.js), the next of those that draw what moves: from the
+   * first one on, people and robots are their bodies and links (their markers keep the heading and
+   * name), and doors and objects stand as the frames have them.
+   */
+  setSceneFrame(frame) {
+    this.bodyMotion.arrive(performance.now());
+    this.bodies.setFrame(frame);
+    this.worldMovables.visible = false;
+    for (const entry of this.agents.values()) entry.solids.visible = false;
+    this.invalidate();
+  }
+
+  /** On: a frame at every display refresh, moving agents and parts between poses; off: on demand again. */
+  setAnimating(on) {
+    this.animating = on;
+    this.invalidate();
+  }
+
+  /** Puts agents, parts and the rings where they are `now` on their way (at the end when not animating). */
+  #pose(now) {
+    const agentProgress = this.animating ? this.agentMotion.progress(now) : 1;
+    for (const entry of this.agents.values()) {
+      const { from, to, group } = entry;
+      if (!to) continue;
+      // The shorter way round for the heading.
+      const turn = Math.atan2(Math.sin(to.theta - from.theta), Math.cos(to.theta - from.theta));
+      group.position.set(from.x + (to.x - from.x) * agentProgress, from.y + (to.y - from.y) * agentProgress, 0);
+      group.rotation.z = from.theta + turn * agentProgress;
+    }
+    this.bodies.pose(this.animating ? this.bodyMotion.progress(now) : 1);
+    const followed = this.agents.get(this.ringsFollow);
+    if (followed) this.layers.rings.position.set(followed.group.position.x, followed.group.position.y, 0);
   }
 
   makeAgent({ id, kind, radius = 0.3 }) {
     const group = new THREE.Group();
     group.name = id;
     const s = this.shared;
+    // Its solids until scene frames draw its body.
+    const solids = new THREE.Group();
+    solids.visible = !this.bodies.frame;
     let body;
     if (kind === 'human') {
       body = new THREE.Mesh(s.cylinder, s.human);
@@ -355,24 +443,25 @@ export class SceneView {
       const head = new THREE.Mesh(s.sphere, s.head);
       head.scale.setScalar(HEAD_RADIUS);
       head.position.set(0.02, 0, BODY_HEIGHT + HEAD_RADIUS + 0.02);
-      group.add(body, head);
+      solids.add(body, head);
     } else {
       body = new THREE.Mesh(s.cylinder, s.robot);
       body.scale.set(radius, radius, ROBOT_BASE_HEIGHT);
       const mast = new THREE.Mesh(s.box, s.robotDark);
       mast.scale.set(radius * 0.6, radius * 0.6, ROBOT_MAST_HEIGHT);
       mast.position.z = ROBOT_BASE_HEIGHT;
-      group.add(body, mast);
+      solids.add(body, mast);
     }
+    group.add(solids);
     // The heading: a flat arrow on the floor from the body's edge forwards.
     const arrow = new THREE.Mesh(s.arrow, kind === 'human' ? s.humanArrow : s.robotArrow);
     arrow.scale.set(Math.max(radius, 0.25) * 1.4, Math.max(radius, 0.25) * 0.9, 1);
     arrow.position.set(radius * 0.9, 0, FLOOR_LIFT * 2);
     group.add(arrow);
     const label = labelSprite(id, kind === 'human' ? palette.human : '#9c530c', this.labelHeight);
-    label.position.set(0, 0, (kind === 'human' ? BODY_HEIGHT + 0.55 : ROBOT_BASE_HEIGHT + ROBOT_MAST_HEIGHT + 0.35));
+    label.position.set(0, 0, (kind === 'human' ? HUMAN_LABEL_HEIGHT : ROBOT_BASE_HEIGHT + ROBOT_MAST_HEIGHT + 0.35));
     group.add(label);
-    return { group, body, kind, radius };
+    return { group, solids, body, arrow, kind, radius, from: null, to: null };
   }
 
   removeAgent(id) {
@@ -401,14 +490,24 @@ export class SceneView {
       index++;
       if (points.length < 2) continue;
       const dashed = !Array.isArray(value) && value.dashed;
-      const material = dashed ? new THREE.LineDashedMaterial({ color: colour, dashSize: 0.25, gapSize: 0.15 }) : new THREE.LineBasicMaterial({ color: colour });
-      const line = polyline(points, FLOOR_LIFT * 1.5, material);
+      const line = polyline(points, FLOOR_LIFT * 1.5, this.lineMaterial(colour, dashed));
       if (dashed) line.computeLineDistances();
       line.name = `path ${id}`;
       this.layers.paths.add(line);
       this.paths.set(id, line);
     }
     this.invalidate();
+  }
+
+  /** The material of a path of `colour`, `dashed` or not (shared: see lineMaterials). */
+  lineMaterial(colour, dashed) {
+    const key = `${colour} ${dashed}`;
+    if (!this.lineMaterials.has(key)) {
+      const material = dashed ? new THREE.LineDashedMaterial({ color: colour, dashSize: 0.25, gapSize: 0.15 }) : new THREE.LineBasicMaterial({ color: colour });
+      material.userData.shared = true;
+      this.lineMaterials.set(key, material);
+    }
+    return this.lineMaterials.get(key);
   }
 
   /**
@@ -432,8 +531,7 @@ export class SceneView {
         const angle = scan.theta + scan.angle_min + i * scan.angle_increment;
         points.push(new THREE.Vector3(scan.x + range * Math.cos(angle), scan.y + range * Math.sin(angle), z));
       });
-      const cloud = new THREE.Points(new THREE.BufferGeometry().setFromPoints(points),
-        new THREE.PointsMaterial({ color: colours.laser, size: 3, sizeAttenuation: false }));
+      const cloud = new THREE.Points(new THREE.BufferGeometry().setFromPoints(points), this.shared.laser);
       cloud.name = `laser ${robotId}`;
       this.layers.laser.add(cloud);
       this.lasers.set(robotId, cloud);
@@ -441,9 +539,10 @@ export class SceneView {
     this.invalidate();
   }
 
-  /** Rings at Hall's distances around (x, y) (the robot); radii in m, null hides them. */
-  setProxemicRings(x, y, radii = Object.values(PROXEMIC_DISTANCES)) {
+  /** Rings at Hall's distances around the agent `agentId` (the robot), following it; radii in m, null hides them. */
+  setProxemicRings(agentId, radii = Object.values(PROXEMIC_DISTANCES)) {
     const rings = this.layers.rings;
+    this.ringsFollow = agentId;
     if (radii === null) {
       rings.visible = false;
       this.invalidate();
@@ -469,27 +568,36 @@ export class SceneView {
       this.ringRadii = key;
     }
     rings.visible = true;
-    rings.position.set(x, y, 0);
     this.invalidate();
+  }
+
+  /** The canvas's height: the view's, or the whole container's while it is full screen. */
+  get canvasHeight() {
+    return document.fullscreenElement === this.container ? Math.max(Math.floor(this.container.clientHeight), 1) : this.height;
   }
 
   /** Fits the canvas to the container's width (called by a ResizeObserver, or by the page). */
   resize() {
     if (this.disposed) return;
     const width = Math.max(Math.floor(this.container.clientWidth), 1);
-    this.renderer.setSize(width, this.height);
+    this.renderer.setSize(width, this.canvasHeight);
     this.fitCamera();
     this.invalidate();
   }
 
-  /** Asks for one frame at the next animation frame (several changes before it make one frame). */
+  /**
+   * Asks for one frame at the next animation frame (several changes before it make one frame); while
+   * animating, each frame asks for the next.
+   */
   invalidate() {
     if (this.disposed || this.frameRequest) return;
-    this.frameRequest = requestAnimationFrame(() => {
+    this.frameRequest = requestAnimationFrame((now) => {
       this.frameRequest = 0;
+      this.#pose(now);
       this.renderer.render(this.scene, this.camera);
       this.frames += 1;
       this.container.dataset.frames = String(this.frames);
+      if (this.animating) this.invalidate();
     });
   }
 
@@ -501,8 +609,9 @@ export class SceneView {
     this.resizeObserver.disconnect();
     this.controls.removeEventListener('change', this.onChange);
     this.controls.dispose();
+    this.bodies.dispose();
     disposeTree(this.scene);
-    for (const item of Object.values(this.shared)) item.dispose();
+    for (const item of [...Object.values(this.shared), ...this.lineMaterials.values()]) item.dispose();
     this.renderer.dispose();
     this.renderer.forceContextLoss();  // browsers cap live WebGL contexts; do not wait for garbage collection
     this.renderer.domElement.remove();

@@ -1,11 +1,13 @@
 // A live session's connection to the server: the REST calls that load and end it, and its WebSocket,
 // over which the driver steps a lockstep session at the chosen speed (one step message in flight at
-// most) or watches a realtime one, fetching the state, the robot's laser and a camera's frames.
+// most) or watches a realtime one, fetching the state, the scene frame, the robot's laser and a
+// camera's frames.
 // Panels render what it hears; they listen with driver.on(type, listener) to:
 //   status (status)     the session's status, merged from every reply (first, the one loaded with the page)
 //   events (events)     new events, each once: from step replies, or in realtime from the state
 //   step (reply)        a step's reply (its reward, in a benchmark task)
 //   state (state)       the agents and the open requests
+//   scene (buffer)      the scene frame (HRSF) of each round's tick: what moves, for the 3D view
 //   sensors (sensors)   the laser scans of the robot set by setSensors()
 //   frame (buffer)      a frame (HRCF) of the camera set by setCamera(); cameraError (error) when refused
 //   round ()            a round of requests starts; stepError (error) when its step failed
@@ -274,8 +276,8 @@ export class SessionDriver {
   }
 
   /**
-   * One round: n steps (0: none), then the state, and the laser and camera when they are due — sent
-   * together (the answers come in order), applied as each answer arrives.
+   * One round: n steps (0: none), then the state and the scene frame, and the laser and camera when
+   * they are due — sent together (the answers come in order), applied as each answer arrives.
    */
   #cycle(n) {
     const socket = this.#socket;
@@ -295,6 +297,7 @@ export class SessionDriver {
     // In lockstep the step replies bring every event once; the state brings them only after a seek.
     const since = this.#eventsFrom;
     work.push(socket.send({ type: 'state', events_since: since ?? Number.MAX_SAFE_INTEGER }).then((state) => this.#applyState(state, since !== null), () => {}));
+    work.push(socket.send({ type: 'scene' }).then((frame) => this.#emit('scene', frame), () => {}));
     if (this.#sensorsOf && now - this.#lastSensors >= SENSORS_INTERVAL_MS) {
       this.#lastSensors = now;
       work.push(socket.send({ type: 'sensors', robot: this.#sensorsOf }).then((sensors) => this.#emit('sensors', sensors), () => {}));

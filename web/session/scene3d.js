@@ -1,9 +1,10 @@
-// The session's 3D scene (three.js, lib/scene.js): the agents as the driver's states move them, each
-// one's trail and planned path, the robot's laser and proxemic rings, doors as their events set them,
-// movable objects where they started (a session's state does not carry them), and the legend with the
-// toggles of those layers.
+// The session's 3D scene (three.js, lib/scene.js): people's bodies, robots' links, objects and doors as
+// each round's scene frame has them, moving smoothly between rounds while the session plays; each
+// agent's heading, name, trail and planned path as the driver's states give them; the robot's laser
+// and proxemic rings; the legend with the toggles of those layers, and full screen.
 import { h } from '../lib/ui.js';
 import { SceneView, PROXEMIC_DISTANCES } from '../lib/scene.js';
+import { SceneFrame } from '../lib/scene_frame.js';
 import { palette } from '../lib/map2d.js';
 
 /** Trails: the last seconds of each agent's positions, a point every few centimetres. */
@@ -27,11 +28,25 @@ export class SessionScene {
     this.#robot = robot;
     this.#radii = Object.fromEntries(world.agents.map((agent) => [agent.id, agent.radius]));
     this.#layers = { laser: Boolean(robot?.model), rings: Boolean(robot), trails: true, plans: true };
+    const fullScreen = h('button', {
+      type: 'button', class: 'secondary scene-fullscreen', 'aria-pressed': 'false', hidden: !document.fullscreenEnabled,
+      onclick: () => (document.fullscreenElement === this.box ? document.exitFullscreen() : this.box.requestFullscreen()).catch(() => {}),
+    }, 'Full screen');
     /** Where the scene draws (the driving keys are heard on the whole page: teleop.js). */
     this.box = h('div', {
       class: 'scene-box', tabindex: '0', role: 'application',
-      'aria-label': `3D view of ${world.name}. Drag to move the view, scroll to zoom${drivable ? '; with teleop on, arrow keys or W A S D drive the robot' : ''}.`,
+      'aria-label': `3D view of ${world.name}. Drag to move the view, scroll to zoom${drivable ? '; with teleop on, arrow keys or W A S D drive the robot' : ''}; Escape leaves full screen.`,
+    }, fullScreen);
+    this.box.addEventListener('fullscreenchange', () => {
+      fullScreen.setAttribute('aria-pressed', String(document.fullscreenElement === this.box));
+      this.#view.resize();
     });
+    // Browsers leave full screen on Escape themselves; this is for those that pass the key on.
+    this.box.addEventListener('keydown', (event) => {
+      if (event.key === 'Escape' && document.fullscreenElement === this.box) document.exitFullscreen().catch(() => {});
+    });
+    // Read-only, for tests and debugging: the last scene frame's parts (lib/scene_bodies.js summary()).
+    this.box.sceneSummary = () => this.#view?.bodies.summary() ?? null;
     const layerToggles = [
       ['trails', 'Trails (last 10 s)', true],
       ['plans', 'Planned paths (dashed)', true],
@@ -40,9 +55,9 @@ export class SessionScene {
     ].filter(([, , available]) => available).map(([key, text]) => h('label', { class: 'check' },
       h('input', { type: 'checkbox', checked: this.#layers[key], onchange: (event) => this.#setLayer(key, event.target.checked) }), text));
     const legend = h('div', { class: 'scene-legend' },
-      h('span', { class: 'ss-swatch human' }, 'human (pale: idle)'), h('span', { class: 'ss-swatch robot' }, 'robot'),
+      h('span', { class: 'ss-swatch human' }, 'human (pale arrow: idle)'), h('span', { class: 'ss-swatch robot' }, 'robot'),
       h('span', { class: 'ss-swatch location' }, 'location'), h('span', { class: 'ss-swatch space' }, 'social space'),
-      world.objects.length ? h('span', { class: 'ss-swatch object' }, 'movable object (where it started)') : null,
+      world.objects.length ? h('span', { class: 'ss-swatch object' }, 'movable object') : null,
       robot?.model ? h('span', { class: 'ss-swatch laser' }, 'laser') : null, layerToggles);
     this.panel = h('section', { class: 'panel scene-panel', 'aria-label': 'Scene' }, this.box, legend);
 
@@ -50,6 +65,8 @@ export class SessionScene {
     // After a reset or a seek (forth as well) the trails start again where the agents are.
     driver.on('reset', () => this.#trails.clear());
     driver.on('state', (state) => this.#showState(state));
+    driver.on('scene', (buffer) => this.#view.setSceneFrame(new SceneFrame(buffer)));
+    driver.on('playing', (playing) => this.#view.setAnimating(playing));
     driver.on('sensors', (sensors) => this.#showSensors(sensors));
     driver.on('events', (events) => {
       for (const event of events) if (event.kind === 'door_state') this.#view.setDoorState(event.subject, event.data.state);
@@ -59,6 +76,8 @@ export class SessionScene {
   /** Draws the world: once the panel is in the page, whose width the view fills. */
   mount() {
     this.#view = new SceneView(this.box, this.#world, { height: 480 });
+    // A realtime session plays on the server whatever the page does.
+    this.#view.setAnimating(this.#driver.realtime);
   }
 
   /** 'top' or 'perspective'. */
@@ -79,7 +98,7 @@ export class SessionScene {
     this.#layers = { ...this.#layers, [key]: on };
     if ((key === 'trails' || key === 'plans') && !on) this.#view.setPaths({});
     if (key === 'laser' && !on) for (const laser of this.#laserKeys) this.#view.setLaser(laser, null);
-    if (key === 'rings' && !on) this.#view.setProxemicRings(0, 0, null);
+    if (key === 'rings' && !on) this.#view.setProxemicRings(null, null);
     // Any layer redraws from a fresh state and laser.
     this.#driver.setSensors(this.#laserRobot());
   }
@@ -87,8 +106,7 @@ export class SessionScene {
   #showState(state) {
     const agents = state.agents.filter((agent) => agent.active).map((agent) => ({ ...agent, radius: this.#radii[agent.id] }));
     this.#view.update(agents);
-    const robotNow = this.#robot && state.agents.find((agent) => agent.id === this.#robot.id);
-    if (robotNow && this.#layers.rings) this.#view.setProxemicRings(robotNow.x, robotNow.y);
+    if (this.#robot && this.#layers.rings) this.#view.setProxemicRings(this.#robot.id);
     this.#updateTrails(state);
   }
 
