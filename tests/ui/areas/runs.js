@@ -348,6 +348,12 @@ describe('runs', () => {
       assert.deepEqual(await names(), ['paging 11']);
       assert.equal(listed.at(-1).get('where'), `collisions.max==0,episode_length.max>${first[1]}`);
 
+      // A search with '+', '&' and '%' reaches the server as it was typed.
+      await tab.open(`/runs?q=${encodeURIComponent('c++ & 100%')}`);
+      await page.waitForSelector('.runs-list .message.info:has-text("No run matches.")', WAIT);
+      assert.equal(await page.inputValue('#filter-q'), 'c++ & 100%');
+      assert.equal(listed.at(-1).get('q'), 'c++ & 100%');
+
       // A link with a condition only the server can judge shows its answer.
       await tab.open('/runs?where=collisions.max==0,nope.max==1');
       await page.waitForSelector('.runs-list [role=alert]', WAIT);
