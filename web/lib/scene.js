@@ -164,8 +164,9 @@ export class SceneView {
     // Labels grow with the map so that they stay readable when the whole map is in view.
     this.labelHeight = Math.min(Math.max(Math.max(this.span.x, this.span.y) / 40, 0.3), 1.0);
 
-    // preserveDrawingBuffer keeps the last frame readable (saving the image, checks in tests).
-    this.renderer = new THREE.WebGLRenderer({ antialias: !softwareGl(), preserveDrawingBuffer: true });
+    // No preserveDrawingBuffer: keeping each frame costs a copy a frame, a third of the frame rate in
+    // software GL. Tests read what the screen shows instead.
+    this.renderer = new THREE.WebGLRenderer({ antialias: !softwareGl(), preserveDrawingBuffer: false });
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
     this.renderer.setClearColor(colours.background);
     this.renderer.domElement.classList.add('scene-canvas');

@@ -24,8 +24,12 @@ export const MAX_EVENTS = 200;
 /** A few camera frames a second: each is drawn off-screen on the server's worker pool. */
 const CAMERA_INTERVAL_MS = 250;
 const SENSORS_INTERVAL_MS = 200;
-/** How often the play loop looks at the clock while no step is in flight. */
-const LOOP_INTERVAL_MS = 30;
+/**
+ * How long the play loop waits after a round before it steps what the clock owes: about ten rounds a
+ * second. The 3D view moves smoothly between rounds, and fewer rounds leave more of a slow machine to
+ * drawing (in software GL, 25 rounds a second cost about a tenth of the frame rate).
+ */
+const LOOP_INTERVAL_MS = 80;
 /** A realtime session steps itself; the page only looks at it this often, ms. */
 const WATCH_INTERVAL_MS = 100;
 /** Simulated time the page may owe after a slow reply (wall s × speed); more is dropped, not caught up. */

@@ -54,19 +54,26 @@ async function restScene(id) {
   return decodeSceneFrame(Buffer.from(await response.arrayBuffer()));
 }
 
-/** How many different colours a canvas shows (a blank or failed one shows one). */
-function colours(page, selector) {
-  return page.$eval(selector, (canvas) => {
-    const copy = document.createElement('canvas');
-    copy.width = canvas.width;
-    copy.height = canvas.height;
-    const context = copy.getContext('2d');
-    context.drawImage(canvas, 0, 0);
-    const data = context.getImageData(0, 0, copy.width, copy.height).data;
-    const seen = new Set();
-    for (let i = 0; i < data.length && seen.size < 50; i += 4 * 97) seen.add((data[i] << 16) | (data[i + 1] << 8) | data[i + 2]);
-    return seen.size;
-  });
+/**
+ * The RGBA pixels of the element `selector` as the screen shows it, as a plain array. From a picture
+ * of the page: the 3D view's WebGL canvas keeps no drawing buffer to read back once it is shown.
+ */
+async function shownPixels(page, selector) {
+  const png = (await page.locator(selector).screenshot()).toString('base64');
+  return page.evaluate(async (data) => {
+    const image = await createImageBitmap(await (await fetch(`data:image/png;base64,${data}`)).blob());
+    const context = new OffscreenCanvas(image.width, image.height).getContext('2d');
+    context.drawImage(image, 0, 0);
+    return Array.from(context.getImageData(0, 0, image.width, image.height).data);
+  }, png);
+}
+
+/** How many different colours an element shows (a blank or failed canvas shows one). */
+async function colours(page, selector) {
+  const data = await shownPixels(page, selector);
+  const seen = new Set();
+  for (let i = 0; i < data.length && seen.size < 50; i += 4 * 97) seen.add((data[i] << 16) | (data[i + 1] << 8) | data[i + 2]);
+  return seen.size;
 }
 
 describe('session', () => {
@@ -419,17 +426,9 @@ describe('session', () => {
         assert.ok(Math.hypot(x - part.a[0], y - part.a[1], z - part.a[2]) < 1e-6, `object ${part.id} at (${part.a})`);
       }
       // The objects' yellow, lit: nothing else in the scene has a strong red and green with little blue.
-      const yellow = await tab.page.$eval('.scene-box canvas', (canvas) => {
-        const copy = document.createElement('canvas');
-        copy.width = canvas.width;
-        copy.height = canvas.height;
-        const context = copy.getContext('2d');
-        context.drawImage(canvas, 0, 0);
-        const data = context.getImageData(0, 0, copy.width, copy.height).data;
-        let count = 0;
-        for (let i = 0; i < data.length; i += 4) if (data[i] > 170 && data[i + 1] > 150 && data[i + 2] < 110) count++;
-        return count;
-      });
+      const data = await shownPixels(tab.page, '.scene-box canvas');
+      let yellow = 0;
+      for (let i = 0; i < data.length; i += 4) if (data[i] > 170 && data[i + 1] > 150 && data[i + 2] < 110) yellow++;
       assert.ok(yellow > 50, `${yellow} pixels of the objects' colour`);
       assert.deepEqual(tab.errors, []);
     } finally {
