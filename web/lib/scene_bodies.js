@@ -1,7 +1,7 @@
 // What moves in a live session as its scene frames (lib/scene_frame.js) give it: people's body
 // capsules, robots' links where the joints put them, movable objects where they are now, doors' closed
 // shares. Instanced meshes draw every part (boxes, cylinders, spheres; a capsule is an open cylinder
-// and two spheres, coarser: people are many and small), so a frame costs no new geometry, only
+// and two half spheres, coarser: people are many and small), so a frame costs no new geometry, only
 // matrices and colours. Between two frames each part goes from where the older frame had it to where
 // the newer one has it (pose(progress)).
 import * as THREE from 'three';
@@ -40,6 +40,7 @@ export class Motion {
 const scratch = {
   a: new THREE.Vector3(), b: new THREE.Vector3(), centre: new THREE.Vector3(), scale: new THREE.Vector3(),
   q: new THREE.Quaternion(), q0: new THREE.Quaternion(),
+  turnOver: new THREE.Quaternion().setFromAxisAngle(new THREE.Vector3(1, 0, 0), Math.PI),
   matrix: new THREE.Matrix4(), colour: new THREE.Color(), up: new THREE.Vector3(0, 0, 1),
 };
 
@@ -55,8 +56,8 @@ export class SceneBodies {
       box: new THREE.BoxGeometry(1, 1, 1),
       cylinder: new THREE.CylinderGeometry(1, 1, 1, 16).rotateX(Math.PI / 2),
       sphere: new THREE.SphereGeometry(1, 16, 10),
-      shaft: new THREE.CylinderGeometry(1, 1, 1, 10, 1, true).rotateX(Math.PI / 2),  // its ends are inside the caps
-      cap: new THREE.SphereGeometry(1, 10, 6),
+      shaft: new THREE.CylinderGeometry(1, 1, 1, 10, 1, true).rotateX(Math.PI / 2),  // open: the caps close it
+      cap: new THREE.SphereGeometry(1, 10, 3, 0, 2 * Math.PI, 0, Math.PI / 2).rotateX(Math.PI / 2),  // the half towards +z
     };
     this.meshes = {};
     for (const kind of Object.keys(this.geometries)) this.#grow(kind, INITIAL_CAPACITY);
@@ -171,7 +172,7 @@ export class SceneBodies {
   pose(progress) {
     const { frame, slots, meshes } = this;
     if (!frame) return;
-    const { a, b, centre, scale, q, q0, matrix, up } = scratch;
+    const { a, b, centre, scale, q, q0, turnOver, matrix, up } = scratch;
     for (let i = 0; i < frame.count; i++) {
       a.set(this.#float(i, 0, progress), this.#float(i, 1, progress), this.#float(i, 2, progress));
       b.set(this.#float(i, 3, progress), this.#float(i, 4, progress), this.#float(i, 5, progress));
@@ -185,8 +186,8 @@ export class SceneBodies {
         meshes.shaft.setMatrixAt(slots[2 * i], matrix.compose(centre, q, scale.set(radius, radius, length)));
         scale.setScalar(radius);
         b.copy(centre).multiplyScalar(2).sub(a);  // the other end again
-        meshes.cap.setMatrixAt(slots[2 * i + 1], matrix.compose(a, q, scale));
         meshes.cap.setMatrixAt(slots[2 * i + 1] + 1, matrix.compose(b, q, scale));
+        meshes.cap.setMatrixAt(slots[2 * i + 1], matrix.compose(a, q.multiply(turnOver), scale));
         continue;
       }
       q.set(frame.float(i, 6), frame.float(i, 7), frame.float(i, 8), frame.float(i, 9));
