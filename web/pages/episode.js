@@ -96,7 +96,25 @@ export async function render(root, params, query) {
     h('span', {}, `${formatNumber(episode.sim_time)} s simulated (${episode.ticks.toLocaleString('en')} steps)`),
     h('span', {}, `controller ${episode.controller}`),
     h('span', { class: 'muted' }, `scenario ${episode.scenario}`),
-    downloadLink(`/api/v1/episodes/${encodeURIComponent(id)}/trajectory?format=csv`, `${id}.csv`, 'Trajectory (CSV)')));
+    downloadLink(`/api/v1/episodes/${encodeURIComponent(id)}/trajectory?format=csv`, `${id}.csv`, 'Trajectory (CSV)'),
+    h('button', { type: 'button', class: 'secondary', onclick: replayIn3d }, 'Replay in 3D')));
+  const replayError = h('p', { class: 'message error', role: 'alert', hidden: true });
+  root.append(replayError);
+
+  /** The episode again as a live session (the server replays it bit for bit), opened at the scrubber's moment. */
+  async function replayIn3d(event) {
+    event.target.disabled = true;
+    try {
+      const session = await api.post('/api/v1/sessions', { episode: id, unwatched_grace: 30 });
+      const dt = episode.ticks > 0 ? episode.sim_time / episode.ticks : 0;
+      const tick = dt > 0 ? Math.round((times[Number(scrubber.value)] ?? 0) / dt) : 0;
+      location.hash = `#/sessions/${encodeURIComponent(session.id)}?tick=${tick}`;
+    } catch (error) {
+      event.target.disabled = false;
+      replayError.hidden = false;
+      replayError.textContent = `Could not open the replay: ${error.message}`;
+    }
+  }
 
   const agentIds = Object.keys(trajectory.agents);
   const longest = agentIds.reduce((best, a) => (trajectory.agents[a].length > (trajectory.agents[best]?.length ?? 0) ? a : best), agentIds[0]);

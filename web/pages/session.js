@@ -17,7 +17,7 @@ import { eventsPanel } from '../session/events.js';
 import { agentsPanel } from '../session/agents.js';
 import { humanCommandPanel, robotRequestPanel } from '../session/commands.js';
 
-export async function render(root, { id }) {
+export async function render(root, { id }, query) {
   const wait = loading(root, 'Loading the session');
   let loaded;
   try {
@@ -27,7 +27,7 @@ export async function render(root, { id }) {
     return undefined;
   }
   wait.remove();
-  const { driver, world, scenario, cameras, actionSpace } = loaded;
+  const { driver, world, scenario, cameras, actionSpace, replayed } = loaded;
   const { status } = driver;
 
   const humans = world.agents.filter((agent) => agent.kind === 'human');
@@ -54,7 +54,7 @@ export async function render(root, { id }) {
   const scene = new SessionScene(driver, { world, robot, drivable: canDrive });
   // The page's keys listen on the document: they stop when the page is left.
   const keys = new AbortController();
-  root.append(...toolbar(driver, { steps, onView: (view) => scene.setView(view), signal: keys.signal }));
+  root.append(...toolbar(driver, { steps, onView: (view) => scene.setView(view), signal: keys.signal, replayTicks: replayed?.ticks }));
   root.append(h('div', { class: 'session-main' },
     scene.panel,
     h('div', { class: 'session-side' }, cameraPanel(driver, cameras.cameras), status.task ? taskPanel(driver) : null,
@@ -78,6 +78,9 @@ export async function render(root, { id }) {
   const connecting = loading(scene.box.parentElement, 'Connecting to the session');
   try {
     await driver.start();
+    // A replay opened at a moment of its episode (#/sessions/ID?tick=N).
+    const startTick = Number(query?.get('tick'));
+    if (Number.isInteger(startTick) && startTick > 0 && !driver.realtime) await driver.seek(startTick);
   } catch (error) {
     if (!driver.disposed) showMessage(connection, 'error', `${error.message}.`);
   } finally {

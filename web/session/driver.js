@@ -35,14 +35,16 @@ const WATCH_INTERVAL_MS = 100;
 /** Simulated time the page may owe after a slow reply (wall s × speed); more is dropped, not caught up. */
 const MAX_BACKLOG_S = 0.5;
 
-/** The session and what its page shows besides: its scenario, world, cameras and the robot's action space. */
+/** The session and what its page shows besides: its scenario, world, cameras, the robot's action space and the episode it replays. */
 export async function loadSession(id) {
   const session = `/api/v1/sessions/${encodeURIComponent(id)}`;
   const status = await api.get(session);
-  const [world, scenario, cameras] = await Promise.all([
+  // A replay of a stored episode: the episode too, whose length the seek slider covers.
+  const [world, scenario, cameras, replayed] = await Promise.all([
     api.get(`/api/v1/scenarios/${encodeURIComponent(status.scenario)}/world`),
     api.get(`/api/v1/scenarios/${encodeURIComponent(status.scenario)}`),
     api.get(`${session}/cameras`),
+    status.episode ? api.get(`/api/v1/episodes/${encodeURIComponent(status.episode)}`) : null,
   ]);
   // Only a session with a robot has an action space (asked otherwise, the browser logs the 409); 409
   // also for a robot without a drive: then it cannot be driven by keys.
@@ -51,7 +53,7 @@ export async function loadSession(id) {
       if (error instanceof ApiError && error.status === 409) return null;
       throw error;
     });
-  return { driver: new SessionDriver(id, status), world, scenario, cameras, actionSpace };
+  return { driver: new SessionDriver(id, status), world, scenario, cameras, actionSpace, replayed };
 }
 
 export class SessionDriver {

@@ -10,10 +10,11 @@ const MAX_SEEK_AHEAD = 100000;
 
 /**
  * The toolbar's "Go to tick" group: {element, restart()}; `onError(text)` shows why a seek failed.
- * After a reset from the page, restart() makes the slider cover the new episode only.
+ * After a reset from the page, restart() makes the slider cover the new episode only. A replay of a
+ * stored episode (`replayTicks`: its length) has the whole episode on the slider from the start.
  */
-export function seekGroup(driver, { onError }) {
-  let reached = driver.status.tick;
+export function seekGroup(driver, { onError, replayTicks = 0 }) {
+  let reached = Math.max(driver.status.tick, replayTicks);
   let seeking = false;
   let wanted = null;  // the tick to go to next
   // Any tick: with a benchmark task the server goes on to the end of the env step that reaches it.
@@ -74,7 +75,7 @@ export function seekGroup(driver, { onError }) {
     element: form,
     /** After a reset the ticks reached are those of the new episode. */
     restart() {
-      reached = 0;
+      reached = replayTicks;
       follow(driver.status);
     },
   };

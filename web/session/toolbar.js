@@ -22,7 +22,7 @@ const ENDINGS = {
  * says why the session ended: [toolbar, shortcuts, error line, end line]. `steps` are the choreography's; `onView(view)` turns the scene to 'top' or
  * 'perspective'; the shortcuts listen until `signal` aborts.
  */
-export function toolbar(driver, { steps, onView, signal }) {
+export function toolbar(driver, { steps, onView, signal, replayTicks }) {
   const { status } = driver;
   const speedSamples = [];
   const playButton = h('button', { type: 'button', class: 'play', onclick: () => (driver.playing ? driver.pause() : driver.play()), 'aria-pressed': 'false' }, 'Play');
@@ -45,7 +45,7 @@ export function toolbar(driver, { steps, onView, signal }) {
   const stepBar = h('progress', { max: Math.max(steps.length, 1), value: 0, 'aria-label': 'Choreography progress' });
   const playError = h('p', { class: 'message error', role: 'alert', hidden: true });
   const ended = h('p', { class: 'message info session-ended', role: 'status', hidden: true });
-  const seeker = seekGroup(driver, { onError: (text) => showMessage(playError, 'error', text) });
+  const seeker = seekGroup(driver, { onError: (text) => showMessage(playError, 'error', text), replayTicks });
   const playback = driver.realtime
     ? h('div', { class: 'toolbar-group' }, h('span', {}, `Realtime: the server steps it at ${formatNumber(status.realtime_factor)}× real time.`), resetButton)
     : h('div', { class: 'toolbar-group', role: 'group', 'aria-label': 'Playback' }, playButton, stepButton, resetButton,

@@ -431,6 +431,39 @@ describe('runs', () => {
     }
   });
 
+  it('an episode replays in 3D: a live session of it opens at the scrubber\'s moment, its slider over the whole episode, in the state the server replays', async () => {
+    assert.ok(state.episode, 'the first test stored an episode');
+    const tab = await newPage(context.browser, context.server.port);
+    let session = null;
+    try {
+      await tab.open(`/episodes/${state.episode}?t=1.5`);
+      const page = tab.page;
+      await page.waitForSelector('#replay-time', WAIT);
+      await page.click('button:has-text("Replay in 3D")');
+      await page.waitForFunction(() => location.hash.startsWith('#/sessions/s'), null, WAIT);
+      session = decodeURIComponent(await page.evaluate(() => location.hash.slice('#/sessions/'.length).split('?')[0]));
+      const episode = (await call('GET', `/api/v1/episodes/${state.episode}`)).body;
+      const dt = episode.sim_time / episode.ticks;
+      const expected = Math.round(1.5 / dt);
+      await page.waitForFunction((t) => Number(document.querySelector('.session-toolbar .clock')?.dataset.tick) === t, expected, WAIT);
+      assert.equal(Number(await page.getAttribute('.seek-slider', 'max')), episode.ticks, 'the whole episode on the slider');
+      const status = (await call('GET', `/api/v1/sessions/${session}`)).body;
+      assert.equal(status.episode, state.episode);
+      assert.equal(status.unwatched_grace, 30);
+      assert.equal(status.tick, expected);
+      // To its end: the replay reaches the stored episode's final state, bit for bit.
+      await page.fill('.seek-tick', String(episode.ticks));
+      await page.click('.seek button[type=submit]');
+      await page.waitForFunction((t) => Number(document.querySelector('.session-toolbar .clock')?.dataset.tick) === t, episode.ticks, WAIT);
+      assert.equal((await call('GET', `/api/v1/sessions/${session}`)).body.state_hash, episode.state_hash);
+      await screenshot(page, 'episode-replay-3d');
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      if (session) await call('DELETE', `/api/v1/sessions/${session}`);
+      await tab.close();
+    }
+  });
+
   it('three runs compare against a baseline: means, p-values with and without Holm\'s correction, distributions, failed gates; the view is in the address', async () => {
     assert.ok(state.runA, 'the first test started a run');
     const tab = await newPage(context.browser, context.server.port);
