@@ -183,15 +183,19 @@ void ScenarioCatalogue::remove(const std::string& id, const Caller& caller) {
   }
   if (!store_->delete_scenario(id)) return;  // runs ran it: unlisted, kept for them
   std::lock_guard lock(mutex_);
-  if (const auto found = uploaded_.find(id); found != uploaded_.end()) {
-    held_bytes_ -= found->second.bytes;
-    uses_.erase(found->second.use);
-    if (!found->second.entry->files.empty()) {
-      std::error_code ignored;
-      std::filesystem::remove_all(found->second.entry->files, ignored);
-    }
-    uploaded_.erase(found);
-  }
+  const auto found = uploaded_.find(id);
+  const std::filesystem::path files = found == uploaded_.end() ? std::filesystem::path() : found->second.entry->files;
+  forget(id);
+  std::error_code ignored;
+  if (!files.empty()) std::filesystem::remove_all(files, ignored);
+}
+
+void ScenarioCatalogue::forget(const std::string& id) {
+  const auto found = uploaded_.find(id);
+  if (found == uploaded_.end()) return;
+  held_bytes_ -= found->second.bytes;
+  uses_.erase(found->second.use);
+  uploaded_.erase(found);
 }
 
 std::shared_ptr<const ScenarioCatalogue::Entry> ScenarioCatalogue::find(const std::string& id) {
@@ -221,22 +225,13 @@ std::shared_ptr<const ScenarioCatalogue::Entry> ScenarioCatalogue::find(const st
 }
 
 void ScenarioCatalogue::remember(const std::string& id, std::shared_ptr<const Entry> entry, std::size_t source_bytes) {
-  if (const auto found = uploaded_.find(id); found != uploaded_.end()) {
-    held_bytes_ -= found->second.bytes;
-    uses_.erase(found->second.use);
-    uploaded_.erase(found);
-  }
+  forget(id);
   const std::size_t bytes = approximate_bytes(entry->source, source_bytes);
   uses_.push_front(id);
   uploaded_.emplace(id, Cached{std::move(entry), bytes, uses_.begin()});
   held_bytes_ += bytes;
   // The newest stays even when it alone is larger than the cache: it is being used.
-  while (held_bytes_ > cache_bytes_ && uses_.size() > 1) {
-    const auto oldest = uploaded_.find(uses_.back());
-    held_bytes_ -= oldest->second.bytes;
-    uploaded_.erase(oldest);
-    uses_.pop_back();
-  }
+  while (held_bytes_ > cache_bytes_ && uses_.size() > 1) forget(std::string(uses_.back()));  // a copy: forget erases the list entry
 }
 
 std::size_t ScenarioCatalogue::cached_bytes() const {

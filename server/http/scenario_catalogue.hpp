@@ -103,6 +103,8 @@ class ScenarioCatalogue {
   /// Keeps an upload in the cache as the most recently used, dropping the least recently used ones
   /// beyond the cache's size (the mutex held).
   void remember(const std::string& id, std::shared_ptr<const Entry> entry, std::size_t source_bytes);
+  /// Drops a compiled upload from the cache, if it is there (the mutex held).
+  void forget(const std::string& id);
 
   storage::Store* store_;
   std::filesystem::path dir_;

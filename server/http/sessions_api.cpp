@@ -193,30 +193,24 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     });
   });
 
-  router.add("POST", "/api/v1/sessions/{id}/restore", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    const json body = json_object_body(request);
-    // Restoring simulates again up to the snapshot: work for the pool.
-    return Response::later([live, body] {
-      std::lock_guard lock(live->mutex);
-      return Response::json(200, restore_snapshot(*live, body));
+  // Restoring a snapshot and seeking back simulate again from tick 0: work for the pool.
+  using GoTo = json (*)(Live&, const json&);
+  for (const auto& [path, go] : {std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/restore", restore_snapshot},
+                                 std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/seek", seek_session}}) {
+    router.add("POST", path, [registry, go](const Request& request) {
+      const auto live = registry->find(request.path_params.at("id"), request.caller);
+      const json body = json_object_body(request);
+      return Response::later([live, body, go] {
+        std::lock_guard lock(live->mutex);
+        return Response::json(200, go(*live, body));
+      });
     });
-  });
+  }
 
   router.add("GET", "/api/v1/sessions/{id}/scene", [registry](const Request& request) {
     const auto all = query_value(request.query, "all").value_or("false");
     if (all != "true" && all != "false") throw core::Error(core::ErrorCode::bad_request, "all: true or false", {{"parameter", "all"}});
     return locked(registry->find(request.path_params.at("id"), request.caller), [all = all == "true"](Live& live) { return scene_frame(live.session(), all); });
-  });
-
-  router.add("POST", "/api/v1/sessions/{id}/seek", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    const json body = json_object_body(request);
-    // Going back simulates again up to the tick: work for the pool.
-    return Response::later([live, body] {
-      std::lock_guard lock(live->mutex);
-      return Response::json(200, seek_session(*live, body));
-    });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/state", [registry](const Request& request) {

@@ -14,20 +14,11 @@ const fs = require('node:fs');
 const { describe, it } = require('node:test');
 const context = require('../lib/context');
 const { newPage, screenshot } = require('../lib/browser');
+const { call } = require('../lib/api');
 
 const WAIT = { timeout: 20000 };
 // Shared by the tests below, in order: the run started from the form and one of its episodes.
 const state = { runA: null, episode: null };
-
-async function call(method, path, body) {
-  const response = await fetch(`http://127.0.0.1:${context.server.port}${path}`, {
-    method,
-    headers: body ? { 'content-type': 'application/json' } : {},
-    body: body ? JSON.stringify(body) : undefined,
-  });
-  const text = await response.text();
-  return { status: response.status, body: text ? JSON.parse(text) : null };
-}
 
 /** Starts a run through the API; resolves to its id once it has ended. */
 async function runThroughApi(body) {

@@ -10,6 +10,7 @@ const assert = require('node:assert/strict');
 const { describe, it } = require('node:test');
 const context = require('../lib/context');
 const { newPage, screenshot } = require('../lib/browser');
+const { call, createSession } = require('../lib/api');
 const { decodeSceneFrame } = require('../../contract/lib/scene_frame');
 
 /**
@@ -20,22 +21,6 @@ const TARGET_FPS = 30;
 const MIN_FPS = Number(process.env.HRISIM_UI_MIN_FPS ?? 0);
 /** How long the frame rate is measured, ms. */
 const FPS_WINDOW_MS = 3000;
-
-async function call(method, path, body) {
-  const response = await fetch(`http://127.0.0.1:${context.server.port}${path}`, {
-    method,
-    headers: body ? { 'content-type': 'application/json' } : {},
-    body: body ? JSON.stringify(body) : undefined,
-  });
-  const text = await response.text();
-  return { status: response.status, body: text ? JSON.parse(text) : null };
-}
-
-async function createSession(body) {
-  const created = await call('POST', '/api/v1/sessions', body);
-  assert.equal(created.status, 201, JSON.stringify(created.body));
-  return created.body.id;
-}
 
 /** Agents' positions as the page's agent table shows them, {id: [x, y]}. */
 function positions(page) {

@@ -6,22 +6,7 @@ const assert = require('node:assert/strict');
 const { describe, it } = require('node:test');
 const context = require('../lib/context');
 const { newPage, screenshot } = require('../lib/browser');
-
-async function call(method, path, body) {
-  const response = await fetch(`http://127.0.0.1:${context.server.port}${path}`, {
-    method,
-    headers: body ? { 'content-type': 'application/json' } : {},
-    body: body ? JSON.stringify(body) : undefined,
-  });
-  const text = await response.text();
-  return { status: response.status, body: text ? JSON.parse(text) : null };
-}
-
-async function createSession(body) {
-  const created = await call('POST', '/api/v1/sessions', body);
-  assert.equal(created.status, 201, JSON.stringify(created.body));
-  return created.body.id;
-}
+const { call, createSession } = require('../lib/api');
 
 /** A row's cells by their field, as text. */
 function rowCells(page, id) {
