@@ -195,9 +195,10 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
 
   // Restoring a snapshot and seeking back simulate again from tick 0: work for the pool.
   using GoTo = json (*)(Live&, const json&);
-  for (const auto& [path, go] : {std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/restore", restore_snapshot},
-                                 std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/seek", seek_session}}) {
-    router.add("POST", path, [registry, go](const Request& request) {
+  for (const auto& route : {std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/restore", restore_snapshot},
+                            std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/seek", seek_session}}) {
+    const GoTo go = route.second;  // a plain variable: lambdas may not capture structured bindings in C++20
+    router.add("POST", route.first, [registry, go](const Request& request) {
       const auto live = registry->find(request.path_params.at("id"), request.caller);
       const json body = json_object_body(request);
       return Response::later([live, body, go] {
