@@ -32,7 +32,7 @@ constexpr const char* kUsage =
     "  import    convert IMHuS or Pedsim XML to the native JSON on stdout:\n"
     "            hrisim import [--from imhus|pedsim|hunav] [--dialect pedsim_ros|libpedsim] FILE [--scenario NAME] [--map FILE]\n"
     "  render    replay a stored episode to a video:\n"
-    "            hrisim render EPISODE --out FILE.mp4 [--db FILE] [--camera overview|follow|ROBOT.SENSOR]\n"
+    "            hrisim render EPISODE --out FILE.mp4|.webm|.avi [--db FILE] [--camera overview|follow|ROBOT.SENSOR]\n"
     "                          [--fps 25] [--width W] [--height H]\n"
     "  metrics   print the metrics reference (docs/metrics.md) as Markdown\n"
     "  version   print build and library versions as JSON\n"
@@ -76,7 +76,7 @@ int serve(const std::vector<std::string>& args) {
                  options.server.host.c_str());
   }
   const auto router = hrisim::http::make_api_router({&store, options.web_root, options.scenarios, options.access, session_limits, &executor,
-                                                     options.scenario_limits, options.scenario_cache_bytes});
+                                                     options.scenario_limits, options.scenario_cache_bytes, {}});
   hrisim::http::Server server(options.server, router);
   std::printf("hrisim %s listening on http://%s:%u (database %s, schema version %d)\n",
               hrisim::http::version_info()["version"].get<std::string>().c_str(), options.server.host.c_str(),

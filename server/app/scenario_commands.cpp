@@ -23,11 +23,9 @@
 #include "runs/episode.hpp"
 #include "runs/executor.hpp"
 #include "runs/report.hpp"
-#include "render/scene_renderer.hpp"
-#include "render/video_writer.hpp"
 #include "runs/spec.hpp"
+#include "runs/video.hpp"
 #include "scenario/source.hpp"
-#include "sim/scene_view.hpp"
 #include "sim/session.hpp"
 #include "storage/store.hpp"
 
@@ -456,11 +454,11 @@ int run_command(const std::vector<std::string>& args) {
 
 int render_command(const std::vector<std::string>& args) {
   const ParsedArgs parsed = parse_args(args, {"--db", "--camera", "--out", "--fps", "--width", "--height", "--scenarios"}, {},
-                                       "usage: hrisim render EPISODE --out FILE.mp4|FILE.avi [--db FILE] [--camera overview] [--fps 25] "
+                                       "usage: hrisim render EPISODE --out FILE.mp4|FILE.webm|FILE.avi [--db FILE] [--camera overview] [--fps 25] "
                                        "[--width W] [--height H] [--scenarios DIR]");
   const auto out = parsed.last("--out");
-  if (!out) usage_error("--out: the video file to write (.mp4 or .avi) is required");
-  const std::string camera_name = parsed.last("--camera").value_or("overview");
+  if (!out) usage_error("--out: the video file to write (.mp4, .webm or .avi) is required");
+  const std::string camera_name = parsed.last("--camera").value_or(runs::kDefaultVideoCamera);
   const auto whole = [&](const char* option, int low, int high, int fallback) {
     const auto text = parsed.last(option);
     if (!text) return fallback;
@@ -471,7 +469,7 @@ int render_command(const std::vector<std::string>& args) {
     }
     return value;
   };
-  const int fps = whole("--fps", 1, 120, kDefaultVideoFps);
+  const int fps = whole("--fps", 1, runs::kMaxVideoFps, runs::kDefaultVideoFps);
   const int width = whole("--width", 16, 4096, 0), height = whole("--height", 16, 4096, 0);
 
   const std::filesystem::path database = parsed.last("--db").value_or(kDefaultDatabase);
@@ -490,35 +488,17 @@ int render_command(const std::vector<std::string>& args) {
   if (!compiled.model) throw core::Error(core::ErrorCode::internal, "the stored scenario of episode " + parsed.file + " no longer loads");
   const runs::RunSpec spec = runs::make_run_spec(runs::replay_request(compiled.document, source.load, config, episode->seed));
 
-  // A frame every `stride` ticks, as close to the asked rate as whole ticks allow.
-  const auto stride = std::max<std::int64_t>(1, std::llround(1.0 / (spec.model->dt * fps)));
-  const double video_fps = 1.0 / (static_cast<double>(stride) * spec.model->dt);
-  std::optional<render::VideoWriter> video;
-  runs::EpisodeOptions options;
-  options.max_time = spec.max_time;
-  options.requests = spec.requests;
-  options.observe = [&](const sim::Session& session) {
-    if (session.state().tick % stride != 0) return;
-    const sim::CameraInfo camera = sim::camera_of(session, camera_name, width, height);
-    if (!video) video.emplace(*out, video_fps, camera.camera.width, camera.camera.height);
-    video->write(render::render_on_this_thread(sim::scene_for(session, camera), camera.camera).colour);
-  };
-  const runs::EpisodeResult replay = runs::run_episode(spec.model, episode->seed, options);
-  if (!video) throw core::Error(core::ErrorCode::internal, "the episode has no frame to write");
-  video->close();
-  // Episodes stored before the final state's hash was kept are compared by their end alone.
-  const bool same = replay.record.ticks == episode->ticks && replay.record.termination_reason == episode->termination_reason &&
-                    (episode->state_hash.empty() || replay.record.state_hash == episode->state_hash);
-  if (!same) {
+  const runs::VideoResult video = runs::render_episode_video(spec, *episode, *out, {camera_name, fps, width, height});
+  if (!video.matches_stored_episode) {
     std::fprintf(stderr,
                  "hrisim: warning: the replay ended at tick %lld (%s, state %s), the stored episode at %lld (%s, state %s): another hrisim "
                  "version ran it\n",
-                 static_cast<long long>(replay.record.ticks), replay.record.termination_reason.c_str(), replay.record.state_hash.c_str(),
+                 static_cast<long long>(video.replay.ticks), video.replay.termination_reason.c_str(), video.replay.state_hash.c_str(),
                  static_cast<long long>(episode->ticks), episode->termination_reason.c_str(), episode->state_hash.c_str());
   }
-  const nlohmann::json summary = {{"episode", parsed.file}, {"out", *out},       {"camera", camera_name},
-                                  {"frames", video->frames()}, {"fps", video_fps}, {"ticks", replay.record.ticks},
-                                  {"matches_stored_episode", same}};
+  const nlohmann::json summary = {{"episode", parsed.file}, {"out", *out},         {"camera", camera_name},
+                                  {"codec", video.codec},   {"frames", video.frames}, {"fps", video.fps},
+                                  {"ticks", video.replay.ticks}, {"matches_stored_episode", video.matches_stored_episode}};
   std::printf("%s\n", summary.dump(2).c_str());
   return 0;
 }

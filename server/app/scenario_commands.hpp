@@ -21,10 +21,7 @@ int run_command(const std::vector<std::string>& args);
 /// warnings and errors (with XML lines) on stderr; exit 1 when the file cannot be imported.
 int import_command(const std::vector<std::string>& args);
 
-/// Frames per second of `hrisim render` videos unless --fps says otherwise.
-inline constexpr int kDefaultVideoFps = 25;
-
-/// hrisim render EPISODE --out FILE.mp4 [--db FILE] [--camera overview] [--fps 25] [--width W] [--height H]
+/// hrisim render EPISODE --out FILE.mp4|.webm|.avi [--db FILE] [--camera overview] [--fps 25] [--width W] [--height H]
 /// [--scenarios DIR]: runs the stored episode again (same scenario snapshot, seed, controller, time
 /// limit and requests: bit for bit the same) and writes what the camera sees to a video; warns when
 /// the replay ends otherwise than the stored episode did.

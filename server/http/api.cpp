@@ -1,15 +1,19 @@
 #include "http/api.hpp"
 
+#include <unistd.h>
+
 #include <boost/version.hpp>
 
 #include "core/build_info.hpp"
 #include "core/embedded.hpp"
 #include "core/text.hpp"
+#include "http/episodes_api.hpp"
 #include "http/request_helpers.hpp"
 #include "http/runs_api.hpp"
 #include "http/scenarios_api.hpp"
 #include "http/sessions_api.hpp"
 #include "http/static_files.hpp"
+#include "http/video_jobs.hpp"
 #include "render/image_codec.hpp"
 #include "render/offscreen_context.hpp"
 #include "robots/description.hpp"
@@ -124,6 +128,9 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
   add_scenario_routes(*router, catalogue);
   add_session_routes(*router, catalogue, context.sessions, tickets, store);
   add_run_routes(*router, catalogue, store, context.executor);
+  const std::filesystem::path videos_dir =
+      context.videos_dir.empty() ? std::filesystem::temp_directory_path() / ("hrisim-videos-" + std::to_string(::getpid())) : context.videos_dir;
+  add_episode_routes(*router, catalogue, store, std::make_shared<VideoJobs>(videos_dir));
 
   auto files = std::make_shared<StaticFiles>(context.web_root);
   router->set_fallback([files](const Request& request) {

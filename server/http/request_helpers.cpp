@@ -11,7 +11,6 @@
 
 namespace hrisim::http {
 
-/// The value of `key` in a raw query string (no percent-decoding: the values used here are plain).
 std::optional<std::string> query_value(const std::string& query, const std::string& key) {
   std::istringstream in(query);
   std::string pair;
@@ -102,6 +101,18 @@ std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int
                       {{"pointer", at + "/" + std::string(key)}});
   }
   return number;
+}
+
+std::string json_or_csv_format(const Request& request) {
+  const std::string format = query_value(request.query, "format").value_or("json");
+  if (format != "json" && format != "csv") throw core::Error(core::ErrorCode::bad_request, "format must be json or csv", {{"parameter", "format"}});
+  return format;
+}
+
+Response download(std::string body, const std::string& content_type, const std::string& filename) {
+  Response response{200, content_type, std::move(body), {}, {}};
+  response.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + filename + "\"");
+  return response;
 }
 
 }  // namespace hrisim::http

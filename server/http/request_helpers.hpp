@@ -35,4 +35,13 @@ void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const
 std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int64_t low, std::int64_t high, std::int64_t fallback,
                            const std::string& at = "");
 
+/// ?format=: json (the default) or csv; 400 naming the parameter otherwise.
+std::string json_or_csv_format(const Request& request);
+
+/// What CSV downloads are sent as.
+inline constexpr const char* kCsvContentType = "text/csv; charset=utf-8";
+
+/// 200 with `body` of `content_type`, saved by browsers as `filename`.
+Response download(std::string body, const std::string& content_type, const std::string& filename);
+
 }  // namespace hrisim::http

@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "core/sha256.hpp"
 #include "core/text.hpp"
+#include "http/episodes_api.hpp"
 #include "http/request_helpers.hpp"
 #include "http/session_limits.hpp"
 #include "metrics/definitions.hpp"
@@ -202,47 +203,6 @@ storage::RunRecord find_run(storage::Store& store, const std::string& id, const 
 
 json report_of(storage::Store& store, runs::Executor& executor, const storage::RunRecord& run) {
   return runs::run_report(run, store.episodes_of_run(run.id), executor.live(run.id));
-}
-
-json episode_json(const storage::EpisodeRecord& episode) {
-  json metrics = json::object();
-  for (const storage::MetricValue& metric : episode.metrics) metrics[metric.key] = runs::metric_json(metric);
-  return {{"id", episode.id},
-          {"run_id", episode.run_id ? json(*episode.run_id) : json()},
-          {"scenario", episode.scenario_id},
-          {"seed", episode.seed},
-          {"controller", episode.controller},
-          {"status", episode.status},
-          {"termination", episode.termination_reason},
-          {"ticks", episode.ticks},
-          {"sim_time", episode.sim_time},
-          {"created_at", episode.created_at},
-          {"state_hash", episode.state_hash.empty() ? json() : json(episode.state_hash)},
-          {"metrics", metrics}};
-}
-
-/// The episode as `caller` may see it: one of another owner's run is absent (404).
-storage::EpisodeRecord find_episode(storage::Store& store, const std::string& id, const Caller& caller) {
-  auto episode = store.episode(id);
-  const auto run = episode && episode->run_id ? store.run(*episode->run_id) : std::nullopt;
-  if (!episode || !visible_to(caller, run ? run->owner : "")) {
-    throw core::Error(core::ErrorCode::not_found, "no episode '" + id + "'", {{"id", id}});
-  }
-  return std::move(*episode);
-}
-
-/// ?format=: json (the default) or csv.
-std::string format_of(const Request& request) {
-  const std::string format = query_value(request.query, "format").value_or("json");
-  if (format != "json" && format != "csv") throw core::Error(core::ErrorCode::bad_request, "format must be json or csv", {{"parameter", "format"}});
-  return format;
-}
-
-/// A CSV text as a file to save under `filename`.
-Response csv_download(const std::string& csv, const std::string& filename) {
-  Response response{200, "text/csv; charset=utf-8", csv, {}, {}};
-  response.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + filename + "\"");
-  return response;
 }
 
 /// A run's episodes as CSV: one row each, its facts then every metric (empty for no value).
@@ -464,10 +424,10 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
   });
 
   router.add("GET", "/api/v1/runs/{id}/episodes", [store](const Request& request) {
-    const std::string format = format_of(request);
+    const std::string format = json_or_csv_format(request);
     const storage::RunRecord run = find_run(*store, request.path_params.at("id"), request.caller);
     const std::vector<storage::EpisodeRecord> episodes = store->episodes_of_run(run.id);
-    if (format == "csv") return csv_download(episodes_csv(episodes), run.id + "-episodes.csv");
+    if (format == "csv") return download(episodes_csv(episodes), kCsvContentType, run.id + "-episodes.csv");
     json items = json::array();
     for (const storage::EpisodeRecord& episode : episodes) items.push_back(episode_json(episode));
     return Response::json(200, {{"items", items}});
@@ -476,91 +436,6 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
   router.add("GET", "/api/v1/runs/{id}/junit", [store, executor](const Request& request) {
     const json report = report_of(*store, *executor, find_run(*store, request.path_params.at("id"), request.caller));
     return Response{200, "application/xml", runs::junit_xml(report), {}, {}};
-  });
-
-  router.add("GET", "/api/v1/episodes/{id}", [store](const Request& request) {
-    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"), request.caller);
-    json reply = episode_json(episode);
-    json events = json::array();
-    for (const storage::EventRecord& event : episode.events) {
-      events.push_back({{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}});
-    }
-    reply["events"] = events;
-    // METRICS.md's step_durations: how long each choreography step took, from its step_finished event.
-    json step_durations = json::array();
-    for (const storage::EventRecord& event : episode.events) {
-      if (event.kind == "step_finished") step_durations.push_back({{"step", event.subject}, {"duration", event.data.value("duration", 0.0)}});
-    }
-    reply["step_durations"] = step_durations;
-    json null_reasons = json::object();
-    for (const storage::MetricValue& metric : episode.metrics) {
-      if (metric.null_reason) null_reasons[metric.key] = *metric.null_reason;
-    }
-    reply["null_reasons"] = null_reasons;
-    return Response::json(200, reply);
-  });
-
-  router.add("GET", "/api/v1/episodes/{id}/series", [store](const Request& request) {
-    const std::string format = format_of(request);
-    const std::string name = query_value(request.query, "name").value_or("");
-    const auto& known = metrics::series_definitions();
-    const auto definition = std::find_if(known.begin(), known.end(), [&](const metrics::SeriesDefinition& d) { return d.name == name; });
-    if (!name.empty() && definition == known.end()) {
-      throw core::Error(core::ErrorCode::bad_request, "name: no series '" + name + "' (GET /api/v1/metrics lists them)", {{"parameter", "name"}});
-    }
-    if (format == "csv" && name.empty()) throw core::Error(core::ErrorCode::bad_request, "format=csv needs a series name", {{"parameter", "name"}});
-    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"), request.caller);
-    const double dt = episode.ticks > 0 ? episode.sim_time / static_cast<double>(episode.ticks) : 0.0;
-    const std::vector<storage::SeriesRecord> stored = store->series(episode.id, name);
-    if (format == "csv") {
-      std::ostringstream csv;
-      csv.precision(17);
-      csv << "tick,time," << name << '\n';
-      for (const storage::SeriesRecord& series : stored) {
-        for (std::size_t i = 0; i < series.values.size(); ++i) {
-          const std::int64_t tick = series.first_tick + static_cast<std::int64_t>(i) * series.stride;
-          csv << tick << ',' << static_cast<double>(tick) * dt << ',';
-          if (series.values[i]) csv << *series.values[i];
-          csv << '\n';
-        }
-      }
-      return csv_download(csv.str(), episode.id + "-" + name + ".csv");
-    }
-    json items = json::array();
-    for (const storage::SeriesRecord& series : stored) {
-      json ticks = json::array(), values = json::array();
-      for (std::size_t i = 0; i < series.values.size(); ++i) {
-        ticks.push_back(series.first_tick + static_cast<std::int64_t>(i) * series.stride);
-        values.push_back(series.values[i] ? json(*series.values[i]) : json());
-      }
-      const auto unit = std::find_if(known.begin(), known.end(), [&](const metrics::SeriesDefinition& d) { return d.name == series.name; });
-      items.push_back({{"name", series.name},
-                       {"unit", unit == known.end() ? "" : std::string(unit->unit)},
-                       {"dt", dt * static_cast<double>(series.stride)},
-                       {"ticks", ticks},
-                       {"values", values}});
-    }
-    return Response::json(200, {{"episode", episode.id}, {"items", items}});
-  });
-
-  router.add("GET", "/api/v1/episodes/{id}/trajectory", [store](const Request& request) {
-    const std::string format = format_of(request);
-    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"), request.caller);
-    const double dt = episode.ticks > 0 ? episode.sim_time / static_cast<double>(episode.ticks) : 0.0;
-    if (format == "csv") {
-      std::ostringstream csv;
-      csv.precision(17);
-      csv << "agent,tick,time,x,y,theta\n";
-      for (const storage::TrajectorySample& s : episode.trajectory) {
-        csv << s.agent_id << ',' << s.tick << ',' << static_cast<double>(s.tick) * dt << ',' << s.x << ',' << s.y << ',' << s.theta << '\n';
-      }
-      return csv_download(csv.str(), episode.id + ".csv");
-    }
-    json agents = json::object();
-    for (const storage::TrajectorySample& s : episode.trajectory) {
-      agents[s.agent_id].push_back({{"tick", s.tick}, {"time", static_cast<double>(s.tick) * dt}, {"x", s.x}, {"y", s.y}, {"theta", s.theta}});
-    }
-    return Response::json(200, {{"episode", episode.id}, {"rate", runs::kTrajectoryRate}, {"agents", agents}});
   });
 }
 

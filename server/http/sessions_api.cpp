@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/json_schema.hpp"
+#include "http/episodes_api.hpp"
 #include "http/frames.hpp"
 #include "http/live_sessions.hpp"
 #include "http/request_helpers.hpp"
@@ -41,30 +42,18 @@ Response created(Registry& registry, NewSession request) {
   }
 }
 
-/// A session that plays a stored episode again: its scenario record, seed, and its run's controller,
-/// time limit and scripted requests. Stepped to its end it reaches the episode's state hash.
+/// A session that plays a stored episode again; stepped to its end it reaches the episode's state hash.
 NewSession replay_of(storage::Store& store, ScenarioCatalogue& catalogue, const std::string& id, const Caller& caller) {
-  const auto episode = store.episode(id);
-  const auto run = episode && episode->run_id ? store.run(*episode->run_id) : std::nullopt;
-  if (!episode || !visible_to(caller, run ? run->owner : "")) {
-    throw core::Error(core::ErrorCode::not_found, "no episode '" + id + "'", {{"pointer", "/episode"}, {"id", id}});
-  }
-  const auto entry = catalogue.find(episode->scenario_id);
-  if (!entry || !entry->source.model) {
-    throw core::Error(core::ErrorCode::conflict, "episode " + id + "'s scenario '" + episode->scenario_id + "' no longer loads", {{"pointer", "/episode"}});
-  }
-  const json config = run ? run->config : json::object();
-  const runs::RunRequest request = runs::replay_request(entry->source.document, catalogue.options(*entry).load, config, episode->seed);
-  const runs::RunSpec spec = runs::make_run_spec(request);
+  const EpisodeReplay episode = replay_of_episode(store, catalogue, id, caller, "/episode");
   NewSession replay;
-  replay.scenario = config.value("scenario", episode->scenario_id);
-  replay.model = spec.model;
-  replay.controller = request.controller;
-  replay.seed = static_cast<std::int64_t>(episode->seed);
+  replay.scenario = episode.config.value("scenario", episode.episode.scenario_id);
+  replay.model = episode.spec.model;
+  replay.controller = episode.request.controller;
+  replay.seed = static_cast<std::int64_t>(episode.episode.seed);
   replay.owner = caller.owner;
   replay.episode_id = id;
-  replay.time_limit = spec.max_time;
-  replay.requests = spec.requests;
+  replay.time_limit = episode.spec.max_time;
+  replay.requests = episode.spec.requests;
   return replay;
 }
 

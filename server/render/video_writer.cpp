@@ -2,6 +2,8 @@
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <string>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -13,18 +15,30 @@ struct VideoWriter::Cv {
 };
 
 VideoWriter::VideoWriter(const std::filesystem::path& path, double fps, int width, int height) : cv_(std::make_unique<Cv>()) {
+  struct Codec {
+    const char* name;
+    int fourcc;
+  };
+  // In the order tried: H.264 plays in browsers and players, MPEG-4 part 2 is the fallback of a build
+  // without an H.264 encoder.
+  std::vector<Codec> codecs;
   const std::string extension = path.extension().string();
-  int fourcc = 0;
   if (extension == ".mp4") {
-    fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+    codecs = {{"h264", cv::VideoWriter::fourcc('a', 'v', 'c', '1')}, {"mpeg4", cv::VideoWriter::fourcc('m', 'p', '4', 'v')}};
+  } else if (extension == ".webm") {
+    codecs = {{"vp8", cv::VideoWriter::fourcc('V', 'P', '8', '0')}};
   } else if (extension == ".avi") {
-    fourcc = cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+    codecs = {{"mjpeg", cv::VideoWriter::fourcc('M', 'J', 'P', 'G')}};
   } else {
-    throw core::Error(core::ErrorCode::bad_request, "video file " + path.string() + ": the name must end in .mp4 or .avi");
+    throw core::Error(core::ErrorCode::bad_request, "video file " + path.string() + ": the name must end in .mp4, .webm or .avi");
   }
-  if (!cv_->writer.open(path.string(), cv::CAP_FFMPEG, fourcc, fps, cv::Size(width, height))) {
-    throw core::Error(core::ErrorCode::internal, "cannot write the video " + path.string() + " (OpenCV's FFmpeg backend refused it)");
+  for (const Codec& codec : codecs) {
+    if (cv_->writer.open(path.string(), cv::CAP_FFMPEG, codec.fourcc, fps, cv::Size(width, height))) {
+      codec_ = codec.name;
+      return;
+    }
   }
+  throw core::Error(core::ErrorCode::internal, "cannot write the video " + path.string() + " (OpenCV's FFmpeg backend refused it)");
 }
 
 VideoWriter::~VideoWriter() { close(); }

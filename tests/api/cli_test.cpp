@@ -270,12 +270,21 @@ TEST(CliRender, AStoredEpisodeReplaysToAVideo) {
   // 4 s at 60 Hz, a frame every 6 ticks, the first at tick 0: 41 frames.
   EXPECT_EQ(summary["frames"], 41);
   EXPECT_EQ(summary["fps"], 10.0);
+  EXPECT_EQ(summary["codec"], "h264") << "what browsers and players play";
   EXPECT_TRUE(summary["matches_stored_episode"].get<bool>()) << "the replay is the stored episode, tick for tick";
   std::ifstream file(video, std::ios::binary);
   std::string head(12, '\0');
   file.read(head.data(), 12);
   EXPECT_EQ(head.substr(4, 4), "ftyp") << "an MP4 container";
   EXPECT_GT(std::filesystem::file_size(video), 1000u);
+  const std::string webm = (dir.path() / "run.webm").string();
+  const CommandResult vp8 = run_command(kHrisim + " render " + episode + " --db " + db + " --width 64 --fps 5 --out " + webm, false);
+  ASSERT_EQ(vp8.exit_status, 0) << vp8.output;
+  EXPECT_EQ(nlohmann::json::parse(vp8.output)["codec"], "vp8");
+  std::ifstream webm_file(webm, std::ios::binary);
+  std::string magic(4, '\0');
+  webm_file.read(magic.data(), 4);
+  EXPECT_EQ(magic, "\x1a\x45\xdf\xa3") << "a Matroska (WebM) container";
 
   EXPECT_EQ(run_command(kHrisim + " render " + episode + " --db " + db).exit_status, 2) << "no --out";
   EXPECT_EQ(run_command(kHrisim + " render " + episode + " --db " + db + " --out " + (dir.path() / "run.gif").string()).exit_status, 2);

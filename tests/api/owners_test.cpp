@@ -77,6 +77,12 @@ class Owners : public ::testing::Test {
     const json episodes = json_of(http(port, "GET", "/api/v1/runs/" + run_ + "/episodes", "", alice));
     ASSERT_EQ(episodes["items"].size(), 1u) << episodes.dump();
     episode_ = episodes["items"][0]["id"];
+    const HttpReply video = http(port, "POST", "/api/v1/episodes/" + episode_ + "/videos", json{{"width", 32}, {"fps", 5}}.dump(), alice);
+    ASSERT_EQ(video.status, 202) << video.body;
+    video_ = json_of(video)["id"];
+    for (int i = 0; i < 600 && json_of(http(port, "GET", "/api/v1/videos/" + video_, "", alice))["status"] != "done"; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
   }
   static void TearDownTestSuite() {
     delete server_;
@@ -85,7 +91,7 @@ class Owners : public ::testing::Test {
 
   static std::vector<Route> routes() {
     const std::string s = "/api/v1/sessions/" + session_, r = "/api/v1/runs/" + run_, e = "/api/v1/episodes/" + episode_,
-                      c = "/api/v1/scenarios/" + scenario_;
+                      c = "/api/v1/scenarios/" + scenario_, v = "/api/v1/videos/" + video_;
     return {
         {"GET", "/healthz", "", Kind::open},
         {"GET", "/api/v1/version", "", Kind::open},
@@ -118,19 +124,23 @@ class Owners : public ::testing::Test {
         {"GET", e, "", Kind::read_own},
         {"GET", e + "/trajectory", "", Kind::read_own},
         {"GET", e + "/series?name=robot_speed", "", Kind::read_own},
+        {"GET", e + "/cameras", "", Kind::read_own},
+        {"GET", v, "", Kind::read_own},
+        {"GET", v + "/file", "", Kind::read_own},
         {"POST", s + "/step", R"({"n": 2})", Kind::change_own},
         {"POST", s + "/commands", R"({"commands": [{"human": "ana", "command": "wait 1"}]})", Kind::change_own},
         {"PUT", s + "/poses/ana", R"({"x": 2, "y": 2})", Kind::change_own},
         {"POST", s + "/reset", "{}", Kind::change_own},
         {"POST", r + "/cancel", "", Kind::change_own},
+        {"POST", e + "/videos", R"({"width": 32, "fps": 5})", Kind::change_own},
     };
   }
 
   static TestServer* server_;
-  static std::string scenario_, session_, run_, episode_;
+  static std::string scenario_, session_, run_, episode_, video_;
 };
 TestServer* Owners::server_ = nullptr;
-std::string Owners::scenario_, Owners::session_, Owners::run_, Owners::episode_;
+std::string Owners::scenario_, Owners::session_, Owners::run_, Owners::episode_, Owners::video_;
 
 TEST_F(Owners, EveryRouteForEveryKindOfCaller) {
   const std::uint16_t port = server_->port();

@@ -43,6 +43,7 @@ describe('hrisim contract', { timeout: SUITE_LIMIT_MS }, () => {
   require('./areas/session_socket');
   require('./areas/runs');
   require('./areas/tasks');
+  require('./areas/videos');
 
   it('exercised every operation of both specs', () => {
     assert.deepEqual(unexercisedOperations(), [], 'operations no test has seen succeed');

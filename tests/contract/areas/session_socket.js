@@ -479,13 +479,19 @@ describe('session WebSocket', () => {
     assert.equal(replies[2].tick, replies[0].tick + 1);
   });
 
-  it('a session deleted under an open socket answers not_found', async () => {
+  it('a session deleted under an open socket answers not_found, or the server closes the socket normally', async () => {
     const doomed = await api.post('/api/v1/sessions', { scenario: 'queue' });
     const doomedSocket = await api.openSocket(doomed.json.id);
     await api.delete(`/api/v1/sessions/${doomed.json.id}`);
-    const reply = await doomedSocket.send({ type: 'step' });
-    assert.equal(reply.type, 'error');
-    assert.equal(reply.error.code, 'not_found');
+    // The server checks about once a second whether what a socket serves is gone, and then closes it
+    // with 1000; a message that arrives first is answered.
+    try {
+      const reply = await doomedSocket.send({ type: 'step' });
+      assert.equal(reply.type, 'error');
+      assert.equal(reply.error.code, 'not_found');
+    } catch (error) {
+      assert.match(error.message, /the socket closed \(1000\)/);
+    }
     doomedSocket.close();
   });
 

@@ -1,0 +1,280 @@
+#include "http/episodes_api.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "episode/episode.hpp"
+#include "http/request_helpers.hpp"
+#include "http/session_views.hpp"
+#include "http/video_jobs.hpp"
+#include "metrics/definitions.hpp"
+#include "runs/episode.hpp"
+#include "runs/report.hpp"
+#include "runs/video.hpp"
+#include "sim/scene_view.hpp"
+#include "storage/store.hpp"
+
+namespace hrisim::http {
+
+using nlohmann::json;
+
+storage::EpisodeRecord find_episode(storage::Store& store, const std::string& id, const Caller& caller, const std::string& pointer) {
+  auto episode = store.episode(id);
+  const auto run = episode && episode->run_id ? store.run(*episode->run_id) : std::nullopt;
+  if (!episode || !visible_to(caller, run ? run->owner : "")) {
+    json details = {{"id", id}};
+    if (!pointer.empty()) details["pointer"] = pointer;
+    throw core::Error(core::ErrorCode::not_found, "no episode '" + id + "'", details);
+  }
+  return std::move(*episode);
+}
+
+json episode_json(const storage::EpisodeRecord& episode) {
+  json metrics = json::object();
+  for (const storage::MetricValue& metric : episode.metrics) metrics[metric.key] = runs::metric_json(metric);
+  return {{"id", episode.id},
+          {"run_id", episode.run_id ? json(*episode.run_id) : json()},
+          {"scenario", episode.scenario_id},
+          {"seed", episode.seed},
+          {"controller", episode.controller},
+          {"status", episode.status},
+          {"termination", episode.termination_reason},
+          {"ticks", episode.ticks},
+          {"sim_time", episode.sim_time},
+          {"created_at", episode.created_at},
+          {"state_hash", episode.state_hash.empty() ? json() : json(episode.state_hash)},
+          {"metrics", metrics}};
+}
+
+EpisodeReplay replay_of_episode(storage::Store& store, ScenarioCatalogue& catalogue, const std::string& id, const Caller& caller,
+                                const std::string& pointer) {
+  EpisodeReplay replay;
+  replay.episode = find_episode(store, id, caller, pointer);
+  const auto run = replay.episode.run_id ? store.run(*replay.episode.run_id) : std::nullopt;
+  const auto entry = catalogue.find(replay.episode.scenario_id);
+  if (!entry || !entry->source.model) {
+    json details = {{"id", id}};
+    if (!pointer.empty()) details["pointer"] = pointer;
+    throw core::Error(core::ErrorCode::conflict, "episode " + id + "'s scenario '" + replay.episode.scenario_id + "' no longer loads", details);
+  }
+  replay.config = run ? run->config : json::object();
+  replay.request = runs::replay_request(entry->source.document, catalogue.options(*entry).load, replay.config, replay.episode.seed);
+  replay.spec = runs::make_run_spec(replay.request);
+  return replay;
+}
+
+namespace {
+
+/// The job `id` as `caller` may see it: one filming another owner's episode is absent (404).
+std::string visible_video(const VideoJobs& videos, storage::Store& store, const std::string& id, const Caller& caller) {
+  const auto episode = videos.episode_of(id);
+  if (!episode) throw core::Error(core::ErrorCode::not_found, "no video '" + id + "'", {{"id", id}});
+  try {
+    find_episode(store, *episode, caller);
+  } catch (const core::Error&) {
+    throw core::Error(core::ErrorCode::not_found, "no video '" + id + "'", {{"id", id}});
+  }
+  return id;
+}
+
+/// How a video is filmed, from a POST body; 400 naming the field otherwise.
+VideoRequest video_request(const json& body) {
+  refuse_unknown_keys(body, {"camera", "fps", "width", "height", "format"});
+  VideoRequest request;
+  if (body.contains("camera")) {
+    if (!body["camera"].is_string() || body["camera"].get<std::string>().empty()) {
+      throw core::Error(core::ErrorCode::bad_request, "camera must be a camera's name (overview, follow, or ROBOT.SENSOR)", {{"pointer", "/camera"}});
+    }
+    request.options.camera = body["camera"];
+  }
+  request.options.fps = static_cast<int>(integer_field(body, "fps", 1, runs::kMaxVideoFps, runs::kDefaultVideoFps));
+  request.options.width = static_cast<int>(integer_field(body, "width", 16, kMaxVideoSide, 0));
+  request.options.height = static_cast<int>(integer_field(body, "height", 16, kMaxVideoSide, 0));
+  request.format = body.value("format", json("mp4")).is_string() ? body.value("format", std::string("mp4")) : "";
+  if (request.format != "mp4" && request.format != "webm") {
+    throw core::Error(core::ErrorCode::bad_request, "format must be mp4 (H.264) or webm (VP8)", {{"pointer", "/format"}});
+  }
+  return request;
+}
+
+/// The bytes of `path`, or the one range a Range header asks for (206; 416 when it lies outside).
+Response file_answer(const VideoJobs::File& file, const Request& request) {
+  std::ifstream in(file.path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw core::Error(core::ErrorCode::not_found, "the video's file is gone");
+  Response response = download(std::move(bytes), file.content_type, file.name);
+  response.headers.emplace_back("Accept-Ranges", "bytes");
+  const auto range = request.headers.find("range");
+  if (range == request.headers.end() || !range->second.starts_with("bytes=") || range->second.find(',') != std::string::npos) return response;
+  // bytes=FIRST-LAST, bytes=FIRST- or bytes=-SUFFIX
+  const std::string spec = range->second.substr(6);
+  const std::size_t dash = spec.find('-');
+  const auto number = [](std::string_view text) -> std::optional<std::uint64_t> {
+    std::uint64_t value = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+    return value;
+  };
+  const std::uint64_t size = response.body.size();
+  const auto first_text = number(std::string_view(spec).substr(0, dash)), last_text = number(std::string_view(spec).substr(dash + 1));
+  if (dash == std::string::npos || (!first_text && !last_text)) return response;  // not a range this reads: the whole file
+  std::uint64_t first = 0, last = size == 0 ? 0 : size - 1;
+  if (!first_text) {
+    first = size - std::min(size, *last_text);
+  } else {
+    first = *first_text;
+    if (last_text) last = std::min(last, *last_text);
+  }
+  if (first >= size || first > last) {
+    Response refused{416, "application/json", "", {{"Content-Range", "bytes */" + std::to_string(size)}}, {}};
+    return refused;
+  }
+  response.status = 206;
+  response.body = response.body.substr(first, last - first + 1);
+  response.headers.emplace_back("Content-Range", "bytes " + std::to_string(first) + "-" + std::to_string(last) + "/" + std::to_string(size));
+  return response;
+}
+
+}  // namespace
+
+void add_episode_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, storage::Store* store, std::shared_ptr<VideoJobs> videos) {
+  router.add("GET", "/api/v1/episodes/{id}", [store](const Request& request) {
+    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"), request.caller);
+    json reply = episode_json(episode);
+    json events = json::array();
+    for (const storage::EventRecord& event : episode.events) {
+      events.push_back({{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}});
+    }
+    reply["events"] = events;
+    // METRICS.md's step_durations: how long each choreography step took, from its step_finished event.
+    json step_durations = json::array();
+    for (const storage::EventRecord& event : episode.events) {
+      if (event.kind == "step_finished") step_durations.push_back({{"step", event.subject}, {"duration", event.data.value("duration", 0.0)}});
+    }
+    reply["step_durations"] = step_durations;
+    json null_reasons = json::object();
+    for (const storage::MetricValue& metric : episode.metrics) {
+      if (metric.null_reason) null_reasons[metric.key] = *metric.null_reason;
+    }
+    reply["null_reasons"] = null_reasons;
+    return Response::json(200, reply);
+  });
+
+  router.add("GET", "/api/v1/episodes/{id}/series", [store](const Request& request) {
+    const std::string format = json_or_csv_format(request);
+    const std::string name = query_value(request.query, "name").value_or("");
+    const auto& known = metrics::series_definitions();
+    const auto definition = std::find_if(known.begin(), known.end(), [&](const metrics::SeriesDefinition& d) { return d.name == name; });
+    if (!name.empty() && definition == known.end()) {
+      throw core::Error(core::ErrorCode::bad_request, "name: no series '" + name + "' (GET /api/v1/metrics lists them)", {{"parameter", "name"}});
+    }
+    if (format == "csv" && name.empty()) throw core::Error(core::ErrorCode::bad_request, "format=csv needs a series name", {{"parameter", "name"}});
+    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"), request.caller);
+    const double dt = episode.ticks > 0 ? episode.sim_time / static_cast<double>(episode.ticks) : 0.0;
+    const std::vector<storage::SeriesRecord> stored = store->series(episode.id, name);
+    if (format == "csv") {
+      std::ostringstream csv;
+      csv.precision(17);
+      csv << "tick,time," << name << '\n';
+      for (const storage::SeriesRecord& series : stored) {
+        for (std::size_t i = 0; i < series.values.size(); ++i) {
+          const std::int64_t tick = series.first_tick + static_cast<std::int64_t>(i) * series.stride;
+          csv << tick << ',' << static_cast<double>(tick) * dt << ',';
+          if (series.values[i]) csv << *series.values[i];
+          csv << '\n';
+        }
+      }
+      return download(csv.str(), kCsvContentType, episode.id + "-" + name + ".csv");
+    }
+    json items = json::array();
+    for (const storage::SeriesRecord& series : stored) {
+      json ticks = json::array(), values = json::array();
+      for (std::size_t i = 0; i < series.values.size(); ++i) {
+        ticks.push_back(series.first_tick + static_cast<std::int64_t>(i) * series.stride);
+        values.push_back(series.values[i] ? json(*series.values[i]) : json());
+      }
+      const auto unit = std::find_if(known.begin(), known.end(), [&](const metrics::SeriesDefinition& d) { return d.name == series.name; });
+      items.push_back({{"name", series.name},
+                       {"unit", unit == known.end() ? "" : std::string(unit->unit)},
+                       {"dt", dt * static_cast<double>(series.stride)},
+                       {"ticks", ticks},
+                       {"values", values}});
+    }
+    return Response::json(200, {{"episode", episode.id}, {"items", items}});
+  });
+
+  router.add("GET", "/api/v1/episodes/{id}/trajectory", [store](const Request& request) {
+    const std::string format = json_or_csv_format(request);
+    const storage::EpisodeRecord episode = find_episode(*store, request.path_params.at("id"), request.caller);
+    const double dt = episode.ticks > 0 ? episode.sim_time / static_cast<double>(episode.ticks) : 0.0;
+    if (format == "csv") {
+      std::ostringstream csv;
+      csv.precision(17);
+      csv << "agent,tick,time,x,y,theta\n";
+      for (const storage::TrajectorySample& s : episode.trajectory) {
+        csv << s.agent_id << ',' << s.tick << ',' << static_cast<double>(s.tick) * dt << ',' << s.x << ',' << s.y << ',' << s.theta << '\n';
+      }
+      return download(csv.str(), kCsvContentType, episode.id + ".csv");
+    }
+    json agents = json::object();
+    for (const storage::TrajectorySample& s : episode.trajectory) {
+      agents[s.agent_id].push_back({{"tick", s.tick}, {"time", static_cast<double>(s.tick) * dt}, {"x", s.x}, {"y", s.y}, {"theta", s.theta}});
+    }
+    return Response::json(200, {{"episode", episode.id}, {"rate", runs::kTrajectoryRate}, {"agents", agents}});
+  });
+
+  router.add("POST", "/api/v1/episodes/{id}/videos", [catalogue, store, videos](const Request& request) {
+    VideoRequest asked = video_request(json_object_body(request));
+    // Compiling the scenario and finding the camera's size build a world: work for the pool.
+    return Response::later([catalogue, store, videos, asked = std::move(asked), id = request.path_params.at("id"), caller = request.caller]() mutable {
+      EpisodeReplay replay = replay_of_episode(*store, *catalogue, id, caller);
+      asked.size = runs::video_size(replay.spec, replay.episode.seed, asked.options);
+      if (asked.size.width > kMaxVideoSide || asked.size.height > kMaxVideoSide) {
+        throw core::Error(core::ErrorCode::bad_request,
+                          "the camera's frames are " + std::to_string(asked.size.width) + " × " + std::to_string(asked.size.height) +
+                              ": give a width or height that keeps both at most " + std::to_string(kMaxVideoSide),
+                          {{"pointer", "/width"}});
+      }
+      asked.episode = std::move(replay.episode);
+      asked.spec = std::move(replay.spec);
+      bool created = false;
+      const json job = videos->submit(std::move(asked), created);
+      Response response = Response::json(created ? 202 : 200, job);
+      response.headers.emplace_back("Location", "/api/v1/videos/" + job["id"].get<std::string>());
+      return response;
+    });
+  });
+
+  router.add("GET", "/api/v1/episodes/{id}/cameras", [catalogue, store](const Request& request) {
+    return Response::later([catalogue, store, id = request.path_params.at("id"), caller = request.caller] {
+      const EpisodeReplay replay = replay_of_episode(*store, *catalogue, id, caller);
+      const episode::Episode first(replay.spec.model, replay.episode.seed);
+      json cameras = json::array();
+      for (const sim::CameraInfo& info : sim::cameras_of(first.session())) cameras.push_back(camera_json(info));
+      return Response::json(200, {{"episode", id}, {"cameras", cameras}});
+    });
+  });
+
+  router.add("GET", "/api/v1/videos/{id}", [store, videos](const Request& request) {
+    const std::string id = visible_video(*videos, *store, request.path_params.at("id"), request.caller);
+    const auto status = videos->status(id);
+    if (!status) throw core::Error(core::ErrorCode::not_found, "no video '" + id + "'", {{"id", id}});
+    return Response::json(200, *status);
+  });
+
+  router.add("GET", "/api/v1/videos/{id}/file", [store, videos](const Request& request) {
+    const std::string id = visible_video(*videos, *store, request.path_params.at("id"), request.caller);
+    return file_answer(videos->file(id), request);
+  });
+
+  router.add("DELETE", "/api/v1/videos/{id}", [store, videos](const Request& request) {
+    const std::string id = visible_video(*videos, *store, request.path_params.at("id"), request.caller);
+    if (!videos->remove(id)) throw core::Error(core::ErrorCode::not_found, "no video '" + id + "'", {{"id", id}});
+    return Response{204, "application/json", "", {}, {}};
+  });
+}
+
+}  // namespace hrisim::http
