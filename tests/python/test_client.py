@@ -245,6 +245,23 @@ class ClientTest(unittest.TestCase):
         self.assertIn("metrics", episode)
         trajectory = self.client.trajectory(episodes[0]["id"])
         self.assertIsInstance(trajectory, dict)
+        self.assertEqual([c["name"] for c in self.client.episode_cameras(episodes[0]["id"])][:2], ["overview", "follow"])
+        job = self.client.film_episode(episodes[0]["id"], fps=5, width=64)
+        done = self.client.wait_video(job["id"], timeout=120)
+        self.assertEqual(done["status"], "done")
+        self.assertTrue(done["matches_stored_episode"])
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "episode.mp4")
+            self.assertEqual(self.client.download_video(job["id"], path), done["bytes"])
+            with open(path, "rb") as video:
+                self.assertEqual(video.read(8)[4:], b"ftyp")
+        self.client.cancel_video(job["id"])
+        with self.assertRaises(hrisim.HrisimError) as gone:
+            self.client.video(job["id"])
+        self.assertEqual(gone.exception.status, 404)
+        with self.assertRaises(hrisim.HrisimError) as wrong:
+            self.client.film_episode(episodes[0]["id"], camera="ceiling")
+        self.assertEqual(wrong.exception.details.get("pointer"), "/camera")
         definitions = self.client.metrics()
         keys = [m["key"] for m in definitions["items"]]
         self.assertIn("collisions", keys)

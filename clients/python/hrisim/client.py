@@ -13,6 +13,7 @@ DEFAULT_URL = "http://127.0.0.1:8080"
 
 # Run statuses after which a run changes no more (RunStatus in api/openapi.yaml).
 FINAL_RUN_STATUSES = ("finished", "failed", "cancelled", "interrupted")
+FINAL_VIDEO_STATUSES = ("done", "failed", "cancelled")
 
 
 class HrisimError(Exception):
@@ -286,6 +287,45 @@ class Client:
 
     def series(self, episode_id, name=None):
         return self.get("/api/v1/episodes/%s/series" % self._q(episode_id), name=name)
+
+    def episode_cameras(self, episode_id):
+        """The cameras a video of the episode may use (a list, overview first)."""
+        return self.get("/api/v1/episodes/%s/cameras" % self._q(episode_id))["cameras"]
+
+    def film_episode(self, episode_id, camera=None, fps=None, width=None, height=None, format=None):
+        """Start filming a stored episode on the server (replayed bit for bit) → the video job.
+
+        ``format`` is ``"mp4"`` (H.264, the default) or ``"webm"`` (VP8). Asking again with the same
+        options gives the same job.
+        """
+        body = {k: v for k, v in (("camera", camera), ("fps", fps), ("width", width), ("height", height), ("format", format)) if v is not None}
+        return self.post("/api/v1/episodes/%s/videos" % self._q(episode_id), body)
+
+    def video(self, video_id):
+        """A video job: its status (queued, filming, done, failed, cancelled) and progress."""
+        return self.get("/api/v1/videos/" + self._q(video_id))
+
+    def wait_video(self, video_id, timeout=600.0, interval=0.2):
+        """Poll the video job until it has ended → its status. Raises ``TimeoutError`` after ``timeout`` s."""
+        deadline = time.monotonic() + timeout
+        while True:
+            job = self.video(video_id)
+            if job.get("status") in FINAL_VIDEO_STATUSES:
+                return job
+            if time.monotonic() >= deadline:
+                raise TimeoutError("video %s still %s after %s s" % (video_id, job.get("status"), timeout))
+            time.sleep(interval)
+
+    def download_video(self, video_id, path):
+        """Write the finished video to ``path`` → the number of bytes written."""
+        content = self.request("GET", "/api/v1/videos/%s/file" % self._q(video_id), raw=True)
+        with open(path, "wb") as out:
+            out.write(content)
+        return len(content)
+
+    def cancel_video(self, video_id):
+        """Cancel a video job (if it is filming) and forget it and its file."""
+        return self.request("DELETE", "/api/v1/videos/" + self._q(video_id))
 
     def metrics(self):
         """Every metric's definition: ``{"items": [...], "series": [...]}``."""
