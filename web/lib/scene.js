@@ -214,6 +214,8 @@ export class SceneView {
     this.animating = false;
 
     this.onChange = () => this.invalidate();
+    this.cameraListeners = [];
+    this.onCameraEnd = () => { for (const listener of this.cameraListeners) listener(this.cameraPose()); };
     this.setView('top');
     this.resizeObserver = new ResizeObserver(() => this.resize());
     this.resizeObserver.observe(container);
@@ -318,6 +320,7 @@ export class SceneView {
   setView(view) {
     if (this.controls) {
       this.controls.removeEventListener('change', this.onChange);
+      this.controls.removeEventListener('end', this.onCameraEnd);
       this.controls.dispose();
     }
     this.view = view;
@@ -348,7 +351,38 @@ export class SceneView {
     }
     this.controls.update();
     this.controls.addEventListener('change', this.onChange);
+    this.controls.addEventListener('end', this.onCameraEnd);
     this.invalidate();
+  }
+
+  /**
+   * Where the camera is, for an address: {view, position: [x, y, z], target: [x, y, z], zoom} in metres
+   * in the map frame, to the centimetre (zoom: the top view's).
+   */
+  cameraPose() {
+    const cm = (value) => Math.round(value * 100) / 100;
+    return {
+      view: this.view,
+      position: this.camera.position.toArray().map(cm),
+      target: this.controls.target.toArray().map(cm),
+      zoom: cm(this.camera.zoom),
+    };
+  }
+
+  /** Puts the camera where cameraPose() said it was (in that view). */
+  setCameraPose({ view, position, target, zoom = 1 }) {
+    if (view !== this.view) this.setView(view);
+    this.camera.position.fromArray(position);
+    this.controls.target.fromArray(target);
+    this.camera.zoom = zoom;
+    this.camera.updateProjectionMatrix();
+    this.controls.update();
+    this.invalidate();
+  }
+
+  /** Calls `listener(cameraPose())` each time the user has moved the camera (a drag or a zoom ended). */
+  onCameraMoved(listener) {
+    this.cameraListeners.push(listener);
   }
 
   /** The camera's projection for the canvas's shape: the top view shows the whole map. */
@@ -609,6 +643,7 @@ export class SceneView {
     cancelAnimationFrame(this.frameRequest);
     this.resizeObserver.disconnect();
     this.controls.removeEventListener('change', this.onChange);
+    this.controls.removeEventListener('end', this.onCameraEnd);
     this.controls.dispose();
     this.bodies.dispose();
     disposeTree(this.scene);

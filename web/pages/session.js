@@ -6,6 +6,7 @@
 // The driver (session/driver.js) talks to the server; each panel under session/ renders its part of
 // what the driver hears. This page lays them out and owns the session's head and its end.
 import { h, loading, errorPage, formatNumber, pageTitle } from '../lib/ui.js';
+import { showInAddress } from '../lib/hashquery.js';
 import { loadSession } from '../session/driver.js';
 import { errorText, showMessage } from '../session/messages.js';
 import { toolbar } from '../session/toolbar.js';
@@ -16,6 +17,18 @@ import { teleopPanel } from '../session/teleop.js';
 import { eventsPanel } from '../session/events.js';
 import { agentsPanel } from '../session/agents.js';
 import { humanCommandPanel, robotRequestPanel } from '../session/commands.js';
+
+/**
+ * The 3D view the address names: `view=top|perspective` and `cam=PX,PY,PZ,TX,TY,TZ,ZOOM` (the camera's
+ * position and target in the map frame, metres; the top view's zoom); null for none or a malformed one.
+ */
+function cameraOf(query) {
+  const view = query?.get('view');
+  if (view !== 'top' && view !== 'perspective') return null;
+  const numbers = (query.get('cam') ?? '').split(',').map(Number);
+  if (numbers.length !== 7 || !numbers.every(Number.isFinite) || numbers[6] <= 0) return { view };
+  return { view, position: numbers.slice(0, 3), target: numbers.slice(3, 6), zoom: numbers[6] };
+}
 
 export async function render(root, { id }, query) {
   const wait = loading(root, 'Loading the session');
@@ -54,7 +67,20 @@ export async function render(root, { id }, query) {
   const scene = new SessionScene(driver, { world, robot, drivable: canDrive });
   // The page's keys listen on the document: they stop when the page is left.
   const keys = new AbortController();
-  root.append(...toolbar(driver, { steps, onView: (view) => scene.setView(view), signal: keys.signal, replayTicks: replayed?.ticks }));
+  // The view and its camera are kept in the address, so a link opens the scene as it was seen.
+  const shownCamera = cameraOf(query);
+  const keepCameraInAddress = () => {
+    const pose = scene.cameraPose();
+    const values = Object.fromEntries(query ?? []);
+    values.view = pose.view;
+    values.cam = [...pose.position, ...pose.target, pose.zoom].join(',');
+    showInAddress(`/sessions/${encodeURIComponent(id)}`, values, { replace: true });
+  };
+  const onView = (view) => {
+    scene.setView(view);
+    keepCameraInAddress();
+  };
+  root.append(...toolbar(driver, { steps, view: shownCamera?.view, onView, signal: keys.signal, replayTicks: replayed?.ticks }));
   root.append(h('div', { class: 'session-main' },
     scene.panel,
     h('div', { class: 'session-side' }, cameraPanel(driver, cameras.cameras), status.task ? taskPanel(driver) : null,
@@ -65,6 +91,9 @@ export async function render(root, { id }, query) {
     h('div', { class: 'session-commands' }, humans.length ? humanCommandPanel(driver, humans) : null,
       robot && routines.length ? robotRequestPanel(driver, { robot, routines, answered }) : null)));
   scene.mount();
+  if (shownCamera?.position) scene.setCameraPose(shownCamera);
+  else if (shownCamera) scene.setView(shownCamera.view);
+  scene.onCameraMoved(keepCameraInAddress);
 
   // ---- Connection ----
   driver.on('closed', (event) => {

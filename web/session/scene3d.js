@@ -47,6 +47,7 @@ export class SessionScene {
     });
     // Read-only, for tests and debugging: the last scene frame's parts (lib/scene_bodies.js summary()).
     this.box.sceneSummary = () => this.#view?.bodies.summary() ?? null;
+    this.box.cameraPose = () => this.#view?.cameraPose() ?? null;
     const layerToggles = [
       ['trails', 'Trails (last 10 s)', true],
       ['plans', 'Planned paths (dashed)', true],
@@ -83,6 +84,20 @@ export class SessionScene {
   /** 'top' or 'perspective'. */
   setView(view) {
     this.#view.setView(view);
+  }
+
+  /** The view and where its camera is (lib/scene.js cameraPose()). */
+  cameraPose() {
+    return this.#view.cameraPose();
+  }
+
+  setCameraPose(pose) {
+    this.#view.setCameraPose(pose);
+  }
+
+  /** `listener(pose)` after each move of the camera by the user. */
+  onCameraMoved(listener) {
+    this.#view.onCameraMoved(listener);
   }
 
   dispose() {

@@ -20,9 +20,9 @@ const ENDINGS = {
 /**
  * The toolbar and, under it, its shortcuts, the line where stepping errors show and the line that
  * says why the session ended: [toolbar, shortcuts, error line, end line]. `steps` are the choreography's; `onView(view)` turns the scene to 'top' or
- * 'perspective'; the shortcuts listen until `signal` aborts.
+ * 'perspective' (`view` the one shown first); the shortcuts listen until `signal` aborts.
  */
-export function toolbar(driver, { steps, onView, signal, replayTicks }) {
+export function toolbar(driver, { steps, view: firstView = 'top', onView, signal, replayTicks }) {
   const { status } = driver;
   const speedSamples = [];
   const playButton = h('button', { type: 'button', class: 'play', onclick: () => (driver.playing ? driver.pause() : driver.play()), 'aria-pressed': 'false' }, 'Play');
@@ -33,7 +33,7 @@ export function toolbar(driver, { steps, onView, signal, replayTicks }) {
     SPEEDS.map((value) => h('option', { value, selected: value === driver.speed }, `${value}× real time`)));
   const actualSpeed = h('span', { class: 'muted actual-speed' });
   const viewButtons = ['top', 'perspective'].map((view) => h('button', {
-    type: 'button', class: 'secondary', 'data-view': view, 'aria-pressed': String(view === 'top'),
+    type: 'button', class: 'secondary', 'data-view': view, 'aria-pressed': String(view === firstView),
     onclick: () => {
       for (const button of viewButtons) button.setAttribute('aria-pressed', String(button.dataset.view === view));
       onView(view);

@@ -5,7 +5,8 @@
 // reset (not while typing), going to a tick back gives the state the session had then (and its events)
 // and forth to its end says why it ended, a task whose actions are no velocity says so, and ending the
 // session goes back to its scenario; the scene draws people's bodies, the robot's links and movable
-// objects as the scene frames have them, moving at the display rate while playing, and goes full screen.
+// objects as the scene frames have them, moving at the display rate while playing, and goes full screen;
+// the 3D view and its camera are kept in the address.
 const assert = require('node:assert/strict');
 const { describe, it } = require('node:test');
 const context = require('../lib/context');
@@ -425,6 +426,50 @@ describe('session', () => {
       assert.deepEqual(tab.errors, []);
     } finally {
       await tab.close();
+      await call('DELETE', `/api/v1/sessions/${id}`);
+    }
+  });
+
+  it('keeps the 3D view and its camera in the address, so a link opens the scene as it was seen', async () => {
+    const id = await createSession({ scenario: 'elevator', seed: 1 });
+    const tab = await newPage(context.browser, context.server.port);
+    const other = await newPage(context.browser, context.server.port);
+    const cameraPose = (page) => page.$eval('.scene-box', (box) => box.cameraPose());
+    try {
+      const page = tab.page;
+      await tab.open(`/sessions/${id}?view=perspective&cam=3,-4,6,5,5,0,1`);
+      await page.waitForSelector('.scene-box[data-frames]');
+      assert.equal(await page.getAttribute('.session-toolbar button[data-view=perspective]', 'aria-pressed'), 'true');
+      assert.deepEqual(await cameraPose(page), { view: 'perspective', position: [3, -4, 6], target: [5, 5, 0], zoom: 1 });
+
+      // A drag orbits the camera; the address follows once the drag ends.
+      const canvas = await page.locator('.scene-box canvas').boundingBox();
+      await page.mouse.move(canvas.x + canvas.width / 2, canvas.y + canvas.height / 2);
+      await page.mouse.down();
+      await page.mouse.move(canvas.x + canvas.width / 2 + 120, canvas.y + canvas.height / 2 + 30, { steps: 6 });
+      await page.mouse.up();
+      await page.waitForFunction(() => !location.hash.includes('cam=3,-4,6,'));
+      const moved = await cameraPose(page);
+      assert.notDeepEqual(moved.position, [3, -4, 6]);
+      const hash = await page.evaluate(() => location.hash);
+      assert.ok(hash.includes(`view=perspective&cam=${[...moved.position, ...moved.target, moved.zoom].join(',')}`), hash);
+
+      // The address in another tab shows the same view from the same place.
+      await other.open(hash.slice(1));
+      await other.page.waitForSelector('.scene-box[data-frames]');
+      assert.deepEqual(await cameraPose(other.page), moved);
+      await screenshot(other.page, 'session-camera-from-address');
+
+      // The top view, chosen by its button, goes into the address too; a malformed camera is ignored.
+      await page.click('.session-toolbar button[data-view=top]');
+      await page.waitForFunction(() => location.hash.includes('view=top&cam='));
+      await other.open(`/sessions/${id}?view=perspective&cam=1,2,nope`);
+      await other.page.waitForFunction(() => document.querySelector('.scene-box[data-frames]')?.cameraPose()?.view === 'perspective');
+      assert.deepEqual(tab.errors, []);
+      assert.deepEqual(other.errors, []);
+    } finally {
+      await tab.close();
+      await other.close();
       await call('DELETE', `/api/v1/sessions/${id}`);
     }
   });
