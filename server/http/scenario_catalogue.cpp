@@ -173,7 +173,7 @@ ScenarioCatalogue::Added ScenarioCatalogue::add(const Upload& upload, const std:
   return {record.id, false};
 }
 
-void ScenarioCatalogue::remove(const std::string& id, const Caller& caller) {
+bool ScenarioCatalogue::remove(const std::string& id, const Caller& caller) {
   if (bundled_.contains(id)) {
     throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' is bundled with the server: only uploads can be deleted", {{"id", id}});
   }
@@ -181,13 +181,14 @@ void ScenarioCatalogue::remove(const std::string& id, const Caller& caller) {
   if (!record || id.empty() || id.front() != kUploadedPrefix || !visible_to(caller, record->owner)) {
     throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
   }
-  if (!store_->delete_scenario(id)) return;  // runs ran it: unlisted, kept for them
+  if (!store_->delete_scenario(id)) return false;  // runs ran it: unlisted, kept for them
   std::lock_guard lock(mutex_);
   const auto found = uploaded_.find(id);
   const std::filesystem::path files = found == uploaded_.end() ? std::filesystem::path() : found->second.entry->files;
   forget(id);
   std::error_code ignored;
   if (!files.empty()) std::filesystem::remove_all(files, ignored);
+  return true;
 }
 
 void ScenarioCatalogue::forget(const std::string& id) {

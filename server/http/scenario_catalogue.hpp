@@ -77,8 +77,8 @@ class ScenarioCatalogue {
   /// content uploaded before, or empty (nothing stored) with the errors in `compiled`.
   Added add(const Upload& upload, const std::string& owner, scenario::CompiledSource& compiled);
   /// Takes an upload out of the catalogue: deleted when no run ran it, else unlisted (found by id by
-  /// what ran it). 404 for an unknown one or another owner's; 409 for a bundled scenario.
-  void remove(const std::string& id, const Caller& caller);
+  /// what ran it): true when deleted. 404 for an unknown one or another owner's; 409 for a bundled scenario.
+  bool remove(const std::string& id, const Caller& caller);
   /// The scenario with this id, or null; an upload not in the cache is compiled first.
   std::shared_ptr<const Entry> find(const std::string& id);
   /// The same as `caller` may see it: null also for another owner's upload.

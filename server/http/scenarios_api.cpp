@@ -188,8 +188,8 @@ void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> cata
   });
 
   router.add("DELETE", "/api/v1/scenarios/{id}", [catalogue](const Request& request) {
-    catalogue->remove(request.path_params.at("id"), request.caller);
-    return Response{204, "application/json", "", {}, {}};
+    const std::string& id = request.path_params.at("id");
+    return Response::json(200, {{"id", id}, {"outcome", catalogue->remove(id, request.caller) ? "deleted" : "unlisted"}});
   });
 }
 

@@ -8,7 +8,7 @@ import { taskSummary } from '../lib/tasks.js';
 
 /** Scenarios uploaded from the catalogue in this page's life, with their warnings and whether they existed, shown once on arrival. */
 export const recentUploads = new Map();
-/** Uploads deleted from their own page, id → name, said once by the catalogue. */
+/** Uploads deleted from their own page, id → {name, outcome}, said once by the catalogue. */
 export const recentDeletions = new Map();
 /** A session started here ends this long (s) after its last tab closed (or after its start, if no tab opens it). */
 export const UNWATCHED_GRACE_S = 30;
@@ -146,15 +146,19 @@ function shapeText(shape) {
   return shape.kind === 'sphere' ? `sphere, ${radius}` : `${shape.kind}, ${radius}, ${formatNumber(shape.length)} m long`;
 }
 
-/** Asks whether to delete the upload `summary` ({id, name}), then does; true once deleted (the API's error is thrown). */
+/**
+ * Asks whether to delete the upload `summary` ({id, name}), then does: 'deleted', 'unlisted' (runs ran
+ * it), or null when the user said no (the API's error is thrown).
+ */
 export async function deleteUpload({ id, name }) {
-  if (!confirm(`Delete the uploaded scenario “${name}” (${id})?`)) return false;
-  await api.delete(`/api/v1/scenarios/${encodeURIComponent(id)}`);
-  return true;
+  if (!confirm(`Delete the uploaded scenario “${name}” (${id})?`)) return null;
+  return (await api.delete(`/api/v1/scenarios/${encodeURIComponent(id)}`)).outcome;
 }
 
 /** What a deletion did: an upload runs ran is only out of the list (docs/api.md, Uploading a scenario). */
-export const deletedText = (name) => `Deleted “${name}”. If runs used it, their reports and replays still have it; it is no longer listed.`;
+export const deletedText = (name, outcome) => (outcome === 'unlisted'
+  ? `“${name}” is no longer listed. Runs used it, so it is kept for their reports and replays; uploading it again lists it again.`
+  : `Deleted “${name}”.`);
 
 function table(caption, headings, rows) {
   if (!rows.length) return null;
@@ -303,8 +307,9 @@ export async function render(root, params) {
   const deleteButton = uploaded ? h('button', { type: 'button', class: 'secondary danger', onclick: async () => {
     deleteButton.disabled = true;
     try {
-      if (!(await deleteUpload({ id, name: doc.name ?? id }))) return;
-      recentDeletions.set(id, doc.name ?? id);
+      const outcome = await deleteUpload({ id, name: doc.name ?? id });
+      if (!outcome) return;
+      recentDeletions.set(id, { name: doc.name ?? id, outcome });
       location.hash = '#/';
     } catch (error) {
       showError(deleteArea, error);

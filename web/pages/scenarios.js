@@ -308,9 +308,9 @@ export async function render(root) {
     h('summary', {}, 'Upload a scenario (native JSON, IMHuS XML or Pedsim XML)'), uploadForm());
   const notice = h('div', { class: 'sc-notice', 'aria-live': 'polite' });
   root.append(uploadPanel, notice);
-  for (const [id, name] of recentDeletions) {
+  for (const [id, { name, outcome }] of recentDeletions) {
     recentDeletions.delete(id);
-    notice.append(h('p', { class: 'message info', role: 'status' }, deletedText(name)));
+    notice.append(h('p', { class: 'message info', role: 'status' }, deletedText(name, outcome)));
   }
   const wait = loading(root, 'Loading scenarios');
   let scenarios;
@@ -358,8 +358,10 @@ export async function render(root) {
 
   async function remove(scenario) {
     notice.replaceChildren();
+    let outcome;
     try {
-      if (!(await deleteUpload(scenario))) return;
+      outcome = await deleteUpload(scenario);
+      if (!outcome) return;
     } catch (error) {
       showError(notice, error);
       return;
@@ -368,7 +370,7 @@ export async function render(root) {
     cards[at].element.remove();
     cards.splice(at, 1);
     filter();
-    notice.append(h('p', { class: 'message info', role: 'status' }, deletedText(scenario.name)));
+    notice.append(h('p', { class: 'message info', role: 'status' }, deletedText(scenario.name, outcome)));
   }
 
   root.append(

@@ -213,7 +213,9 @@ describe('runs', () => {
     const scenario = uploaded.json.summary.id;
     const done = await waitForRun((await startRun({ scenario, count: 1, max_time: 0.5 })).json.id);
     assert.equal(done.status, 'finished');
-    assert.equal((await api.delete(`/api/v1/scenarios/${scenario}`)).status, 204);
+    const unlisted = await api.delete(`/api/v1/scenarios/${scenario}`);
+    assert.equal(unlisted.status, 200);
+    assert.deepEqual(unlisted.json, { id: scenario, outcome: 'unlisted' });
     const listed = async () => (await api.get('/api/v1/scenarios?limit=200')).json.items.some((item) => item.id === scenario);
     assert.equal(await listed(), false, 'out of the list');
     assert.equal((await api.get(`/api/v1/scenarios/${scenario}/world`)).status, 200, 'the run\'s pages still find it');

@@ -239,7 +239,9 @@ describe('scenarios', () => {
     assert.equal(again.json.summary.id, first.json.summary.id);
     assert.equal(again.headers.location, first.headers.location);
     const id = first.json.summary.id;
-    assert.equal((await api.delete(`/api/v1/scenarios/${id}`)).status, 204);
+    const deleted = await api.delete(`/api/v1/scenarios/${id}`);
+    assert.equal(deleted.status, 200);
+    assert.deepEqual(deleted.json, { id, outcome: 'deleted' });
     assert.equal((await api.get(`/api/v1/scenarios/${id}`)).status, 404);
     const listed = await api.get('/api/v1/scenarios?limit=200');
     assert.ok(!listed.json.items.some((item) => item.id === id));
@@ -250,7 +252,7 @@ describe('scenarios', () => {
     const anew = await api.post('/api/v1/scenarios', scenario);
     assert.equal(anew.status, 201, 'deleted: stored anew');
     assert.notEqual(anew.json.summary.id, id);
-    assert.equal((await api.delete(`/api/v1/scenarios/${anew.json.summary.id}`)).status, 204);
+    assert.equal((await api.delete(`/api/v1/scenarios/${anew.json.summary.id}`)).json.outcome, 'deleted');
   });
 
   it('POST /api/v1/scenarios takes Pedsim XML by its content', async () => {

@@ -308,19 +308,26 @@ describe('scenarios', () => {
       });
       await page.click(`.sc-scenario-card[data-id="${id}"] .sc-card-delete`);
       await page.waitForSelector(`.sc-scenario-card[data-id="${id}"]`, { state: 'detached' });
-      const deleted = 'Deleted “ui room to delete”. If runs used it, their reports and replays still have it; it is no longer listed.';
+      const deleted = 'Deleted “ui room to delete”.';
       assert.equal(await page.textContent('.sc-notice [role=status]'), deleted);
       assert.match(await page.textContent('.sc-scenario-count'), new RegExp(`of ${uploaded.length + BUNDLED.length - 1} scenarios`));
       await screenshot(page, 'scenarios-upload-deleted');
       assert.equal((await api('GET', `/api/v1/scenarios/${id}`)).status, 404, 'no run ran it: gone');
 
-      // From its own page: back to the catalogue, which says so.
+      // From its own page, after a run ran it: only unlisted, and the catalogue says why.
+      const run = await (await api('POST', '/api/v1/runs', JSON.stringify({ scenario: other.summary.id, seeds: [1], max_time: 1 }))).json();
+      for (let tries = 0; (await (await api('GET', `/api/v1/runs/${run.id}`)).json()).status !== 'finished'; tries++) {
+        assert.ok(tries < 400, `run ${run.id} did not finish`);
+        await page.waitForTimeout(50);
+      }
       await tab.open(`/scenarios/${other.summary.id}`);
       page.once('dialog', (dialog) => dialog.accept());
       await page.click('button:has-text("Delete this upload")');
       await page.waitForFunction(() => location.hash === '#/');
       await page.waitForSelector('.sc-scenario-card');
-      assert.equal(await page.textContent('.sc-notice [role=status]'), deleted.replace('ui room to delete', 'ui room deleted from its page'));
+      assert.equal(await page.textContent('.sc-notice [role=status]'), '“ui room deleted from its page” is no longer listed. Runs used it, '
+        + 'so it is kept for their reports and replays; uploading it again lists it again.');
+      assert.equal((await api('GET', `/api/v1/scenarios/${other.summary.id}`)).status, 200, 'kept for the run');
       assert.equal(await page.$(`.sc-scenario-card[data-id="${other.summary.id}"]`), null);
       assert.deepEqual(tab.errors, []);
     } finally {
