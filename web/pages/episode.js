@@ -1,7 +1,8 @@
 // #/episodes/ID: a stored episode replayed — the map with every agent's path and the agents at the
 // scrubber's time, events on the timeline, the chosen per-step series' plots whose cursor follows the
 // scrubber (and hovering a plot moves it), the episode's metrics with units, and its trajectory and
-// series as CSV. The address keeps the replay's moment and the series: #/episodes/ID?t=12.3&series=….
+// series as CSV; the server films it as a video on demand (runs/video.js). The address keeps the
+// replay's moment and the series: #/episodes/ID?t=12.3&series=….
 import { api } from '../lib/api.js';
 import { h, loading, showError, errorPage, formatNumber, pageTitle } from '../lib/ui.js';
 import { MapView, palette } from '../lib/map2d.js';
@@ -9,6 +10,7 @@ import { CATEGORY_NAMES, loadMetrics, withUnit, betterArrow, statusBadge, timePl
 import { downloadLink } from '../lib/download.js';
 import { showInAddress, listOf } from '../lib/hashquery.js';
 import { checkPicker } from '../runs/picker.js';
+import { videoExport } from '../runs/video.js';
 
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 10];
 // Series plotted first, in this order; proxemic_zone is what the distance plot's bands show.
@@ -89,6 +91,7 @@ export async function render(root, params, query) {
   ]);
   wait.remove();
 
+  const video = videoExport(id);
   root.append(h('div', { class: 'episode-facts' },
     episode.run_id ? h('a', { href: `#/runs/${episode.run_id}` }, `← run ${episode.run_id.slice(0, 9)}`) : null,
     h('span', {}, `seed ${episode.seed}`), statusBadge(episode.status),
@@ -97,9 +100,10 @@ export async function render(root, params, query) {
     h('span', {}, `controller ${episode.controller}`),
     h('span', { class: 'muted' }, `scenario ${episode.scenario}`),
     downloadLink(`/api/v1/episodes/${encodeURIComponent(id)}/trajectory?format=csv`, `${id}.csv`, 'Trajectory (CSV)'),
-    h('button', { type: 'button', class: 'secondary', onclick: replayIn3d }, 'Replay in 3D')));
+    h('button', { type: 'button', class: 'secondary', onclick: replayIn3d }, 'Replay in 3D'),
+    video.toggle));
   const replayError = h('p', { class: 'message error', role: 'alert', hidden: true });
-  root.append(replayError);
+  root.append(replayError, video.panel);
 
   /** The episode again as a live session (the server replays it bit for bit), opened at the scrubber's moment. */
   async function replayIn3d(event) {
@@ -308,6 +312,7 @@ export async function render(root, params, query) {
   return () => {
     stop();
     clearTimeout(addressTimer);
+    video.destroy();
     for (const p of plots) p.destroy();
   };
 }

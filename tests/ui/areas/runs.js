@@ -6,9 +6,10 @@
 // searches, filters by tag and by conditions, shows chosen metric columns, sorts and pages, all in the
 // address; an episode replays from the moment its address names (the scrubber moves the agents and the
 // plots' cursor; each plot has a summary and its data as a table; the time to collision is clipped at
-// 10 s) and offers its trajectory and series as CSV; three runs compare against a baseline with
-// p-values, Holm's correction, distributions and failed gates as chips, and the tables scroll in their
-// panels on a narrow screen.
+// 10 s) and offers its trajectory and series as CSV; it is filmed as a video (the server's refusal
+// beside the form, the progress, Cancel, then the video playing and its file); three runs compare
+// against a baseline with p-values, Holm's correction, distributions and failed gates as chips, and
+// the tables scroll in their panels on a narrow screen.
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const { describe, it } = require('node:test');
@@ -451,6 +452,120 @@ describe('runs', () => {
       assert.deepEqual(tab.errors, []);
     } finally {
       if (session) await call('DELETE', `/api/v1/sessions/${session}`);
+      await tab.close();
+    }
+  });
+
+  it('an episode is filmed as a video: the server\'s refusal shows beside the form, the progress while it films, Cancel stops it, then the video plays and downloads', async () => {
+    assert.ok(state.episode, 'the first test stored an episode');
+    const tab = await newPage(context.browser, context.server.port);
+    const page = tab.page;
+    const videoRequests = [];
+    page.on('request', (request) => {
+      const { pathname } = new URL(request.url());
+      if (/^\/api\/v1\/(videos\/|episodes\/[^/]+\/videos$)/.test(pathname)) videoRequests.push(`${request.method()} ${pathname}`);
+    });
+    // The server films this episode small in a fraction of a second: while `holding`, its status reads half way through.
+    let holding = true;
+    await page.route('**/api/v1/videos/*', async (route) => {
+      if (!holding || route.request().method() !== 'GET') return route.fallback();
+      const response = await route.fetch();
+      const job = await response.json();
+      const half = Math.round(job.progress.ticks / 2);
+      return route.fulfill({ response, json: { ...job, status: 'filming', progress: { tick: half, ticks: job.progress.ticks, fraction: half / job.progress.ticks } } });
+    });
+    const held = [];
+    try {
+      const episode = (await call('GET', `/api/v1/episodes/${state.episode}`)).body;
+      const cameras = (await call('GET', `/api/v1/episodes/${state.episode}/cameras`)).body.cameras;
+      await tab.open(`/episodes/${state.episode}`);
+      await page.click('.episode-facts button:has-text("Export video")', WAIT);
+      assert.equal(await page.getAttribute('button[aria-controls=video-export]', 'aria-expanded'), 'true');
+      await page.waitForSelector('#video-camera:not([disabled])', WAIT);
+      assert.deepEqual(await page.$$eval('#video-camera option', (options) => options.map((o) => o.value)), cameras.map((c) => c.name));
+      assert.equal(await page.inputValue('#video-camera'), 'overview');
+      assert.equal(await page.inputValue('#video-fps'), '25');
+      assert.equal(await page.getAttribute('#video-width', 'placeholder'), String(cameras.find((c) => c.name === 'overview').width));
+      assert.deepEqual(await page.$eval('#video-width', (input) => [input.min, input.max]), ['16', '1920']);
+
+      // A width the server refuses: its message beside the form, the field marked and focused.
+      await page.fill('#video-width', '5');
+      await page.click('.video-form button[type=submit]');
+      await page.waitForSelector('#video-error [role=alert]', WAIT);
+      assert.match(await page.textContent('#video-error'), /width must be an integer from 16 to 1920/);
+      assert.equal(await page.getAttribute('#video-width', 'aria-invalid'), 'true');
+      assert.equal(await page.evaluate(() => document.activeElement.id), 'video-width');
+      assert.deepEqual(videoRequests, [`POST /api/v1/episodes/${state.episode}/videos`]);
+
+      // Filming: the progress and its status, announced; Cancel stops the job and the server forgets it.
+      await page.fill('#video-width', '160');
+      await page.fill('#video-fps', '10');
+      await page.selectOption('#video-format', 'mp4');
+      await page.click('.video-form button[type=submit]');
+      const half = Math.round(episode.ticks / 2);
+      const filming = `Filming… 50 % (tick ${half.toLocaleString('en')} of ${episode.ticks.toLocaleString('en')})`;
+      await page.waitForFunction((text) => document.querySelector('#video-status')?.textContent === text, filming, WAIT);
+      assert.equal(await page.textContent('#video-error'), '', 'the last problem is gone');
+      assert.equal(await page.getAttribute('#video-width', 'aria-invalid'), null);
+      assert.equal(await page.isVisible('progress#video-progress'), true);
+      assert.equal(await page.getAttribute('progress#video-progress', 'aria-label'), 'Filming progress');
+      assert.equal(await page.$eval('progress#video-progress', (p) => p.value), 0.5);
+      assert.equal(await page.getAttribute('#video-status', 'aria-live'), 'polite');
+      assert.equal(await page.isDisabled('.video-form button[type=submit]'), true, 'one job at a time');
+      await screenshot(page, 'runs-episode-video-filming');
+      const cancelled = videoRequests.find((r) => r.startsWith('GET /api/v1/videos/')).slice('GET '.length);
+      const posted = videoRequests.filter((r) => r.startsWith('POST'));
+      assert.equal(posted.length, 2);
+      await page.click('.video-running button:has-text("Cancel")');
+      await page.waitForFunction(() => /^Cancelled/.test(document.querySelector('#video-status').textContent), null, WAIT);
+      assert.ok(videoRequests.includes(`DELETE ${cancelled}`), videoRequests.join('\n'));
+      assert.equal(await page.isVisible('progress#video-progress'), false);
+      assert.equal((await call('GET', cancelled)).status, 404, 'the server forgot the job');
+
+      // Again, to the end: the video plays in the page (its metadata loaded: 160 px wide), and downloads as an MP4.
+      holding = false;
+      await page.click('.video-form button[type=submit]');
+      await page.waitForSelector('video.episode-video', WAIT);
+      await page.waitForFunction(() => document.querySelector('video.episode-video').readyState >= 1, null, WAIT);
+      const played = await page.$eval('video.episode-video', (video) => ({ width: video.videoWidth, duration: video.duration, error: video.error?.message ?? null }));
+      assert.equal(played.width, 160);
+      assert.ok(played.duration > 0, `duration ${played.duration}`);
+      assert.equal(played.error, null);
+      assert.match(await page.textContent('#video-status'), /^Filmed in [\d.]+ s\.$/);
+      assert.match(await page.textContent('.video-file'), /MP4, H\.264, 160×120, [\d,]+ frames at 10 fps/);
+      assert.equal(await page.$('.video-mismatch'), null, 'the replay matches the stored episode');
+      const file = await download(page, 'a.video-download');
+      assert.equal(file.name, `${state.episode}-overview.mp4`);
+      assert.equal(file.bytes.subarray(4, 8).toString(), 'ftyp');
+      assert.match(await page.textContent('a.video-download'), new RegExp(`\\(${Math.round(file.bytes.length / 1000)} kB\\)`));
+      assert.doesNotMatch(await page.textContent('.video-result'), /null|undefined/);
+      await screenshot(page, 'runs-episode-video');
+      // The same options again find the same job; had its replay not ended where the stored episode did, a warning says so.
+      await page.route('**/api/v1/episodes/*/videos', async (route) => {
+        const response = await route.fetch();
+        return route.fulfill({ response, json: { ...(await response.json()), matches_stored_episode: false } });
+      });
+      await page.click('.video-form button[type=submit]');
+      await page.waitForSelector('.video-mismatch', WAIT);
+      assert.match(await page.textContent('.video-mismatch'), /did not end in the stored episode's final state/);
+      await page.unroute('**/api/v1/episodes/*/videos');
+
+      // Leaving the page stops the polling; the job goes on on the server.
+      holding = true;
+      await page.fill('#video-fps', '5');
+      await page.click('.video-form button[type=submit]');
+      await page.waitForFunction(() => /^Filming/.test(document.querySelector('#video-status').textContent), null, WAIT);
+      held.push(videoRequests.filter((r) => r.startsWith('GET /api/v1/videos/')).at(-1).slice('GET '.length));
+      await page.click('.episode-facts a[href^="#/runs/"]');
+      await page.waitForSelector('.run-summary', WAIT);
+      const polls = videoRequests.length;
+      // The page asks every 400 ms while it films.
+      await new Promise((resolve) => setTimeout(resolve, 700));
+      assert.equal(videoRequests.length, polls, 'no status asked after leaving the page');
+      assert.equal((await call('GET', held[0])).status, 200);
+      assert.deepEqual(tab.errors.filter((e) => !/Failed to load resource: .* 400 \(Bad Request\)/.test(e)), []);
+    } finally {
+      for (const path of held) await call('DELETE', path);
       await tab.close();
     }
   });
