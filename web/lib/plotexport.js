@@ -1,7 +1,11 @@
-// A uPlot plot as a file: a PNG of its canvas (axes, dots, lines) under its title, and an SVG drawn
-// from the same scales, ticks and data, for papers and slides. uPlot keeps the ticks it drew in its
-// axes' _splits and _values (not a documented field, but the only record of what the canvas shows).
+// A plot as a file, for papers and slides. A uPlot plot: a PNG of its canvas (axes, dots, lines) under
+// its title, and an SVG drawn from the same scales, ticks and data (uPlot keeps the ticks it drew in
+// its axes' _splits and _values: not a documented field, but the only record of what the canvas
+// shows). A plot the page draws as SVG (runs/distribution.js): that SVG as a file, and as a PNG drawn
+// from it. exportButtons() offers either as the PNG and SVG buttons under a plot.
 import { POINTS_ONLY } from './plots.js';
+import { h } from './ui.js';
+import { saveButton } from './download.js';
 
 const TITLE_HEIGHT = 28;
 const FONT = 'system-ui, -apple-system, "Segoe UI", Roboto, sans-serif';
@@ -83,4 +87,50 @@ export function plotSvg(u, title) {
   const svgHeight = round(u.height + TITLE_HEIGHT);
   return `<svg xmlns="http://www.w3.org/2000/svg" width="${u.width}" height="${svgHeight}" viewBox="0 0 ${u.width} ${svgHeight}" `
     + `font-family='${FONT}' font-size="11" fill="${TEXT}">\n${parts.join('\n')}\n</svg>\n`;
+}
+
+/**
+ * The buttons under a plot of metric `key` that save it as `name`.png and `name`.svg: `png()` gives
+ * the PNG blob (or a promise of it), `svg()` the SVG document's text.
+ */
+export function exportButtons(key, name, { png, svg }) {
+  return h('div', { class: 'plot-exports' },
+    saveButton('PNG', async () => ({ blob: await png(), filename: `${name}.png` }), { 'aria-label': `Save the plot of ${key} as PNG` }),
+    saveButton('SVG', () => ({ blob: new Blob([svg()], { type: 'image/svg+xml' }), filename: `${name}.svg` }),
+      { 'aria-label': `Save the plot of ${key} as SVG` }));
+}
+
+/**
+ * An <svg> of the page as an SVG document (text) that looks the same on its own: the page's styles
+ * (its font) written into it, the page's own attributes (class, role, its accessible name) left out.
+ */
+export function svgElementText(element) {
+  const copy = element.cloneNode(true);
+  for (const name of ['class', 'role', 'aria-label', 'style']) copy.removeAttribute(name);
+  copy.setAttribute('font-family', FONT);
+  copy.setAttribute('fill', TEXT);
+  return `${new XMLSerializer().serializeToString(copy)}\n`;
+}
+
+/** An <svg> of the page as a PNG blob, drawn from svgElementText() at the screen's pixel ratio (at least 2). */
+export async function svgElementPng(element) {
+  const width = Number(element.getAttribute('width'));
+  const height = Number(element.getAttribute('height'));
+  const ratio = Math.max(2, window.devicePixelRatio || 1);
+  const url = URL.createObjectURL(new Blob([svgElementText(element)], { type: 'image/svg+xml' }));
+  try {
+    const image = new Image(width, height);
+    image.src = url;
+    await image.decode();
+    const canvas = document.createElement('canvas');
+    canvas.width = Math.round(width * ratio);
+    canvas.height = Math.round(height * ratio);
+    const context = canvas.getContext('2d');
+    context.fillStyle = '#fff';
+    context.fillRect(0, 0, canvas.width, canvas.height);
+    context.drawImage(image, 0, 0, canvas.width, canvas.height);
+    return await new Promise((resolve) => canvas.toBlob(resolve, 'image/png'));
+  } finally {
+    URL.revokeObjectURL(url);
+  }
 }

@@ -1,8 +1,9 @@
 // #/compare?runs=A,B,C: two to ten runs metric by metric against the first (the baseline) — every
 // run's mean, and for each other run the difference, the test's p-value, Holm's adjusted p-value and
 // whether it is significantly better or worse — with each run's verdict and failed gates, the chosen
-// metrics' distributions run by run, and the robot's paths of the baseline and one chosen run. The
-// address keeps the view: &correction=none (plain p-values), &plots=success,… and &paths=RUN.
+// metrics' distributions run by run (each saved as PNG or SVG on demand), and the robot's paths of
+// the baseline and one chosen run. The address keeps the view: &correction=none (plain p-values),
+// &plots=success,… and &paths=RUN.
 // The former #/compare/A/B opens #/compare?runs=A,B.
 import { api } from '../lib/api.js';
 import { h, loading, showError, errorPage, scrollBox, formatNumber, pageTitle } from '../lib/ui.js';
@@ -11,6 +12,7 @@ import { showInAddress, listOf } from '../lib/hashquery.js';
 import { tagChips } from '../runs/fields.js';
 import { checkPicker, metricGroups } from '../runs/picker.js';
 import { distributionPlot } from '../runs/distribution.js';
+import { exportButtons, svgElementText, svgElementPng } from '../lib/plotexport.js';
 import { pathsSection } from '../runs/paths.js';
 
 // One colour per run, the baseline's first; dark enough for thin lines and dots on white.
@@ -162,6 +164,8 @@ export async function render(root, params, query) {
       plotsArea));
 
   const showMetrics = () => metricsArea.replaceChildren(comparisonTable(comparison, runs));
+  // A saved plot's file name: the runs' short ids, the baseline's first.
+  const fileStem = ids.map((id) => id.slice(0, 9)).join('-');
   const drawPlots = () => {
     plotsArea.replaceChildren();
     const width = Math.min(plotsArea.clientWidth || 720, 760);
@@ -170,8 +174,9 @@ export async function render(root, params, query) {
       if (!m) continue;
       const figure = h('figure', { class: 'distribution-plot', 'data-metric': key });
       plotsArea.append(figure);
-      distributionPlot(figure, { title: metricTitle(key, m.better), unit: m.unit === 'bool' ? '' : unitLabel(m.unit), bool: m.unit === 'bool',
+      const plot = distributionPlot(figure, { title: metricTitle(key, m.better), unit: m.unit === 'bool' ? '' : unitLabel(m.unit), bool: m.unit === 'bool',
         width, runs: m.runs.map((distribution, i) => ({ ...distribution, label: `${runs[i].label} ${runs[i].report.id.slice(0, 9)}`, colour: runs[i].colour })) });
+      figure.append(exportButtons(key, `compare-${fileStem}-${key}`, { png: () => svgElementPng(plot), svg: () => svgElementText(plot) }));
     }
     if (!view.plots.length) plotsArea.append(h('p', { class: 'muted' }, 'No metric chosen: choose some above.'));
   };

@@ -1,7 +1,8 @@
 // One metric's distribution in each of several runs, drawn as SVG: a row per run with its episodes'
 // values as dots (spread up and down a little, so that equal values stay visible), a box from the
 // first to the third quartile with the median, whiskers to the minimum and maximum, and the mean as a
-// diamond. Its text alternative is a summary and the numbers as a table (lib/plots.js).
+// diamond. Its text alternative is a summary and the numbers as a table (lib/plots.js); the compare
+// page saves it as SVG or PNG (lib/plotexport.js svgElementText, svgElementPng).
 import { formatNumber } from '../lib/ui.js';
 import { textAlternative } from '../lib/plots.js';
 

@@ -2,8 +2,7 @@
 // each saved as PNG or SVG on demand. The page keeps the choice in its address.
 import { h } from '../lib/ui.js';
 import { unitLabel, dotPlot, metricTitle } from '../lib/plots.js';
-import { plotPng, plotSvg } from '../lib/plotexport.js';
-import { saveButton } from '../lib/download.js';
+import { plotPng, plotSvg, exportButtons } from '../lib/plotexport.js';
 import { checkPicker, metricGroups } from './picker.js';
 
 const PLOT_COLOURS = ['#2f8a4f', '#c0392b', '#2f6fd1', '#7d4fb8', '#b7791f'];
@@ -25,11 +24,6 @@ export function episodePlots({ runId, metrics, chosen, onChoose }) {
     } });
   const element = h('section', { 'aria-labelledby': 'plots-title' }, h('h2', { id: 'plots-title' }, 'Per-episode values'), picker, grid);
   const destroy = () => { for (const u of uplots) u.destroy(); uplots = []; };
-
-  const exportButtons = (u, key, title) => h('div', { class: 'plot-exports' },
-    saveButton('PNG', async () => ({ blob: await plotPng(u, title), filename: `${runId}-${key}.png` }), { 'aria-label': `Save the plot of ${key} as PNG` }),
-    saveButton('SVG', () => ({ blob: new Blob([plotSvg(u, title)], { type: 'image/svg+xml' }), filename: `${runId}-${key}.svg` }),
-      { 'aria-label': `Save the plot of ${key} as SVG` }));
 
   /** Plots `report`'s finished `episodes` (those listed by GET …/episodes). */
   const show = (report, episodes) => {
@@ -56,7 +50,7 @@ export function episodePlots({ runId, metrics, chosen, onChoose }) {
       const title = metricTitle(key, metric.better);
       const u = dotPlot(cell, { points, title, unit: unitLabel(metric.unit), bool: metric.unit === 'bool', colour: PLOT_COLOURS[i % PLOT_COLOURS.length] });
       uplots.push(u);
-      cell.append(exportButtons(u, key, title));
+      cell.append(exportButtons(key, `${runId}-${key}`, { png: () => plotPng(u, title), svg: () => plotSvg(u, title) }));
     });
   };
   return { element, show, destroy };

@@ -8,8 +8,8 @@
 // plots' cursor; each plot has a summary and its data as a table; the time to collision is clipped at
 // 10 s) and offers its trajectory and series as CSV; it is filmed as a video (the server's refusal
 // beside the form, the progress, Cancel, then the video playing and its file); three runs compare
-// against a baseline with p-values, Holm's correction, distributions and failed gates as chips, and
-// the tables scroll in their panels on a narrow screen.
+// against a baseline with p-values, Holm's correction, distributions (saved as SVG and PNG) and
+// failed gates as chips, and the tables scroll in their panels on a narrow screen.
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const { describe, it } = require('node:test');
@@ -609,6 +609,23 @@ describe('runs', () => {
       assert.match(await page.getAttribute(`${distance} svg`, 'aria-label'), /^minimum distance to people ↑, per run: A r\w+ mean [\d.]+ m, median/);
       await page.click(`${distance} button:has-text("Show as table")`);
       assert.deepEqual(await page.$$eval(`${distance} .plot-table tbody tr`, (rows) => rows.map((r) => r.cells[1].textContent)), ['2', '3', '2']);
+      // Each plot saves as SVG (standalone: the runs' dots, the page's font) and as PNG (twice the plot's size).
+      const stem = `compare-${[state.runA, runB, runC].map((run) => run.slice(0, 9)).join('-')}`;
+      const svgFile = await download(page, `${distance} button[aria-label="Save the plot of minimum_distance_to_people as SVG"]`);
+      assert.equal(svgFile.name, `${stem}-minimum_distance_to_people.svg`);
+      const parsed = await page.evaluate((text) => {
+        const svg = new DOMParser().parseFromString(text, 'image/svg+xml');
+        const root = svg.documentElement;
+        return { root: root.localName, namespace: root.namespaceURI, errors: svg.getElementsByTagName('parsererror').length,
+          dots: root.querySelectorAll('circle.value').length, font: /system-ui/.test(root.getAttribute('font-family')), title: root.querySelector('text').textContent };
+      }, svgFile.bytes.toString());
+      assert.deepEqual(parsed, { root: 'svg', namespace: 'http://www.w3.org/2000/svg', errors: 0, dots: 7, font: true, title: 'minimum distance to people ↑' });
+      const successPlot = '.distribution-plot[data-metric=success]';
+      const pngFile = await download(page, `${successPlot} button[aria-label="Save the plot of success as PNG"]`);
+      assert.equal(pngFile.name, `${stem}-success.png`);
+      assert.deepEqual([...pngFile.bytes.subarray(0, 8)], [0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a], 'the PNG signature');
+      const size = await page.$eval(`${successPlot} svg`, (svg) => [Number(svg.getAttribute('width')), Number(svg.getAttribute('height'))]);
+      assert.deepEqual([pngFile.bytes.readUInt32BE(16), pngFile.bytes.readUInt32BE(20)], size.map((n) => 2 * n), 'IHDR: twice the plot\'s size');
       // The robot's paths of the baseline and the run chosen (B first). The queue's robot stands still: points, attached but not "visible".
       await page.waitForSelector('.compare-map svg.map polyline[stroke="#d1492f"]', { ...WAIT, state: 'attached' });
       await screenshot(page, 'runs-compare');
