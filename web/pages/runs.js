@@ -1,7 +1,9 @@
 // #/runs: a form that starts a run (runs/form.js), and the runs — found by text and tag, filtered by
 // status, scenario and conditions on their metrics, with metric columns to sort by, paged. The whole
 // view is in the address (#/runs?q=dwa&sort=success.mean&order=asc&metrics=…&where=…), so a link
-// reopens it and back and forward walk through it. Two to ten chosen runs compare on #/compare.
+// reopens it and back and forward walk through it. Two to ten chosen runs compare on #/compare; the
+// choice is in the address too (&compare=A,B: a reload or a link keeps it, ticking a box adds no
+// history entry).
 import { api } from '../lib/api.js';
 import { h, loading, showError, scrollBox, pageTitle } from '../lib/ui.js';
 import { loadMetrics, withUnit, statusBadge, verdictBadge, isRunning } from '../lib/plots.js';
@@ -25,6 +27,7 @@ function readView(query) {
     sort: query.get('sort') ?? '', order: query.get('order') === 'asc' ? 'asc' : 'desc',
     columns: listOf(query, 'metrics', DEFAULT_COLUMNS), where: listOf(query, 'where'), cursor: query.get('cursor') ?? '',
     limit: PAGE_SIZES.includes(Number(query.get('limit'))) ? Number(query.get('limit')) : PAGE_SIZE,
+    chosen: [...new Set(listOf(query, 'compare'))].slice(0, MAX_COMPARED),
   };
 }
 
@@ -35,6 +38,7 @@ function addressValues(view) {
     sort: view.sort || null, order: view.sort && view.order === 'asc' ? 'asc' : null,
     metrics: view.columns.join(',') === DEFAULT_COLUMNS.join(',') ? null : view.columns,
     where: view.where.length ? view.where : null, limit: view.limit === PAGE_SIZE ? null : view.limit, cursor: view.cursor || null,
+    compare: view.chosen.length ? view.chosen : null,
   };
 }
 
@@ -150,7 +154,8 @@ export async function render(root, params, query) {
 
   const compareButton = h('button', { type: 'button', class: 'secondary', disabled: true }, 'Compare the chosen');
   const compareHint = h('span', { class: 'muted small', 'aria-live': 'polite' });
-  const chosen = [];
+  // The runs chosen to compare, in the order chosen (the first is the baseline); view.chosen itself.
+  const chosen = view.chosen;
   const showChosen = (note = null) => {
     compareButton.disabled = chosen.length < 2;
     const [baseline, ...others] = chosen.map((id) => id.slice(0, 9));
@@ -166,6 +171,7 @@ export async function render(root, params, query) {
     }
     if (box.checked && at < 0) chosen.push(id);
     if (!box.checked && at >= 0) chosen.splice(at, 1);
+    showInAddress('/runs', addressValues(view), { replace: true });
     showChosen();
   };
   showChosen();

@@ -7,9 +7,10 @@
 // address; an episode replays from the moment its address names (the scrubber moves the agents and the
 // plots' cursor; each plot has a summary and its data as a table; the time to collision is clipped at
 // 10 s) and offers its trajectory and series as CSV; it is filmed as a video (the server's refusal
-// beside the form, the progress, Cancel, then the video playing and its file); three runs compare
-// against a baseline with p-values, Holm's correction, distributions (saved as SVG and PNG) and
-// failed gates as chips, and the tables scroll in their panels on a narrow screen.
+// beside the form, the progress, Cancel, then the video playing and its file); the runs chosen to
+// compare stay chosen through a reload; three runs compare against a baseline with p-values, Holm's
+// correction, distributions (saved as SVG and PNG) and failed gates as chips, and the tables scroll
+// in their panels on a narrow screen.
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const { describe, it } = require('node:test');
@@ -583,7 +584,16 @@ describe('runs', () => {
       const runC = await third;
       await tab.open('/runs');
       await page.waitForSelector(`.runs-table a[href="#/runs/${runC}"]`, WAIT);
-      for (const run of [state.runA, runB, runC]) await page.check(`input[aria-label="Compare run ${run}"]`);
+      // The chosen runs are in the address: a reload keeps them, in their order.
+      for (const run of [state.runA, runB]) await page.check(`input[aria-label="Compare run ${run}"]`);
+      await page.waitForFunction((ids) => new URLSearchParams(location.hash.split('?')[1]).get('compare') === ids, `${state.runA},${runB}`, WAIT);
+      await page.reload();
+      await page.waitForSelector(`.runs-table a[href="#/runs/${runC}"]`, WAIT);
+      assert.deepEqual((await page.$$eval('.runs-table input[aria-label^="Compare run"]:checked', (boxes) => boxes.map((box) => box.getAttribute('aria-label')))).sort(),
+        [state.runA, runB].map((run) => `Compare run ${run}`).sort());
+      assert.match(await page.textContent('.compare-choice'), new RegExp(`Baseline ${state.runA.slice(0, 9)}, then ${runB.slice(0, 9)}\\.`));
+      assert.equal(await page.isDisabled('button:has-text("Compare the chosen")'), false);
+      await page.check(`input[aria-label="Compare run ${runC}"]`);
       assert.match(await page.textContent('.compare-choice'), new RegExp(`Baseline ${state.runA.slice(0, 9)}, then ${runB.slice(0, 9)}, ${runC.slice(0, 9)}`));
       await page.click('button:has-text("Compare the chosen")');
       await page.waitForFunction((hash) => location.hash === hash, `#/compare?runs=${state.runA},${runB},${runC}`, WAIT);
