@@ -139,6 +139,8 @@ void Database::exec(std::string_view sql) {
   }
 }
 
+std::int64_t Database::changes() const { return sqlite3_changes64(db_); }
+
 std::int64_t Database::scalar_integer(std::string_view sql) {
   Statement statement = prepare(sql);
   return statement.step() ? statement.integer(0) : 0;

@@ -61,6 +61,8 @@ class Database {
   void exec(std::string_view sql);
   Statement prepare(std::string_view sql) { return Statement(db_, sql); }
   std::int64_t scalar_integer(std::string_view sql);
+  /// Rows the last INSERT, UPDATE or DELETE changed.
+  std::int64_t changes() const;
   std::string scalar_text(std::string_view sql);
 
  private:

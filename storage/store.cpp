@@ -408,6 +408,11 @@ void Store::write_episode(const EpisodeRecord& episode) {
 
 void Store::write_episode_locked(const EpisodeRecord& episode) {
   Transaction transaction(*db_);
+  insert_episode_rows(episode);
+  transaction.commit();
+}
+
+void Store::insert_episode_rows(const EpisodeRecord& episode) {
   Statement insert_episode = db_->prepare(
       "INSERT INTO episodes (id, run_id, scenario_id, seed, controller, status, termination_reason, ticks, sim_time, state_hash)"
       " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)");
@@ -464,7 +469,6 @@ void Store::write_episode_locked(const EpisodeRecord& episode) {
     insert_series.bind(1, episode.id).bind(2, series.name).bind(3, series.first_tick).bind(4, series.stride).bind_blob(5, bytes);
     insert_series.run();
   }
-  transaction.commit();
 }
 
 std::vector<SeriesRecord> Store::series(const std::string& episode_id, const std::string& name) {
@@ -523,7 +527,7 @@ std::vector<std::string> Store::episode_ids_of_run(const std::string& run_id) {
 
 std::vector<EpisodeRecord> Store::episodes_of_run(const std::string& run_id) {
   std::lock_guard lock(mutex_);
-  Statement select = db_->prepare("SELECT " + std::string(kEpisodeColumns) + " FROM episodes WHERE run_id = ?1 ORDER BY rowid");
+  Statement select = db_->prepare("SELECT " + std::string(kEpisodeColumns) + " FROM episodes WHERE run_id = ?1 ORDER BY seed, rowid");
   select.bind(1, run_id);
   std::vector<EpisodeRecord> list;
   while (select.step()) {
@@ -532,6 +536,54 @@ std::vector<EpisodeRecord> Store::episodes_of_run(const std::string& run_id) {
   }
   return list;
 }
+
+std::vector<RunRecord> Store::all_runs() {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare("SELECT " + std::string(kRunColumns) + " FROM runs ORDER BY rowid");
+  std::vector<RunRecord> list;
+  while (select.step()) list.push_back(read_run(select));
+  return list;
+}
+
+Store::Batch::Batch(Store& store) : store_(store), lock_(store.mutex_), transaction_(std::make_unique<Transaction>(*store.db_)) {}
+
+Store::Batch::~Batch() = default;
+
+void Store::Batch::put_scenario_if_missing(const ScenarioRecord& scenario) {
+  Database& db = *store_.db_;
+  Statement exists = db.prepare("SELECT 1 FROM scenarios WHERE id = ?1");
+  exists.bind(1, scenario.id);
+  if (exists.step()) return;
+  Statement insert = db.prepare(
+      "INSERT INTO scenarios (id, name, format, source, sha256, created_at, summary, owner) VALUES (?1, ?2, ?3, ?4, ?5, ?6, nullif(?7, ''), ?8)");
+  insert.bind(1, scenario.id).bind(2, scenario.name).bind(3, scenario.format).bind(4, scenario.source);
+  insert.bind(5, scenario_sha256(scenario.source, scenario.files)).bind(6, scenario.created_at).bind(7, scenario.summary).bind(8, scenario.owner);
+  insert.run();
+  for (const auto& [path, bytes] : scenario.files) {
+    Statement file = db.prepare("INSERT INTO scenario_files (scenario_id, path, content) VALUES (?1, ?2, ?3)");
+    file.bind(1, scenario.id).bind(2, path).bind_blob(3, bytes);
+    file.run();
+  }
+}
+
+void Store::Batch::put_run(const RunRecord& run) {
+  Database& db = *store_.db_;
+  Statement update = db.prepare("UPDATE runs SET config = ?2, status = ?3, finished_at = ?4, summary = NULL WHERE id = ?1");
+  update.bind(1, run.id).bind(2, core::json_text(run.config)).bind(3, run.status).bind(4, run.finished_at);
+  update.run();
+  if (db.changes() > 0) return;
+  Statement insert = db.prepare(
+      "INSERT INTO runs (id, scenario_id, controller, config, status, created_at, finished_at, owner, name, tags, notes)"
+      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
+  insert.bind(1, run.id).bind(2, run.scenario_id).bind(3, run.controller).bind(4, core::json_text(run.config)).bind(5, run.status);
+  insert.bind(6, run.created_at).bind(7, run.finished_at).bind(8, run.owner).bind(9, run.name);
+  insert.bind(10, core::json_text(nlohmann::json(run.tags))).bind(11, run.notes);
+  insert.run();
+}
+
+void Store::Batch::write_episode(const EpisodeRecord& episode) { store_.insert_episode_rows(episode); }
+
+void Store::Batch::commit() { transaction_->commit(); }
 
 std::string Store::sqlite_version() { return sqlite3_libversion(); }
 

@@ -18,6 +18,7 @@
 namespace hrisim::storage {
 
 class Database;
+class Transaction;
 
 struct ScenarioRecord {
   std::string id;
@@ -199,9 +200,35 @@ class Store {
   std::vector<SeriesRecord> series(const std::string& episode_id, const std::string& name = "");
   /// Ids of a run's episodes in the order they were written.
   std::vector<std::string> episode_ids_of_run(const std::string& run_id);
-  /// A run's episodes in the order they were written, with their metrics but without events and
-  /// trajectory.
+  /// A run's episodes in the order of their seeds, with their metrics but without events and
+  /// trajectory: the same order however many threads, processes or machines ran them, so that
+  /// aggregates over them come out the same to the bit.
   std::vector<EpisodeRecord> episodes_of_run(const std::string& run_id);
+  /// Every run, oldest first.
+  std::vector<RunRecord> all_runs();
+
+  /// Runs and episodes copied from another database (a merge of shards, an import), written in one
+  /// transaction that holds the store while the batch lives: nothing is kept unless commit() is called.
+  class Batch {
+   public:
+    explicit Batch(Store& store);
+    ~Batch();
+    Batch(const Batch&) = delete;
+    Batch& operator=(const Batch&) = delete;
+    /// Stores the scenario (with its files) unless one with its id is there.
+    void put_scenario_if_missing(const ScenarioRecord& scenario);
+    /// Inserts the run as it is (its created_at and finished_at kept) or, when there is one with its
+    /// id, sets that one's config, status and finished_at, and drops its summary (a list computes it again).
+    void put_run(const RunRecord& run);
+    /// Writes an episode as Store::write_episode does.
+    void write_episode(const EpisodeRecord& episode);
+    void commit();
+
+   private:
+    Store& store_;
+    std::unique_lock<std::mutex> lock_;
+    std::unique_ptr<Transaction> transaction_;
+  };
 
   /// Version of the SQLite library in use, e.g. "3.40.1".
   static std::string sqlite_version();
@@ -211,6 +238,8 @@ class Store {
   std::unique_ptr<Database> db_;
   std::string write_failure_;  ///< why the last episode could not be written; empty once one has been
   void write_episode_locked(const EpisodeRecord& episode);
+  /// The episode's rows, inside a transaction the caller holds.
+  void insert_episode_rows(const EpisodeRecord& episode);
 };
 
 }  // namespace hrisim::storage

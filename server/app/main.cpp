@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "app/cli.hpp"
+#include "app/run_commands.hpp"
 #include "app/scenario_commands.hpp"
 #include "core/error.hpp"
 #include "core/memory_budget.hpp"
@@ -27,8 +28,10 @@ constexpr const char* kUsage =
     "                       [--db FILE] [--jobs N] [--controller JSON] [--max-time S] [--events]\n"
     "                       [--request TIME:ROUTINE ...] [--from imhus|pedsim|hunav] [--dialect pedsim_ros|libpedsim]\n"
     "                       [--scenario NAME] [--map FILE]\n"
-    "                       [--trajectory FILE.csv]\n"
-    "            (FILE: native JSON, IMHuS or Pedsim XML)\n"
+    "                       [--trajectory FILE.csv] [--name NAME] [--shard K/N|auto|auto/N]\n"
+    "            (FILE: native JSON, IMHuS or Pedsim XML; --shard runs the K-th of N parts into --db)\n"
+    "  merge     merge shards' databases into one and print the runs' reports:\n"
+    "            hrisim merge SHARD.db... --into RESULTS.db [--junit FILE.xml]\n"
     "  import    convert IMHuS or Pedsim XML to the native JSON on stdout:\n"
     "            hrisim import [--from imhus|pedsim|hunav] [--dialect pedsim_ros|libpedsim] FILE [--scenario NAME] [--map FILE]\n"
     "  render    replay a stored episode to a video:\n"
@@ -96,6 +99,7 @@ int main(int argc, char** argv) {
     if (command == "serve") return serve(args);
     if (command == "validate") return hrisim::app::validate_command(args);
     if (command == "run") return hrisim::app::run_command(args);
+    if (command == "merge") return hrisim::app::merge_command(args);
     if (command == "import") return hrisim::app::import_command(args);
     if (command == "render") return hrisim::app::render_command(args);
     if (command == "metrics") {

@@ -35,7 +35,7 @@ Executor::~Executor() {
 
 storage::RunRecord Executor::submit(RunSpec spec) {
   auto run = std::make_shared<ActiveRun>();
-  run->record = store_.put_run({core::unguessable_id('r'), spec.scenario_id, spec.controller, spec.config, "queued", "", std::nullopt, spec.owner,
+  run->record = store_.put_run({spec.id.empty() ? core::unguessable_id('r') : spec.id, spec.scenario_id, spec.controller, spec.config, "queued", "", std::nullopt, spec.owner,
                                 spec.name, spec.tags, spec.notes});
   run->spec = std::move(spec);
   {

@@ -24,6 +24,7 @@
 namespace hrisim::runs {
 
 struct RunSpec {
+  std::string id;  ///< a new unguessable one when empty; a shard's is its run's (runs::shard_run_id)
   std::string scenario_id;
   std::shared_ptr<const scenario::Model> model;  ///< with the run's controller applied
   std::vector<std::uint64_t> seeds;

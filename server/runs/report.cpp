@@ -140,9 +140,26 @@ json run_report(const storage::RunRecord& run, const std::vector<storage::Episod
                         number_text(optional_json(result.actual)));
     }
   }
-  const bool complete = counts["finished"] + counts["error"] == static_cast<int>(seeds.size());
+  bool complete = counts["finished"] + counts["error"] == static_cast<int>(seeds.size());
   if (!complete) reasons.push_back("the run is " + run.status + ": " + std::to_string(counts["finished"]) + " of " +
                                    std::to_string(seeds.size()) + " episodes finished");
+  // A merge of shards is complete once every shard is in it.
+  if (const json sharding = run.config.value("sharding", json()); sharding.contains("merged")) {
+    const int count = sharding.value("count", 0);
+    const auto merged = sharding["merged"].get<std::vector<int>>();
+    if (static_cast<int>(merged.size()) < count) {
+      complete = false;
+      std::string missing;
+      for (int shard = 1, shown = 0; shard <= count && shown < 10; ++shard) {
+        if (std::find(merged.begin(), merged.end(), shard) != merged.end()) continue;
+        missing += (missing.empty() ? "" : ", ") + std::to_string(shard);
+        ++shown;
+      }
+      if (count - static_cast<int>(merged.size()) > 10) missing += ", ...";
+      reasons.push_back(std::to_string(merged.size()) + " of " + std::to_string(count) + " shards are merged (missing: " + missing + "): " +
+                        std::to_string(seeds.size()) + " of " + std::to_string(sharding.value("of_seeds", json::array()).size()) + " seeds");
+    }
+  }
   if (counts["error"] > 0) reasons.push_back(std::to_string(counts["error"]) + " episode(s) ended in error");
   passed = passed && complete && counts["error"] == 0;
 

@@ -169,6 +169,71 @@ TEST(Store, DataSurvivesReopen) {
   ASSERT_TRUE(store.episode("episode-1"));
 }
 
+TEST(Store, ARunsEpisodesComeInTheOrderOfTheirSeedsWhateverOrderTheyWereWritten) {
+  TempDir dir;
+  Store store(dir / "db");
+  store.put_scenario(make_scenario("s"));
+  store.put_run({"run-1", "s", "teleop", {{"seeds", {3, 1, 2}}}, "running", "", std::nullopt, "", "", {}, ""});
+  for (const int index : {3, 1, 2}) {
+    EpisodeRecord episode = make_episode("s", index);
+    episode.run_id = "run-1";
+    store.write_episode(episode);
+  }
+  std::vector<std::uint64_t> seeds;
+  for (const EpisodeRecord& episode : store.episodes_of_run("run-1")) seeds.push_back(episode.seed);
+  EXPECT_EQ(seeds, (std::vector<std::uint64_t>{1001, 1002, 1003})) << "aggregates over them must not depend on which thread ended first";
+}
+
+TEST(Store, ABatchKeepsNothingUnlessCommittedAndUpdatesARunItHas) {
+  TempDir dir;
+  Store store(dir / "db");
+  ScenarioRecord scenario = make_scenario("s");
+  scenario.created_at = "2026-01-02T03:04:05.000Z";
+  RunRecord run{"run-1", "s", "teleop", {{"seeds", {1001}}}, "finished", "2026-01-02T03:04:06.000Z", "2026-01-02T03:05:00.000Z", "ana", "", {}, ""};
+  EpisodeRecord episode = make_episode("s", 1);
+  episode.run_id = "run-1";
+  {
+    Store::Batch batch(store);
+    batch.put_scenario_if_missing(scenario);
+    batch.put_run(run);
+    batch.write_episode(episode);
+  }  // not committed
+  EXPECT_FALSE(store.scenario("s"));
+  EXPECT_FALSE(store.run("run-1"));
+  EXPECT_EQ(store.counts().episodes, 0);
+  {
+    Store::Batch batch(store);
+    batch.put_scenario_if_missing(scenario);
+    batch.put_run(run);
+    batch.write_episode(episode);
+    batch.commit();
+  }
+  const auto stored = store.run("run-1");
+  ASSERT_TRUE(stored);
+  EXPECT_EQ(stored->created_at, run.created_at) << "kept as the other database had it";
+  EXPECT_EQ(stored->finished_at, run.finished_at);
+  EXPECT_EQ(stored->owner, "ana");
+  EXPECT_EQ(store.scenario("s")->created_at, scenario.created_at);
+  store.set_run_summary("run-1", {{"collisions", {{"mean", 0.0}}}});
+
+  run.config["seeds"] = {1001, 1002};
+  run.finished_at = "2026-01-02T04:00:00.000Z";
+  EpisodeRecord second = make_episode("s", 2);
+  second.run_id = "run-1";
+  {
+    Store::Batch batch(store);
+    batch.put_scenario_if_missing(scenario);  // there already: left as it is
+    batch.put_run(run);
+    batch.write_episode(second);
+    batch.commit();
+  }
+  EXPECT_EQ(store.run("run-1")->config["seeds"].size(), 2u);
+  EXPECT_EQ(store.run("run-1")->finished_at, run.finished_at);
+  EXPECT_EQ(store.episodes_of_run("run-1").size(), 2u);
+  EXPECT_EQ(store.ended_runs_without_summary().size(), 1u) << "a changed run's summary is computed again";
+  EXPECT_EQ(store.all_runs().size(), 1u);
+}
+
 TEST(Store, RunsAreFoundByTextAndTagAndSortedAndFilteredByTheirSummaries) {
   TempDir dir;
   Store store(dir / "db");
