@@ -11,7 +11,8 @@ RUN cmake --preset release && cmake --build --preset release && ./scripts/npm-de
 FROM debian:12
 COPY scripts/setup scripts/runtime-packages.txt /tmp/setup/
 RUN /tmp/setup/setup /tmp/setup/runtime-packages.txt && rm -rf /var/lib/apt/lists/* /tmp/setup \
- && useradd --system --create-home --home-dir /var/lib/hrisim hrisim
+ && groupadd --system --gid 10001 hrisim \
+ && useradd --system --uid 10001 --gid 10001 --create-home --home-dir /var/lib/hrisim hrisim
 COPY --from=build /src/build/release/server/app/hrisim /usr/local/bin/hrisim
 COPY --from=build /src/web/ /opt/hrisim/web/
 COPY scenarios/ /opt/hrisim/scenarios/
@@ -20,7 +21,8 @@ ENV HRISIM_HOST=0.0.0.0 \
     HRISIM_DB=/var/lib/hrisim/hrisim.db \
     HRISIM_WEB_ROOT=/opt/hrisim/web \
     HRISIM_SCENARIOS=/opt/hrisim/scenarios
-USER hrisim
+# By number, so that Kubernetes can check runAsNonRoot (deploy/kubernetes).
+USER 10001:10001
 WORKDIR /var/lib/hrisim
 VOLUME /var/lib/hrisim
 EXPOSE 8080
