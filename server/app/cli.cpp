@@ -153,6 +153,9 @@ const std::vector<Flag>& flags() {
       {"token", "HRISIM_TOKEN",
        "a bearer token /api/ routes (but version) then require: SECRET (an admin without owner), or NAME:SECRET[:user|read|admin]; may be repeated",
        [](ServeOptions& o, const std::string& v) { o.access.tokens.push_back(token_option("--token", [&] { return http::parse_token(v); })); }},
+      {"import", "HRISIM_IMPORT",
+       "a database of runs (hrisim merge's, or a shard's) merged into --db at start, so its runs show in the browser; may be repeated",
+       [](ServeOptions& o, const std::string& v) { o.imports.emplace_back(v); }},
       {"tokens", "HRISIM_TOKENS", "a file of tokens, one NAME:SECRET[:user|read|admin] per line (default none)",
        [](ServeOptions& o, const std::string& v) {
          for (http::Token& token : token_option("--tokens", [&] { return http::read_token_file(v); })) o.access.tokens.push_back(std::move(token));

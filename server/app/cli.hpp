@@ -31,6 +31,8 @@ struct ServeOptions {
   std::size_t scenario_cache_bytes = http::kDefaultScenarioCacheBytes;
   std::size_t max_recording_bytes = http::kDefaultMaxRecordingBytes;  ///< every session's and run's recording together
   bool allow_unauthenticated = false;  ///< listen beyond loopback without a token
+  /// Databases of runs (hrisim merge's, a shard's, another machine's) merged into `database` at start.
+  std::vector<std::filesystem::path> imports;
 };
 
 /// Whether a host address only accepts connections from this machine.

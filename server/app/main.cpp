@@ -7,6 +7,7 @@
 
 #include "app/cli.hpp"
 #include "app/run_commands.hpp"
+#include "runs/merge.hpp"
 #include "app/scenario_commands.hpp"
 #include "core/error.hpp"
 #include "core/memory_budget.hpp"
@@ -30,6 +31,8 @@ constexpr const char* kUsage =
     "                       [--scenario NAME] [--map FILE]\n"
     "                       [--trajectory FILE.csv] [--name NAME] [--shard K/N|auto|auto/N]\n"
     "            (FILE: native JSON, IMHuS or Pedsim XML; --shard runs the K-th of N parts into --db)\n"
+    "  sweep     run every scenario x controller of a sweep file (JSON) over its seeds, or a shard of it:\n"
+    "            hrisim sweep SWEEP.json [--db FILE] [--jobs N] [--shard K/N|auto|auto/N]\n"
     "  merge     merge shards' databases into one and print the runs' reports:\n"
     "            hrisim merge SHARD.db... --into RESULTS.db [--junit FILE.xml]\n"
     "  import    convert IMHuS or Pedsim XML to the native JSON on stdout:\n"
@@ -68,6 +71,14 @@ int serve(const std::vector<std::string>& args) {
   if (const int interrupted = store.interrupt_abandoned_runs(); interrupted > 0) {
     std::fprintf(stderr, "hrisim: %d run%s whose process ended marked interrupted\n", interrupted, interrupted == 1 ? "" : "s");
   }
+  for (const std::filesystem::path& file : options.imports) {
+    if (!std::filesystem::is_regular_file(file)) throw hrisim::core::Error(hrisim::core::ErrorCode::bad_request, "--import: no database " + file.string());
+    hrisim::storage::Store source(file);
+    for (const hrisim::runs::MergedRun& merged : hrisim::runs::merge_database(store, source, file.string(), options.database.string())) {
+      std::printf("hrisim: imported run %s from %s: %d episode%s added, %d already here\n", merged.id.c_str(), file.c_str(), merged.added,
+                   merged.added == 1 ? "" : "s", merged.present);
+    }
+  }
   // One budget for every recording: live sessions and the runs' episodes in flight.
   hrisim::core::MemoryBudget recording_memory(options.max_recording_bytes);
   hrisim::runs::Executor executor(store, options.run_jobs ? options.run_jobs : std::max(1u, std::thread::hardware_concurrency()), nullptr,
@@ -99,6 +110,7 @@ int main(int argc, char** argv) {
     if (command == "serve") return serve(args);
     if (command == "validate") return hrisim::app::validate_command(args);
     if (command == "run") return hrisim::app::run_command(args);
+    if (command == "sweep") return hrisim::app::sweep_command(args);
     if (command == "merge") return hrisim::app::merge_command(args);
     if (command == "import") return hrisim::app::import_command(args);
     if (command == "render") return hrisim::app::render_command(args);

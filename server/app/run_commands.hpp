@@ -1,6 +1,7 @@
 #pragma once
-// `hrisim run` and `hrisim merge`: running a scenario headless — one episode, a run of seeds, or a
-// shard of a run split over machines — and merging shards' databases into one.
+// `hrisim run`, `hrisim sweep` and `hrisim merge`: running a scenario headless — one episode, a run of
+// seeds, or a shard of a run split over machines — a sweep of scenarios × controllers, and merging
+// shards' databases into one.
 #include <string>
 #include <vector>
 
@@ -15,6 +16,11 @@ namespace hrisim::app {
 /// into --db, as the whole run (one id on every machine) for hrisim merge; --name names the run.
 int run_command(const std::vector<std::string>& args);
 
+
+/// hrisim sweep SWEEP.json [--db FILE] [--jobs N] [--shard K/N|auto|auto/N]: every scenario × controller
+/// of the sweep file as a run of its seeds, gates and limits (each run's seeds split as hrisim run
+/// --shard splits them); prints the runs' reports as {"runs": [...]}; exit 0 when every verdict passes.
+int sweep_command(const std::vector<std::string>& args);
 
 /// hrisim merge SHARD.db... --into RESULTS.db [--junit FILE]: merges every run of the databases (shards
 /// of runs, or any runs) into RESULTS.db, each database in one transaction, refusing a shard that does

@@ -61,7 +61,7 @@ bool safe_content_type(const Request& request) {
   type = type.substr(0, type.find(';'));
   type.erase(std::remove_if(type.begin(), type.end(), [](unsigned char c) { return std::isspace(c); }), type.end());
   return type == "application/json" || type == "application/xml" || type == "text/xml" || type == "application/yaml" ||
-         type == "application/x-yaml" || type == "text/yaml" ||
+         type == "application/x-yaml" || type == "text/yaml" || type == "application/vnd.sqlite3" ||
          (type.starts_with("application/") && (type.ends_with("+json") || type.ends_with("+xml")));
 }
 

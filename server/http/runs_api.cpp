@@ -1,11 +1,14 @@
 #include "http/runs_api.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 #include <cmath>
 #include <set>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/random.hpp"
 #include "core/sha256.hpp"
 #include "core/text.hpp"
 #include "http/episodes_api.hpp"
@@ -14,6 +17,7 @@
 #include "metrics/definitions.hpp"
 #include "metrics/gates.hpp"
 #include "runs/executor.hpp"
+#include "runs/merge.hpp"
 #include "runs/report.hpp"
 #include "runs/spec.hpp"
 #include "storage/store.hpp"
@@ -431,6 +435,36 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
     json items = json::array();
     for (const storage::EpisodeRecord& episode : episodes) items.push_back(episode_json(episode));
     return Response::json(200, {{"items", items}});
+  });
+
+  router.add("POST", "/api/v1/runs/import", [store](const Request& request) {
+    if (!request.body.starts_with(std::string_view("SQLite format 3\0", 16))) {
+      throw core::Error(core::ErrorCode::bad_request, "the body is not an SQLite database (hrisim merge's results.db, or a shard's)",
+                        {{"content_type", request.headers.contains("content-type") ? request.headers.at("content-type") : ""}});
+    }
+    // Merging reads and writes the database: work for the pool.
+    return Response::later([store, body = request.body, owner = request.caller.owner] {
+      const std::filesystem::path file = std::filesystem::temp_directory_path() / ("hrisim-import-" + core::unguessable_id('i') + ".db");
+      struct Removed {
+        std::filesystem::path file;
+        ~Removed() {
+          std::error_code ignored;
+          for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(file.string() + suffix, ignored);
+        }
+      } removed{file};
+      std::ofstream(file, std::ios::binary) << body;
+      json runs = json::array();
+      try {
+        storage::Store source(file);
+        for (const runs::MergedRun& merged : runs::merge_database(*store, source, "the uploaded database", "this server's", owner)) {
+          runs.push_back({{"id", merged.id}, {"added", merged.added}, {"present", merged.present}});
+        }
+      } catch (const core::Error& e) {
+        if (e.code() == core::ErrorCode::conflict) throw;
+        throw core::Error(core::ErrorCode::bad_request, std::string("the uploaded database cannot be read: ") + e.what());
+      }
+      return Response::json(200, {{"runs", runs}});
+    });
   });
 
   router.add("GET", "/api/v1/runs/{id}/junit", [store, executor](const Request& request) {

@@ -143,6 +143,89 @@ TEST(Shards, AShardOfAnotherScenarioControllerOrUnfinishedRunIsRefusedAndNothing
   EXPECT_NE(unfinished.output.find("it is interrupted, not finished: run that part again"), std::string::npos) << unfinished.output;
 }
 
+TEST(Shards, TheServerImportsAMergedDatabaseAtStartAndShowsItsRuns) {
+  TempDir dir;
+  std::string shards;
+  for (int k = 1; k <= 2; ++k) {
+    const std::string db = (dir.path() / ("shard-" + std::to_string(k) + ".db")).string();
+    ASSERT_EQ(run_command(kHrisim + " run " + kQueue + " --seeds 1-6" + kRun + "--name imported --shard " + std::to_string(k) + "/2 --db " + db).exit_status, 0);
+    shards += " " + db;
+  }
+  const std::string results = (dir.path() / "results.db").string();
+  const CommandResult merge = run_command(kHrisim + " merge" + shards + " --into " + results, false);
+  ASSERT_EQ(merge.exit_status, 0) << merge.output;
+  const json merged = json::parse(merge.output);
+
+  TestServer server({"--import", results});
+  const HttpReply reply = http(server.port(), "GET", "/api/v1/runs/" + merged["id"].get<std::string>());
+  ASSERT_EQ(reply.status, 200) << reply.body;
+  const json report = json::parse(reply.body);
+  EXPECT_EQ(report["name"], "imported");
+  EXPECT_EQ(report["aggregates"], merged["aggregates"]);
+  EXPECT_EQ(report["verdict"], merged["verdict"]);
+  // Its episodes replay from the scenario record that came with them.
+  const std::string episode = report["episodes"][0]["episode_id"];
+  EXPECT_EQ(http(server.port(), "GET", "/api/v1/episodes/" + episode + "/cameras").status, 200);
+  EXPECT_NE(server.output().find("imported run " + merged["id"].get<std::string>() + " from " + results + ": 6 episodes added"), std::string::npos)
+      << server.output();
+
+  const CommandResult missing = run_command(kHrisim + " serve --port 0 --db " + (dir.path() / "s.db").string() + " --import " + (dir.path() / "none.db").string());
+  EXPECT_EQ(missing.exit_status, 2);
+  EXPECT_NE(missing.output.find("--import: no database"), std::string::npos) << missing.output;
+}
+
+/// Runs of a printed {"runs": [...]}, by name.
+std::map<std::string, json> runs_by_name(const std::string& output) {
+  const json printed = json::parse(output);
+  std::map<std::string, json> runs;
+  for (const json& run : printed["runs"]) runs[run["name"]] = run;
+  return runs;
+}
+
+TEST(Sweeps, ASweepsShardsMergeIntoItsRunsOnOneMachine) {
+  TempDir dir;
+  const std::string sweep = (dir.path() / "sweep.json").string();
+  std::ofstream(sweep) << R"({"name": "nightly", "scenarios": ["elevator", ")" + kScenarios + R"(/crossing_navigation.json"],
+                             "controllers": [null, {"type": "goal", "goal": {"pose": {"x": 1.0, "y": -0.8, "theta": 0}}}],
+                             "seeds": "1-6", "gates": ["collisions.max < 5"], "max_time": 2})";
+  const CommandResult whole = run_command(kHrisim + " sweep " + sweep + " --db " + (dir.path() / "whole.db").string(), false);
+  ASSERT_EQ(whole.exit_status, 0) << whole.output.substr(0, 2000);
+  const auto one_machine = runs_by_name(whole.output);
+  ASSERT_EQ(one_machine.size(), 4u);
+  EXPECT_TRUE(one_machine.contains("nightly · elevator · own controller"));
+  EXPECT_TRUE(one_machine.contains("nightly · crossing_navigation · goal"));
+  std::string shards;
+  for (int k = 1; k <= 3; ++k) {
+    const std::string db = (dir.path() / ("shard-" + std::to_string(k) + ".db")).string();
+    ASSERT_EQ(run_command(kHrisim + " sweep " + sweep + " --shard " + std::to_string(k) + "/3 --db " + db).exit_status, 0);
+    shards += " " + db;
+  }
+  const CommandResult merge = run_command(kHrisim + " merge" + shards + " --into " + (dir.path() / "results.db").string(), false);
+  ASSERT_EQ(merge.exit_status, 0) << merge.output.substr(0, 2000);
+  const auto merged = runs_by_name(merge.output);
+  ASSERT_EQ(merged.size(), 4u);
+  for (const auto& [name, run] : one_machine) {
+    EXPECT_EQ(merged.at(name)["aggregates"], run["aggregates"]) << name;
+    EXPECT_EQ(merged.at(name)["episodes"].size(), 6u) << name;
+    EXPECT_EQ(merged.at(name)["config"]["controller"], run["config"]["controller"]) << name;
+  }
+}
+
+TEST(Sweeps, ABadSweepFileNamesEachProblemAtItsPointer) {
+  TempDir dir;
+  const std::string sweep = (dir.path() / "sweep.json").string();
+  std::ofstream(sweep) << R"({"scenarios": ["elevator", "no/such.json"], "controllers": [3], "seeds": "9-1", "gates": "x", "colour": 1})";
+  const CommandResult bad = run_command(kHrisim + " sweep " + sweep);
+  EXPECT_EQ(bad.exit_status, 2);
+  for (const std::string line : {": /colour: unknown field", ": /name: the sweep's name is required", ": /scenarios/1: no scenario file",
+                                 ": /controllers/0: a controller object, or null", ": /seeds: --seeds: A-B needs A <= B", ": /gates: a list of gates"}) {
+    EXPECT_NE(bad.output.find(sweep + line), std::string::npos) << line << " in\n" << bad.output;
+  }
+  EXPECT_NE(bad.output.find("6 problems in the sweep"), std::string::npos) << bad.output;
+  std::ofstream(sweep) << "{not json";
+  EXPECT_EQ(run_command(kHrisim + " sweep " + sweep).exit_status, 2);
+}
+
 TEST(Shards, BadShardArgumentsExitWithTwo) {
   TempDir dir;
   const std::string db = " --db " + (dir.path() / "s.db").string();

@@ -44,6 +44,7 @@ describe('hrisim contract', { timeout: SUITE_LIMIT_MS }, () => {
   require('./areas/runs');
   require('./areas/tasks');
   require('./areas/videos');
+  require('./areas/imports');
 
   it('exercised every operation of both specs', () => {
     assert.deepEqual(unexercisedOperations(), [], 'operations no test has seen succeed');
