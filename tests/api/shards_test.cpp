@@ -169,7 +169,8 @@ TEST(Shards, TheServerImportsAMergedDatabaseAtStartAndShowsItsRuns) {
   EXPECT_NE(server.output().find("imported run " + merged["id"].get<std::string>() + " from " + results + ": 6 episodes added"), std::string::npos)
       << server.output();
 
-  const CommandResult missing = run_command(kHrisim + " serve --port 0 --db " + (dir.path() / "s.db").string() + " --import " + (dir.path() / "none.db").string());
+  const CommandResult missing = run_command(kHrisim + " serve --port 0 --web " + std::string(HRISIM_SOURCE_DIR) + "/web --db " + (dir.path() / "s.db").string() +
+                                            " --import " + (dir.path() / "none.db").string());
   EXPECT_EQ(missing.exit_status, 2);
   EXPECT_NE(missing.output.find("--import: no database"), std::string::npos) << missing.output;
 }
