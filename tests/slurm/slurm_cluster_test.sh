@@ -13,6 +13,8 @@ skip() { echo "SKIPPED: $*"; exit 77; }
 for program in munged slurmctld slurmd sbatch squeue sinfo scontrol; do
   command -v "$program" >/dev/null || skip "$program is not installed (scripts/setup installs slurm-wlm and munge)"
 done
+# slurmd (22.05) will not start without a cgroup file system, even with no cgroup plugin asked for.
+mountpoint -q /sys/fs/cgroup || skip "slurmd needs a cgroup file system at /sys/fs/cgroup, which is not mounted here (a chroot?)"
 
 dir=$(mktemp -d /tmp/hrisim-slurm.XXXXXX)
 chmod 755 "$dir"
