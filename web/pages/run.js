@@ -27,6 +27,19 @@ function seedRanges(seeds) {
 
 const running = (report) => isRunning(report.status);
 
+/**
+ * A run split over machines (docs/scale-out.md): one shard's part of it, or the shards merged so far
+ * and those missing.
+ */
+function shardingText(config) {
+  const { count, index, merged, of_seeds: all } = config.sharding;
+  if (!merged) return `shard ${index} of ${count}: ${config.seeds.length} of the run's ${all.length} seeds`;
+  const missing = [];
+  for (let shard = 1; shard <= count; shard++) if (!merged.includes(shard)) missing.push(shard);
+  return `${merged.length} of ${count} merged (${config.seeds.length} of ${all.length} seeds)`
+    + (missing.length ? `; missing: ${missing.slice(0, 10).join(', ')}${missing.length > 10 ? ', …' : ''}` : '');
+}
+
 function summaryPanel(report) {
   const p = report.progress;
   const done = p.finished + p.error;
@@ -47,6 +60,7 @@ function summaryPanel(report) {
       h('dt', {}, 'Controller'), h('dd', {}, controller),
       h('dt', {}, 'Seeds'), h('dd', {}, `${seedRanges(config.seeds)} (${config.seeds.length})`),
       h('dt', {}, 'Time limit'), h('dd', {}, config.max_time === null ? "the scenario's" : `${formatNumber(config.max_time)} s`),
+      config.sharding ? [h('dt', {}, 'Shards'), h('dd', { class: 'run-shards' }, shardingText(config))] : null,
       h('dt', {}, 'Success rate'), h('dd', {}, report.rates.success_rate === null ? '—' : `${formatNumber(report.rates.success_rate * 100, 2)} %`),
       h('dt', {}, 'Collision rate'), h('dd', {}, report.rates.collision_rate === null ? '—' : `${formatNumber(report.rates.collision_rate * 100, 2)} %`),
       h('dt', {}, 'Created'), h('dd', {}, new Date(report.created_at).toLocaleString('en-GB')),

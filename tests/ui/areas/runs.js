@@ -10,7 +10,7 @@
 // beside the form, the progress, Cancel, then the video playing and its file); the runs chosen to
 // compare stay chosen through a reload; three runs compare against a baseline with p-values, Holm's
 // correction, distributions (saved as SVG and PNG) and failed gates as chips, and the tables scroll
-// in their panels on a narrow screen.
+// in their panels on a narrow screen; a run merged from shards says which shards it holds.
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const { describe, it } = require('node:test');
@@ -568,6 +568,46 @@ describe('runs', () => {
     } finally {
       for (const path of held) await call('DELETE', path);
       await tab.close();
+    }
+  });
+
+  it('a run merged from shards elsewhere, imported, shows its shards on its page, and which are missing', async () => {
+    const { spawnSync } = require('node:child_process');
+    const os = require('node:os');
+    const path = require('node:path');
+    const root = path.resolve(__dirname, '../../..');
+    const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'hrisim-ui-shards-'));
+    /** hrisim ARGS, which must exit with one of `statuses` (a merge missing shards fails its verdict: 1). */
+    const hrisim = (args, statuses = [0]) => {
+      const ran = spawnSync(path.resolve(process.env.HRISIM_BINARY), args, { env: { ...process.env, HRISIM_SCENARIOS: path.join(root, 'scenarios') } });
+      assert.ok(statuses.includes(ran.status), `hrisim ${args.join(' ')}: exit ${ran.status}\n${ran.stderr}`);
+    };
+    const importDatabase = async (file) => {
+      const response = await fetch(`http://127.0.0.1:${context.server.port}/api/v1/runs/import`,
+        { method: 'POST', headers: { 'content-type': 'application/vnd.sqlite3' }, body: fs.readFileSync(file) });
+      const text = await response.text();
+      assert.equal(response.status, 200, text);
+      return JSON.parse(text).runs[0].id;
+    };
+    const tab = await newPage(context.browser, context.server.port);
+    try {
+      const queue = path.join(root, 'scenarios/queue.json');
+      for (const k of [1, 2, 3]) hrisim(['run', queue, '--seeds', '1-9', '--max-time', '2', '--name', 'ui shards', '--shard', `${k}/3`, '--db', path.join(dir, `shard-${k}.db`)]);
+      hrisim(['merge', path.join(dir, 'shard-1.db'), path.join(dir, 'shard-3.db'), '--into', path.join(dir, 'partial.db')], [1]);
+      const id = await importDatabase(path.join(dir, 'partial.db'));
+      await tab.open(`/runs/${id}`);
+      await tab.page.waitForSelector('.run-shards');
+      assert.equal(await tab.page.textContent('.run-shards'), '2 of 3 merged (6 of 9 seeds); missing: 2');
+      assert.match(await tab.page.textContent('main'), /2 of 3 shards are merged \(missing: 2\): 6 of 9 seeds/);
+      await screenshot(tab.page, 'run-merged-shards');
+      // The missing shard imported too: the run is whole.
+      await importDatabase(path.join(dir, 'shard-2.db'));
+      await tab.page.reload();
+      await tab.page.waitForFunction(() => document.querySelector('.run-shards')?.textContent === '3 of 3 merged (9 of 9 seeds)');
+      assert.deepEqual(tab.errors, []);
+    } finally {
+      await tab.close();
+      fs.rmSync(dir, { recursive: true, force: true });
     }
   });
 
