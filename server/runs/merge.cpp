@@ -110,8 +110,9 @@ class Merger {
     differs("controller", run.config.value("controller", json()), existing.config.value("controller", json()));
     differs("controller type", run.controller, existing.controller);
     const json sharding = sharding_of(run), existing_sharding = sharding_of(existing);
-    differs("shard count", sharding.value("count", json()), existing_sharding.value("count", json()));
-    differs("whole seed list", sharding.value("of_seeds", json()), existing_sharding.value("of_seeds", json()));
+    const auto of = [](const json& object, const char* key) { return object.is_object() ? object.value(key, json()) : json(); };
+    differs("shard count", of(sharding, "count"), of(existing_sharding, "count"));
+    differs("whole seed list", of(sharding, "of_seeds"), of(existing_sharding, "of_seeds"));
     differs("gates", run.config.value("gates", json()), existing.config.value("gates", json()));
     if (owner_ && existing.owner != *owner_) refuse(run, "a run of that id belongs to another owner in " + target_name_);
   }

@@ -99,6 +99,19 @@ TEST(Shards, AMergeOfSomeShardsSaysWhichAreMissingAndFails) {
   EXPECT_NE(merge.output.find("1 of 3 shards are merged (missing: 1, 3): 3 of 9 seeds"), std::string::npos) << merge.output;
 }
 
+TEST(Shards, ARunMadeWholeMergesAsItIsAndAgainToNothing) {
+  TempDir dir;
+  const std::string whole = (dir.path() / "whole.db").string(), results = (dir.path() / "results.db").string();
+  const CommandResult run = run_command(kHrisim + " run " + kQueue + " --seeds 1-3" + kRun + "--db " + whole, false);
+  ASSERT_EQ(run.exit_status, 0) << run.output;
+  const CommandResult first = run_command(kHrisim + " merge " + whole + " --into " + results, false);
+  ASSERT_EQ(first.exit_status, 0) << first.output;
+  EXPECT_EQ(json::parse(first.output)["aggregates"], json::parse(run.output)["aggregates"]);
+  const CommandResult again = run_command(kHrisim + " merge " + whole + " --into " + results);
+  EXPECT_EQ(again.exit_status, 0) << again.output;
+  EXPECT_NE(again.output.find("0 episodes added, 3 already in"), std::string::npos) << again.output;
+}
+
 TEST(Shards, AShardOfAnotherScenarioControllerOrUnfinishedRunIsRefusedAndNothingOfItKept) {
   TempDir dir;
   const std::string elevator = kScenarios + "/elevator.json";

@@ -262,6 +262,7 @@ class ClientTest(unittest.TestCase):
         with self.assertRaises(hrisim.HrisimError) as wrong:
             self.client.film_episode(episodes[0]["id"], camera="ceiling")
         self.assertEqual(wrong.exception.details.get("pointer"), "/camera")
+
         definitions = self.client.metrics()
         keys = [m["key"] for m in definitions["items"]]
         self.assertIn("collisions", keys)
@@ -272,6 +273,23 @@ class ClientTest(unittest.TestCase):
             self.client.start_run("queue", seeds=[1], gates=["collisions.median < 1"])
         self.assertEqual(caught.exception.status, 400)
         self.assertEqual(caught.exception.details.get("pointer"), "/gates/0")
+
+    def test_a_run_from_another_machine_is_imported(self):
+        scenarios = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scenarios")
+        with tempfile.TemporaryDirectory() as folder:
+            database = os.path.join(folder, "elsewhere.db")
+            subprocess.run([BINARY, "run", os.path.join(scenarios, "queue.json"), "--seeds", "1-3", "--max-time", "2", "--name", "elsewhere",
+                            "--db", database], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            imported = self.client.import_runs(database)
+            self.assertEqual(len(imported), 1)
+            self.assertEqual(imported[0]["added"], 3)
+            self.assertEqual(self.client.run(imported[0]["id"])["name"], "elsewhere")
+            self.assertEqual(self.client.import_runs(database)[0]["present"], 3)
+            with open(os.path.join(folder, "text.db"), "w") as text:
+                text.write("not a database")
+            with self.assertRaises(hrisim.HrisimError) as refused:
+                self.client.import_runs(os.path.join(folder, "text.db"))
+            self.assertEqual(refused.exception.status, 400)
 
 
 TOKEN = "t0123456789abcdef"  # the server wants at least 16 characters

@@ -78,16 +78,18 @@ class Client:
             headers["Authorization"] = "Bearer " + self.token
         return headers
 
-    def request(self, method, path, body=None, params=None, raw=False, timeout=None):
-        """``method`` ``path`` with a JSON ``body`` → the decoded JSON (bytes with ``raw``)."""
+    def request(self, method, path, body=None, params=None, raw=False, timeout=None, data=None, content_type=None):
+        """``method`` ``path`` with a JSON ``body`` (or bytes ``data`` of ``content_type``) → the decoded
+        JSON (bytes with ``raw``)."""
         url = self.url + path
         if params:
             query = {k: v for k, v in params.items() if v is not None}
             if query:
                 url += "?" + urllib.parse.urlencode(query)
         headers = self._headers()
-        data = None
-        if body is not None:
+        if data is not None:
+            headers["Content-Type"] = content_type
+        elif body is not None:
             data = json.dumps(body).encode("utf-8")
             headers["Content-Type"] = "application/json"
         elif method in ("POST", "PUT"):
@@ -287,6 +289,14 @@ class Client:
 
     def series(self, episode_id, name=None):
         return self.get("/api/v1/episodes/%s/series" % self._q(episode_id), name=name)
+
+    def import_runs(self, path):
+        """Merge a database of runs (``hrisim merge``'s results, a shard's) into the server's → the runs
+        merged, each ``{"id", "added", "present"}``."""
+        with open(path, "rb") as database:
+            content = database.read()
+        reply = self.request("POST", "/api/v1/runs/import", data=content, content_type="application/vnd.sqlite3")
+        return reply["runs"]
 
     def episode_cameras(self, episode_id):
         """The cameras a video of the episode may use (a list, overview first)."""
