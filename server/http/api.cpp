@@ -1,11 +1,10 @@
 #include "http/api.hpp"
 
-#include <unistd.h>
-
 #include <boost/version.hpp>
 
 #include "core/build_info.hpp"
 #include "core/embedded.hpp"
+#include "core/random.hpp"
 #include "core/text.hpp"
 #include "http/episodes_api.hpp"
 #include "http/request_helpers.hpp"
@@ -129,7 +128,7 @@ std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
   add_session_routes(*router, catalogue, context.sessions, tickets, store);
   add_run_routes(*router, catalogue, store, context.executor);
   const std::filesystem::path videos_dir =
-      context.videos_dir.empty() ? std::filesystem::temp_directory_path() / ("hrisim-videos-" + std::to_string(::getpid())) : context.videos_dir;
+      context.videos_dir.empty() ? std::filesystem::temp_directory_path() / ("hrisim-videos-" + core::unguessable_id('v')) : context.videos_dir;
   add_episode_routes(*router, catalogue, store, std::make_shared<VideoJobs>(videos_dir));
 
   auto files = std::make_shared<StaticFiles>(context.web_root);

@@ -29,8 +29,8 @@ struct ApiContext {
   runs::Executor* executor = nullptr;    ///< runs the episodes of runs; must outlive the router
   scenario::ScenarioLimits scenario_limits;  ///< what one scenario may ask for
   std::size_t scenario_cache_bytes = kDefaultScenarioCacheBytes;  ///< compiled uploads kept in memory
-  /// Where videos of episodes are written; a folder of this process's own under the system's temporary
-  /// folder when empty. Removed with the router.
+  /// Where videos of episodes are written; a new folder of this router's own under the system's
+  /// temporary folder when empty. Removed with the router.
   std::filesystem::path videos_dir;
 };
 

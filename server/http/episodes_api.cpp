@@ -100,15 +100,11 @@ VideoRequest video_request(const json& body) {
   return request;
 }
 
-/// The bytes of `path`, or the one range a Range header asks for (206; 416 when it lies outside).
-Response file_answer(const VideoJobs::File& file, const Request& request) {
-  std::ifstream in(file.path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.good() && !in.eof()) throw core::Error(core::ErrorCode::not_found, "the video's file is gone");
-  Response response = download(std::move(bytes), file.content_type, file.name);
-  response.headers.emplace_back("Accept-Ranges", "bytes");
+/// The range a `Range: bytes=…` header asks for in a file of `size` bytes: {first, last} inclusive;
+/// nullopt for none (or one this does not read: the whole file); {size, 0} when it lies outside.
+std::optional<std::pair<std::uint64_t, std::uint64_t>> asked_range(const Request& request, std::uint64_t size) {
   const auto range = request.headers.find("range");
-  if (range == request.headers.end() || !range->second.starts_with("bytes=") || range->second.find(',') != std::string::npos) return response;
+  if (range == request.headers.end() || !range->second.starts_with("bytes=") || range->second.find(',') != std::string::npos) return std::nullopt;
   // bytes=FIRST-LAST, bytes=FIRST- or bytes=-SUFFIX
   const std::string spec = range->second.substr(6);
   const std::size_t dash = spec.find('-');
@@ -118,9 +114,9 @@ Response file_answer(const VideoJobs::File& file, const Request& request) {
     if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
     return value;
   };
-  const std::uint64_t size = response.body.size();
+  if (dash == std::string::npos) return std::nullopt;
   const auto first_text = number(std::string_view(spec).substr(0, dash)), last_text = number(std::string_view(spec).substr(dash + 1));
-  if (dash == std::string::npos || (!first_text && !last_text)) return response;  // not a range this reads: the whole file
+  if (!first_text && !last_text) return std::nullopt;
   std::uint64_t first = 0, last = size == 0 ? 0 : size - 1;
   if (!first_text) {
     first = size - std::min(size, *last_text);
@@ -128,13 +124,31 @@ Response file_answer(const VideoJobs::File& file, const Request& request) {
     first = *first_text;
     if (last_text) last = std::min(last, *last_text);
   }
-  if (first >= size || first > last) {
-    Response refused{416, "application/json", "", {{"Content-Range", "bytes */" + std::to_string(size)}}, {}};
-    return refused;
+  if (first >= size || first > last) return std::pair<std::uint64_t, std::uint64_t>{size, 0};
+  return std::pair{first, last};
+}
+
+/// The video's bytes, or only the one range a Range header asks for (206; 416 when it lies outside),
+/// read from the file as asked: a player seeking in a long video does not read it all each time.
+Response file_answer(const VideoJobs::File& file, const Request& request) {
+  std::error_code missing;
+  const std::uint64_t size = std::filesystem::file_size(file.path, missing);
+  std::ifstream in(file.path, std::ios::binary);
+  if (missing || !in) throw core::Error(core::ErrorCode::not_found, "the video's file is gone");
+  const auto range = asked_range(request, size);
+  if (range && range->first >= size) return Response{416, "application/json", "", {{"Content-Range", "bytes */" + std::to_string(size)}}, {}};
+  const std::uint64_t first = range ? range->first : 0, length = range ? range->second - range->first + 1 : size;
+  std::string bytes(length, '\0');
+  in.seekg(static_cast<std::streamoff>(first));
+  in.read(bytes.data(), static_cast<std::streamsize>(length));
+  if (!in) throw core::Error(core::ErrorCode::not_found, "the video's file is gone");
+  Response response = download(std::move(bytes), file.content_type, file.name);
+  response.headers.emplace_back("Accept-Ranges", "bytes");
+  if (range) {
+    response.status = 206;
+    response.headers.emplace_back("Content-Range",
+                                  "bytes " + std::to_string(range->first) + "-" + std::to_string(range->second) + "/" + std::to_string(size));
   }
-  response.status = 206;
-  response.body = response.body.substr(first, last - first + 1);
-  response.headers.emplace_back("Content-Range", "bytes " + std::to_string(first) + "-" + std::to_string(last) + "/" + std::to_string(size));
   return response;
 }
 
