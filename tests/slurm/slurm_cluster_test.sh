@@ -13,12 +13,11 @@ skip() { echo "SKIPPED: $*"; exit 77; }
 for program in munged slurmctld slurmd sbatch squeue sinfo scontrol; do
   command -v "$program" >/dev/null || skip "$program is not installed (scripts/setup installs slurm-wlm and munge)"
 done
-# slurmd (22.05) will not start without a cgroup file system, even with no cgroup plugin asked for.
-mountpoint -q /sys/fs/cgroup || skip "slurmd needs a cgroup file system at /sys/fs/cgroup, which is not mounted here (a chroot?)"
 
 dir=$(mktemp -d /tmp/hrisim-slurm.XXXXXX)
 chmod 755 "$dir"
 pids=()
+mounted=()
 cleanup() {
   local status=$?
   for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
@@ -27,9 +26,26 @@ cleanup() {
   if [ $status -ne 0 ] && [ $status -ne 77 ]; then
     for log in "$dir"/*.log "$dir"/results/*.out; do [ -f "$log" ] && { echo "--- $log"; tail -n 30 "$log"; }; done
   fi
+  for ((i = ${#mounted[@]} - 1; i >= 0; i--)); do umount "${mounted[$i]}" 2>/dev/null || true; done
   rm -rf "$dir"
 }
 trap cleanup EXIT
+
+# slurmd 22.05 will not start without a cgroup file system, even with no cgroup plugin asked for.
+# Where none is mounted (a chroot or container, as the fresh Debian chroot that checks a clean clone),
+# the cgroup v1 hierarchies it looks for are mounted for the test and taken away at its end.
+if ! mountpoint -q /sys/fs/cgroup; then
+  mkdir -p /sys/fs/cgroup && mount -t tmpfs hrisim-test-cgroup /sys/fs/cgroup ||
+    skip "slurmd needs a cgroup file system at /sys/fs/cgroup, and none is mounted nor can be here"
+  mounted+=(/sys/fs/cgroup)
+  for hierarchy in freezer cpuset memory devices pids none,name=systemd; do
+    mountpoint=/sys/fs/cgroup/${hierarchy#none,name=}
+    mkdir -p "$mountpoint" && mount -t cgroup -o "$hierarchy" cgroup "$mountpoint" ||
+      skip "slurmd needs cgroup hierarchies, and $hierarchy cannot be mounted here"
+    mounted+=("$mountpoint")
+  done
+  echo "mounted cgroup v1 hierarchies at /sys/fs/cgroup for slurmd (taken away at the end)"
+fi
 
 free_port() { python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 node=$(hostname -s)
