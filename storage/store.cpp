@@ -537,6 +537,11 @@ std::vector<EpisodeRecord> Store::episodes_of_run(const std::string& run_id) {
   return list;
 }
 
+void remove_database(const std::filesystem::path& path) {
+  std::error_code ignored;
+  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path.string() + suffix, ignored);
+}
+
 std::vector<RunRecord> Store::all_runs() {
   std::lock_guard lock(mutex_);
   Statement select = db_->prepare("SELECT " + std::string(kRunColumns) + " FROM runs ORDER BY rowid");

@@ -124,6 +124,9 @@ struct EpisodeRecord {
   std::vector<SeriesRecord> series;
 };
 
+/// Removes an SQLite database file with its write-ahead log and shared-memory index, if there.
+void remove_database(const std::filesystem::path& path);
+
 /// Counts of what is stored, for health and tests.
 struct StoreCounts {
   std::int64_t scenarios = 0, runs = 0, episodes = 0, metric_values = 0, events = 0, trajectory_samples = 0;

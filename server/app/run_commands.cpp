@@ -65,10 +65,7 @@ class ProgressReport {
 /// A temporary database for a run whose episodes are not to be kept (no --db).
 struct ScratchDatabase {
   std::filesystem::path path = std::filesystem::temp_directory_path() / ("hrisim-run-" + core::unguessable_id('d') + ".db");
-  ~ScratchDatabase() {
-    std::error_code ignored;
-    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path.string() + suffix, ignored);
-  }
+  ~ScratchDatabase() { storage::remove_database(path); }
 };
 
 /// The process's environment, where schedulers say which shard a task is.
@@ -91,6 +88,41 @@ std::vector<std::uint64_t> seeds_of_shard(const std::vector<std::uint64_t>& seed
   std::vector<std::uint64_t> part;
   for (const std::size_t position : runs::shard_positions(seeds.size(), shard)) part.push_back(seeds[position]);
   return part;
+}
+
+/// --shard, read (with the scheduler's variables for auto), and the --db it needs; none without it.
+std::optional<runs::Shard> shard_of(const ParsedArgs& parsed) {
+  const auto text = parsed.last("--shard");
+  if (!text) return std::nullopt;
+  if (!parsed.last("--db")) usage_error("--shard: give --db FILE, the database this shard's episodes are kept in to be merged (hrisim merge)");
+  return runs::parse_shard(*text, environment);
+}
+
+/// Makes `request` a run of a loaded file: its document, where its maps are, and the stored record it
+/// runs from (one per distinct file content).
+void set_scenario(runs::RunRequest& request, const LoadedFile& loaded) {
+  request.document = loaded.document;
+  request.load = loaded.load;
+  request.scenario_sha256 = core::sha256_hex(loaded.text);
+  request.scenario_id = "f" + request.scenario_sha256.substr(0, 32);
+}
+
+/// The file set_scenario() gave a request, as it is stored with its runs.
+storage::ScenarioRecord stored_scenario(const runs::RunRequest& request, const LoadedFile& loaded) {
+  return {request.scenario_id, loaded.result.model->name, std::string(scenario::to_string(loaded.format)), loaded.text, "", "", "", "", {}};
+}
+
+/// The request's spec; a refused one prints each problem as PREFIX POINTER CONTEXT: MESSAGE first.
+runs::RunSpec spec_of(const runs::RunRequest& request, const std::string& prefix = "", const std::string& context = "") {
+  try {
+    return runs::make_run_spec(request);
+  } catch (const core::Error& e) {
+    for (const auto& error : e.details().value("errors", json::array())) {
+      std::fprintf(stderr, "%s%s%s: %s\n", prefix.c_str(), error["pointer"].get<std::string>().c_str(), context.c_str(),
+                   error["message"].get<std::string>().c_str());
+    }
+    throw;
+  }
 }
 
 /// Makes `spec` (of the shard's seeds) the shard's part of the whole run: the whole run's id, derived
@@ -193,6 +225,14 @@ int print_reports(const std::vector<std::pair<json, std::string>>& reports, bool
   return all_passed ? 0 : 1;
 }
 
+/// Runs `planned` into --db (a scratch file without it) and prints their reports → the exit status.
+int run_and_report(const ParsedArgs& parsed, std::vector<PlannedRun> planned, unsigned jobs) {
+  std::optional<ScratchDatabase> scratch;
+  const std::filesystem::path database = parsed.last("--db") ? std::filesystem::path(*parsed.last("--db")) : scratch.emplace().path;
+  storage::Store store(prepared(database));
+  return print_reports(execute(store, database, std::move(planned), jobs), scratch.has_value(), parsed.last("--junit"));
+}
+
 }  // namespace
 
 int run_command(const std::vector<std::string>& args) {
@@ -212,8 +252,7 @@ int run_command(const std::vector<std::string>& args) {
   }
   // A batch is a stored run with a report and a verdict; one plain episode prints its own summary.
   const bool batch = parsed.last("--seeds") || parsed.last("--db") || parsed.values.contains("--gate") || parsed.last("--junit") || parsed.last("--shard");
-  const std::optional<runs::Shard> shard = parsed.last("--shard") ? std::optional(runs::parse_shard(*parsed.last("--shard"), environment)) : std::nullopt;
-  if (shard && !parsed.last("--db")) usage_error("--shard: give --db FILE, the database this shard's episodes are kept in to be merged (hrisim merge)");
+  const std::optional<runs::Shard> shard = shard_of(parsed);
   if (parsed.last("--seeds") && parsed.last("--seed")) usage_error("--seed and --seeds: give one of them");
   const std::vector<std::uint64_t> seeds = parsed.last("--seeds") ? parse_seeds(*parsed.last("--seeds")) : std::vector<std::uint64_t>{single_seed};
 
@@ -244,20 +283,8 @@ int run_command(const std::vector<std::string>& args) {
     print_errors(file, loaded);
     return 2;
   }
-  request.document = loaded.document;
-  request.load = loaded.load;
-  request.scenario_sha256 = core::sha256_hex(loaded.text);
-  request.scenario_id = "f" + request.scenario_sha256.substr(0, 32);  // one stored record per distinct file content
-  runs::RunSpec spec = [&] {
-    try {
-      return runs::make_run_spec(request);
-    } catch (const core::Error& e) {
-      for (const auto& error : e.details().value("errors", nlohmann::json::array())) {
-        std::fprintf(stderr, "%s: %s\n", error["pointer"].get<std::string>().c_str(), error["message"].get<std::string>().c_str());
-      }
-      throw;
-    }
-  }();
+  set_scenario(request, loaded);
+  runs::RunSpec spec = spec_of(request);
 
   if (!batch) {
     std::ofstream trajectory;
@@ -300,13 +327,10 @@ int run_command(const std::vector<std::string>& args) {
   if (shard) make_shard(spec, request, seeds, *shard);
 
   // With --db the run and its episodes are kept, each episode in one transaction as it ends.
-  std::optional<ScratchDatabase> scratch;
-  const std::filesystem::path database = parsed.last("--db") ? std::filesystem::path(*parsed.last("--db")) : scratch.emplace().path;
-  storage::Store store(prepared(database));
   const std::string label = spec.name.empty() ? spec.model->name : spec.name;
   std::vector<PlannedRun> planned;
-  planned.push_back({std::move(spec), {request.scenario_id, loaded.result.model->name, std::string(scenario::to_string(loaded.format)), loaded.text, "", "", "", "", {}}, label});
-  return print_reports(execute(store, database, std::move(planned), jobs), scratch.has_value(), parsed.last("--junit"));
+  planned.push_back({std::move(spec), stored_scenario(request, loaded), label});
+  return run_and_report(parsed, std::move(planned), jobs);
 }
 
 int sweep_command(const std::vector<std::string>& args) {
@@ -314,8 +338,7 @@ int sweep_command(const std::vector<std::string>& args) {
                                        "usage: hrisim sweep SWEEP.json [--db FILE] [--jobs N] [--shard K/N|auto|auto/N]");
   if (parsed.last("--junit")) usage_error("--junit: a sweep has several runs; merge them, or give hrisim run one run's");
   const Sweep sweep = read_sweep(parsed.file);
-  const std::optional<runs::Shard> shard = parsed.last("--shard") ? std::optional(runs::parse_shard(*parsed.last("--shard"), environment)) : std::nullopt;
-  if (shard && !parsed.last("--db")) usage_error("--shard: give --db FILE, the database this shard's episodes are kept in to be merged (hrisim merge)");
+  const std::optional<runs::Shard> shard = shard_of(parsed);
   const unsigned jobs = jobs_of(parsed);
 
   std::vector<PlannedRun> planned;
@@ -328,38 +351,22 @@ int sweep_command(const std::vector<std::string>& args) {
     }
     for (std::size_t c = 0; c < sweep.controllers.size(); ++c) {
       runs::RunRequest request;
-      request.document = loaded.document;
-      request.load = loaded.load;
-      request.scenario_sha256 = core::sha256_hex(loaded.text);
-      request.scenario_id = "f" + request.scenario_sha256.substr(0, 32);
+      set_scenario(request, loaded);
       request.seeds = shard ? seeds_of_shard(sweep.seeds, *shard) : sweep.seeds;
       if (!sweep.controllers[c].is_null()) request.controller = sweep.controllers[c];
       request.gates = sweep.gates;
       request.max_time = sweep.max_time;
       request.requests = sweep.requests;
       request.baseline_without_robot = sweep.baseline_without_robot;
-      runs::RunSpec spec = [&] {
-        try {
-          return runs::make_run_spec(request);
-        } catch (const core::Error& e) {
-          for (const auto& error : e.details().value("errors", json::array())) {
-            std::fprintf(stderr, "%s: %s (scenario %s, controller %zu): %s\n", parsed.file.c_str(), error["pointer"].get<std::string>().c_str(),
-                         file.c_str(), c, error["message"].get<std::string>().c_str());
-          }
-          throw;
-        }
-      }();
+      runs::RunSpec spec = spec_of(request, parsed.file + ": ", " (scenario " + file + ", controller " + std::to_string(c) + ")");
       const std::string controller = sweep.controllers[c].is_null() ? "own controller" : sweep.controllers[c].value("type", "controller " + std::to_string(c));
       spec.name = sweep.name + " · " + loaded.result.model->name + " · " + controller;
       if (shard) make_shard(spec, request, sweep.seeds, *shard);
-      planned.push_back({std::move(spec), {request.scenario_id, loaded.result.model->name, std::string(scenario::to_string(loaded.format)), loaded.text, "", "", "", "", {}},
-                         sweep.name + " · " + loaded.result.model->name + " · " + controller});
+      const std::string label = spec.name;
+      planned.push_back({std::move(spec), stored_scenario(request, loaded), label});
     }
   }
-  std::optional<ScratchDatabase> scratch;
-  const std::filesystem::path database = parsed.last("--db") ? std::filesystem::path(*parsed.last("--db")) : scratch.emplace().path;
-  storage::Store store(prepared(database));
-  return print_reports(execute(store, database, std::move(planned), jobs), scratch.has_value(), std::nullopt);
+  return run_and_report(parsed, std::move(planned), jobs);
 }
 
 int merge_command(const std::vector<std::string>& args) {

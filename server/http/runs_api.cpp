@@ -447,10 +447,7 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
       const std::filesystem::path file = std::filesystem::temp_directory_path() / ("hrisim-import-" + core::unguessable_id('i') + ".db");
       struct Removed {
         std::filesystem::path file;
-        ~Removed() {
-          std::error_code ignored;
-          for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(file.string() + suffix, ignored);
-        }
+        ~Removed() { storage::remove_database(file); }
       } removed{file};
       std::ofstream(file, std::ios::binary) << body;
       json runs = json::array();

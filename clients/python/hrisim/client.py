@@ -57,6 +57,21 @@ class HrisimError(Exception):
         return cls(status, error.get("code"), error.get("message", ""), error.get("details"))
 
 
+def _poll(fetch, final_statuses, what, timeout, interval):
+    """``fetch()`` every ``interval`` s until its status is one of ``final_statuses`` → its last answer.
+
+    Raises ``TimeoutError`` naming ``what`` when that takes more than ``timeout`` seconds.
+    """
+    deadline = time.monotonic() + timeout
+    while True:
+        answer = fetch()
+        if answer.get("status") in final_statuses:
+            return answer
+        if time.monotonic() >= deadline:
+            raise TimeoutError("%s still %s after %s s" % (what, answer.get("status"), timeout))
+        time.sleep(interval)
+
+
 class Client:
     """hrisim's REST API. ``Client(url="http://127.0.0.1:8080", token=None)``.
 
@@ -265,14 +280,7 @@ class Client:
 
         Raises ``TimeoutError`` when it has not ended within ``timeout`` seconds.
         """
-        deadline = time.monotonic() + timeout
-        while True:
-            report = self.run(run_id)
-            if report.get("status") in FINAL_RUN_STATUSES:
-                return report
-            if time.monotonic() >= deadline:
-                raise TimeoutError("run %s still %s after %s s" % (run_id, report.get("status"), timeout))
-            time.sleep(interval)
+        return _poll(lambda: self.run(run_id), FINAL_RUN_STATUSES, "run %s" % run_id, timeout, interval)
 
     def junit(self, run_id):
         return self.request("GET", "/api/v1/runs/%s/junit" % self._q(run_id), raw=True).decode("utf-8")
@@ -317,14 +325,7 @@ class Client:
 
     def wait_video(self, video_id, timeout=600.0, interval=0.2):
         """Poll the video job until it has ended → its status. Raises ``TimeoutError`` after ``timeout`` s."""
-        deadline = time.monotonic() + timeout
-        while True:
-            job = self.video(video_id)
-            if job.get("status") in FINAL_VIDEO_STATUSES:
-                return job
-            if time.monotonic() >= deadline:
-                raise TimeoutError("video %s still %s after %s s" % (video_id, job.get("status"), timeout))
-            time.sleep(interval)
+        return _poll(lambda: self.video(video_id), FINAL_VIDEO_STATUSES, "video %s" % video_id, timeout, interval)
 
     def download_video(self, video_id, path):
         """Write the finished video to ``path`` → the number of bytes written."""
