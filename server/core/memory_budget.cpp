@@ -27,6 +27,12 @@ bool MemoryBudget::Lease::grow(std::size_t bytes) {
   return true;
 }
 
+void MemoryBudget::Lease::shrink(std::size_t bytes) {
+  bytes = bytes < bytes_ ? bytes : bytes_;
+  if (budget_) budget_->used_.fetch_sub(bytes, std::memory_order_relaxed);
+  bytes_ -= bytes;
+}
+
 void MemoryBudget::Lease::release() {
   if (budget_) budget_->used_.fetch_sub(bytes_, std::memory_order_relaxed);
   budget_ = nullptr;

@@ -29,6 +29,8 @@ class MemoryBudget {
 
     /// Takes `bytes` more; false, taking nothing, when the budget's ceiling would be passed.
     bool grow(std::size_t bytes);
+    /// Gives `bytes` back (at most what it holds): its holder let go of part of what it kept.
+    void shrink(std::size_t bytes);
     std::size_t bytes() const { return bytes_; }
     const MemoryBudget* budget() const { return budget_; }
 

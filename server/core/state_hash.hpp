@@ -2,6 +2,7 @@
 // Hash of a simulation state, fed field by field with the exact bits of every number, so that two
 // runs agree on the hash when they agree on the state bit for bit (and, but for a 2^-64 chance, only then).
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string_view>
@@ -19,6 +20,7 @@ class StateHasher {
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
     hash_ = z ^ (z >> 31);
+    bytes_ += sizeof value;
     return *this;
   }
   StateHasher& add(std::int64_t value) { return add(std::bit_cast<std::uint64_t>(value)); }
@@ -32,16 +34,21 @@ class StateHasher {
     std::uint64_t z = hash_;
     for (const double value : values) z = std::rotl((z ^ std::bit_cast<std::uint64_t>(value)) * 0x9e3779b97f4a7c15ULL, 27);
     hash_ = z;
+    bytes_ += values.size_bytes();
     return add(static_cast<std::uint64_t>(values.size()));
   }
   StateHasher& add(std::string_view text) {
     hash_ = fnv1a(text, hash_);
+    bytes_ += text.size();
     return add(static_cast<std::uint64_t>(text.size()));
   }
   std::uint64_t value() const { return hash_; }
+  /// Bytes of data fed so far: how much a state holds, without its containers' own overhead.
+  std::size_t bytes() const { return bytes_; }
 
  private:
   std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+  std::size_t bytes_ = 0;
 };
 
 }  // namespace hrisim::core

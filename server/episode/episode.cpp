@@ -1,6 +1,8 @@
 #include "episode/episode.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <iterator>
 
 #include "core/error.hpp"
 #include "tasks/task_support.hpp"
@@ -33,8 +35,14 @@ void add_to(tasks::Reward& sum, const tasks::Reward& reward) {
 }  // namespace
 
 Episode::Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t seed, Settings settings)
-    : model_(model), seed_(seed), settings_(settings), session_(std::make_unique<sim::Session>(std::move(model), seed)) {
+    : model_(model),
+      seed_(seed),
+      settings_(settings),
+      session_(std::make_unique<sim::Session>(std::move(model), seed)),
+      checkpoint_memory_(settings.checkpoints.memory) {
   const scenario::Model& scenario = session_->model();
+  if (settings.checkpoints.every) checkpoint_every_ = std::max<std::int64_t>(1, std::llround(*settings.checkpoints.every / scenario.dt));
+  next_checkpoint_ = checkpoint_every_;
   if (settings.time_limit) session_->set_time_limit(*settings.time_limit);
   session_->set_crowd_threads(settings.crowd_threads);
   for (const auto& [time, name] : settings.requests) {
@@ -57,29 +65,38 @@ Episode::Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t see
 
 double Episode::step(const std::optional<std::vector<double>>& action, std::int64_t n) {
   if (action && environment_) tasks::check_action(*action, static_cast<std::size_t>(environment_->action_space().shape.at(0)));
-  log_.push_back({Snapshot::Entry::Kind::step, nullptr, action, n});
+  log_.push_back({Snapshot::Entry::Kind::step, nullptr, action, 0});
   double reward = 0.0;
   for (std::int64_t i = 0; i < n && !over(); ++i) {
-    if (!environment_) {
-      advance();
-      continue;
-    }
-    if (ticks_left_ > 0) reward += end_step();  // a clock's env step under way ends here
-    ticks_left_ = environment_->begin_step(*session_, i == 0 ? action : std::nullopt);
-    if (ticks_left_ <= 0) {
-      reward += end_step();
-      continue;
-    }
-    const std::int64_t before = env_steps_;
-    while (env_steps_ == before) advance();
-    reward += last_reward_;
+    ++log_.back().count;
+    reward += env_step(i == 0 ? action : std::nullopt);
+    keep_checkpoint();
   }
   return reward;
+}
+
+double Episode::env_step(const std::optional<std::vector<double>>& action) {
+  if (!environment_) {
+    advance();
+    return 0.0;
+  }
+  double reward = 0.0;
+  if (ticks_left_ > 0) reward += end_step();  // a clock's env step under way ends here
+  ticks_left_ = environment_->begin_step(*session_, action);
+  if (ticks_left_ <= 0) return reward + end_step();
+  const std::int64_t before = env_steps_;
+  while (env_steps_ == before) advance();
+  return reward + last_reward_;
 }
 
 void Episode::tick() {
   if (over()) return;
   log_ticks(1);
+  clock_tick();
+  keep_checkpoint();
+}
+
+void Episode::clock_tick() {
   if (environment_ && ticks_left_ <= 0) {
     ticks_left_ = environment_->begin_step(*session_, std::nullopt);
     if (ticks_left_ <= 0) {
@@ -126,26 +143,107 @@ std::unique_ptr<Episode> Episode::restore(const Snapshot& snapshot) const {
   return restored;
 }
 
-std::unique_ptr<Episode> Episode::rewind(std::int64_t tick) const {
-  auto rewound = std::make_unique<Episode>(model_, seed_, settings_);
-  const auto at_tick = [&] { return rewound->session().state().tick >= tick; };
-  for (const Snapshot::Entry& entry : log_) {
-    if (entry.kind == Snapshot::Entry::Kind::input) {
-      rewound->give(entry.input);
-      continue;
-    }
-    std::int64_t done = 0;
-    for (; done < entry.count && !at_tick() && !rewound->over(); ++done) {
-      // One env step at a time, the action at the first: the same ticks as step(action, count).
-      if (entry.kind == Snapshot::Entry::Kind::step) {
-        rewound->step(done == 0 ? entry.action : std::nullopt, 1);
-      } else {
-        rewound->tick();
-      }
-    }
-    if (done < entry.count && at_tick()) break;  // cut short: what follows was given after `tick`
+std::unique_ptr<Episode> Episode::rewind(std::int64_t tick) {
+  const auto after = std::upper_bound(checkpoints_.begin(), checkpoints_.end(), tick,
+                                      [](std::int64_t t, const std::shared_ptr<const Checkpoint>& checkpoint) { return t < checkpoint->tick; });
+  std::unique_ptr<Episode> rewound;
+  std::size_t entry = 0;
+  std::int64_t done = 0;
+  if (after == checkpoints_.begin()) {
+    rewound = std::make_unique<Episode>(model_, seed_, settings_);
+    rewound->recorder_.reset();  // it takes this one's, below
+  } else {
+    const Checkpoint& from = **std::prev(after);
+    rewound.reset(new Episode(*this, from));
+    entry = from.log_entry;
+    done = from.log_done;
+    rewound->log_.assign(log_.begin(), log_.begin() + static_cast<std::ptrdiff_t>(entry) + 1);
+    rewound->log_.back().count = done;
+  }
+  rewound->checkpoint_every_ = checkpoint_every_;
+  for (auto kept = checkpoints_.begin(); kept != after && rewound->fit(*kept); ++kept) {
+  }
+  rewound->next_checkpoint_ = (rewound->checkpoints_.empty() ? 0 : rewound->checkpoints_.back()->tick) + rewound->checkpoint_every_;
+  const std::int64_t start = rewound->session().state().tick;
+  rewound->replay_until(*this, entry, done, tick);
+  rewound->ticks_simulated_again_ = rewound->session().state().tick - start;
+  if (recorder_) {
+    // The recording up to the tick is the rewound episode's, bit for bit: it is taken, not made again.
+    recorder_->forget_after(rewound->session().state().tick);
+    rewound->recorder_ = std::move(recorder_);
+    recorder_.reset();
   }
   return rewound;
+}
+
+void Episode::replay_until(const Episode& from, std::size_t entry, std::int64_t done, std::int64_t tick) {
+  const auto at_tick = [&] { return session_->state().tick >= tick; };
+  for (std::size_t e = entry; e < from.log_.size(); ++e, done = 0) {
+    const Snapshot::Entry& given = from.log_[e];
+    if (given.kind == Snapshot::Entry::Kind::input) {
+      give(given.input);
+      continue;
+    }
+    if (done == 0) log_.push_back({given.kind, nullptr, given.action, 0});
+    for (; done < given.count && !at_tick() && !over(); ++done) {
+      ++log_.back().count;
+      // One env step at a time, the action at the first: the same ticks as step(action, count).
+      if (given.kind == Snapshot::Entry::Kind::step) {
+        env_step(done == 0 ? given.action : std::nullopt);
+      } else {
+        clock_tick();
+      }
+      keep_checkpoint();
+    }
+    if (done < given.count && at_tick()) return;  // cut short: what follows was given after `tick`
+  }
+}
+
+Episode::Episode(const Episode& from, const Checkpoint& checkpoint)
+    : model_(from.model_),
+      seed_(from.seed_),
+      settings_(from.settings_),
+      session_(std::make_unique<sim::Session>(from.model_, checkpoint.session, from.session().state().events)),
+      environment_(checkpoint.environment),
+      env_steps_(checkpoint.env_steps),
+      reward_(checkpoint.reward),
+      last_reward_(checkpoint.last_reward),
+      checkpoint_memory_(from.settings_.checkpoints.memory) {
+  session_->set_crowd_threads(settings_.crowd_threads);
+}
+
+void Episode::keep_checkpoint() {
+  const std::int64_t tick = session_->state().tick;
+  if (checkpoint_every_ == 0 || tick < next_checkpoint_ || (environment_ && ticks_left_ > 0)) return;
+  std::optional<sim::Session::Copy> copy = session_->copy();
+  if (!copy) return;  // Bullet remembers contacts now: tried again after the next env step
+  auto checkpoint = std::make_shared<Checkpoint>(
+      Checkpoint{std::move(*copy), environment_, tick, env_steps_, reward_, last_reward_, log_.size() - 1, log_.back().count, 0});
+  // The data the state hash reads, twice: containers' headers and spare capacity (bench/RESULTS.md).
+  checkpoint->bytes = 2 * sim::state_data_bytes(checkpoint->session.state) + sizeof(Checkpoint);
+  fit(std::move(checkpoint));
+  next_checkpoint_ = tick + checkpoint_every_;
+}
+
+bool Episode::fit(std::shared_ptr<const Checkpoint> checkpoint) {
+  while (checkpoint_bytes_ + checkpoint->bytes > settings_.checkpoints.max_bytes || !checkpoint_memory_.grow(checkpoint->bytes)) {
+    if (checkpoints_.empty()) return false;
+    // Every other one goes, from the first: those left are twice as far apart, and so is the next.
+    std::vector<std::shared_ptr<const Checkpoint>> kept;
+    for (std::size_t c = 0; c < checkpoints_.size(); ++c) {
+      if (c % 2 == 1) {
+        kept.push_back(checkpoints_[c]);
+        continue;
+      }
+      checkpoint_bytes_ -= checkpoints_[c]->bytes;
+      checkpoint_memory_.shrink(checkpoints_[c]->bytes);
+    }
+    checkpoints_ = std::move(kept);
+    checkpoint_every_ *= 2;
+  }
+  checkpoint_bytes_ += checkpoint->bytes;
+  checkpoints_.push_back(std::move(checkpoint));
+  return true;
 }
 
 void Episode::replay(const Snapshot::Entry& entry) {

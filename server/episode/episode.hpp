@@ -15,6 +15,7 @@
 // the same state bit for bit, physics included: the Bullet world's contact caches are history that no
 // copy of the state would carry. Restoring costs re-simulating up to the snapshot's tick.
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -23,12 +24,31 @@
 #include <utility>
 #include <vector>
 
+#include "core/memory_budget.hpp"
 #include "metrics/recording.hpp"
 #include "sim/episode_recorder.hpp"
 #include "sim/session.hpp"
 #include "tasks/environment.hpp"
 
 namespace hrisim::episode {
+
+/// A live session's episode keeps a checkpoint (a copy of the session, its environment and its place in
+/// the input log) about this often, simulated seconds: a seek back simulates again at most this much
+/// from the checkpoint before it (the elevator: 600 ticks, ≈ 25 ms) instead of everything from tick 0,
+/// while copying the state that rarely costs well under 1% of stepping (bench/RESULTS.md, seek_bench).
+inline constexpr double kCheckpointInterval = 10.0;
+/// Bytes of checkpoints one episode keeps at most (estimated: the state's data, twice for its
+/// containers; the elevator's are a few tens of KiB each, so about an hour of it fits). Past it, every
+/// other checkpoint goes and the interval doubles: memory stays bounded, and a seek back simulates
+/// again at most twice the episode's length over the checkpoints that fit (docs/limits.md).
+inline constexpr std::size_t kMaxCheckpointBytes = std::size_t{64} << 20;
+
+/// When an episode keeps checkpoints and within what memory.
+struct CheckpointLimits {
+  std::optional<double> every;  ///< simulated seconds between checkpoints; none: no checkpoints (runs)
+  std::size_t max_bytes = kMaxCheckpointBytes;
+  core::MemoryBudget* memory = nullptr;  ///< shared with others (the server's), when given
+};
 
 struct Settings {
   std::optional<double> time_limit;  ///< s of simulation time; the scenario's own when empty
@@ -37,6 +57,7 @@ struct Settings {
   bool record = true;  ///< false: no recording (benchmarks of the simulation alone)
   sim::RecorderLimits recording;
   unsigned crowd_threads = 1;  ///< Session::set_crowd_threads: the same trajectory for any count
+  CheckpointLimits checkpoints = {};  ///< none by default: only seeking needs them
 };
 
 class Episode {
@@ -51,7 +72,7 @@ class Episode {
       Kind kind = Kind::ticks;
       Input input;                                ///< input: what was given
       std::optional<std::vector<double>> action;  ///< step: the action of its first env step
-      std::int64_t count = 0;                     ///< step: env steps asked for; ticks: how many
+      std::int64_t count = 0;                     ///< step: env steps done; ticks: how many
     };
     std::vector<Entry> log;  ///< everything that drove the episode up to here
     std::int64_t tick = 0;
@@ -83,9 +104,16 @@ class Episode {
   /// the snapshot was taken in, bit for bit (checked by its hash; core::Error(internal) otherwise).
   std::unique_ptr<Episode> restore(const Snapshot& snapshot) const;
   /// This episode as it was at `tick` (at most the present tick), with the inputs given at that tick:
-  /// a fresh episode of the same scenario, seed and settings given this one's inputs until then. With
-  /// a benchmark task it stops at the end of the env step that reaches `tick`.
-  std::unique_ptr<Episode> rewind(std::int64_t tick) const;
+  /// the latest checkpoint at or before `tick` (or a fresh episode of the same scenario, seed and
+  /// settings) given this one's inputs from there until then. With a benchmark task it stops at the
+  /// end of the env step that reaches `tick`. The returned episode takes this one's recording (the
+  /// samples after `tick` forgotten) and its checkpoints up to `tick`: go on with it, not with this.
+  std::unique_ptr<Episode> rewind(std::int64_t tick);
+  /// Ticks the rewind that made this episode simulated again (0 for an episode not made by one).
+  std::int64_t ticks_simulated_again() const { return ticks_simulated_again_; }
+  /// Checkpoints kept, and their estimated bytes.
+  std::size_t checkpoints() const { return checkpoints_.size(); }
+  std::size_t checkpoint_bytes() const { return checkpoint_bytes_; }
 
   /// The session finished: the scenario's end, its time limit, or the benchmark task's ending.
   bool over() const { return session_->state().finished; }
@@ -106,6 +134,34 @@ class Episode {
   metrics::Recording recording(std::string termination = "") const;
 
  private:
+  /// The episode at a tick between env steps, and where its input log was then: entries before
+  /// `log_entry` all given, and the first `log_done` env steps or ticks of that one.
+  struct Checkpoint {
+    sim::Session::Copy session;
+    std::optional<tasks::Environment> environment;
+    std::int64_t tick = 0;
+    std::int64_t env_steps = 0;
+    tasks::Reward reward;
+    double last_reward = 0.0;
+    std::size_t log_entry = 0;
+    std::int64_t log_done = 0;
+    std::size_t bytes = 0;  ///< estimated
+  };
+
+  /// The episode `from` was at `checkpoint`, without a recording (rewind gives it one).
+  Episode(const Episode& from, const Checkpoint& checkpoint);
+  /// Keeps a checkpoint when one is due, the episode is between env steps and its session can be copied.
+  void keep_checkpoint();
+  /// Takes the checkpoint within the limits: every other one goes (and the interval doubles) while it
+  /// does not fit; false when it does not fit even alone.
+  bool fit(std::shared_ptr<const Checkpoint> checkpoint);
+  /// Gives this episode `from`'s log from where it is (`entry`, `done` of it) until `tick` is reached.
+  void replay_until(const Episode& from, std::size_t entry, std::int64_t done, std::int64_t tick);
+
+  /// One env step (without an environment: one tick), `action` given first; its reward.
+  double env_step(const std::optional<std::vector<double>>& action);
+  /// One tick as a clock gives it, not logged.
+  void clock_tick();
   /// One tick of the env step under way (or a bare tick without an environment).
   void advance();
   /// Ends the env step under way: its reward is added, and the task's ending ends the episode.
@@ -127,6 +183,12 @@ class Episode {
   std::int64_t env_steps_ = 0;
   tasks::Reward reward_;  ///< summed over the env steps, term by term
   double last_reward_ = 0.0;  ///< of the last env step
+  std::vector<std::shared_ptr<const Checkpoint>> checkpoints_;  ///< in tick order; shared with rewound episodes
+  std::int64_t checkpoint_every_ = 0;  ///< ticks; 0: none kept
+  std::int64_t next_checkpoint_ = 0;   ///< the tick from which the next is due
+  std::size_t checkpoint_bytes_ = 0;
+  core::MemoryBudget::Lease checkpoint_memory_;
+  std::int64_t ticks_simulated_again_ = 0;
 };
 
 }  // namespace hrisim::episode

@@ -76,6 +76,7 @@ class Reader {
  public:
   Reader(const std::uint8_t* at, const std::uint8_t* end) : at_(at), end_(end) {}
   bool done() const { return at_ >= end_; }
+  const std::uint8_t* at() const { return at_; }
 
   std::uint64_t unsigned_number() {
     std::uint64_t value = 0;
@@ -210,6 +211,29 @@ std::vector<Sample> PackedSamples::unpack() const {
     }
   }
   return samples;
+}
+
+void PackedSamples::keep_until(std::int64_t tick, const std::function<void(const Sample&)>& kept) {
+  Sample before;
+  std::size_t count = 0;
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    std::vector<std::uint8_t>& block = blocks_[b];
+    Reader reader(block.data(), block.data() + block.size());
+    while (!reader.done()) {
+      const std::uint8_t* start = reader.at();
+      Sample sample = read_sample(reader, before);
+      if (sample.tick > tick) {
+        block.resize(static_cast<std::size_t>(start - block.data()));
+        blocks_.resize(block.empty() ? b : b + 1);
+        last_ = std::move(before);
+        count_ = count;
+        return;
+      }
+      kept(sample);
+      before = std::move(sample);
+      ++count;
+    }
+  }
 }
 
 std::size_t PackedSamples::bytes() const {

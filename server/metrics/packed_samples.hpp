@@ -6,6 +6,7 @@
 // was packed.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "metrics/recording.hpp"
@@ -20,6 +21,9 @@ class PackedSamples {
   void append(const Sample& sample);
   /// Every sample appended, in order, as it was.
   std::vector<Sample> unpack() const;
+  /// Forgets the samples after `tick` (ticks grow from sample to sample), as if they had never been
+  /// appended; `kept` sees each sample kept, in order.
+  void keep_until(std::int64_t tick, const std::function<void(const Sample&)>& kept);
 
   std::size_t size() const { return count_; }
   bool empty() const { return count_ == 0; }

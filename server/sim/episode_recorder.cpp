@@ -109,6 +109,13 @@ void EpisodeRecorder::record(const Session& session, double reward) {
   samples_.append(sample);
 }
 
+void EpisodeRecorder::forget_after(std::int64_t tick) {
+  bodies_ = 0;
+  samples_.keep_until(tick, [this](const metrics::Sample& sample) { bodies_ += sample.humans.size() + 1; });
+  if (memory_.bytes() > samples_.bytes()) memory_.shrink(memory_.bytes() - samples_.bytes());
+  if (recorded_until() == tick) stopped_.clear();  // it stopped after the tick: that is another branch now
+}
+
 metrics::Recording EpisodeRecorder::finish(const Session& session, std::string termination) const {
   metrics::Recording recording = recording_;
   recording.samples = samples_.unpack();

@@ -30,6 +30,9 @@ class EpisodeRecorder {
   /// Adds a sample of the session's state after a tick (a tick already recorded is skipped), with the
   /// benchmark task's rewards summed so far.
   void record(const Session& session, double reward = 0.0);
+  /// Forgets the samples after `tick`: the recording of an episode gone back to that tick, which up to
+  /// there is this one's bit for bit. Recording goes on from there (unless it had stopped before it).
+  void forget_after(std::int64_t tick);
   /// The last tick recorded.
   std::int64_t recorded_until() const { return samples_.back().tick; }
   /// Why recording stopped before the session's last tick; empty while it goes on.

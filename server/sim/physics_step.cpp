@@ -294,6 +294,21 @@ PhysicsBodies build_physics(const scenario::Model& model, State& state, const Hu
   return physics;
 }
 
+bool physics_holds_history(const PhysicsBodies& physics) {
+  return physics.world && (!physics.objects.empty() || physics.world->caches_contacts_off_the_floor());
+}
+
+PhysicsBodies build_physics_again(const scenario::Model& model, State& state, const HumanBodies& bodies) {
+  PhysicsBodies physics = build_physics(model, state, bodies);
+  for (std::size_t r = 0; r < state.robots.size(); ++r) {
+    if (state.agents[state.robots[r].agent].active) continue;
+    for (const int body : physics.robot_links[r]) {
+      if (body >= 0) physics.world->set_enabled(body, false);
+    }
+  }
+  return physics;
+}
+
 void place_people_and_doors(const scenario::Model& model, const State& state, PhysicsBodies& physics, const HumanBodies& bodies) {
   physics::PhysicsWorld& world = *physics.world;
   for (std::size_t d = 0; d < physics.doors.size(); ++d) world.set_enabled(physics.doors[d], door_blocks(state, static_cast<int>(d)));

@@ -57,6 +57,17 @@ struct PhysicsBodies {
 /// The world of the model as the state is now (tick 0); the objects' poses go to the state.
 PhysicsBodies build_physics(const scenario::Model& model, State& state, const HumanBodies& bodies);
 
+/// Whether the world holds history that a copy of the state would not carry: movable objects (their
+/// velocities, sleep, grasps and put-down bookkeeping are Bullet's) or contact points Bullet cached
+/// between bodies other than the floor. Without it, a world built again from the state is the same
+/// world for everything the simulation reads from it.
+bool physics_holds_history(const PhysicsBodies& physics);
+
+/// The world of a state copied between ticks of a session whose world held no history then
+/// (physics_holds_history): as build_physics, with robots that left the scene out of it as the last
+/// tick left them. People and doors are placed again by the next tick before anything meets them.
+PhysicsBodies build_physics_again(const scenario::Model& model, State& state, const HumanBodies& bodies);
+
 /// People's bodies, the doors and robots without a model (they walk with the crowd) as the state has
 /// them now, before robots with a model move among them.
 void place_people_and_doors(const scenario::Model& model, const State& state, PhysicsBodies& physics, const HumanBodies& bodies);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/state_hash.hpp"
@@ -116,6 +117,32 @@ Session::Session(std::shared_ptr<const scenario::Model> model, std::uint64_t see
   }
   physics_ = build_physics(*model_, state_, bodies_);
   if (!model_->steps.empty()) start_step(*model_, state_, 0);
+}
+
+Session::Session(std::shared_ptr<const scenario::Model> model, Copy copy, std::span<const Event> events)
+    : model_(std::move(model)),
+      ids_(std::move(copy.ids)),
+      state_(std::move(copy.state)),
+      runtime_of_agent_(std::move(copy.runtime_of_agent)),
+      bodies_(*model_),
+      walking_(*model_) {
+  state_.events.assign(events.begin(), events.begin() + static_cast<std::ptrdiff_t>(copy.events));
+  physics_ = build_physics_again(*model_, state_, bodies_);
+}
+
+std::optional<Session::Copy> Session::copy() {
+  if (physics_holds_history(physics_)) return std::nullopt;
+  // The events are set aside while the rest is copied: they grow with the episode, and the session's
+  // own are the copy's events, as they are only ever appended.
+  std::vector<Event> events = std::exchange(state_.events, {});
+  try {
+    Copy copy{state_, ids_, runtime_of_agent_, events.size()};
+    state_.events = std::move(events);
+    return copy;
+  } catch (...) {
+    state_.events = std::move(events);
+    throw;
+  }
 }
 
 void Session::tick() {

@@ -6,6 +6,8 @@
 //   robots move → tick → physics → sensing → time limit.
 // Same model, seed and inputs give bit-identical states.
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -33,7 +35,22 @@ scenario::Action motion_action(int human, const std::string& name, double second
 
 class Session {
  public:
+  /// Everything a session is between two ticks but its events: what a checkpoint keeps.
+  struct Copy {
+    State state;  ///< without its events, which only ever grow: the session's own are its prefix
+    core::EntityTable<AgentTag, int> ids;
+    std::vector<int> runtime_of_agent;
+    std::size_t events = 0;  ///< how many the state had
+  };
+
   Session(std::shared_ptr<const scenario::Model> model, std::uint64_t seed);
+  /// The session a copy was taken of, bit for bit, `events` its first copy.events events (the
+  /// session's it was copied from); its physics world built again from the state.
+  Session(std::shared_ptr<const scenario::Model> model, Copy copy, std::span<const Event> events);
+
+  /// A copy of this session now, or none when its physics world holds history the copy would not carry
+  /// (physics_holds_history): going on from the copy would not be going on from here, bit for bit.
+  std::optional<Copy> copy();
 
   /// Advances one tick; does nothing once finished.
   void tick();

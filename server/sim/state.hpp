@@ -263,6 +263,9 @@ struct State {
 
 /// Hash of everything in the state, bit for bit.
 std::uint64_t state_hash(const State& state);
+/// The bytes of data the state holds, as its hash reads them: its events count as their number alone
+/// (their content is digested as they happen), containers' overhead not at all.
+std::size_t state_data_bytes(const State& state);
 /// A state hash as 16 lower-case hex digits, as the API and stored episodes give it.
 std::string hash_hex(std::uint64_t hash);
 

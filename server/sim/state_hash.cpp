@@ -110,6 +110,12 @@ std::uint64_t state_hash(const State& state) {
   return hash.value();
 }
 
+std::size_t state_data_bytes(const State& state) {
+  Hasher hash;
+  put(hash, state);
+  return hash.bytes();
+}
+
 std::string hash_hex(std::uint64_t hash) {
   char text[17];
   std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));

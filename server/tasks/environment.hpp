@@ -18,6 +18,9 @@ class Environment {
   /// drawn from the session's seed). Throws core::Error(conflict) when the scenario has no robot that
   /// can act.
   explicit Environment(sim::Session& session);
+  /// The same environment as it is now (its task's bookkeeping), for a copy of its episode.
+  Environment(const Environment& other) : view_(other.view_->clone()), terminated_(other.terminated_) {}
+  Environment& operator=(const Environment&) = delete;
 
   const Space& observation_space() const { return view_->observation_space(); }
   const Space& action_space() const { return view_->action_space(); }

@@ -32,6 +32,7 @@ namespace hrisim::tasks {
 class PickAndPlace : public View {
  public:
   explicit PickAndPlace(const sim::Session& session);
+  std::unique_ptr<View> clone() const override { return std::make_unique<PickAndPlace>(*this); }
   void begin(sim::Session& session) override;
   std::vector<double> observe(const sim::Session& session) const override;
   int act(sim::Session& session, const std::vector<double>& action) override;
@@ -54,6 +55,7 @@ class PickAndPlace : public View {
 class MirrorGesture : public View {
  public:
   explicit MirrorGesture(const sim::Session& session);
+  std::unique_ptr<View> clone() const override { return std::make_unique<MirrorGesture>(*this); }
   void begin(sim::Session& session) override;
   std::vector<double> observe(const sim::Session&) const override { return {}; }
   int act(sim::Session& session, const std::vector<double>& action) override;

@@ -45,6 +45,7 @@ inline constexpr double kFollowMinLeg = 2.0;
 class DefaultView : public View {
  public:
   explicit DefaultView(const sim::Session& session);
+  std::unique_ptr<View> clone() const override { return std::make_unique<DefaultView>(*this); }
   std::vector<double> observe(const sim::Session& session) const override;
   int act(sim::Session& session, const std::vector<double>& action) override;
   int idle_ticks() const override { return 1; }
@@ -59,6 +60,7 @@ class DefaultView : public View {
 class NavigationTask : public View {
  public:
   explicit NavigationTask(const sim::Session& session);
+  std::unique_ptr<View> clone() const override { return std::make_unique<NavigationTask>(*this); }
   void begin(sim::Session& session) override;
   std::vector<double> observe(const sim::Session& session) const override;
   int act(sim::Session& session, const std::vector<double>& action) override;

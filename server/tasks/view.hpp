@@ -42,6 +42,9 @@ struct Reward {
 class View {
  public:
   virtual ~View() = default;
+  /// A copy of this view as it is now, for a copy of its episode (a checkpoint); it refers to the same
+  /// model.
+  virtual std::unique_ptr<View> clone() const = 0;
 
   const Space& observation_space() const { return observation_space_; }
   const Space& action_space() const { return action_space_; }

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
+
 #include "core/error.hpp"
 #include "metrics/episode_metrics.hpp"
 #include "scenario/load.hpp"
@@ -145,6 +148,152 @@ INSTANTIATE_TEST_SUITE_P(Bundled, Snapshots,
                          ::testing::Values("apartment", "approach_human", "approach_human_apartment", "conversation_group", "corridor_passing",
                                            "elevator", "follow_human", "mirror_gesture", "pair_walking", "perpendicular_crossing",
                                            "pick_and_place", "queue"));
+
+/// A bundled scenario kept going for `seconds` (at 60 Hz): its first person waits that long at the end,
+/// and its time limit (a task's episode length) is that long, so that a seek can be tried deep into an
+/// episode.
+std::shared_ptr<const scenario::Model> kept_going(const std::string& name, double seconds) {
+  std::ifstream file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/" + name + ".json");
+  nlohmann::json document = nlohmann::json::parse(file);
+  if (document.contains("task")) {
+    document["task"]["max_episode_length"] = static_cast<int>(seconds * 60);  // a task's episode ends by its length
+  } else {
+    document["time_limit"] = seconds;
+    const std::string person = document["humans"][0]["id"];
+    document["steps"].push_back({{"name", "linger"}, {"actions", nlohmann::json::array({{{"agent", person}, {"wait", {{"duration", seconds}}}}})}});
+  }
+  const auto loaded = scenario::load_scenario(document, {{std::string(HRISIM_SOURCE_DIR) + "/scenarios"}, {}});
+  for (const auto& e : loaded.errors) ADD_FAILURE() << name << ": " << e.pointer << ": " << e.message;
+  return loaded.model;
+}
+
+/// A live session's settings: recorded, with checkpoints every `every` simulated seconds.
+Settings with_checkpoints(double every, std::size_t max_bytes = kMaxCheckpointBytes) {
+  Settings settings;
+  settings.checkpoints = {every, max_bytes, nullptr};
+  return settings;
+}
+
+TEST(Seek, OneTickBackAtTick20000CostsABoundedStretch) {
+  const auto model = kept_going("elevator", 400.0);
+  Episode original(model, 1, with_checkpoints(kCheckpointInterval));
+  original.step(std::nullopt, 19'999);
+  const std::uint64_t at_19999 = original.session().state_hash();
+  original.step(std::nullopt, 1);
+  ASSERT_EQ(original.session().state().tick, 20'000);
+  EXPECT_GT(original.checkpoints(), 0u);
+
+  const std::unique_ptr<Episode> back = original.rewind(19'999);
+  EXPECT_EQ(back->session().state().tick, 19'999);
+  EXPECT_EQ(back->session().state_hash(), at_19999);
+  // From the checkpoint before it: at most an interval, and a little more where Bullet's cached
+  // contacts put one off (not from tick 0, as before checkpoints).
+  const auto interval = static_cast<std::int64_t>(kCheckpointInterval / model->dt);
+  EXPECT_LE(back->ticks_simulated_again(), 2 * interval);
+}
+
+/// Every tick's state hash along an episode driven by clock ticks with an input at tick 250 (the first person
+/// placed), so that a seek goes back across an input.
+struct Path {
+  std::vector<std::uint64_t> hashes;  ///< at each tick, before it
+  static void drive(Episode& episode, std::int64_t from, std::int64_t to, Path* path = nullptr) {
+    const sim::Session& session = episode.session();
+    for (std::int64_t t = from; t < to && !episode.over(); ++t) {
+      if (t == 250 && t > from) {  // a rewind to tick 250 has it already
+        const sim::AgentState& person = session.state().agents[first_person(session.model())];
+        episode.give([a = first_person(session.model()), at = person.position, heading = person.heading](sim::Session& to_session) {
+          to_session.place_agent(to_session.agent_at(a), {at.x(), at.y(), heading + 0.5});
+        });
+      }
+      if (path) path->hashes.push_back(session.state_hash());
+      episode.tick();
+    }
+  }
+  static int first_person(const scenario::Model& model) {
+    for (std::size_t a = 0; a < model.agents.size(); ++a) {
+      if (model.agents[a].kind == scenario::AgentKind::human) return static_cast<int>(a);
+    }
+    return -1;
+  }
+};
+
+class Checkpoints : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Checkpoints, SeekingBackAndForthIsBitIdenticalToTheOriginalPass) {
+  const auto model = kept_going(GetParam(), 60.0);
+  ASSERT_TRUE(model);
+  ASSERT_GE(Path::first_person(*model), 0);
+  const std::int64_t end = 1'600;  // hashes up to it; seeks go back to tick 1,400 at most
+  Path path;
+  Episode original(model, 2, with_checkpoints(1.0));
+  Path::drive(original, 0, end, &path);
+  ASSERT_EQ(original.session().state().tick, end) << "the scenario ended early";
+  // Movable objects keep Bullet's history: no checkpoints there; everywhere else, one a second or so.
+  if (model->objects.empty()) EXPECT_GE(original.checkpoints(), 10u) << GetParam();
+  // Taking checkpoints changes nothing: a pass without them is the same.
+  Episode plain(model, 2);
+  Path::drive(plain, 0, end);
+  EXPECT_EQ(plain.session().state_hash(), original.session().state_hash());
+
+  std::unique_ptr<Episode> now = original.rewind(end);
+  EXPECT_EQ(now->session().state_hash(), original.session().state_hash());
+  for (const std::int64_t tick : {1'400, 1'399, 900, 333, 250, 61, 0}) {
+    now = now->rewind(tick);
+    EXPECT_EQ(now->session().state().tick, tick);
+    EXPECT_EQ(now->session().state_hash(), path.hashes[static_cast<std::size_t>(tick)]) << GetParam() << " back to tick " << tick;
+    // Forth again, with the same inputs: the original pass, and its recording.
+    Episode fresh(model, 2);
+    Path::drive(fresh, 0, tick + 100);
+    Path::drive(*now, tick, tick + 100);
+    EXPECT_EQ(now->session().state_hash(), path.hashes[static_cast<std::size_t>(tick + 100)]) << GetParam() << " forth from tick " << tick;
+    EXPECT_EQ(now->recording("running").samples.size(), fresh.recording("running").samples.size());
+    EXPECT_EQ(now->session().state().events.size(), fresh.session().state().events.size());
+  }
+  if (original.checkpoints() > 0) {
+    EXPECT_LT(original.rewind(1'399)->ticks_simulated_again(), 1'399) << "a seek back starts from a checkpoint";
+  }
+}
+
+TEST_P(Checkpoints, ASeekAfterARestoreEqualsAFreshRun) {
+  const auto model = kept_going(GetParam(), 60.0);
+  ASSERT_TRUE(model);
+  Path path;
+  Episode original(model, 3, with_checkpoints(1.0));
+  Path::drive(original, 0, 500, &path);
+  const Episode::Snapshot snapshot = original.snapshot();
+  Path::drive(original, 500, 1'200, &path);
+  std::unique_ptr<Episode> restored = original.restore(snapshot);
+  Path::drive(*restored, 500, 1'200);
+  EXPECT_EQ(restored->session().state_hash(), original.session().state_hash());
+  const std::unique_ptr<Episode> back = restored->rewind(800);
+  EXPECT_EQ(back->session().state_hash(), path.hashes[800]) << GetParam();
+  if (original.checkpoints() > 0) {
+    EXPECT_LT(back->ticks_simulated_again(), 800) << "the restored episode took checkpoints of its own";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Bundled, Checkpoints,
+                         ::testing::Values("elevator", "queue", "apartment", "corridor_passing", "conversation_group", "follow_human",
+                                           "approach_human", "pair_walking", "tea_break"));
+
+TEST(Checkpoints, OverTheirBudgetEveryOtherGoesAndSeeksStayExact) {
+  const auto model = kept_going("queue", 120.0);
+  Episode probe(model, 1, with_checkpoints(1.0));
+  probe.step(std::nullopt, 60);
+  ASSERT_EQ(probe.checkpoints(), 1u);
+  const std::size_t one = probe.checkpoint_bytes();
+
+  Path path;
+  Episode original(model, 1, with_checkpoints(1.0, 6 * one));
+  Path::drive(original, 0, 3'000, &path);
+  EXPECT_LE(original.checkpoint_bytes(), 6 * one);
+  EXPECT_GE(original.checkpoints(), 2u);
+  EXPECT_LE(original.checkpoints(), 6u);
+  const std::unique_ptr<Episode> back = original.rewind(2'999);
+  EXPECT_EQ(back->session().state_hash(), path.hashes[2'999]);
+  // 50 intervals in 6 places: thinned to every 16th at most, so at most 16 intervals to simulate again.
+  EXPECT_LE(back->ticks_simulated_again(), 16 * 60);
+}
 
 }  // namespace
 }  // namespace hrisim::episode

@@ -1,0 +1,68 @@
+// Seeking back: the CPU time of a seek one tick back at a given tick, on the bundled elevator scenario
+// kept going (a last step in which ada waits, a time limit past the tick), as a live session runs it
+// (recorded, with checkpoints every kCheckpointInterval). Prints the median of several repetitions
+// and the ticks simulated again.
+//   usage: seek_bench [repetitions=5] [path to the project's scenarios/=scenarios] [tick=100000]
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "episode/episode.hpp"
+#include "scenario/load.hpp"
+
+namespace {
+
+using nlohmann::json;
+
+double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int repetitions = argc > 1 ? std::atoi(argv[1]) : 5;
+  const std::string scenarios = argc > 2 ? argv[2] : "scenarios";
+  const std::int64_t tick = argc > 3 ? std::atoll(argv[3]) : 100'000;
+  std::ifstream file(scenarios + "/elevator.json");
+  if (!file) {
+    std::fprintf(stderr, "no %s/elevator.json\n", scenarios.c_str());
+    return 1;
+  }
+  json elevator = json::parse(file);
+  const double seconds = static_cast<double>(tick) / 60.0 + 60.0;
+  elevator["time_limit"] = seconds;
+  elevator["steps"].push_back({{"name", "linger"}, {"actions", json::array({{{"agent", "ada"}, {"wait", {{"duration", seconds}}}}})}});
+  const auto loaded = hrisim::scenario::load_scenario(elevator, {{scenarios}, {}});
+  if (!loaded.model) {
+    std::fprintf(stderr, "invalid scenario: %s %s\n", loaded.errors[0].pointer.c_str(), loaded.errors[0].message.c_str());
+    return 1;
+  }
+  // A live session's settings: recorded, with checkpoints.
+  hrisim::episode::Settings settings;
+  settings.checkpoints.every = hrisim::episode::kCheckpointInterval;
+  auto episode = std::make_unique<hrisim::episode::Episode>(loaded.model, 1, settings);
+  const double start = cpu_seconds();
+  episode->step(std::nullopt, tick);
+  const double forward = cpu_seconds() - start;
+  if (episode->session().state().tick != tick) {
+    std::fprintf(stderr, "the episode ended at tick %lld\n", static_cast<long long>(episode->session().state().tick));
+    return 1;
+  }
+  std::vector<double> costs;
+  std::int64_t simulated_again = 0;
+  for (int r = 0; r < repetitions; ++r) {
+    const double before = cpu_seconds();
+    std::unique_ptr<hrisim::episode::Episode> back = episode->rewind(tick - 1);
+    costs.push_back(cpu_seconds() - before);
+    simulated_again = back->ticks_simulated_again();
+  }
+  std::sort(costs.begin(), costs.end());
+  std::printf("seek_bench: elevator kept going, stepped to tick %lld in %.2f s CPU, %zu checkpoints (%zu KiB)\n", static_cast<long long>(tick),
+              forward, episode->checkpoints(), episode->checkpoint_bytes() / 1024);
+  std::printf("seek one tick back (to %lld): median %.4f s CPU of %d, %lld ticks simulated again\n", static_cast<long long>(tick - 1),
+              costs[costs.size() / 2], repetitions, static_cast<long long>(simulated_again));
+  return 0;
+}
