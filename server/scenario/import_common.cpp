@@ -21,8 +21,79 @@ std::string where(const tinyxml2::XMLElement* element) {
   return element ? "<" + std::string(element->Name()) + ">: " : "";
 }
 
-int line_at(std::string_view text, std::size_t offset) {
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(std::min(offset, text.size())), '\n'));
+/// Lines of offsets met in increasing order, counted as the scan goes: linear in the text, where
+/// counting from its start at each tag made a deep document cost quadratic time.
+class LineCounter {
+ public:
+  explicit LineCounter(std::string_view text) : text_(text) {}
+  /// The 1-based line of `offset`; counted again from the start for an offset before the last one.
+  int line_at(std::size_t offset) {
+    offset = std::min(offset, text_.size());
+    if (offset < counted_to_) {
+      counted_to_ = 0;
+      line_ = 1;
+    }
+    line_ += static_cast<int>(std::count(text_.begin() + static_cast<std::ptrdiff_t>(counted_to_), text_.begin() + static_cast<std::ptrdiff_t>(offset), '\n'));
+    counted_to_ = offset;
+    return line_;
+  }
+
+ private:
+  std::string_view text_;
+  std::size_t counted_to_ = 0;
+  int line_ = 1;
+};
+
+/// A tag of an XML document: its name and where it begins and ends.
+struct Tag {
+  std::size_t at = 0, end = 0;  ///< the '<' and the '>'
+  std::string name;
+  bool closing = false, self_closing = false;
+};
+
+/// Something the tag scan found never finished: where it begins and what it is, in words.
+struct Unfinished {
+  std::size_t at = 0;
+  std::string what;
+};
+
+/// Gives each tag of `xml` in order to `visit` (which returns false to stop), past comments, CDATA,
+/// processing instructions and declarations (which hold no elements) and quoted attribute values:
+/// one pass, linear in the text. What is never finished when the scan ends there.
+template <typename Visit>
+std::optional<Unfinished> scan_tags(std::string_view xml, Visit visit) {
+  for (std::size_t i = xml.find('<'); i != std::string_view::npos; i = xml.find('<', i + 1)) {
+    // "<!" last: the others begin with it too.
+    static constexpr std::tuple<std::string_view, std::string_view, const char*> kSections[] = {
+        {"<!--", "-->", "a comment"}, {"<![CDATA[", "]]>", "a CDATA section"}, {"<?", "?>", "a processing instruction"}, {"<!", ">", "a declaration"}};
+    const auto section = std::find_if(std::begin(kSections), std::end(kSections), [&](const auto& s) { return xml.substr(i).starts_with(std::get<0>(s)); });
+    if (section != std::end(kSections)) {
+      const std::size_t close = xml.find(std::get<1>(*section), i);
+      if (close == std::string_view::npos) return Unfinished{i, std::get<2>(*section)};
+      i = close;
+      continue;
+    }
+    Tag tag;
+    tag.at = i;
+    tag.closing = i + 1 < xml.size() && xml[i + 1] == '/';
+    const std::size_t name_begin = i + (tag.closing ? 2 : 1);
+    std::size_t name_end = name_begin;
+    while (name_end < xml.size() && !std::isspace(static_cast<unsigned char>(xml[name_end])) && xml[name_end] != '>' && xml[name_end] != '/') ++name_end;
+    tag.name = std::string(xml.substr(name_begin, name_end - name_begin));
+    std::size_t end = name_end;
+    char quote = 0;
+    while (end < xml.size() && (quote || xml[end] != '>')) {
+      if (quote && xml[end] == quote) quote = 0;
+      else if (!quote && (xml[end] == '"' || xml[end] == '\'')) quote = xml[end];
+      ++end;
+    }
+    if (end >= xml.size()) return Unfinished{i, "the tag <" + std::string(tag.closing ? "/" : "") + tag.name + ">"};
+    tag.end = end;
+    tag.self_closing = !tag.closing && xml[end - 1] == '/';
+    if (!visit(tag)) return std::nullopt;
+    i = end;
+  }
+  return std::nullopt;
 }
 
 /// What is wrong with XML tinyxml2 refused, in words and at its line, found by following its tags:
@@ -34,49 +105,50 @@ std::optional<ImportMessage> explain_malformed(std::string_view xml) {
     int line;
   };
   std::vector<Open> open;
-  const auto unfinished = [&](std::size_t at, const std::string& what) {
-    return ImportMessage{line_at(xml, at), what + " at line " + std::to_string(line_at(xml, at)) + " is never finished"};
-  };
-  for (std::size_t i = xml.find('<'); i != std::string_view::npos; i = xml.find('<', i + 1)) {
-    // Comments, CDATA, processing instructions and declarations hold no elements ("<!" last: the
-    // others begin with it too).
-    static constexpr std::tuple<std::string_view, std::string_view, const char*> kSections[] = {
-        {"<!--", "-->", "a comment"}, {"<![CDATA[", "]]>", "a CDATA section"}, {"<?", "?>", "a processing instruction"}, {"<!", ">", "a declaration"}};
-    const auto section = std::find_if(std::begin(kSections), std::end(kSections), [&](const auto& s) { return xml.substr(i).starts_with(std::get<0>(s)); });
-    if (section != std::end(kSections)) {
-      const std::size_t close = xml.find(std::get<1>(*section), i);
-      if (close == std::string_view::npos) return unfinished(i, std::get<2>(*section));
-      i = close;
-      continue;
+  LineCounter lines(xml);
+  std::optional<ImportMessage> mismatch;
+  const auto unfinished = scan_tags(xml, [&](const Tag& tag) {
+    const int line = lines.line_at(tag.at);
+    if (!tag.closing) {
+      if (!tag.self_closing) open.push_back({tag.name, line});
+      return true;
     }
-    const bool closing = i + 1 < xml.size() && xml[i + 1] == '/';
-    std::size_t name_end = i + (closing ? 2 : 1);
-    while (name_end < xml.size() && !std::isspace(static_cast<unsigned char>(xml[name_end])) && xml[name_end] != '>' && xml[name_end] != '/') ++name_end;
-    const std::string name(xml.substr(i + (closing ? 2 : 1), name_end - i - (closing ? 2 : 1)));
-    // The tag's end, past quoted attribute values.
-    std::size_t end = name_end;
-    char quote = 0;
-    while (end < xml.size() && (quote || xml[end] != '>')) {
-      if (quote && xml[end] == quote) quote = 0;
-      else if (!quote && (xml[end] == '"' || xml[end] == '\'')) quote = xml[end];
-      ++end;
+    if (open.empty()) return false;  // past the last element: TinyXML stops reading there too
+    if (open.back().name != tag.name) {
+      mismatch = ImportMessage{open.back().line, "<" + open.back().name + "> opened at line " + std::to_string(open.back().line) +
+                                                     " is never closed (</" + tag.name + "> at line " + std::to_string(line) + " comes first)"};
+      return false;
     }
-    const int line = line_at(xml, i);
-    if (end >= xml.size()) return unfinished(i, "the tag <" + std::string(closing ? "/" : "") + name + ">");
-    if (closing) {
-      if (open.empty()) break;  // past the last element: TinyXML stops reading there too
-      if (open.back().name != name) {
-        return ImportMessage{open.back().line, "<" + open.back().name + "> opened at line " + std::to_string(open.back().line) +
-                                                   " is never closed (</" + name + "> at line " + std::to_string(line) + " comes first)"};
-      }
-      open.pop_back();
-    } else if (xml[end - 1] != '/') {
-      open.push_back({name, line});
-    }
-    i = end;
+    open.pop_back();
+    return true;
+  });
+  if (mismatch) return mismatch;
+  if (unfinished) {
+    const int line = lines.line_at(unfinished->at);
+    return ImportMessage{line, unfinished->what + " at line " + std::to_string(line) + " is never finished"};
   }
   if (!open.empty()) return ImportMessage{open.back().line, "<" + open.back().name + "> opened at line " + std::to_string(open.back().line) + " is never closed"};
   return std::nullopt;
+}
+
+/// The element that nests deeper than kMaxXmlDepth, as an error at its line; none when none does. One
+/// linear pass before tinyxml2 parses (which recurses once per level).
+std::optional<ImportMessage> too_deep(std::string_view xml) {
+  int depth = 0;
+  std::optional<ImportMessage> found;
+  LineCounter lines(xml);
+  scan_tags(xml, [&](const Tag& tag) {
+    if (tag.closing) {
+      depth = std::max(depth - 1, 0);
+    } else if (!tag.self_closing && ++depth > kMaxXmlDepth) {
+      const int line = lines.line_at(tag.at);
+      found = ImportMessage{line, "<" + tag.name + "> at line " + std::to_string(line) + " nests more than " + std::to_string(kMaxXmlDepth) +
+                                      " elements deep; IMHuS and Pedsim files nest at most five"};
+      return false;
+    }
+    return true;
+  });
+  return found;
 }
 
 }  // namespace
@@ -117,7 +189,7 @@ std::optional<double> XmlReader::number(const tinyxml2::XMLElement* element, con
 bool check_utf8(std::string_view text, ImportResult& result) {
   const auto bad = core::invalid_utf8_offset(text);
   if (!bad) return true;
-  result.errors.push_back({line_at(text, *bad), "the document is not UTF-8 (byte " + std::to_string(*bad) + ")"});
+  result.errors.push_back({LineCounter(text).line_at(*bad), "the document is not UTF-8 (byte " + std::to_string(*bad) + ")"});
   return false;
 }
 
@@ -125,6 +197,10 @@ bool parse_xml(std::string_view xml, tinyxml2::XMLDocument& document, ImportResu
   // XML without an encoding declaration is UTF-8; tinyxml2 does not check it, and names read from it
   // end up in JSON.
   if (!check_utf8(xml, result)) return false;
+  if (auto deep = too_deep(xml)) {
+    result.errors.push_back(std::move(*deep));
+    return false;
+  }
   if (document.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
     if (auto explained = explain_malformed(xml)) {
       explained->message = "malformed XML: " + explained->message;

@@ -33,9 +33,16 @@ constexpr std::uint64_t kBehaviourSeed = 1;
 /// Deeper nesting than this is refused before parsing: yaml-cpp's parser recurses once per level, and
 /// HuNavSim's files nest five deep.
 constexpr int kMaxNesting = 64;
+/// Most YAML nodes a file may expand to, an alias counted again each time it is used (every node it
+/// names is read again there): a 64 KB file aliasing one 10,000-goal list into 100 people expanded to a
+/// million and took 56 s and 1.7 GB to import. A person of HuNavSim's own files takes 50 to 60 nodes, so
+/// 2,000 people (--max-people's default) take about 120,000; a file just below this limit compiles in
+/// about 4 s and 330 MB (measured: docs/limits.md).
+constexpr std::size_t kMaxExpandedNodes = 200'000;
 
-/// How deeply the text nests at most, over-counted: flow brackets, plus per line its indentation levels
-/// and the "- " and "? " that open collections on it.
+/// How deeply the text nests at most, over-counted: flow brackets (the most open anywhere on the line,
+/// so `[[[…]]]` on one line counts), plus per line its indentation levels and the "- " and "? " that
+/// open collections on it.
 int nesting_bound(std::string_view text) {
   int flow = 0, deepest = 0;
   std::vector<std::size_t> indents;
@@ -44,7 +51,7 @@ int nesting_bound(std::string_view text) {
     std::size_t indent = 0;
     while (i + indent < text.size() && text[i + indent] == ' ') ++indent;
     const std::size_t end = std::min(text.find('\n', i), text.size());
-    int openers = 0;
+    int openers = 0, flow_on_line = flow;
     char quote = 0;
     for (std::size_t k = i + indent; k < end; ++k) {
       const char c = text[k];
@@ -55,7 +62,7 @@ int nesting_bound(std::string_view text) {
       } else if (c == '#') {
         break;
       } else if (c == '[' || c == '{') {
-        ++flow;
+        flow_on_line = std::max(flow_on_line, ++flow);
       } else if (c == ']' || c == '}') {
         flow = std::max(flow - 1, 0);
       } else if ((c == '-' || c == '?' || c == ':') && (k + 1 == end || text[k + 1] == ' ')) {
@@ -66,7 +73,7 @@ int nesting_bound(std::string_view text) {
       while (!indents.empty() && indents.back() >= indent) indents.pop_back();
       indents.push_back(indent);
     }
-    deepest = std::max(deepest, flow + static_cast<int>(indents.size()) + openers);
+    deepest = std::max(deepest, flow_on_line + static_cast<int>(indents.size()) + openers);
     i = end + 1;
   }
   return deepest;
@@ -77,6 +84,38 @@ bool is_map(const YAML::Node& node) { return node.IsDefined() && node.IsMap(); }
 bool is_sequence(const YAML::Node& node) { return node.IsDefined() && node.IsSequence(); }
 bool is_scalar(const YAML::Node& node) { return node.IsDefined() && node.IsScalar(); }
 int line_of(const YAML::Node& node) { return !node.IsDefined() || node.Mark().is_null() ? 0 : node.Mark().line + 1; }
+
+/// The line by which the document has expanded to more than `limit` nodes, or none: a walk that
+/// visits what an alias names each time the alias is used, stopping there. The line is where the
+/// node is used: an alias names an anchor earlier in the file, so a node whose own line lies before
+/// its parent's is reached through an alias, and its parent's line is given.
+std::optional<int> line_past_node_limit(const YAML::Node& root, std::size_t limit) {
+  struct Visit {
+    YAML::Node node;
+    int line;
+  };
+  std::vector<Visit> pending{{root, line_of(root)}};
+  std::size_t nodes = 1;
+  while (!pending.empty()) {
+    const Visit visit = std::move(pending.back());
+    pending.pop_back();
+    const auto reach = [&](const YAML::Node& child, int parent_line) {
+      pending.push_back({child, std::max(line_of(child), parent_line)});
+      return ++nodes > limit;
+    };
+    if (visit.node.IsMap()) {
+      for (const auto& entry : visit.node) {
+        if (reach(entry.first, visit.line)) return pending.back().line;
+        if (reach(entry.second, pending.back().line)) return pending.back().line;
+      }
+    } else if (visit.node.IsSequence()) {
+      for (const YAML::Node& element : visit.node) {
+        if (reach(element, visit.line)) return pending.back().line;
+      }
+    }
+  }
+  return std::nullopt;
+}
 
 /// A point read from the file and the line it is on.
 struct Point {
@@ -461,6 +500,12 @@ ImportResult import_hunav(std::string_view yaml, const ImportOptions& options) {
   }
   try {
     const YAML::Node root = YAML::Load(std::string(yaml));
+    if (const auto line = line_past_node_limit(root, kMaxExpandedNodes)) {
+      result.errors.push_back({*line, "the YAML expands to more than " + std::to_string(kMaxExpandedNodes) + " nodes by line " + std::to_string(*line) +
+                                          " (an alias counts each time it is used: what it names is read again there); a HuNavSim agents file "
+                                          "has a few dozen per person"});
+      return result;
+    }
     HunavImporter(options, result).run(root);
   } catch (const YAML::Exception& e) {
     const int line = e.mark.is_null() ? 0 : e.mark.line + 1;

@@ -1,5 +1,7 @@
 #include "scenario/sound_settings.hpp"
 
+#include <map>
+
 #include "core/error.hpp"
 #include "core/files.hpp"
 #include "sensors/wav.hpp"
@@ -10,6 +12,8 @@ std::vector<std::pair<std::string, std::shared_ptr<const sensors::AudioClip>>> r
     const nlohmann::json& clips, const std::vector<std::filesystem::path>& search_path, bool confined,
     std::vector<core::ValidationError>& errors) {
   std::vector<std::pair<std::string, std::shared_ptr<const sensors::AudioClip>>> result;
+  // A file named by several clips is read once: naming one file many times does not multiply the work.
+  std::map<std::filesystem::path, std::shared_ptr<const sensors::AudioClip>> read;
   for (const auto& [name, file] : clips.items()) {
     const std::string pointer = "/clips/" + core::pointer_token(name);
     const std::string path_text = file.get<std::string>();
@@ -18,10 +22,15 @@ std::vector<std::pair<std::string, std::shared_ptr<const sensors::AudioClip>>> r
       errors.push_back({pointer, "clip '" + path_text + "' not found (a relative path, looked up next to the scenario and among the bundled scenarios)"});
       continue;
     }
+    if (const auto known = read.find(*path); known != read.end()) {
+      result.emplace_back(name, known->second);
+      continue;
+    }
     try {
       const std::string bytes = core::read_file(*path);
       const sensors::AudioClip clip = sensors::read_wav(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
-      result.emplace_back(name, std::make_shared<const sensors::AudioClip>(sensors::resampled(clip, sensors::kSampleRate)));
+      read[*path] = std::make_shared<const sensors::AudioClip>(sensors::resampled(clip, sensors::kSampleRate));
+      result.emplace_back(name, read[*path]);
     } catch (const core::Error& e) {
       errors.push_back({pointer, path_text + ": " + e.what()});
     }

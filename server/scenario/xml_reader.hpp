@@ -14,6 +14,11 @@ class XMLElement;
 
 namespace hrisim::scenario {
 
+/// Deeper element nesting than this is refused before tinyxml2 parses, by one linear pass at the line of
+/// the element too deep: IMHuS and Pedsim files nest at most five, and a deep document (200,000 levels)
+/// cost 84 s of CPU before tinyxml2's own depth error (its limit, 100, is above this).
+inline constexpr int kMaxXmlDepth = 64;
+
 class XmlReader {
  public:
   explicit XmlReader(ImportResult& result) : result_(result) {}

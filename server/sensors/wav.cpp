@@ -46,6 +46,21 @@ struct Format {
   int bits = 0;
 };
 
+void check_rate(double rate) {
+  if (!(rate >= kMinClipSampleRate && rate <= kMaxClipSampleRate)) {
+    fail("the sample rate is " + std::to_string(static_cast<std::uint64_t>(std::max(rate, 0.0))) + " Hz; clips are read at " +
+         std::to_string(kMinClipSampleRate) + " to " + std::to_string(kMaxClipSampleRate) + " Hz");
+  }
+}
+
+void check_length(std::size_t samples, double rate) {
+  const double seconds = static_cast<double>(samples) / rate;
+  if (seconds > kMaxClipSeconds) {
+    fail("the clip lasts " + std::to_string(static_cast<long long>(std::ceil(seconds))) + " s, more than the " +
+         std::to_string(static_cast<int>(kMaxClipSeconds)) + " s a clip may last");
+  }
+}
+
 Format read_format(std::span<const std::uint8_t> chunk) {
   if (chunk.size() < 16) fail("the fmt chunk has " + std::to_string(chunk.size()) + " bytes, fewer than 16");
   Format format{u16(chunk, 0), u16(chunk, 2), u32(chunk, 4), u16(chunk, 12), u16(chunk, 14)};
@@ -60,7 +75,7 @@ Format read_format(std::span<const std::uint8_t> chunk) {
          " bits; only 16-bit PCM (1) and 32-bit float (3) are read");
   }
   if (format.channels != 1 && format.channels != 2) fail(std::to_string(format.channels) + " channels; only mono and stereo are read");
-  if (format.sample_rate == 0) fail("the sample rate is 0");
+  check_rate(format.sample_rate);
   if (format.block_align != format.channels * format.bits / 8) fail("the block align does not match the channels and bits");
   return format;
 }
@@ -75,6 +90,7 @@ float sample_at(std::span<const std::uint8_t> data, std::size_t at, const Format
 AudioClip decode(std::span<const std::uint8_t> data, const Format& format) {
   const auto frame = static_cast<std::size_t>(format.block_align);
   if (data.size() % frame != 0) fail("the data chunk ends inside a frame (truncated)");
+  check_length(data.size() / frame, format.sample_rate);
   AudioClip clip{static_cast<double>(format.sample_rate), std::vector<float>(data.size() / frame)};
   const std::size_t width = static_cast<std::size_t>(format.bits / 8);
   for (std::size_t i = 0; i < clip.samples.size(); ++i) {
@@ -120,6 +136,9 @@ AudioClip read_wav(std::span<const std::uint8_t> bytes) {
 
 AudioClip resampled(const AudioClip& clip, double sample_rate) {
   if (clip.sample_rate == sample_rate || clip.samples.empty()) return clip;
+  check_rate(clip.sample_rate);
+  check_rate(sample_rate);
+  check_length(clip.samples.size(), clip.sample_rate);
   const double ratio = clip.sample_rate / sample_rate;                               // input samples per output sample
   const double band = 0.5 * kResamplerCutoff * std::min(1.0, 1.0 / ratio);         // cut-off, share of the input rate
   const double half_width = kResamplerZeroCrossings / (2.0 * band);                 // input samples

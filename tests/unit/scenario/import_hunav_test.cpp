@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 
 #include "episode/episode.hpp"
@@ -177,6 +178,51 @@ TEST(ImportHunav, FaultsAreSaidAtTheirLines) {
   ImportOptions missing_map;
   missing_map.map = "/nonexistent/map.yaml";
   EXPECT_TRUE(has_message(errors_of(std::string(kHeader) + agent, missing_map), 0, "map /nonexistent/map.yaml does not exist"));
+}
+
+/// Issue 40's alias bomb: `agents` people whose block, written once under an anchor with a list of
+/// `goals` goals, is aliased into every other one (100 agents, 10,000 goals: a 64 KB file that took
+/// 56 s and 1.7 GB). Lines: 3 the names, 4 the anchored block, 8 on the aliases.
+std::string alias_bomb(int agents, int goals) {
+  std::string yaml = std::string(kHeader) + "    agents: [a0";
+  for (int i = 1; i < agents; ++i) yaml += ", a" + std::to_string(i);
+  yaml += "]\n    a0: &agent\n      init_pose: {x: 1, y: 1}\n      g: {x: 2, y: 2}\n      goals: [g";
+  for (int g = 1; g < goals; ++g) yaml += ", g";
+  yaml += "]\n";
+  for (int i = 1; i < agents; ++i) yaml += "    a" + std::to_string(i) + ": *agent\n";
+  return yaml;
+}
+
+TEST(ImportHunav, YamlAliasesThatMultiplyWorkAreRefusedAtTheirLine) {
+  const std::string bomb = alias_bomb(100, 10000);
+  EXPECT_LT(bomb.size(), 64u * 1024u);
+  const auto started = std::chrono::steady_clock::now();
+  const ImportResult refused = import_hunav(bomb, {});
+  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(5)) << "56 s before the expansion was bounded";
+  ASSERT_EQ(refused.errors.size(), 1u);
+  const ImportMessage& error = refused.errors[0];
+  EXPECT_NE(error.message.find("the YAML expands to more than 200000 nodes by line " + std::to_string(error.line)), std::string::npos) << error.message;
+  EXPECT_NE(error.message.find("an alias counts each time it is used"), std::string::npos) << error.message;
+  EXPECT_GE(error.line, 8) << "at an alias that takes the file past the limit, not at the anchor";
+  EXPECT_LE(error.line, 106);
+  EXPECT_TRUE(refused.scenario.is_null()) << "nothing imported";
+  // Aliases as such are fine: the same file of fewer people and goals imports, every goal walked.
+  const ImportResult small = import_hunav(alias_bomb(10, 100), {});
+  ASSERT_TRUE(small.errors.empty()) << small.errors[0].message;
+  EXPECT_EQ(small.scenario["humans"].size(), 10u);
+  EXPECT_EQ(small.scenario["tasks"]["a9_goals"].size(), 100u);
+  // A document whose aliases refer to themselves is bounded too.
+  const ImportResult cycle = import_hunav(std::string(kHeader) + "    agents: [a]\n    a: &a {init_pose: {x: 1, y: 1}, more: [*a]}\n", {});
+  ASSERT_FALSE(cycle.errors.empty());
+}
+
+TEST(ImportHunav, FlowNestingOnOneLineIsCountedBeforeParsing) {
+  // `[[[…]]]` closed on its own line was not counted: only the brackets still open at a line's end were.
+  const auto nested = [](int levels) { return std::string(static_cast<std::size_t>(levels), '[') + std::string(static_cast<std::size_t>(levels), ']') + "\n"; };
+  EXPECT_TRUE(has_message(errors_of(nested(65)), 0, "nests more than 64 levels deep"));
+  EXPECT_TRUE(has_message(errors_of(nested(100000)), 0, "nests more than 64 levels deep"));
+  EXPECT_TRUE(has_message(errors_of("agents: {a: {b: {c: " + nested(62) + "}}}\n"), 0, "nests more than 64 levels deep"));
+  EXPECT_FALSE(has_message(errors_of(nested(20)), 0, "nests more than")) << "20 levels are read";
 }
 
 TEST(ImportHunav, ACustomWatcherWithoutDistNeverSeesTheRobotAndIsWarnedAbout) {

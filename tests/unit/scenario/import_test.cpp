@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <limits>
 #include <tuple>
@@ -137,6 +138,36 @@ TEST(ImportXml, MalformedXmlIsExplained) {
   const ImportMessage attribute = error("<scenario>\n  <waypoint id=a x=\"1\"/>\n</scenario>\n");
   EXPECT_EQ(attribute.line, 2);
   EXPECT_EQ(attribute.message, "malformed XML at line 2: an attribute is not name=\"value\"");
+}
+
+// Issue 40, finding 9: 200,000 nested elements cost 84 s of CPU before the depth error (each tag's
+// line was counted from the start of the text).
+TEST(ImportXml, DeepNestingIsRefusedAtItsLineInLinearTime) {
+  std::string deep = "<?xml version=\"1.0\"?>\n<scenario>\n";
+  for (int i = 0; i < 200000; ++i) deep += "<a>\n";
+  std::string closed = deep;
+  for (int i = 0; i < 200000; ++i) closed += "</a>";
+  closed += "</scenario>\n";
+  const auto started = std::chrono::steady_clock::now();
+  for (const std::string& xml : {deep, closed}) {
+    for (const ImportResult& result : {import_pedsim(xml, bundled()), import_imhus(xml, bundled())}) {
+      ASSERT_EQ(result.errors.size(), 1u);
+      EXPECT_EQ(result.errors[0].line, 66) << "the 64th <a> is the 65th level";
+      EXPECT_EQ(result.errors[0].message, "<a> at line 66 nests more than 64 elements deep; IMHuS and Pedsim files nest at most five");
+    }
+  }
+  // Many sibling tags before a fault: the explanation counts lines as it goes, too.
+  std::string siblings = "<scenario>\n";
+  for (int i = 0; i < 200000; ++i) siblings += "<waypoint id=\"w\" x=\"1\" y=\"1\"/>\n";
+  siblings += "<agent>\n";
+  const ImportResult unclosed = import_pedsim(siblings, bundled());
+  ASSERT_FALSE(unclosed.errors.empty());
+  EXPECT_EQ(unclosed.errors[0].message, "malformed XML: <agent> opened at line 200002 is never closed");
+  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(5)) << "linear, not quadratic";
+  // 64 levels are read.
+  std::string sixty_four = "<scenario>";
+  for (int i = 1; i < 64; ++i) sixty_four += "<a>";
+  EXPECT_FALSE(has_message(import_pedsim(sixty_four, bundled()).errors, 1, "nests more than"));
 }
 
 TEST(ImportImhus, MalformedXmlAndUnknownMap) {

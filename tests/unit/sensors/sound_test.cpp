@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <chrono>
 #include <complex>
 #include <cstring>
 #include <numbers>
@@ -242,6 +243,36 @@ TEST(Wav, ExplainsWhatItCannotRead) {
   header_only.resize(header_only.size() - 8);  // no data chunk
   expect_wav_error(header_only, "no data chunk");
   expect_wav_error(wav(1, 1, 16000, 16, std::vector<std::uint8_t>(5, 0)), "inside a frame");
+}
+
+// Issue 40, finding 8: a clip whose header said 1 Hz was resampled to 16 kHz, 16,000 samples of each
+// one: 40 KB of file took 198 s and kept 1.2 GB.
+TEST(Wav, AClipWhoseHeaderSays1HzIsRefusedNotResampled) {
+  const std::vector<std::uint8_t> data(40000, 0);
+  const auto started = std::chrono::steady_clock::now();
+  expect_wav_error(wav(1, 1, 1, 16, data), "the sample rate is 1 Hz; clips are read at 8000 to 192000 Hz");
+  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(5)) << "refused before any work";
+  const AudioClip decoded{1.0, std::vector<float>(20000)};
+  EXPECT_THROW(resampled(decoded, kSampleRate), core::Error) << "resampling checks the rate too";
+}
+
+TEST(Wav, RatesFrom8To192KilohertzAreRead) {
+  const std::vector<std::uint8_t> data(4, 0);
+  EXPECT_EQ(read_wav(wav(1, 1, kMinClipSampleRate, 16, data)).sample_rate, 8000.0);
+  EXPECT_EQ(read_wav(wav(1, 1, kMaxClipSampleRate, 16, data)).sample_rate, 192000.0);
+  expect_wav_error(wav(1, 1, 7999, 16, data), "the sample rate is 7999 Hz");
+  expect_wav_error(wav(1, 1, 192001, 16, data), "the sample rate is 192001 Hz");
+  expect_wav_error(wav(1, 1, 0, 16, data), "the sample rate is 0 Hz");
+  expect_wav_error(wav(1, 1, 0xFFFFFFFFu, 16, data), "the sample rate is 4294967295 Hz");
+}
+
+TEST(Wav, AClipLongerThanTheLimitIsRefused) {
+  const auto frames = static_cast<std::size_t>(kMaxClipSeconds * kMinClipSampleRate);
+  EXPECT_EQ(read_wav(wav(1, 1, kMinClipSampleRate, 16, std::vector<std::uint8_t>(2 * frames, 0))).samples.size(), frames);
+  expect_wav_error(wav(1, 1, kMinClipSampleRate, 16, std::vector<std::uint8_t>(2 * frames + 2, 0)),
+                   "the clip lasts 61 s, more than the 60 s a clip may last");
+  const AudioClip decoded{8000.0, std::vector<float>(frames + 1)};
+  EXPECT_THROW(resampled(decoded, kSampleRate), core::Error);
 }
 
 TEST(Wav, ResamplesWithoutAliasing) {
