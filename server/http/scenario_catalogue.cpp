@@ -14,13 +14,30 @@
 namespace hrisim::http {
 namespace {
 
-/// Memory a compiled upload holds, estimated: its grid's cells (the cell, its distance and nearest
-/// obstacle: 9 bytes) and about eight bytes of parsed document per byte of source.
-std::size_t approximate_bytes(const scenario::CompiledSource& compiled, std::size_t source_bytes) {
-  constexpr std::size_t kBytesPerCell = 9, kDocumentBytesPerSourceByte = 8, kFixed = 64 * 1024;
+/// Values (objects, arrays, members, numbers, strings) of a JSON document, counted without recursion.
+std::size_t values_in(const nlohmann::json& document) {
+  std::size_t values = 0;
+  std::vector<const nlohmann::json*> pending{&document};
+  while (!pending.empty()) {
+    const nlohmann::json* value = pending.back();
+    pending.pop_back();
+    ++values;
+    if (value->is_structured()) {
+      for (const auto& child : *value) pending.push_back(&child);
+    }
+  }
+  return values;
+}
+
+/// Memory a compiled upload holds, estimated from what its source expands to, not from its bytes (a
+/// YAML file's aliases expand a few bytes into thousands of goals): its grid's cells (the cell, its
+/// distance and nearest obstacle: 9 bytes) and the values of its native document, each with its share
+/// of the compiled model (measured in docs/limits.md).
+std::size_t approximate_bytes(const scenario::CompiledSource& compiled) {
+  constexpr std::size_t kBytesPerCell = 9, kBytesPerDocumentValue = 256, kFixed = 64 * 1024;
   std::size_t cells = 0;
   if (compiled.model) cells = static_cast<std::size_t>(compiled.model->grid.width()) * static_cast<std::size_t>(compiled.model->grid.height());
-  return cells * kBytesPerCell + source_bytes * kDocumentBytesPerSourceByte + kFixed;
+  return cells * kBytesPerCell + values_in(compiled.document) * kBytesPerDocumentValue + kFixed;
 }
 
 /// `text` without any mention of `folder` (a private path of this process), so that messages name files
@@ -50,6 +67,15 @@ std::string upload_file_path_problem(const std::string& path) {
     start = end + 1;
   }
   return "";
+}
+
+std::optional<NestedFile> nested_upload_file(const std::map<std::string, std::string>& files) {
+  for (const auto& [path, unused] : files) {
+    for (std::size_t slash = path.find('/'); slash != std::string::npos; slash = path.find('/', slash + 1)) {
+      if (files.contains(path.substr(0, slash))) return NestedFile{path.substr(0, slash), path};
+    }
+  }
+  return std::nullopt;
 }
 
 ScenarioCatalogue::ScenarioCatalogue(storage::Store* store, std::filesystem::path scenarios_dir, scenario::ScenarioLimits limits,
@@ -105,17 +131,23 @@ std::filesystem::path ScenarioCatalogue::write_files(const std::string& name, co
   }
   const fs::path folder = root / name;
   if (fs::is_directory(folder)) return folder;
+  if (const auto nested = nested_upload_file(files)) {
+    throw core::Error(core::ErrorCode::bad_request, "file '" + nested->inside + "' lies inside file '" + nested->file + "' of the upload",
+                      {{"pointer", "/files/" + core::pointer_token(nested->inside)}});
+  }
   // Written aside, then renamed into place: two requests compiling the same upload see whole folders.
+  // Whatever fails, the folder aside goes.
   const fs::path partial = root / (name + ".partial-" + core::unguessable_id('f'));
+  std::error_code failed;
   for (const auto& [path, bytes] : files) {
     const fs::path file = partial / path;
-    fs::create_directories(file.parent_path());
+    fs::create_directories(file.parent_path(), failed);
     std::ofstream out(file, std::ios::binary);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out.flush()) {
+    if (failed || !out.flush()) {
       std::error_code ignored;
       fs::remove_all(partial, ignored);
-      throw core::Error(core::ErrorCode::internal, "the files uploaded with the scenario could not be written to " + root.string());
+      throw core::Error(core::ErrorCode::internal, "the files uploaded with the scenario could not be written");
     }
   }
   std::error_code exists;
@@ -169,7 +201,7 @@ ScenarioCatalogue::Added ScenarioCatalogue::add(const Upload& upload, const std:
   record.files = upload.files;
   record = store_->put_scenario(std::move(record));
   std::lock_guard lock(mutex_);
-  remember(record.id, std::make_shared<const Entry>(Entry{"uploaded", compiled, record.sha256, owner, files}), upload.text.size());
+  remember(record.id, std::make_shared<const Entry>(Entry{"uploaded", compiled, record.sha256, owner, files}));
   return {record.id, false};
 }
 
@@ -215,7 +247,7 @@ std::shared_ptr<const ScenarioCatalogue::Entry> ScenarioCatalogue::find(const st
   const std::filesystem::path files = write_files(id, upload.files);
   auto entry = std::make_shared<const Entry>(Entry{"uploaded", compile(upload, files), record->sha256, record->owner, files});
   std::lock_guard lock(mutex_);
-  remember(id, entry, record->source.size());
+  remember(id, entry);
   return entry;
 }
 
@@ -225,9 +257,9 @@ std::shared_ptr<const ScenarioCatalogue::Entry> ScenarioCatalogue::find(const st
   return entry;
 }
 
-void ScenarioCatalogue::remember(const std::string& id, std::shared_ptr<const Entry> entry, std::size_t source_bytes) {
+void ScenarioCatalogue::remember(const std::string& id, std::shared_ptr<const Entry> entry) {
   forget(id);
-  const std::size_t bytes = approximate_bytes(entry->source, source_bytes);
+  const std::size_t bytes = approximate_bytes(entry->source);
   uses_.push_front(id);
   uploaded_.emplace(id, Cached{std::move(entry), bytes, uses_.begin()});
   held_bytes_ += bytes;

@@ -12,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,8 @@ namespace hrisim::http {
 
 /// First letter of an uploaded scenario's id.
 inline constexpr char kUploadedPrefix = 'u';
-/// Bytes of compiled uploads kept in memory at most (estimated from their grids and sources);
+/// Bytes of compiled uploads kept in memory at most (estimated from their grids and what their sources
+/// expand to: the values of their native documents);
 /// `--scenario-cache-mb`.
 inline constexpr std::size_t kDefaultScenarioCacheBytes = 256u << 20;
 
@@ -44,6 +46,13 @@ struct Upload {
 /// What is wrong with a path an upload names one of its files by, or empty when it is fine: relative,
 /// at most 255 bytes, of segments made of letters, digits, '.', '_' and '-', none of them "." or "..".
 std::string upload_file_path_problem(const std::string& path);
+
+/// A path of an upload's files that lies inside another of its paths, which would be both a file and
+/// a folder: {`d`, `d/f`}; none when no path does.
+struct NestedFile {
+  std::string file, inside;
+};
+std::optional<NestedFile> nested_upload_file(const std::map<std::string, std::string>& files);
 
 class ScenarioCatalogue {
  public:
@@ -102,7 +111,7 @@ class ScenarioCatalogue {
   scenario::CompiledSource compile(const Upload& upload, const std::filesystem::path& files);
   /// Keeps an upload in the cache as the most recently used, dropping the least recently used ones
   /// beyond the cache's size (the mutex held).
-  void remember(const std::string& id, std::shared_ptr<const Entry> entry, std::size_t source_bytes);
+  void remember(const std::string& id, std::shared_ptr<const Entry> entry);
   /// Drops a compiled upload from the cache, if it is there (the mutex held).
   void forget(const std::string& id);
 

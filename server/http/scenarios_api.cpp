@@ -58,6 +58,10 @@ std::map<std::string, std::string> upload_files(const json& files) {
       bad_upload(pointer, "a file is its text, or {\"base64\": its bytes}");
     }
   }
+  if (const auto nested = nested_upload_file(result)) {
+    bad_upload("/files/" + core::pointer_token(nested->inside), "'" + nested->file + "' cannot be a folder holding '" + nested->inside +
+                                                                    "': it is a file of the bundle too (a path names a file or a folder, not both)");
+  }
   return result;
 }
 
