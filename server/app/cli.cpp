@@ -112,7 +112,11 @@ const std::vector<Flag>& flags() {
        [](ServeOptions& o, const std::string& v) {
          o.server.body_limit = parse_unsigned("--body-limit", v, 0, std::uint64_t{1} << 32);
        }},
-      {"read-timeout", "HRISIM_READ_TIMEOUT", "seconds a request may take to arrive, else closed (default 30)",
+      {"header-timeout", "HRISIM_HEADER_TIMEOUT", "seconds a request's header may take to arrive, else closed (default 10)",
+       [](ServeOptions& o, const std::string& v) {
+         o.server.header_timeout = std::chrono::seconds(parse_unsigned("--header-timeout", v, 1, 3600));
+       }},
+      {"read-timeout", "HRISIM_READ_TIMEOUT", "seconds a request's body may take to arrive after its header, else closed (default 30)",
        [](ServeOptions& o, const std::string& v) {
          o.server.read_timeout = std::chrono::seconds(parse_unsigned("--read-timeout", v, 1, 3600));
        }},

@@ -1,12 +1,12 @@
 #include "http/episodes_api.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <fstream>
 #include <sstream>
 
 #include "core/error.hpp"
 #include "episode/episode.hpp"
+#include "http/range_header.hpp"
 #include "http/request_helpers.hpp"
 #include "http/session_views.hpp"
 #include "http/video_jobs.hpp"
@@ -100,54 +100,28 @@ VideoRequest video_request(const json& body) {
   return request;
 }
 
-/// The range a `Range: bytes=…` header asks for in a file of `size` bytes: {first, last} inclusive;
-/// nullopt for none (or one this does not read: the whole file); {size, 0} when it lies outside.
-std::optional<std::pair<std::uint64_t, std::uint64_t>> asked_range(const Request& request, std::uint64_t size) {
-  const auto range = request.headers.find("range");
-  if (range == request.headers.end() || !range->second.starts_with("bytes=") || range->second.find(',') != std::string::npos) return std::nullopt;
-  // bytes=FIRST-LAST, bytes=FIRST- or bytes=-SUFFIX
-  const std::string spec = range->second.substr(6);
-  const std::size_t dash = spec.find('-');
-  const auto number = [](std::string_view text) -> std::optional<std::uint64_t> {
-    std::uint64_t value = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
-    return value;
-  };
-  if (dash == std::string::npos) return std::nullopt;
-  const auto first_text = number(std::string_view(spec).substr(0, dash)), last_text = number(std::string_view(spec).substr(dash + 1));
-  if (!first_text && !last_text) return std::nullopt;
-  std::uint64_t first = 0, last = size == 0 ? 0 : size - 1;
-  if (!first_text) {
-    first = size - std::min(size, *last_text);
-  } else {
-    first = *first_text;
-    if (last_text) last = std::min(last, *last_text);
-  }
-  if (first >= size || first > last) return std::pair<std::uint64_t, std::uint64_t>{size, 0};
-  return std::pair{first, last};
-}
-
-/// The video's bytes, or only the one range a Range header asks for (206; 416 when it lies outside),
-/// read from the file as asked: a player seeking in a long video does not read it all each time.
+/// The video's bytes, or only the one range a Range header asks for (206; 416, without a body, when it
+/// lies outside; RFC 9110: read_range_header), read from the file as asked: a player seeking in a long
+/// video does not read it all each time.
 Response file_answer(const VideoJobs::File& file, const Request& request) {
   std::error_code missing;
   const std::uint64_t size = std::filesystem::file_size(file.path, missing);
   std::ifstream in(file.path, std::ios::binary);
   if (missing || !in) throw core::Error(core::ErrorCode::not_found, "the video's file is gone");
-  const auto range = asked_range(request, size);
-  if (range && range->first >= size) return Response{416, "application/json", "", {{"Content-Range", "bytes */" + std::to_string(size)}}, {}};
-  const std::uint64_t first = range ? range->first : 0, length = range ? range->second - range->first + 1 : size;
+  const auto header = request.headers.find("range");
+  const AskedRange asked = header == request.headers.end() ? AskedRange{} : read_range_header(header->second, size);
+  if (asked.kind == AskedRange::Kind::unsatisfiable) return Response{416, "", "", {{"Content-Range", "bytes */" + std::to_string(size)}}, {}};
+  const bool part = asked.kind == AskedRange::Kind::part;
+  const std::uint64_t first = part ? asked.first : 0, length = part ? asked.last - asked.first + 1 : size;
   std::string bytes(length, '\0');
   in.seekg(static_cast<std::streamoff>(first));
   in.read(bytes.data(), static_cast<std::streamsize>(length));
   if (!in) throw core::Error(core::ErrorCode::not_found, "the video's file is gone");
   Response response = download(std::move(bytes), file.content_type, file.name);
   response.headers.emplace_back("Accept-Ranges", "bytes");
-  if (range) {
+  if (part) {
     response.status = 206;
-    response.headers.emplace_back("Content-Range",
-                                  "bytes " + std::to_string(range->first) + "-" + std::to_string(range->second) + "/" + std::to_string(size));
+    response.headers.emplace_back("Content-Range", "bytes " + std::to_string(asked.first) + "-" + std::to_string(asked.last) + "/" + std::to_string(size));
   }
   return response;
 }

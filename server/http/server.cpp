@@ -114,6 +114,18 @@ class Connection : public std::enable_shared_from_this<Connection> {
     });
   }
 
+  /// Since when (steady clock, ns) the connection has waited for a request's header; 0 when it is not
+  /// waiting, -1 once chosen to make room (see make_room).
+  std::int64_t waiting_since() const { return waiting_since_; }
+  /// Chooses this connection to make room, unless its header arrived meanwhile.
+  bool claim_for_eviction(std::int64_t since) { return waiting_since_.compare_exchange_strong(since, -1); }
+  /// Closes the connection chosen to make room, unless it has begun answering a request meanwhile.
+  void evict() {
+    net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
+      if (!self->busy_) self->close();
+    });
+  }
+
   /// On shutdown: a connection waiting for a request is closed; one serving a request finishes it first.
   void shutdown_if_idle() {
     net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
@@ -126,7 +138,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
     parser_.emplace();
     parser_->header_limit(static_cast<std::uint32_t>(shared_->options.header_limit));
     parser_->body_limit(shared_->options.body_limit);
-    stream_.expires_after(shared_->options.read_timeout);
+    waiting_since_ = std::chrono::steady_clock::now().time_since_epoch().count();
+    stream_.expires_after(std::min(shared_->options.header_timeout, shared_->options.read_timeout));
     bhttp::async_read_header(stream_, buffer_, *parser_,
                              beast::bind_front_handler(&Connection::on_header, shared_from_this()));
   }
@@ -134,6 +147,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   /// Clients that announce a body with "Expect: 100-continue" (curl does above 1 KiB) wait for an
   /// interim 100 before sending it; oversized bodies were already refused when the header was parsed.
   void on_header(beast::error_code ec, std::size_t bytes) {
+    waiting_since_ = 0;
     if (ec || parser_->is_done()) return on_read(ec, bytes);
     const auto& header = parser_->get();
     if (!beast::iequals(header[bhttp::field::expect], "100-continue")) return read_body();
@@ -145,6 +159,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   }
 
   void read_body() {
+    stream_.expires_after(shared_->options.read_timeout);
     bhttp::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&Connection::on_read, shared_from_this()));
   }
 
@@ -281,8 +296,10 @@ class Connection : public std::enable_shared_from_this<Connection> {
     auto message = std::make_shared<bhttp::response<bhttp::string_body>>(
         static_cast<bhttp::status>(response.status), version);
     message->set(bhttp::field::server, std::string("hrisim/") + core::version());
-    // A 204 or 304 has no body, so no type either.
-    if (response.status != 204 && response.status != 304) message->set(bhttp::field::content_type, response.content_type);
+    // A 204 or 304 has no body, so no type either; nor has an answer that names none (a 416).
+    if (response.status != 204 && response.status != 304 && !response.content_type.empty()) {
+      message->set(bhttp::field::content_type, response.content_type);
+    }
     message->set("X-Content-Type-Options", "nosniff");
     for (const auto& [name, value] : response.headers) message->set(name, value);
     message->keep_alive(keep_alive);
@@ -334,8 +351,34 @@ class Connection : public std::enable_shared_from_this<Connection> {
   std::optional<bhttp::request_parser<bhttp::string_body>> parser_;
   std::array<char, 4096> discard_{};
   bool busy_ = false;  ///< a request is being answered (touched only on the strand)
+  std::atomic<std::int64_t> waiting_since_{0};  ///< see waiting_since()
   bool on_workers_;    ///< on a strand of the worker pool (see move_to_workers)
 };
+
+/// When every connection is taken, the one that has waited longest for a request's header (a client
+/// trickling it, or an idle kept-alive one) is closed to make room: clients that send whole requests
+/// are served however many slow ones hold places. False when no connection is waiting.
+bool make_room(Shared& shared) {
+  std::shared_ptr<Connection> victim;  // released after the lock: its destructor takes the lock
+  {
+    std::lock_guard lock(shared.mutex);
+    // A connection in the table is alive at least until this lock is released (its destructor
+    // erases it under the lock), so its members may be read.
+    const Connection* oldest = nullptr;
+    std::int64_t oldest_since = 0;
+    for (const auto& [connection, unused] : shared.connections) {
+      const std::int64_t since = connection->waiting_since();
+      if (since > 0 && (!oldest || since < oldest_since)) {
+        oldest = connection;
+        oldest_since = since;
+      }
+    }
+    if (!oldest || !const_cast<Connection*>(oldest)->claim_for_eviction(oldest_since)) return false;
+    victim = shared.connections.at(oldest).lock();
+  }
+  if (victim) victim->evict();
+  return true;
+}
 
 class Listener : public std::enable_shared_from_this<Listener> {
  public:
@@ -393,7 +436,11 @@ class Listener : public std::enable_shared_from_this<Listener> {
     beast::error_code ignored;
     socket.set_option(tcp::no_delay(true), ignored);
     const auto remote = socket.remote_endpoint(ignored);
-    auto slot = Slot::take(shared_, ignored ? std::string("unknown") : remote.address().to_string());
+    const std::string client = ignored ? std::string("unknown") : remote.address().to_string();
+    auto slot = Slot::take(shared_, client);
+    if (const auto* why = std::get_if<std::string>(&slot); why && *why == kAllTaken && make_room(*shared_)) {
+      slot = Slot::take(shared_, client, true);
+    }
     if (auto* why = std::get_if<std::string>(&slot)) {
       std::make_shared<Connection>(std::move(socket), shared_, nullptr)->reject_busy(*why);
     } else {

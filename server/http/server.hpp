@@ -15,11 +15,17 @@ namespace hrisim::http {
 inline constexpr std::size_t kDefaultHeaderLimit = 8 * 1024;
 /// Request bodies larger than this are answered 413.
 inline constexpr std::size_t kDefaultBodyLimit = 4 * 1024 * 1024;
-/// A request (headers and body) must arrive within this time, or the connection is closed.
+/// A request's header must arrive within this time from the connection's start (or, kept alive, from
+/// its previous answer), or the connection is closed: a client that trickles a header (slowloris)
+/// holds its place for this long, not the read timeout. Ten seconds is ample for a header of at most
+/// --header-limit bytes on any network a browser works over.
+inline constexpr std::chrono::seconds kDefaultHeaderTimeout{10};
+/// A request's body must arrive within this time from the end of its header, or the connection is closed.
 inline constexpr std::chrono::seconds kDefaultReadTimeout{30};
 /// Time allowed to send one response.
 inline constexpr std::chrono::seconds kDefaultWriteTimeout{30};
-/// Connections (WebSockets included) beyond this are answered 503 and closed.
+/// Connections (WebSockets included) beyond this are answered 503 and closed, unless one of them is
+/// waiting for a request's header: the one that has waited longest is then closed to make room.
 inline constexpr std::size_t kDefaultMaxConnections = 256;
 /// Connections (WebSockets included) one client address may hold; more are answered 503.
 inline constexpr std::size_t kDefaultMaxConnectionsPerClient = 64;
@@ -34,6 +40,7 @@ struct ServerOptions {
   std::uint16_t port = kDefaultPort;  ///< 0 picks a free port; see Server::port()
   std::size_t header_limit = kDefaultHeaderLimit;
   std::size_t body_limit = kDefaultBodyLimit;
+  std::chrono::milliseconds header_timeout = kDefaultHeaderTimeout;
   std::chrono::milliseconds read_timeout = kDefaultReadTimeout;
   std::chrono::milliseconds write_timeout = kDefaultWriteTimeout;
   std::size_t max_connections = kDefaultMaxConnections;

@@ -43,14 +43,19 @@ struct Shared {
   std::unordered_map<std::string, std::size_t> open_per_client;  ///< by client address
 };
 
+/// Why Slot::take refuses when every connection of the server is taken.
+inline constexpr const char* kAllTaken = "too many connections; retry later";
+
 /// An admitted connection's place in the limits (all connections, and per client address), given back
 /// when the connection — HTTP, then perhaps WebSocket — ends.
 class Slot {
  public:
-  /// Takes a place, or explains why there is none.
-  static std::variant<std::unique_ptr<Slot>, std::string> take(const std::shared_ptr<Shared>& shared, const std::string& client) {
+  /// Takes a place, or explains why there is none. `made_room`: a connection waiting for its header is
+  /// being closed to make room, so the place is taken although its own is not given back yet.
+  static std::variant<std::unique_ptr<Slot>, std::string> take(const std::shared_ptr<Shared>& shared, const std::string& client,
+                                                               bool made_room = false) {
     std::lock_guard lock(shared->mutex);
-    if (shared->open >= shared->options.max_connections) return std::string("too many connections; retry later");
+    if (shared->open >= shared->options.max_connections && !made_room) return std::string(kAllTaken);
     std::size_t& mine = shared->open_per_client[client];
     if (mine >= shared->options.max_connections_per_client) {
       if (mine == 0) shared->open_per_client.erase(client);

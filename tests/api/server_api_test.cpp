@@ -188,11 +188,14 @@ TEST(ServerLimits, SlowClientIsClosed) {
 TEST(ServerLimits, ConnectionsBeyondTheMaximumGet503) {
   TestServer server({"--max-connections", "2"});
   RawConnection first(server.port()), second(server.port());
-  // Make sure both are admitted before the third arrives.
+  // Make sure both are admitted before the third arrives, and both busy: each sends a request's header
+  // and then its body slowly (a connection waiting for a header would give its place up).
   first.send("GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
   second.send("GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
   ASSERT_EQ(first.read_reply().status, 200);
   ASSERT_EQ(second.read_reply().status, 200);
+  for (RawConnection* busy : {&first, &second}) busy->send("POST /api/v1/scenarios/validate HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: 100\r\n\r\n{");
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
   RawConnection third(server.port());
   const HttpReply reply = third.read_reply();
   EXPECT_EQ(reply.status, 503);

@@ -106,6 +106,34 @@ TEST_F(VideosApi, AnEpisodeIsFilmedWithItsProgressAndServedWholeOrInRanges) {
   EXPECT_EQ(http(port(), "DELETE", "/api/v1/videos/" + job["id"].get<std::string>()).status, 404);
 }
 
+// Issue 40, finding 10: "bytes= 0-1" and "bytes=+1-2" returned bytes from the end, "bytes=5-3" was 416,
+// "BYTES=" was ignored, and a range past the end was 416 labelled JSON with an empty body.
+TEST_F(VideosApi, RangeHeadersAreReadAsRfc9110Says) {
+  const HttpReply created = ask({{"camera", "robot.head_rgbd"}, {"width", 64}, {"fps", 2}});
+  ASSERT_EQ(created.status, 202) << created.body;
+  const json done = wait_for_video(json_of(created)["id"]);
+  ASSERT_EQ(done["status"], "done") << done.dump();
+  const std::string path = done["file"];
+  const HttpReply whole = http(port(), "GET", path);
+  ASSERT_EQ(whole.status, 200);
+  const std::string size = std::to_string(whole.body.size());
+  for (const std::string invalid : {"bytes= 0-1", "bytes=+1-2", "bytes=5-3", "bytes=0-1,4-5"}) {
+    const HttpReply reply = http(port(), "GET", path, "", "Range: " + invalid + "\r\n");
+    EXPECT_EQ(reply.status, 200) << invalid << ": ignored, the whole file";
+    EXPECT_EQ(reply.body, whole.body) << invalid;
+    EXPECT_FALSE(reply.headers.contains("content-range")) << invalid;
+  }
+  const HttpReply upper = http(port(), "GET", path, "", "Range: BYTES=1-2\r\n");
+  EXPECT_EQ(upper.status, 206);
+  EXPECT_EQ(upper.headers.at("content-range"), "bytes 1-2/" + size);
+  EXPECT_EQ(upper.body, whole.body.substr(1, 2));
+  const HttpReply outside = http(port(), "GET", path, "", "Range: bytes=" + size + "-\r\n");
+  EXPECT_EQ(outside.status, 416);
+  EXPECT_EQ(outside.headers.at("content-range"), "bytes */" + size);
+  EXPECT_FALSE(outside.headers.contains("content-type")) << "no body, so no type";
+  EXPECT_EQ(outside.body, "");
+}
+
 TEST_F(VideosApi, WebmFramesHaveEvenSides) {
   const HttpReply created = ask({{"width", 101}, {"fps", 5}, {"format", "webm"}});
   ASSERT_EQ(created.status, 202) << created.body;
