@@ -24,6 +24,21 @@ Response locked(std::shared_ptr<Live> live, std::function<Response(Live&)> work)
   });
 }
 
+std::shared_ptr<void> Registry::admit_simulation(const std::string& owner) {
+  std::lock_guard lock(simulations_->mutex);
+  int& held = simulations_->held[owner];
+  if (held >= kMaxSimulationsPerOwner) {
+    throw core::Error(core::ErrorCode::unavailable,
+                      "a restore or seek of yours is under way: one at a time, so that other sessions' steps are not held up",
+                      {{"max_simulations", kMaxSimulationsPerOwner}, {"retry_after", kSimulationRetryAfter}});
+  }
+  ++held;
+  return std::shared_ptr<void>(nullptr, [simulations = simulations_, owner](void*) {
+    std::lock_guard lock(simulations->mutex);
+    if (--simulations->held[owner] == 0) simulations->held.erase(owner);
+  });
+}
+
 std::shared_ptr<Live> Registry::create(NewSession request) {
   std::lock_guard lock(mutex_);
   expire_idle();

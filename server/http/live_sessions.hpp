@@ -70,7 +70,8 @@ struct Live {
   void start(std::shared_ptr<const scenario::Model> model) {
     episode = std::make_unique<episode::Episode>(
         std::move(model), static_cast<std::uint64_t>(seed),
-        episode::Settings{time_limit, requests, true, sim::RecorderLimits{kMaxLiveRecordedBodies, recording_memory}, crowd_threads});
+        episode::Settings{time_limit, requests, true, sim::RecorderLimits{kMaxLiveRecordedBodies, recording_memory}, crowd_threads,
+                          episode::CheckpointLimits{episode::kCheckpointInterval, episode::kMaxCheckpointBytes, recording_memory}});
     events_reported = 0;
     realtime_origin = Clock::now();
     realtime_origin_tick = 0;
@@ -88,6 +89,13 @@ inline constexpr double kMaxRealtimeFactor = 100.0;
 inline constexpr std::chrono::seconds kMaxUnwatchedGrace{3600};
 /// Snapshots one session keeps at most.
 inline constexpr std::size_t kMaxSnapshots = 32;
+
+/// Restores and seeks (which simulate again, or far ahead) one owner may have queued or running at once.
+/// Each may take a worker for a while, and the worker pool is every owner's: with one each, an owner's
+/// seeks hold at most one worker, and other owners' steps go on on the others. Beyond it: 503 with
+/// Retry-After: kSimulationRetryAfter.
+inline constexpr int kMaxSimulationsPerOwner = 1;
+inline constexpr int kSimulationRetryAfter = 1;
 
 /// Answers with the session's lock held: at once when it is free, else on the worker pool, so that an
 /// I/O thread never waits behind a long step (health checks and other sessions stay answered).
@@ -130,6 +138,10 @@ class Registry {
   bool contains(const std::string& id);
   void remove(const std::string& id, const Caller& caller);
   std::vector<std::shared_ptr<Live>> all(const Caller& caller);
+  /// A place for one of `owner`'s restores or seeks, given back when the returned handle goes (keep it
+  /// until the work is done). Throws core::Error(unavailable) when the owner holds
+  /// kMaxSimulationsPerOwner places already.
+  std::shared_ptr<void> admit_simulation(const std::string& owner);
 
  private:
   /// Idle and unwatched sessions go (checked whenever the registry is used, and every second by the
@@ -141,6 +153,12 @@ class Registry {
   SessionLimits limits_;
   std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Live>> sessions_;
+  /// Places held per owner (admit_simulation); shared with the handles, which may outlive the registry.
+  struct Simulations {
+    std::mutex mutex;
+    std::map<std::string, int> held;
+  };
+  std::shared_ptr<Simulations> simulations_ = std::make_shared<Simulations>();
   std::jthread ticker_;  ///< last: it uses everything above
 };
 

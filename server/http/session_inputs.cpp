@@ -272,11 +272,16 @@ json seek_session(Live& live, const json& body) {
   const bool lockstep = live.mode == "lockstep";
   if (!body.contains("tick")) throw core::Error(core::ErrorCode::bad_request, "tick: the tick to go to is required", {{"pointer", "/tick"}});
   const std::int64_t tick = integer_field(body, "tick", 0, lockstep ? now + kMaxStepsPerRequest : now, 0);
-  if (tick <= now) return go_on_from(live, live.episode->rewind(tick));
+  if (tick <= now) {
+    json reply = go_on_from(live, live.episode->rewind(tick));
+    reply["resimulated_ticks"] = live.episode->ticks_simulated_again();
+    return reply;
+  }
   // Forward: the ticks a clock would give, no new inputs.
   while (live.session().state().tick < tick && !live.episode->over()) live.episode->tick();
   json reply = status_of(live);
   add_observation(live, reply);
+  reply["resimulated_ticks"] = 0;
   return reply;
 }
 

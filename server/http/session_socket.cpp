@@ -118,9 +118,10 @@ class SessionSocket : public WebSocketPeer {
 
   Response on_seek(const std::shared_ptr<Live>& live, json& body) { return simulated_again(live, body, "seek", seek_session); }
 
-  /// Restoring and seeking back simulate again from tick 0: work for the pool.
-  static Response simulated_again(const std::shared_ptr<Live>& live, const json& body, const char* type, json (*go)(Live&, const json&)) {
-    return Response::later([live, body, type, go] {
+  /// Restoring and seeking simulate again: work for the pool, one of an owner's at a time.
+  Response simulated_again(const std::shared_ptr<Live>& live, const json& body, const char* type, json (*go)(Live&, const json&)) {
+    std::shared_ptr<void> place = registry_->admit_simulation(caller_.owner);
+    return Response::later([live, body, type, go, place] {
       try {
         std::lock_guard lock(live->mutex);
         return reply(type, go(*live, body));

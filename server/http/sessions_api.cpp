@@ -182,7 +182,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     });
   });
 
-  // Restoring a snapshot and seeking back simulate again from tick 0: work for the pool.
+  // Restoring a snapshot and seeking simulate again: work for the pool, one of an owner's at a time.
   using GoTo = json (*)(Live&, const json&);
   for (const auto& route : {std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/restore", restore_snapshot},
                             std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/seek", seek_session}}) {
@@ -190,7 +190,15 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     router.add("POST", route.first, [registry, go](const Request& request) {
       const auto live = registry->find(request.path_params.at("id"), request.caller);
       const json body = json_object_body(request);
-      return Response::later([live, body, go] {
+      std::shared_ptr<void> place;
+      try {
+        place = registry->admit_simulation(request.caller.owner);
+      } catch (const core::Error& error) {
+        Response response = Response::error(error);
+        response.headers.emplace_back("Retry-After", std::to_string(kSimulationRetryAfter));
+        return response;
+      }
+      return Response::later([live, body, go, place] {
         std::lock_guard lock(live->mutex);
         return Response::json(200, go(*live, body));
       });

@@ -4,6 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <atomic>
+#include <chrono>
+#include <fstream>
+#include <thread>
+#include <vector>
 
 #include "test_server.hpp"
 #include "websocket_client.hpp"
@@ -110,6 +115,61 @@ TEST_F(Snapshots, BadInputIsRefusedAndAResetDropsThem) {
   ASSERT_EQ(http(port(), "POST", session + "/reset", "{}").status, 200);
   EXPECT_EQ(http(port(), "POST", session + "/restore", json{{"snapshot", snapshot["snapshot"]}}.dump()).status, 404);
   EXPECT_TRUE(json_of(http(port(), "GET", session + "/snapshots"))["items"].empty());
+}
+
+TEST_F(Snapshots, ASeekBackReturnsTheOriginalPassStateHashFromACheckpoint) {
+  const std::string id = create("elevator");
+  const std::string session = "/api/v1/sessions/" + id;
+  const json at_2000 = post(session + "/step", {{"n", 2000}});
+  const json at_2999 = post(session + "/step", {{"n", 999}});
+  post(session + "/step", {{"n", 1}});
+
+  const HttpReply back = http(port(), "POST", session + "/seek", json{{"tick", 2999}}.dump());
+  ASSERT_EQ(back.status, 200) << back.body;
+  EXPECT_EQ(json_of(back)["tick"], 2999);
+  EXPECT_EQ(json_of(back)["state_hash"], at_2999["state_hash"]);
+  // From the checkpoint before it (one about every 600 ticks), not from tick 0.
+  EXPECT_LE(json_of(back)["resimulated_ticks"].get<int>(), 1200);
+
+  const json further = post(session + "/seek", {{"tick", 2000}});
+  EXPECT_EQ(further["state_hash"], at_2000["state_hash"]);
+  EXPECT_EQ(post(session + "/step", {{"n", 999}})["state_hash"], at_2999["state_hash"]) << "forth again, the same states";
+  const json forth = post(session + "/seek", {{"tick", 3100}});
+  EXPECT_EQ(forth["resimulated_ticks"], 0);
+}
+
+TEST_F(Snapshots, AnOwnerHasOneSeekAtATimeSoOthersStepsAreNotStarved) {
+  // The elevator kept going (ada waits at the end, a 25-minute limit): a seek 80,000 ticks ahead keeps
+  // a worker for seconds.
+  std::ifstream file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/elevator.json");
+  json elevator = json::parse(file);
+  elevator["time_limit"] = 1500;
+  elevator["steps"].push_back({{"name", "linger"}, {"actions", json::array({{{"agent", "ada"}, {"wait", {{"duration", 1500}}}}})}});
+  const HttpReply uploaded = http(port(), "POST", "/api/v1/scenarios", elevator.dump(), "Content-Type: application/json\r\n");
+  ASSERT_EQ(uploaded.status, 201) << uploaded.body;
+  const std::string id = create(json_of(uploaded)["summary"]["id"]), other = create("elevator");
+  const std::string session = "/api/v1/sessions/" + id;
+  std::atomic<bool> done = false;
+  HttpReply long_seek;
+  std::thread client([&] {
+    long_seek = http(port(), "POST", session + "/seek", json{{"tick", 80000}}.dump());
+    done = true;
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // The same owner's next seeks (this server has no owners: everyone is one) wait outside the pool.
+  for (const std::string& target : {session, "/api/v1/sessions/" + other}) {
+    const HttpReply refused = http(port(), "POST", target + "/seek", json{{"tick", 0}}.dump());
+    EXPECT_EQ(refused.status, 503) << refused.body;
+    EXPECT_EQ(refused.headers.count("retry-after") ? refused.headers.at("retry-after") : "", "1");
+    EXPECT_EQ(json_of(refused)["error"]["details"]["max_simulations"], 1);
+  }
+  // Another session's step is answered meanwhile, on another worker.
+  EXPECT_EQ(http(port(), "POST", "/api/v1/sessions/" + other + "/step", json{{"n", 1}}.dump()).status, 200);
+  EXPECT_FALSE(done) << "the step was answered while the seek still ran";
+  client.join();
+  ASSERT_EQ(long_seek.status, 200) << long_seek.body;
+  EXPECT_EQ(json_of(long_seek)["tick"], 80000);
+  EXPECT_EQ(http(port(), "POST", session + "/seek", json{{"tick", 79000}}.dump()).status, 200) << "its place is given back";
 }
 
 }  // namespace
