@@ -135,10 +135,11 @@ AudioClip read_wav(std::span<const std::uint8_t> bytes) {
 }
 
 AudioClip resampled(const AudioClip& clip, double sample_rate) {
-  if (clip.sample_rate == sample_rate || clip.samples.empty()) return clip;
+  if (clip.sample_rate == sample_rate) return clip;
   check_rate(clip.sample_rate);
   check_rate(sample_rate);
   check_length(clip.samples.size(), clip.sample_rate);
+  if (clip.samples.empty()) return AudioClip{sample_rate, {}};
   const double ratio = clip.sample_rate / sample_rate;                               // input samples per output sample
   const double band = 0.5 * kResamplerCutoff * std::min(1.0, 1.0 / ratio);         // cut-off, share of the input rate
   const double half_width = kResamplerZeroCrossings / (2.0 * band);                 // input samples

@@ -254,6 +254,8 @@ TEST(Wav, AClipWhoseHeaderSays1HzIsRefusedNotResampled) {
   EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(5)) << "refused before any work";
   const AudioClip decoded{1.0, std::vector<float>(20000)};
   EXPECT_THROW(resampled(decoded, kSampleRate), core::Error) << "resampling checks the rate too";
+  // Found by fuzz_wav: an empty clip kept its own rate when resampled.
+  EXPECT_EQ(resampled(AudioClip{44100.0, {}}, kSampleRate).sample_rate, kSampleRate);
 }
 
 TEST(Wav, RatesFrom8To192KilohertzAreRead) {
