@@ -119,10 +119,10 @@ class Connection : public std::enable_shared_from_this<Connection> {
   std::int64_t waiting_since() const { return waiting_since_; }
   /// Chooses this connection to make room, unless its header arrived meanwhile.
   bool claim_for_eviction(std::int64_t since) { return waiting_since_.compare_exchange_strong(since, -1); }
-  /// Closes the connection chosen to make room, unless it has begun answering a request meanwhile.
+  /// Closes the connection chosen to make room, unless its header has arrived meanwhile.
   void evict() {
     net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
-      if (!self->busy_) self->close();
+      if (self->waiting_since_ == -1) self->close();
     });
   }
 
@@ -373,6 +373,7 @@ bool make_room(Shared& shared) {
         oldest_since = since;
       }
     }
+    // The table's keys are const; the claim changes only the connection's own atomic mark.
     if (!oldest || !const_cast<Connection*>(oldest)->claim_for_eviction(oldest_since)) return false;
     victim = shared.connections.at(oldest).lock();
   }
