@@ -3,6 +3,7 @@
 // every failure into core::Error, and prepared statements with typed bind/read.
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -49,11 +50,35 @@ class Statement {
   sqlite3_stmt* stmt_ = nullptr;
 };
 
+/// Work a connection to a foreign database may do, counted in SQLite's virtual-machine steps over every
+/// statement it runs; past it, the statement running fails (SQLITE_INTERRUPT) and `exhausted` is set.
+struct WorkBudget {
+  std::uint64_t steps = 0;
+  std::uint64_t spent = 0;
+  bool exhausted = false;
+};
+
+/// Values and statements a connection to a foreign database accepts (sqlite3_limit), beyond which
+/// reading or preparing fails as a corrupt file would.
+struct ForeignLimits {
+  int value_bytes = 64 << 20;  ///< a string or blob: a scenario's source or file, a series
+};
+
 class Database {
  public:
   /// Opens (creating if needed, with parent folders) and configures the connection: WAL journal,
   /// synchronous=NORMAL, busy timeout, foreign keys on.
   explicit Database(const std::filesystem::path& path);
+  /// A connection to a database that came from elsewhere, hardened as SQLite's guide to untrusted
+  /// databases says: an existing file, read-only unless `writable`; defensive mode, the schema's
+  /// functions untrusted, views and triggers disabled, cell sizes checked, no memory map, `limits`,
+  /// and every statement's work counted against `work` (which must outlive the connection).
+  static std::unique_ptr<Database> open_foreign(const std::filesystem::path& path, bool writable, const ForeignLimits& limits, WorkBudget& work);
+  /// Trusts the schema's functions again (SQLITE_DBCONFIG_TRUSTED_SCHEMA): only once a foreign file's
+  /// schema was found to be exactly hrisim's own, whose CHECK constraints call json_valid().
+  void trust_schema();
+  /// An empty database in memory, configured as a file's (foreign keys on): a migrations' reference.
+  static std::unique_ptr<Database> in_memory();
   ~Database();
   Database(const Database&) = delete;
   Database& operator=(const Database&) = delete;
@@ -66,6 +91,7 @@ class Database {
   std::string scalar_text(std::string_view sql);
 
  private:
+  Database(const std::filesystem::path& path, int flags);
   sqlite3* db_ = nullptr;
 };
 

@@ -4,7 +4,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <bit>
+#include <cctype>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -12,6 +14,7 @@
 #include <cstring>
 #include <limits>
 
+#include "core/bounded_json.hpp"
 #include "core/error.hpp"
 #include "core/sha256.hpp"
 #include "core/text.hpp"
@@ -38,10 +41,13 @@ constexpr std::string_view kScenarioColumnsWithoutSource = "id, name, format, ''
 constexpr std::string_view kRunColumns = "id, scenario_id, controller, config, status, created_at, finished_at, owner, name, tags, notes";
 
 RunRecord read_run(const Statement& row) {
-  return {row.text(0), row.text(1),        row.text(2),
-          nlohmann::json::parse(row.text(3)), row.text(4), row.text(5),
-          row.optional_text(6), row.text(7), row.text(8),
-          nlohmann::json::parse(row.text(9)).get<std::vector<std::string>>(), row.text(10)};
+  // JSON read back is bounded as a request's is: a database may have come from elsewhere.
+  const nlohmann::json tags = core::parse_bounded_json(row.text(9), "a run's tags");
+  if (!tags.is_array() || !std::all_of(tags.begin(), tags.end(), [](const nlohmann::json& tag) { return tag.is_string(); })) {
+    throw core::Error(core::ErrorCode::bad_request, "a run's tags are not a list of words");
+  }
+  return {row.text(0), row.text(1), row.text(2), core::parse_bounded_json(row.text(3), "a run's config"), row.text(4), row.text(5),
+          row.optional_text(6), row.text(7), row.text(8), tags.get<std::vector<std::string>>(), row.text(10)};
 }
 
 /// The SQL path of a metric's statistic in a run's summary (names are checked against the metric
@@ -106,10 +112,28 @@ std::vector<MetricValue> read_metrics(Database& db, const std::string& episode_i
 
 }  // namespace
 
-Store::Store(const std::filesystem::path& path, std::span<const Migration> migrations)
-    : db_(std::make_unique<Database>(path)) {
-  migrate(*db_, migrations);
+std::string scenario_file_path_problem(const std::string& path) {
+  if (path.empty() || path.size() > 255) return "a file's path is 1 to 255 bytes";
+  std::size_t start = 0;
+  while (start <= path.size()) {
+    const std::size_t end = std::min(path.find('/', start), path.size());
+    const std::string_view segment(path.data() + start, end - start);
+    if (segment.empty() || segment == "." || segment == "..") {
+      return "a file's path is relative, without empty, '.' or '..' segments: it names a file next to the scenario or below it";
+    }
+    for (const char c : segment) {
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-') {
+        return "a file's path is made of letters, digits, '.', '_', '-' and '/'";
+      }
+    }
+    start = end + 1;
+  }
+  return "";
 }
+
+Store::Store(const std::filesystem::path& path, std::span<const Migration> migrations) : Store(std::make_unique<Database>(path), migrations) {}
+
+Store::Store(std::unique_ptr<Database> db, std::span<const Migration> migrations) : db_(std::move(db)) { migrate(*db_, migrations); }
 
 Store::~Store() = default;
 
@@ -490,6 +514,13 @@ std::vector<SeriesRecord> Store::series(const std::string& episode_id, const std
   return list;
 }
 
+bool Store::has_episode(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  Statement select = db_->prepare("SELECT 1 FROM episodes WHERE id = ?1");
+  select.bind(1, id);
+  return select.step();
+}
+
 std::optional<EpisodeRecord> Store::episode(const std::string& id) {
   std::lock_guard lock(mutex_);
   Statement select = db_->prepare("SELECT " + std::string(kEpisodeColumns) + " FROM episodes WHERE id = ?1");
@@ -503,7 +534,7 @@ std::optional<EpisodeRecord> Store::episode(const std::string& id) {
   events.bind(1, id);
   while (events.step()) {
     episode.events.push_back(
-        {events.integer(0), events.real(1), events.text(2), events.text(3), nlohmann::json::parse(events.text(4))});
+        {events.integer(0), events.real(1), events.text(2), events.text(3), core::parse_bounded_json(events.text(4), "an event's data")});
   }
 
   Statement samples = db_->prepare(

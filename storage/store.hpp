@@ -33,6 +33,11 @@ struct ScenarioRecord {
   std::map<std::string, std::string> files;
 };
 
+/// What is wrong with a path a scenario names one of its files by, or empty when it is fine: relative,
+/// at most 255 bytes, of segments made of letters, digits, '.', '_' and '-', none of them "." or "..",
+/// so that a scenario's files are written below its folder and nowhere else.
+std::string scenario_file_path_problem(const std::string& path);
+
 /// The sha256 that names a scenario's content: of its source alone when it has no files, else of the
 /// source followed by each file (in path order) as its path, its size and its bytes, NUL-separated.
 std::string scenario_sha256(const std::string& source, const std::map<std::string, std::string>& files);
@@ -137,6 +142,9 @@ class Store {
   /// Opens or creates the database at path and applies `migrations` (the shipped ones by default).
   explicit Store(const std::filesystem::path& path,
                  std::span<const Migration> migrations = schema_migrations());
+  /// A store over an open connection (a foreign database's private copy: see storage/foreign.hpp),
+  /// migrated as above.
+  Store(std::unique_ptr<Database> db, std::span<const Migration> migrations);
   ~Store();
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
@@ -199,6 +207,8 @@ class Store {
   void write_episode(const EpisodeRecord& episode);
   /// The episode with everything stored for it but its series.
   std::optional<EpisodeRecord> episode(const std::string& id);
+  /// Whether an episode of this id is stored.
+  bool has_episode(const std::string& id);
   /// An episode's series; only the one named `name` when given.
   std::vector<SeriesRecord> series(const std::string& episode_id, const std::string& name = "");
   /// Ids of a run's episodes in the order they were written.

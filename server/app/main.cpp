@@ -73,8 +73,8 @@ int serve(const std::vector<std::string>& args) {
   }
   for (const std::filesystem::path& file : options.imports) {
     if (!std::filesystem::is_regular_file(file)) throw hrisim::core::Error(hrisim::core::ErrorCode::bad_request, "--import: no database " + file.string());
-    hrisim::storage::Store source(file);
-    for (const hrisim::runs::MergedRun& merged : hrisim::runs::merge_database(store, source, file.string(), options.database.string())) {
+    hrisim::storage::ForeignDatabase source = hrisim::storage::ForeignDatabase::from_file(file, file.string());
+    for (const hrisim::runs::MergedRun& merged : hrisim::runs::merge_database(store, source, options.database.string())) {
       std::printf("hrisim: imported run %s from %s: %d episode%s added, %d already here\n", merged.id.c_str(), file.c_str(), merged.added,
                    merged.added == 1 ? "" : "s", merged.present);
     }

@@ -382,8 +382,8 @@ int merge_command(const std::vector<std::string>& args) {
   storage::Store target(prepared(*into));
   std::vector<std::string> runs_merged;
   for (const std::string& file : parsed.files) {
-    storage::Store source(file);
-    for (const runs::MergedRun& merged : runs::merge_database(target, source, file, *into)) {
+    storage::ForeignDatabase source = storage::ForeignDatabase::from_file(file, file);
+    for (const runs::MergedRun& merged : runs::merge_database(target, source, *into)) {
       std::fprintf(stderr, "%s: run %s: %d episode%s added, %d already in %s\n", file.c_str(), merged.id.c_str(), merged.added,
                    merged.added == 1 ? "" : "s", merged.present, into->c_str());
       if (std::find(runs_merged.begin(), runs_merged.end(), merged.id) == runs_merged.end()) runs_merged.push_back(merged.id);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/bounded_json.hpp"
 #include "core/error.hpp"
 #include "core/json_schema.hpp"
 #include "core/text.hpp"
@@ -25,31 +26,6 @@ std::optional<std::string> query_value(const std::string& query, const std::stri
   return std::nullopt;
 }
 
-void check_json_nesting(const std::string& text) {
-  int depth = 0;
-  bool in_string = false, escaped = false;
-  for (const char c : text) {
-    if (in_string) {
-      if (escaped) {
-        escaped = false;
-      } else if (c == '\\') {
-        escaped = true;
-      } else if (c == '"') {
-        in_string = false;
-      }
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxJsonDepth) {
-        throw core::Error(core::ErrorCode::bad_request, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels",
-                          {{"limit", kMaxJsonDepth}});
-      }
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-}
-
 std::int64_t integer_query(const Request& request, const std::string& key, std::int64_t low, std::int64_t high, std::int64_t fallback) {
   const auto text = query_value(request.query, key);
   if (!text) return fallback;
@@ -64,7 +40,7 @@ std::int64_t integer_query(const Request& request, const std::string& key, std::
 
 nlohmann::json json_object_body(const Request& request) {
   if (request.body.find_first_not_of(" \t\r\n") == std::string::npos) return nlohmann::json::object();
-  check_json_nesting(request.body);
+  core::check_json_nesting(request.body);
   nlohmann::json body;
   try {
     body = nlohmann::json::parse(request.body);

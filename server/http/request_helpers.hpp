@@ -9,9 +9,6 @@
 
 namespace hrisim::http {
 
-/// Deepest nesting of arrays and objects accepted in a JSON body (a scenario needs about 10).
-inline constexpr int kMaxJsonDepth = 64;
-
 /// The value of `key` in a raw query string, decoded as browsers encode a form (%XX, and + for a
 /// space); core::Error(bad_request) for a malformed escape.
 std::optional<std::string> query_value(const std::string& query, const std::string& key);
@@ -19,12 +16,8 @@ std::optional<std::string> query_value(const std::string& query, const std::stri
 /// An integer query parameter in [low, high], or `fallback` when absent; 400 naming it otherwise.
 std::int64_t integer_query(const Request& request, const std::string& key, std::int64_t low, std::int64_t high, std::int64_t fallback);
 
-/// Throws core::Error(bad_request) for JSON nested deeper than kMaxJsonDepth (strings skipped), before
-/// anything parses it.
-void check_json_nesting(const std::string& text);
-
 /// The request body as a JSON object: 400 with the line and column of a syntax error, for a body
-/// nested too deep, or for anything but an object. An empty body is an empty object.
+/// nested too deep (core::check_json_nesting), or for anything but an object. An empty body is an empty object.
 nlohmann::json json_object_body(const Request& request);
 
 /// 400 naming the first key of `body` that is not among `known` (e.g. a typo in a field name); its

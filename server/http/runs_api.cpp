@@ -16,6 +16,7 @@
 #include "http/session_limits.hpp"
 #include "metrics/definitions.hpp"
 #include "metrics/gates.hpp"
+#include "runs/labels.hpp"
 #include "runs/executor.hpp"
 #include "runs/merge.hpp"
 #include "runs/report.hpp"
@@ -53,12 +54,6 @@ class Problems {
   json list_ = json::array();
 };
 
-/// Longest run name and notes, most tags and longest tag.
-constexpr std::size_t kMaxRunNameLength = 200;
-constexpr std::size_t kMaxRunNotesLength = 20000;
-constexpr std::size_t kMaxRunTags = 32;
-constexpr std::size_t kMaxRunTagLength = 64;
-
 struct RunLabels {
   std::string name;
   std::vector<std::string> tags;
@@ -67,35 +62,31 @@ struct RunLabels {
 
 /// The name, tags and notes the body gives (the others kept as `labels` has them), problems noted.
 void read_labels(const json& body, RunLabels& labels, Problems& problems) {
-  const auto text = [&](const char* key, std::size_t most, std::string& into) {
+  std::set<std::string> wrong_type;
+  const auto text = [&](const char* key, std::string& into) {
     if (!body.contains(key)) return;
-    if (!body[key].is_string() || body[key].get<std::string>().size() > most) {
-      problems.add(std::string("/") + key, std::string(key) + " must be text of at most " + std::to_string(most) + " bytes");
-      return;
-    }
-    into = body[key].get<std::string>();
-  };
-  text("name", kMaxRunNameLength, labels.name);
-  text("notes", kMaxRunNotesLength, labels.notes);
-  if (!body.contains("tags")) return;
-  if (!body["tags"].is_array() || body["tags"].size() > kMaxRunTags) {
-    problems.add("/tags", "tags must be a list of at most " + std::to_string(kMaxRunTags) + " words");
-    return;
-  }
-  std::vector<std::string> tags;
-  for (std::size_t i = 0; i < body["tags"].size(); ++i) {
-    const json& tag = body["tags"][i];
-    const std::string word = tag.is_string() ? tag.get<std::string>() : "";
-    const bool plain = !word.empty() && word.size() <= kMaxRunTagLength && word.find_first_of(", \t\r\n") == std::string::npos;
-    if (!plain) {
-      problems.add("/tags/" + std::to_string(i), "a tag is a word of 1 to " + std::to_string(kMaxRunTagLength) + " bytes without spaces or commas");
-    } else if (std::find(tags.begin(), tags.end(), word) != tags.end()) {
-      problems.add("/tags/" + std::to_string(i), "tag '" + word + "' is given twice");
+    if (body[key].is_string()) {
+      into = body[key].get<std::string>();
     } else {
-      tags.push_back(word);
+      problems.add(std::string("/") + key, std::string(key) + " must be text");
+      wrong_type.insert(std::string("/") + key);
+    }
+  };
+  text("name", labels.name);
+  text("notes", labels.notes);
+  if (body.contains("tags")) {
+    const json& tags = body["tags"];
+    if (!tags.is_array() || !std::all_of(tags.begin(), tags.end(), [](const json& tag) { return tag.is_string(); })) {
+      problems.add("/tags", "tags must be a list of at most " + std::to_string(runs::kMaxRunTags) + " words");
+      wrong_type.insert("/tags");
+    } else {
+      labels.tags = tags.get<std::vector<std::string>>();
     }
   }
-  labels.tags = std::move(tags);
+  for (const json& problem : runs::label_problems(labels.name, labels.tags, labels.notes)) {
+    const std::string pointer = problem["pointer"];
+    if (!wrong_type.contains(pointer.substr(0, pointer.find('/', 1)))) problems.add(pointer, problem["message"]);
+  }
 }
 
 std::vector<std::uint64_t> seeds_of(const json& body, Problems& problems) {
@@ -444,21 +435,10 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
     }
     // Merging reads and writes the database: work for the pool.
     return Response::later([store, body = request.body, owner = request.caller.owner] {
-      const std::filesystem::path file = std::filesystem::temp_directory_path() / ("hrisim-import-" + core::unguessable_id('i') + ".db");
-      struct Removed {
-        std::filesystem::path file;
-        ~Removed() { storage::remove_database(file); }
-      } removed{file};
-      std::ofstream(file, std::ios::binary) << body;
+      storage::ForeignDatabase source = storage::ForeignDatabase::from_bytes(body, "the uploaded database");
       json runs = json::array();
-      try {
-        storage::Store source(file);
-        for (const runs::MergedRun& merged : runs::merge_database(*store, source, "the uploaded database", "this server's", owner)) {
-          runs.push_back({{"id", merged.id}, {"added", merged.added}, {"present", merged.present}});
-        }
-      } catch (const core::Error& e) {
-        if (e.code() == core::ErrorCode::conflict) throw;
-        throw core::Error(core::ErrorCode::bad_request, std::string("the uploaded database cannot be read: ") + e.what());
+      for (const runs::MergedRun& merged : runs::merge_database(*store, source, "this server's", owner)) {
+        runs.push_back({{"id", merged.id}, {"source_id", merged.source_id}, {"added", merged.added}, {"present", merged.present}});
       }
       return Response::json(200, {{"runs", runs}});
     });

@@ -50,25 +50,6 @@ std::string without_folder(std::string text, const std::filesystem::path& folder
 
 }  // namespace
 
-std::string upload_file_path_problem(const std::string& path) {
-  if (path.empty() || path.size() > 255) return "a file's path is 1 to 255 bytes";
-  std::size_t start = 0;
-  while (start <= path.size()) {
-    const std::size_t end = std::min(path.find('/', start), path.size());
-    const std::string_view segment(path.data() + start, end - start);
-    if (segment.empty() || segment == "." || segment == "..") {
-      return "a file's path is relative, without empty, '.' or '..' segments: it names a file next to the scenario or below it";
-    }
-    for (const char c : segment) {
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-') {
-        return "a file's path is made of letters, digits, '.', '_', '-' and '/'";
-      }
-    }
-    start = end + 1;
-  }
-  return "";
-}
-
 std::optional<NestedFile> nested_upload_file(const std::map<std::string, std::string>& files) {
   for (const auto& [path, unused] : files) {
     for (std::size_t slash = path.find('/'); slash != std::string::npos; slash = path.find('/', slash + 1)) {
@@ -117,6 +98,10 @@ scenario::SourceOptions ScenarioCatalogue::options(const Entry& entry) const { r
 
 std::filesystem::path ScenarioCatalogue::write_files(const std::string& name, const std::map<std::string, std::string>& files) {
   if (files.empty()) return {};
+  // The folder is named by the scenario's id: one plain name, whatever stored the id.
+  if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos || name.find('\0') != std::string::npos) {
+    throw core::Error(core::ErrorCode::bad_request, "a scenario with files needs an id that names a folder");
+  }
   namespace fs = std::filesystem;
   fs::path root;
   {
@@ -140,6 +125,12 @@ std::filesystem::path ScenarioCatalogue::write_files(const std::string& name, co
   const fs::path partial = root / (name + ".partial-" + core::unguessable_id('f'));
   std::error_code failed;
   for (const auto& [path, bytes] : files) {
+    // Whatever stored them (an upload, an import): never a file outside the scenario's folder.
+    if (const std::string problem = storage::scenario_file_path_problem(path); !problem.empty()) {
+      std::error_code ignored;
+      fs::remove_all(partial, ignored);
+      throw core::Error(core::ErrorCode::bad_request, "the scenario's file '" + path.substr(0, 64) + "': " + problem);
+    }
     const fs::path file = partial / path;
     fs::create_directories(file.parent_path(), failed);
     std::ofstream out(file, std::ios::binary);

@@ -36,16 +36,12 @@ inline constexpr std::size_t kDefaultScenarioCacheBytes = 256u << 20;
 inline constexpr std::size_t kMaxUploadFiles = 64;
 
 /// A scenario as a client hands it in: its text in its format, and the files it names, by their path
-/// relative to it (checked: see upload_file_path_problem).
+/// relative to it (checked: see storage::scenario_file_path_problem).
 struct Upload {
   std::string text;
   scenario::SourceFormat format = scenario::SourceFormat::json;
   std::map<std::string, std::string> files;
 };
-
-/// What is wrong with a path an upload names one of its files by, or empty when it is fine: relative,
-/// at most 255 bytes, of segments made of letters, digits, '.', '_' and '-', none of them "." or "..".
-std::string upload_file_path_problem(const std::string& path);
 
 /// A path of an upload's files that lies inside another of its paths, which would be both a file and
 /// a folder: {`d`, `d/f`}; none when no path does.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 
+#include "core/bounded_json.hpp"
 #include "core/json_schema.hpp"
 #include "core/text.hpp"
 #include "http/request_helpers.hpp"
@@ -11,6 +12,7 @@
 #include "scenario/source.hpp"
 #include "sim/scene_view.hpp"
 #include "sim/session.hpp"
+#include "storage/store.hpp"
 
 namespace hrisim::http {
 namespace {
@@ -47,7 +49,7 @@ std::map<std::string, std::string> upload_files(const json& files) {
   std::map<std::string, std::string> result;
   for (const auto& [path, content] : files.items()) {
     const std::string pointer = "/files/" + core::pointer_token(path);
-    if (const std::string problem = upload_file_path_problem(path); !problem.empty()) bad_upload(pointer, problem);
+    if (const std::string problem = storage::scenario_file_path_problem(path); !problem.empty()) bad_upload(pointer, problem);
     if (content.is_string()) {
       result.emplace(path, content.get<std::string>());
     } else if (content.is_object() && content.size() == 1 && content.contains("base64") && content["base64"].is_string()) {
@@ -74,7 +76,7 @@ Upload upload_of(const Request& request) {
   const std::size_t first = request.body.find_first_not_of(" \t\r\n");
   const bool object = first != std::string::npos && request.body[first] == '{';
   if (format != scenario::SourceFormat::json && !object) return {request.body, format, {}};
-  check_json_nesting(request.body);
+  core::check_json_nesting(request.body);
   // Not JSON: the compiler says where.
   const json body = json::parse(request.body, nullptr, false);
   if (!body.is_object() || !body.contains("files")) return {request.body, format, {}};

@@ -113,9 +113,9 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       std::optional<json> controller;
       if (body.contains("controller") && !body["controller"].is_null()) {
         json errors = json::array();
-        model = runs::with_controller(entry->source.document, body["controller"], catalogue->options(*entry).load, errors).model;
+        controller = runs::effective_controller(entry->source.document, body["controller"]);
+        model = runs::with_controller(entry->source.document, *controller, catalogue->options(*entry).load, errors).model;
         runs::throw_if_problems(errors);
-        controller = body["controller"];
       }
       return created(*registry, {scenario, model, seed, mode, factor, controller, caller.owner, unwatched_grace, "", std::nullopt, {}});
     });

@@ -15,8 +15,9 @@ constexpr std::string_view kTask = "task_and_path", kProximity = "proximity", kC
 constexpr std::array kDefinitions{
     Definition{"success", "bool", kTask, Better::higher,
                "1 when the episode reached its goal condition: the robot's navigation goal reached with no robot-human collision; "
-               "for a searching robot, the person found with no collision; for a scenario without either, its choreography completed "
-               "with no collision",
+               "for a searching robot, the person found with no collision; for a robot with neither but a part in the choreography "
+               "(a step's action or a request it makes), the choreography completed with no collision; null for a robot with none "
+               "of these (nothing it was asked to do can succeed)",
                "recent social-navigation benchmarks"},
     Definition{"spl", "ratio", kTask, Better::higher,
                "success weighted by path length: success x shortest / max(path length, shortest), the shortest path on the map's "

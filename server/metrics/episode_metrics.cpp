@@ -14,6 +14,10 @@ namespace {
 
 using Values = std::map<std::string, MetricValue, std::less<>>;
 
+/// Why a robot without a goal, a search or a part in the choreography has no success.
+constexpr const char* kNoTaskForRobot =
+    "the robot has no navigation goal, no search and no part in the choreography: nothing it was asked to do can succeed";
+
 void set(Values& values, std::string key, double value) {
   values[key] = {key, value, ""};
 }
@@ -467,10 +471,10 @@ std::vector<MetricValue> compute_episode_metrics(const Recording& recording) {
     goal_metrics(recording, collided, values);
     search_metrics(recording, collided, values);
     if (!recording.goal && !recording.searching) {
-      if (recording.has_choreography) {
+      if (recording.robot_in_choreography) {
         set(values, "success", recording.choreography_completed && !collided ? 1.0 : 0.0);
       } else {
-        set_null(values, "success", "the episode has neither a robot goal nor a choreography");
+        set_null(values, "success", kNoTaskForRobot);
       }
     }
   }

@@ -54,6 +54,9 @@ struct Recording {
   std::optional<double> shortest_path_length;
   bool searching = false;  ///< the robot's controller searches for a person
   bool has_choreography = false;
+  /// The choreography gives the robot something to do (a step's action, a request it makes): then its
+  /// completion is the success of a robot without a goal or a search.
+  bool robot_in_choreography = false;
   bool choreography_completed = false;
   std::string termination;  ///< goal, collision, timeout, scenario_end, cancelled, error
   /// The benchmark task's summed reward; empty for a scenario without a benchmark task.

@@ -6,12 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "storage/foreign.hpp"
 #include "storage/store.hpp"
 
 namespace hrisim::runs {
 
 struct MergedRun {
-  std::string id;
+  std::string id;   ///< the run's id in the target
+  std::string source_id;  ///< its id in the source: another only for an import whose id another owner holds
   int added = 0;    ///< episodes copied
   int present = 0;  ///< episodes the target had already (the same seed with the same result)
 };
@@ -19,14 +21,19 @@ struct MergedRun {
 /// Copies every finished run of `source` into `target`: a run the target does not have as it is; into
 /// one it has (the same id: another shard of the same run, or the same database again), the episodes
 /// of seeds it lacks, and the run's seeds become those of both, in the order of the whole run's list.
-/// `source_name` and `target_name` (file names) are for messages; `owner`, when given, owns the runs
-/// added (an import by a token's holder).
 ///
-/// Throws core::Error(conflict), keeping nothing of `source`, when a run of it is not finished, or
-/// differs from the run of the same id in `target` in its scenario's content (scenario_sha256),
-/// hrisim's version, its controller or the shards it is split into, or a seed of it has another result
-/// (state hash or status) there: the message names both values and both databases.
-std::vector<MergedRun> merge_database(storage::Store& target, storage::Store& source, const std::string& source_name,
-                                      const std::string& target_name, const std::optional<std::string>& owner = std::nullopt);
+/// Everything of the source is read and checked first (runs::check_imported_*: values as the API
+/// would take them, scenarios whose content is what their ids say), and only then is the target
+/// locked and written. `target_name` (a file name) is for messages. `owner`, when given (an import by
+/// a token's holder), owns the runs and uploaded scenarios added; a run of an id another owner holds
+/// gets an id of its own for this owner, and an uploaded scenario's id another owner holds a new one.
+///
+/// Throws core::Error(bad_request) for a value hrisim would not store, and core::Error(conflict),
+/// keeping nothing of `source`, when a run of it is not finished, or differs from the run of the same
+/// id in `target` in its scenario's content (scenario_sha256), hrisim's version, its controller or the
+/// shards it is split into, or a seed of it has another result (state hash or status) there: without
+/// `owner`, the message names both values and both databases; with one, it names none of the target's.
+std::vector<MergedRun> merge_database(storage::Store& target, storage::ForeignDatabase& source, const std::string& target_name,
+                                      const std::optional<std::string>& owner = std::nullopt);
 
 }  // namespace hrisim::runs

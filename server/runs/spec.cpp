@@ -10,6 +10,43 @@
 
 namespace hrisim::runs {
 
+nlohmann::json scenario_controller(const nlohmann::json& document) {
+  const auto robots = document.find("robots");
+  if (robots == document.end() || !robots->is_array() || robots->empty() || !(*robots)[0].is_object()) return nullptr;
+  const auto controller = (*robots)[0].find("controller");
+  return controller == (*robots)[0].end() ? nlohmann::json() : *controller;
+}
+
+nlohmann::json effective_controller(const nlohmann::json& document, const nlohmann::json& requested) {
+  if (!requested.is_object()) return requested;  // with_controller says what is wrong with it
+  const nlohmann::json own = scenario_controller(document);
+  nlohmann::json effective = own.is_object() ? own : nlohmann::json::object();
+  for (const auto& [key, value] : requested.items()) {
+    if (value.is_null()) {
+      effective.erase(key);
+      continue;
+    }
+    // Another place to go keeps the scenario's arrival radius unless it gives its own.
+    const bool keeps_radius = key == "goal" && value.is_object() && !value.contains("radius") && effective.contains("goal") &&
+                              effective["goal"].is_object() && effective["goal"].contains("radius");
+    const nlohmann::json radius = keeps_radius ? effective["goal"]["radius"] : nlohmann::json();
+    effective[key] = value;
+    if (keeps_radius) effective["goal"]["radius"] = radius;
+  }
+  // What the scenario gave another type and the new type does not take is left behind, unless asked for
+  // (then the loader says why it cannot be).
+  const std::string type = effective.contains("type") && effective["type"].is_string() ? effective["type"].get<std::string>() : "";
+  const auto keep_only_if_asked = [&](const char* key) {
+    if (!requested.contains(key)) effective.erase(key);
+  };
+  if (type == "idle" || type == "teleop") keep_only_if_asked("goal");
+  if (type != "search") {
+    keep_only_if_asked("person");
+    keep_only_if_asked("strategy");
+  }
+  return effective;
+}
+
 scenario::LoadResult with_controller(nlohmann::json document, const nlohmann::json& controller, const scenario::LoadOptions& load,
                                      nlohmann::json& errors) {
   const auto problem = [&](std::string pointer, std::string message) {
@@ -42,7 +79,15 @@ RunRequest replay_request(const nlohmann::json& document, const scenario::LoadOp
   request.document = document;
   request.load = load;
   request.seeds = {seed};
-  if (config.contains("controller") && !config["controller"].is_null()) request.controller = config["controller"];
+  // The controller the run's robot had, whole: runs stored before effective controllers were kept
+  // replaced the scenario's controller with the one asked for.
+  for (const char* key : {"effective_controller", "controller"}) {
+    if (config.contains(key) && !config[key].is_null()) {
+      request.controller = config[key];
+      request.controller_whole = true;
+      break;
+    }
+  }
   if (config.contains("max_time") && config["max_time"].is_number()) request.max_time = config["max_time"].get<double>();
   for (const nlohmann::json& asked : config.value("requests", nlohmann::json::array())) {
     request.requests.emplace_back(asked["time"].get<double>(), asked.value("routine", asked.value("task", "")));
@@ -88,11 +133,11 @@ RunSpec make_run_spec(const RunRequest& request, const nlohmann::json& found) {
 
   std::string controller = "scenario";
   scenario::LoadResult loaded;
+  json effective = scenario_controller(request.document);
   if (request.controller) {
-    loaded = with_controller(request.document, *request.controller, request.load, errors);
-    if (request.controller->is_object() && request.controller->contains("type") && (*request.controller)["type"].is_string()) {
-      controller = (*request.controller)["type"];
-    }
+    effective = request.controller_whole ? *request.controller : effective_controller(request.document, *request.controller);
+    loaded = with_controller(request.document, effective, request.load, errors);
+    if (effective.is_object() && effective.contains("type") && effective["type"].is_string()) controller = effective["type"];
   } else {
     loaded = scenario::load_scenario(request.document, request.load);
     for (const core::ValidationError& error : loaded.errors) problem("/scenario" + error.pointer, error.message);
@@ -130,6 +175,7 @@ RunSpec make_run_spec(const RunRequest& request, const nlohmann::json& found) {
                  {"seeds", request.seeds},
                  {"gates", request.gates},
                  {"controller", request.controller ? *request.controller : json()},
+                 {"effective_controller", effective},
                  {"max_time", request.max_time ? json(*request.max_time) : json()},
                  {"requests", requests},
                  {"scenario_sha256", request.scenario_sha256},

@@ -23,14 +23,27 @@ struct RunRequest {
   nlohmann::json document;  ///< the scenario's native JSON
   scenario::LoadOptions load;
   std::vector<std::uint64_t> seeds;
-  /// Replaces the built-in controller of the scenario's first robot, in the scenario's form
-  /// ({"type": "goal", "goal": {...}}); the scenario's own when empty.
+  /// Changes the built-in controller of the scenario's first robot, in the scenario's form
+  /// ({"type": "goal", "goal": {...}}): over the scenario's own (see effective_controller), or whole
+  /// when `controller_whole`; the scenario's own when empty.
   std::optional<nlohmann::json> controller;
+  bool controller_whole = false;  ///< a replay: `controller` is the one the robot had
   std::optional<double> max_time;
   std::vector<std::string> gates;
   std::vector<std::pair<double, std::string>> requests;
   bool baseline_without_robot = false;  ///< measure human_path_deviation against the seed without robots
 };
+
+/// The controller of the scenario's first robot as written (null when it has none).
+nlohmann::json scenario_controller(const nlohmann::json& document);
+
+/// The controller a request gives the scenario's first robot: the scenario's own with the request's
+/// fields replacing its fields (a field given as null removes it), so a swap of `type` keeps the
+/// scenario's goal (location or pose, with its radius) and search parameters; a goal given replaces
+/// the scenario's location or pose and keeps its radius unless it gives one. What the new type does
+/// not take is left behind unless the request gives it: the goal for idle and teleop, `person` and
+/// `strategy` for any type but search.
+nlohmann::json effective_controller(const nlohmann::json& document, const nlohmann::json& requested);
 
 /// The scenario with `controller` replacing the built-in controller of its first robot (the robot
 /// under test), in the scenario's form ({"type": "goal", "goal": {...}}). Problems in the controller

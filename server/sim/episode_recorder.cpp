@@ -17,6 +17,15 @@ std::size_t sample_bytes(const metrics::Sample& sample) {
   return bytes;
 }
 
+/// Whether the choreography gives the robot something to do: an action of a step, or a request it
+/// makes (the scenario's or one scheduled for the episode).
+bool robot_takes_part(const scenario::Model& model, const State& state, int robot) {
+  for (const scenario::Step& step : model.steps) {
+    if (std::any_of(step.actions.begin(), step.actions.end(), [robot](const scenario::Action& action) { return action.agent == robot; })) return true;
+  }
+  return std::any_of(state.scheduled.begin(), state.scheduled.end(), [robot](const ScheduledRequest& request) { return request.robot == robot; });
+}
+
 }  // namespace
 
 std::string recording_memory_spent(const core::MemoryBudget& memory) {
@@ -52,6 +61,7 @@ EpisodeRecorder::EpisodeRecorder(const Session& session, RecorderLimits limits)
     }
   }
   recording_.has_choreography = !model.steps.empty();
+  recording_.robot_in_choreography = robot_ >= 0 && robot_takes_part(model, session.state(), robot_);
   record(session);
 }
 

@@ -1,6 +1,7 @@
 // #/compare?runs=A,B,C: two to ten runs metric by metric against the first (the baseline) — every
 // run's mean, and for each other run the difference, the test's p-value, Holm's adjusted p-value and
-// whether it is significantly better or worse — with each run's verdict and failed gates, the chosen
+// whether it is significantly better or worse — with each run's verdict, failed gates and effective
+// controller, the fields in which the runs' configurations differ, the chosen
 // metrics' distributions run by run (each saved as PNG or SVG on demand), and the robot's paths of
 // the baseline and one chosen run. The address keeps the view: &correction=none (plain p-values),
 // &plots=success,… and &paths=RUN.
@@ -14,6 +15,7 @@ import { checkPicker, metricGroups } from '../runs/picker.js';
 import { distributionPlot } from '../runs/distribution.js';
 import { exportButtons, svgElementText, svgElementPng } from '../lib/plotexport.js';
 import { pathsSection } from '../runs/paths.js';
+import { controllerText, configDiffSection } from '../runs/config.js';
 
 // One colour per run, the baseline's first; dark enough for thin lines and dots on white.
 const COLOURS = ['#2f6fd1', '#d1492f', '#2f8a4f', '#7d4fb8', '#b7791f', '#0f7f86', '#c2418f', '#5d6575', '#8a5a12', '#1d2330'];
@@ -43,7 +45,7 @@ function runsTable(runs) {
           i === 0 ? h('span', { class: 'muted small' }, ' baseline') : null),
         h('td', {}, report.name ? h('span', { class: 'name' }, report.name, ' ') : null, tagChips(report.tags)),
         h('td', {}, report.scenario),
-        h('td', {}, config.controller ? `${config.controller.type}${config.controller.goal?.location ? ` → ${config.controller.goal.location}` : ''}` : "the scenario's own"),
+        h('td', { class: 'run-controller' }, controllerText(config)),
         h('td', { class: 'number' }, `${p.finished}${p.error ? ` (+${p.error} in error)` : ''} / ${p.total}`),
         h('td', { class: 'number' }, report.rates.success_rate === null ? '—' : `${formatNumber(report.rates.success_rate * 100, 2)} %`),
         h('td', { class: 'verdict-facts' }, verdictBadge(report.verdict, report.status), failedGates(report)));
@@ -154,6 +156,7 @@ export async function render(root, params, query) {
   root.append(
     h('p', {}, h('a', { href: '#/runs' }, 'All runs'), ' · ', h('a', { href: `#/compare?runs=${[...ids.slice(1), ids[0]].join(',')}` }, `${runs[1].label} as the baseline`)),
     h('section', { 'aria-labelledby': 'runs-title' }, h('h2', { id: 'runs-title' }, 'Runs'), scrollBox(runsTable(runs), 'Runs compared')),
+    configDiffSection(runs),
     h('section', { 'aria-labelledby': 'metrics-title' }, h('h2', { id: 'metrics-title' }, 'Metrics'),
       h('label', { class: 'check', for: 'holm' }, holm, "Holm's correction for testing many metrics and runs at once"),
       metricsArea),

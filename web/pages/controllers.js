@@ -94,14 +94,30 @@ function seedsArgument(seeds) {
   return consecutive ? `${seeds[0]}-${seeds[seeds.length - 1]}` : seeds.join(',');
 }
 
+/**
+ * The controller the script's run of a type gives the robot: the scenario's own with only the type
+ * changed, less what that type does not take (as the server makes it).
+ */
+function scriptController(own, type) {
+  const controller = { ...own, type };
+  if (type === 'idle' || type === 'teleop') delete controller.goal;
+  if (type !== 'search') {
+    delete controller.person;
+    delete controller.strategy;
+  }
+  return controller;
+}
+
 /** How a run differs from what the script would run for its pair with `seeds`; empty when it does not. */
 function differences(row, seeds) {
   const config = row.report.config;
   const own = row.recordDocument?.robots?.[0]?.controller ?? {};
-  const expected = row.controller === 'scenario' ? null : { ...own, type: row.controller };
+  const expected = row.controller === 'scenario' ? null : scriptController(own, row.controller);
+  // What the robot had (runs stored before effective controllers had the controller asked for, whole).
+  const had = config.controller === null ? null : config.effective_controller ?? config.controller;
   const found = [];
-  if (canonical(config.controller) !== canonical(expected)) {
-    found.push(`controller ${JSON.stringify(config.controller)} where the script passes ${expected ? JSON.stringify(expected) : "the scenario's own"}`);
+  if (canonical(had) !== canonical(expected)) {
+    found.push(`controller ${JSON.stringify(had)} where the script's run has ${expected ? JSON.stringify(expected) : "the scenario's own"}`);
   }
   if (config.max_time !== null) found.push(`a time limit of ${formatNumber(config.max_time)} s`);
   if (config.requests.length) found.push('scripted requests');

@@ -9,6 +9,7 @@ import { downloadLink, saveButton } from '../lib/download.js';
 import { showInAddress, listOf } from '../lib/hashquery.js';
 import { labelsPanel } from '../runs/labels.js';
 import { episodePlots } from '../runs/episode-plots.js';
+import { controllerText } from '../runs/config.js';
 
 // Shown per episode and plotted (unless the address chooses others), in this order, when the metrics list has them.
 const KEY_METRICS = ['success', 'collisions', 'minimum_distance_to_people', 'path_length', 'time_to_goal'];
@@ -44,8 +45,6 @@ function summaryPanel(report) {
   const p = report.progress;
   const done = p.finished + p.error;
   const config = report.config;
-  const controller = config.controller
-    ? `${config.controller.type}${config.controller.goal?.location ? ` → ${config.controller.goal.location}` : ''}` : "the scenario's own";
   return h('div', { class: 'panel run-summary' },
     h('div', { class: 'row' },
       h('div', {}, h('span', { class: 'muted' }, 'Status '), statusBadge(report.status)),
@@ -57,7 +56,7 @@ function summaryPanel(report) {
     h('dl', { class: 'facts' },
       h('dt', {}, 'Scenario'), h('dd', {}, h('a', { href: `#/scenarios/${encodeURIComponent(report.scenario)}` }, report.scenario),
         h('span', { class: 'muted' }, ` (snapshot ${report.scenario_record})`)),
-      h('dt', {}, 'Controller'), h('dd', {}, controller),
+      h('dt', {}, 'Controller'), h('dd', { class: 'run-controller' }, controllerText(config)),
       h('dt', {}, 'Seeds'), h('dd', {}, `${seedRanges(config.seeds)} (${config.seeds.length})`),
       h('dt', {}, 'Time limit'), h('dd', {}, config.max_time === null ? "the scenario's" : `${formatNumber(config.max_time)} s`),
       config.sharding ? [h('dt', {}, 'Shards'), h('dd', { class: 'run-shards' }, shardingText(config))] : null,

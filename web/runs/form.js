@@ -18,6 +18,16 @@ const CONTROLLERS = [
 /** The controllers that drive: to a goal when given one, else along the choreography's goto actions. */
 const DRIVING = ['goal', 'social', 'dwa', 'orca', 'social_force'];
 
+// The goal select's values that are not locations.
+const SCENARIO_GOAL = '';
+const NO_GOAL = '\u0000none';
+
+/** A scenario robot's goal as the form offers it. */
+function ownGoalText(goal) {
+  const where = goal.location !== undefined ? goal.location : goal.pose ? `pose (${goal.pose.x}, ${goal.pose.y})` : 'as written';
+  return goal.radius !== undefined ? `${where}, within ${goal.radius} m` : where;
+}
+
 /** Every scenario the server holds (paging through the list). */
 export async function allScenarios() {
   const scenarios = [];
@@ -120,9 +130,14 @@ export function startForm(scenarios, preselected) {
     const request = ++worldRequest;
     goal.replaceChildren(h('option', { value: '' }, 'loading locations…'));
     try {
-      const world = await api.get(`/api/v1/scenarios/${encodeURIComponent(scenarioSelect.value)}/world`);
+      const id = encodeURIComponent(scenarioSelect.value);
+      const [world, document] = await Promise.all([api.get(`/api/v1/scenarios/${id}/world`), api.get(`/api/v1/scenarios/${id}`)]);
       if (request !== worldRequest) return;
-      goal.replaceChildren(h('option', { value: '' }, "none (the choreography's goto actions)"),
+      // The scenario's own goal is the default: the server keeps it when only the type changes.
+      const own = document.robots?.[0]?.controller?.goal;
+      goal.replaceChildren(
+        own ? h('option', { value: SCENARIO_GOAL }, `the scenario's own: ${ownGoalText(own)}`) : null,
+        h('option', { value: NO_GOAL }, "none (the choreography's goto actions)"),
         ...world.locations.map((l) => h('option', { value: l.name }, l.name)));
       setError(fields.goal, null);
     } catch (error) {
@@ -169,8 +184,10 @@ export function startForm(scenarios, preselected) {
       if (firstSeed.value !== '') body.first_seed = Number(firstSeed.value);
     }
     if (controller.value !== 'scenario') {
+      // Only what changes is sent: the server keeps the rest of the scenario's controller.
       body.controller = { type: controller.value };
-      if (DRIVING.includes(controller.value) && goal.value) body.controller.goal = { location: goal.value };
+      if (DRIVING.includes(controller.value) && goal.value === NO_GOAL) body.controller.goal = null;
+      else if (DRIVING.includes(controller.value) && goal.value !== SCENARIO_GOAL) body.controller.goal = { location: goal.value };
     }
     if (maxTime.validity.badInput || (maxTime.value.trim() !== '' && !(Number(maxTime.value) > 0))) {
       problem(fields.max_time, 'the time limit must be a number of seconds above 0 (or empty: the scenario\'s)');

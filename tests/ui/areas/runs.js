@@ -734,7 +734,9 @@ describe('runs', () => {
         ['scenario', 'idle', 'goal', 'social', 'dwa', 'orca', 'social_force'], 'the reference controllers are offered');
       await page.selectOption('#run-controller', 'dwa');
       assert.equal(await page.isVisible('#run-goal'), true, 'a driving controller may have a goal');
-      assert.equal(await page.inputValue('#run-goal'), '', 'none by default: the choreography\'s gotos');
+      await page.waitForSelector('#run-goal option[value=kitchen]', { ...WAIT, state: 'attached' });
+      assert.equal(await page.inputValue('#run-goal'), '', 'the scenario\'s own goal by default');
+      assert.match(await page.$eval('#run-goal', (select) => select.selectedOptions[0].textContent), /the scenario's own: living_room, within 0.3 m/);
       await page.selectOption('#run-controller', 'goal');
       await page.waitForSelector('#run-goal option[value=kitchen]', { ...WAIT, state: 'attached' });
       await page.selectOption('#run-goal', 'kitchen');
@@ -744,7 +746,7 @@ describe('runs', () => {
       await page.waitForFunction((a) => /^#\/runs\/r[0-9a-f]{32}$/.test(location.hash) && !location.hash.endsWith(a), state.runA, WAIT);
       const runC = await page.evaluate(() => location.hash.slice('#/runs/'.length));
       await page.waitForSelector('.run-summary .badge:has-text("finished")', WAIT);
-      assert.match(await page.textContent('.run-summary'), /goal → kitchen/);
+      assert.match(await page.textContent('.run-summary .run-controller'), /^goal; goal location kitchen, radius 0\.3 m$/);
       // The robot drives past people: times to collision of tens of seconds, drawn at the plot's top of 10 s.
       await page.click('table.episodes a[href^="#/episodes/e"]');
       const ttc = '.series-plot[data-series=time_to_collision]';

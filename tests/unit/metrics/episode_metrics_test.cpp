@@ -156,7 +156,24 @@ TEST(EpisodeMetrics, NoHumansAtAll) {
   EXPECT_FALSE(metric(values, "avg_distance_to_closest_person").value);
   EXPECT_EQ(value(values, "social_space_intrusions"), 0.0);
   EXPECT_EQ(value(values, "collisions"), 0.0);
-  EXPECT_EQ(metric(values, "success").null_reason, "the episode has neither a robot goal nor a choreography");
+  EXPECT_EQ(metric(values, "success").null_reason,
+            "the robot has no navigation goal, no search and no part in the choreography: nothing it was asked to do can succeed");
+}
+
+TEST(EpisodeMetrics, ARobotWithoutGoalOrPartHasNoSuccessWhenTheChoreographyCompletes) {
+  // The audit's wrong answer: a controller swap had dropped the robot's goal; the people's choreography
+  // completed and the robot, standing still, "succeeded".
+  Recording r = with_robot();
+  r.has_choreography = true;
+  r.choreography_completed = true;
+  for (int i = 0; i <= 50; ++i) r.samples.push_back(sample(i, disc(0, 0.001 * i, 0), {disc(1, 5, 1)}));
+  const auto values = compute_episode_metrics(r);
+  EXPECT_FALSE(metric(values, "success").value);
+  EXPECT_NE(metric(values, "success").null_reason.find("no navigation goal"), std::string::npos);
+  for (const char* goal_metric : {"time_to_goal", "path_efficiency", "minimum_distance_to_target", "final_distance_to_target", "failure_to_progress", "spl"}) {
+    EXPECT_EQ(metric(values, goal_metric).null_reason, "the robot has no navigation goal") << goal_metric;
+  }
+  EXPECT_EQ(value(values, "choreography_completed"), 1.0) << "the choreography's own metric still says it completed";
 }
 
 TEST(EpisodeMetrics, ASingleStep) {
@@ -240,6 +257,7 @@ TEST(EpisodeMetrics, AccelerationAndJerkFromForwardSpeed) {
 TEST(EpisodeMetrics, RequestsAndTheirLatency) {
   Recording r = with_robot();
   r.has_choreography = true;
+  r.robot_in_choreography = true;
   r.choreography_completed = true;
   for (int i = 0; i <= 50; ++i) r.samples.push_back(sample(i, disc(0, 0, 0), {}));
   r.events = {{10, "request", "robot", 1}, {12, "request", "robot", 2}, {30, "request_dropped", "robot", 2},
