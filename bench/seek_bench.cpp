@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <malloc.h>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -19,6 +20,9 @@ namespace {
 using nlohmann::json;
 
 double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+/// Bytes allocated on the heap now (glibc).
+std::size_t heap_bytes() { return mallinfo2().uordblks; }
 
 }  // namespace
 
@@ -43,10 +47,19 @@ int main(int argc, char** argv) {
   // A live session's settings: recorded, with checkpoints.
   hrisim::episode::Settings settings;
   settings.checkpoints.every = hrisim::episode::kCheckpointInterval;
+  const std::size_t heap_before = heap_bytes();
   auto episode = std::make_unique<hrisim::episode::Episode>(loaded.model, 1, settings);
   const double start = cpu_seconds();
   episode->step(std::nullopt, tick);
   const double forward = cpu_seconds() - start;
+  // The checkpoints' heap: an episode with them less one without.
+  const std::size_t heap_with = heap_bytes() - heap_before;
+  std::size_t heap_without = 0;
+  {
+    hrisim::episode::Episode plain(loaded.model, 1);
+    plain.step(std::nullopt, tick);
+    heap_without = heap_bytes() - heap_before - heap_with;
+  }
   if (episode->session().state().tick != tick) {
     std::fprintf(stderr, "the episode ended at tick %lld\n", static_cast<long long>(episode->session().state().tick));
     return 1;
@@ -60,8 +73,9 @@ int main(int argc, char** argv) {
     simulated_again = back->ticks_simulated_again();
   }
   std::sort(costs.begin(), costs.end());
-  std::printf("seek_bench: elevator kept going, stepped to tick %lld in %.2f s CPU, %zu checkpoints (%zu KiB)\n", static_cast<long long>(tick),
-              forward, episode->checkpoints(), episode->checkpoint_bytes() / 1024);
+  std::printf("seek_bench: elevator kept going, stepped to tick %lld in %.2f s CPU, %zu checkpoints (estimated %zu KiB, on the heap %lld KiB)\n",
+              static_cast<long long>(tick), forward, episode->checkpoints(), episode->checkpoint_bytes() / 1024,
+              (static_cast<long long>(heap_with) - static_cast<long long>(heap_without)) / 1024);
   std::printf("seek one tick back (to %lld): median %.4f s CPU of %d, %lld ticks simulated again\n", static_cast<long long>(tick - 1),
               costs[costs.size() / 2], repetitions, static_cast<long long>(simulated_again));
   return 0;

@@ -37,8 +37,8 @@ namespace hrisim::episode {
 /// from the checkpoint before it (the elevator: 600 ticks, ≈ 25 ms) instead of everything from tick 0,
 /// while copying the state that rarely costs well under 1% of stepping (bench/RESULTS.md, seek_bench).
 inline constexpr double kCheckpointInterval = 10.0;
-/// Bytes of checkpoints one episode keeps at most (estimated: the state's data, twice for its
-/// containers; the elevator's are a few tens of KiB each, so about an hour of it fits). Past it, every
+/// Bytes of checkpoints one episode keeps at most (estimated from the state's data; the elevator's are
+/// about 130 KiB each, so about 80 minutes of it fit). Past it, every
 /// other checkpoint goes and the interval doubles: memory stays bounded, and a seek back simulates
 /// again at most twice the episode's length over the checkpoints that fit (docs/limits.md).
 inline constexpr std::size_t kMaxCheckpointBytes = std::size_t{64} << 20;
