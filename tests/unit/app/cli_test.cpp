@@ -26,6 +26,7 @@ TEST(ServeOptions, Defaults) {
   EXPECT_EQ(options.server.header_limit, 8u * 1024);
   EXPECT_EQ(options.server.body_limit, 4u * 1024 * 1024);
   EXPECT_EQ(options.server.read_timeout, std::chrono::seconds(30));
+  EXPECT_EQ(options.server.header_timeout, std::chrono::seconds(10));
 }
 
 TEST(ServeOptions, FlagsBeatEnvironmentWhichBeatsDefaults) {
@@ -40,11 +41,12 @@ TEST(ServeOptions, FlagsBeatEnvironmentWhichBeatsDefaults) {
 TEST(ServeOptions, LimitsAreSettable) {
   const ServeOptions options = parse_serve_options(
       {"--header-limit", "16384", "--body-limit", "1024", "--read-timeout", "2", "--max-connections", "3"},
-      env_of({}));
+      env_of({{"HRISIM_HEADER_TIMEOUT", "4"}}));
   EXPECT_EQ(options.server.header_limit, 16384u);
   EXPECT_EQ(options.server.body_limit, 1024u);
   EXPECT_EQ(options.server.read_timeout, std::chrono::seconds(2));
   EXPECT_EQ(options.server.max_connections, 3u);
+  EXPECT_EQ(options.server.header_timeout, std::chrono::seconds(4));
 }
 
 void expect_error_mentions(const std::vector<std::string>& args, const std::map<std::string, std::string>& env,
@@ -62,6 +64,7 @@ TEST(ServeOptions, BadValuesSayWhichOptionAndWhy) {
   expect_error_mentions({"--port", "70000"}, {}, "--port");
   expect_error_mentions({"--port", "80x"}, {}, "'80x'");
   expect_error_mentions({"--read-timeout", "0"}, {}, "--read-timeout");
+  expect_error_mentions({"--header-timeout", "0"}, {}, "--header-timeout");
   expect_error_mentions({}, {{"HRISIM_PORT", "-1"}}, "HRISIM_PORT");
   expect_error_mentions({"--colour", "red"}, {}, "--colour");
   expect_error_mentions({"--db"}, {}, "needs a value");
