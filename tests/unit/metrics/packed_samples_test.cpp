@@ -1,5 +1,6 @@
 // Packed samples: every value back bit for bit (NaN, infinities and −0 included), people coming,
-// going and changing places, groups and touched obstacles; blocks of fixed size; and compact.
+// going and changing places, groups and touched obstacles; blocks of fixed size; kept until a tick;
+// and compact.
 #include "metrics/packed_samples.hpp"
 
 #include <gtest/gtest.h>
@@ -88,6 +89,33 @@ TEST(PackedSamples, ASampleLargerThanABlockGetsABlockOfItsOwnAndTheNextBlockFoll
   for (const Sample& sample : samples) packed.append(sample);
   EXPECT_GT(packed.bytes(), 3 * PackedSamples::kBlockBytes) << "3,000 people take more than a block a sample";
   expect_same(packed.unpack(), samples);
+}
+
+TEST(PackedSamples, KeptUntilATickTheyAreAsIfWhatFollowedHadNeverBeenAppended) {
+  // A seek back: the samples after its tick go, and the new branch is appended after those kept.
+  const auto sample_at = [](int t, int branch) {
+    Sample sample;
+    sample.tick = t;
+    sample.robot = walker(0, t + branch);
+    for (int agent = 1; agent <= 2000; ++agent) sample.humans.push_back(walker(agent, t * (branch + 1)));  // blocks fill
+    if (t % 30 == 0) sample.groups = {{1, 2}};
+    return sample;
+  };
+  PackedSamples packed;
+  for (int t = 0; t < 200; ++t) packed.append(sample_at(t, 0));
+  std::vector<Sample> expected;
+  packed.keep_until(120, [&](const Sample& kept) { expected.push_back(kept); });
+  ASSERT_EQ(expected.size(), 121u);
+  EXPECT_EQ(packed.size(), 121u);
+  EXPECT_EQ(packed.back().tick, 120);
+  for (int t = 121; t < 160; ++t) {
+    packed.append(sample_at(t, 1));
+    expected.push_back(sample_at(t, 1));
+  }
+  std::vector<Sample> first_branch;
+  for (int t = 0; t <= 120; ++t) first_branch.push_back(sample_at(t, 0));
+  expect_same(std::vector<Sample>(expected.begin(), expected.begin() + 121), first_branch);
+  expect_same(packed.unpack(), expected);
 }
 
 TEST(PackedSamples, WalkingPeopleTakeUnderHalfTheirUnpackedSizeAndStandingOnesAFewBytes) {
