@@ -126,6 +126,10 @@ Session::Session(std::shared_ptr<const scenario::Model> model, Copy copy, std::s
       runtime_of_agent_(std::move(copy.runtime_of_agent)),
       bodies_(*model_),
       walking_(*model_) {
+  if (events.size() < copy.events) {
+    throw core::Error(core::ErrorCode::internal, "a session copy of " + std::to_string(copy.events) + " events given only " +
+                                                     std::to_string(events.size()) + ": not the session it was copied from");
+  }
   state_.events.assign(events.begin(), events.begin() + static_cast<std::ptrdiff_t>(copy.events));
   physics_ = build_physics_again(*model_, state_, bodies_);
 }
