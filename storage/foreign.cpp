@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <tuple>
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/random.hpp"
+#include "core/files.hpp"
 #include "storage/migrations.hpp"
 #include "storage/sqlite.hpp"
 #include "storage/store.hpp"
@@ -17,6 +19,9 @@ namespace hrisim::storage {
 namespace {
 
 namespace fs = std::filesystem;
+
+/// The private folders' names begin so: remove_abandoned_copies finds those of a killed process.
+const std::string kFolderPrefix = "hrisim-foreign-";
 
 using SchemaObject = std::tuple<std::string, std::string, std::string, std::string>;  // type, name, table, sql
 
@@ -28,11 +33,18 @@ std::vector<SchemaObject> schema_of(Database& db) {
   return objects;
 }
 
-/// The schema hrisim's migrations up to `version` make, as SQLite keeps it.
-std::vector<SchemaObject> migrations_schema(int version) {
-  const std::unique_ptr<Database> reference = Database::in_memory();
-  migrate(*reference, schema_migrations().first(static_cast<std::size_t>(version)));
-  return schema_of(*reference);
+/// The schema hrisim's migrations up to `version` make, as SQLite keeps it; made once per version.
+const std::vector<SchemaObject>& migrations_schema(int version) {
+  static std::mutex mutex;
+  static std::map<int, std::vector<SchemaObject>> made;
+  std::lock_guard lock(mutex);
+  auto found = made.find(version);
+  if (found == made.end()) {
+    const std::unique_ptr<Database> reference = Database::in_memory();
+    migrate(*reference, schema_migrations().first(static_cast<std::size_t>(version)));
+    found = made.emplace(version, schema_of(*reference)).first;
+  }
+  return found->second;
 }
 
 [[noreturn]] void refuse(const std::string& name, const std::string& why) {
@@ -50,7 +62,7 @@ void check_schema(Database& db, const std::string& name) {
   std::vector<SchemaObject> found = schema_of(db);
   // SQLite's own statistics table (ANALYZE, PRAGMA optimize) holds numbers, no code.
   std::erase_if(found, [](const SchemaObject& object) { return std::get<1>(object) == "sqlite_stat1"; });
-  const std::vector<SchemaObject> expected = migrations_schema(version);
+  const std::vector<SchemaObject>& expected = migrations_schema(version);
   if (found == expected) return;
   for (const SchemaObject& object : found) {
     if (std::find(expected.begin(), expected.end(), object) == expected.end()) {
@@ -59,14 +71,6 @@ void check_schema(Database& db, const std::string& name) {
     }
   }
   refuse(name, "lacks part of hrisim's schema version " + std::to_string(version));
-}
-
-/// A folder only this process's user may enter, in the temporary directory.
-fs::path private_folder() {
-  const fs::path folder = fs::temp_directory_path() / ("hrisim-foreign-" + core::unguessable_id('f'));
-  fs::create_directory(folder);
-  fs::permissions(folder, fs::perms::owner_all, fs::perm_options::replace);
-  return folder;
 }
 
 }  // namespace
@@ -87,18 +91,20 @@ ForeignDatabase::~ForeignDatabase() {
 
 Store& ForeignDatabase::store() { return *store_; }
 
+int ForeignDatabase::remove_abandoned_copies() { return core::remove_folders_of_ended_processes(kFolderPrefix); }
+
 ForeignDatabase ForeignDatabase::from_file(const fs::path& file, std::string name, std::uint64_t max_bytes) {
   std::error_code error;
   const std::uint64_t bytes = fs::file_size(file, error);
   if (error || !fs::is_regular_file(file)) refuse(name, "cannot be read: no such file");
   if (bytes > max_bytes) refuse(name, "is " + std::to_string(bytes) + " bytes, more than the " + std::to_string(max_bytes) + " a database to merge may be");
-  ForeignDatabase database(std::move(name), private_folder());
+  ForeignDatabase database(std::move(name), core::make_private_temp_folder(kFolderPrefix));
   database.open(file, bytes);
   return database;
 }
 
 ForeignDatabase ForeignDatabase::from_bytes(std::string_view bytes, std::string name) {
-  ForeignDatabase database(std::move(name), private_folder());
+  ForeignDatabase database(std::move(name), core::make_private_temp_folder(kFolderPrefix));
   const fs::path upload = database.folder_ / "upload.db";
   {
     std::ofstream out(upload, std::ios::binary);

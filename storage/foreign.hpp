@@ -41,6 +41,8 @@ class ForeignDatabase {
   /// The private copy, migrated to this hrisim's schema; its reads stay within the work budget (then
   /// they throw core::Error(bad_request)).
   Store& store();
+  /// Removes the private copies of processes that were killed before they removed them; how many.
+  static int remove_abandoned_copies();
   const std::string& name() const { return name_; }
 
  private:

@@ -10,8 +10,10 @@
 #include "runs/merge.hpp"
 #include "app/scenario_commands.hpp"
 #include "core/error.hpp"
+#include "core/files.hpp"
 #include "core/memory_budget.hpp"
 #include "http/api.hpp"
+#include "http/scenario_catalogue.hpp"
 #include "metrics/definitions.hpp"
 #include "runs/executor.hpp"
 #include "storage/store.hpp"
@@ -71,6 +73,10 @@ int serve(const std::vector<std::string>& args) {
   if (const int interrupted = store.interrupt_abandoned_runs(); interrupted > 0) {
     std::fprintf(stderr, "hrisim: %d run%s whose process ended marked interrupted\n", interrupted, interrupted == 1 ? "" : "s");
   }
+  // What a killed server left in the temporary folder: imports' copies and uploads' files.
+  const int abandoned = hrisim::storage::ForeignDatabase::remove_abandoned_copies() +
+                        hrisim::core::remove_folders_of_ended_processes(hrisim::http::kFilesFolderPrefix);
+  if (abandoned > 0) std::fprintf(stderr, "hrisim: removed %d temporary folder%s of ended processes\n", abandoned, abandoned == 1 ? "" : "s");
   for (const std::filesystem::path& file : options.imports) {
     if (!std::filesystem::is_regular_file(file)) throw hrisim::core::Error(hrisim::core::ErrorCode::bad_request, "--import: no database " + file.string());
     hrisim::storage::ForeignDatabase source = hrisim::storage::ForeignDatabase::from_file(file, file.string());

@@ -380,6 +380,7 @@ int merge_command(const std::vector<std::string>& args) {
     if (std::filesystem::equivalent(file, *into, ignored)) usage_error(file + " is the database merged into (--into)");
   }
   storage::Store target(prepared(*into));
+  storage::ForeignDatabase::remove_abandoned_copies();  // of merges that were killed
   std::vector<std::string> runs_merged;
   for (const std::string& file : parsed.files) {
     storage::ForeignDatabase source = storage::ForeignDatabase::from_file(file, file);

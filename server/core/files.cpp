@@ -1,9 +1,15 @@
 #include "core/files.hpp"
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <charconv>
 #include <fstream>
 
 #include "core/error.hpp"
+#include "core/random.hpp"
 
 namespace hrisim::core {
 
@@ -50,6 +56,33 @@ std::string read_file(const std::filesystem::path& file, std::size_t max_bytes) 
     throw Error(ErrorCode::bad_request, "cannot read " + file.string(), {{"file", file.string()}});
   }
   return text;
+}
+
+std::filesystem::path make_private_temp_folder(const std::string& prefix) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::temp_directory_path() / (prefix + std::to_string(::getpid()) + "-" + unguessable_id('t'));
+  fs::create_directory(folder);
+  fs::permissions(folder, fs::perms::owner_all, fs::perm_options::replace);
+  return folder;
+}
+
+int remove_folders_of_ended_processes(const std::string& prefix) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  int removed = 0;
+  for (const auto& entry : fs::directory_iterator(fs::temp_directory_path(), error)) {
+    const std::string name = entry.path().filename().string();
+    if (!name.starts_with(prefix) || !entry.is_directory(error)) continue;
+    const std::size_t dash = name.find('-', prefix.size());
+    long pid = 0;
+    const auto [end, parsed] = std::from_chars(name.data() + prefix.size(), name.data() + std::min(dash, name.size()), pid);
+    if (parsed != std::errc() || end != name.data() + std::min(dash, name.size()) || pid <= 0) continue;
+    // A process that is gone (or was never this user's to signal) left the folder behind.
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    fs::remove_all(entry.path(), error);
+    if (!error) ++removed;
+  }
+  return removed;
 }
 
 }  // namespace hrisim::core

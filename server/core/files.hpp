@@ -28,4 +28,13 @@ bool inside_folder(const std::filesystem::path& file, const std::filesystem::pat
 /// file otherwise (a device, a folder, too large, unreadable).
 std::string read_file(const std::filesystem::path& file, std::size_t max_bytes = kMaxScenarioFileBytes);
 
+/// A new folder of this process in the system's temporary folder, only its user may enter:
+/// `<prefix><pid>-<unguessable id>`, so that remove_folders_of_ended_processes finds it should the
+/// process be killed before it removes the folder itself.
+std::filesystem::path make_private_temp_folder(const std::string& prefix);
+
+/// Removes the temporary folders named `<prefix><pid>-…` whose process has ended (killed before it
+/// removed them); returns how many.
+int remove_folders_of_ended_processes(const std::string& prefix);
+
 }  // namespace hrisim::core

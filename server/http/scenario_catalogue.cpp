@@ -107,10 +107,7 @@ std::filesystem::path ScenarioCatalogue::write_files(const std::string& name, co
   {
     std::lock_guard lock(mutex_);
     if (files_root_.empty()) {
-      fs::path made = fs::temp_directory_path() / ("hrisim-files-" + std::to_string(getpid()) + "-" + core::unguessable_id('f'));
-      fs::create_directory(made);
-      fs::permissions(made, fs::perms::owner_all, fs::perm_options::replace);
-      files_root_ = std::move(made);
+      files_root_ = core::make_private_temp_folder(kFilesFolderPrefix);
     }
     root = files_root_;
   }

@@ -32,6 +32,9 @@ inline constexpr char kUploadedPrefix = 'u';
 /// `--scenario-cache-mb`.
 inline constexpr std::size_t kDefaultScenarioCacheBytes = 256u << 20;
 
+/// The private folder the uploads' files are written to is named so (core::make_private_temp_folder).
+inline constexpr const char* kFilesFolderPrefix = "hrisim-files-";
+
 /// Most files one upload may bring along.
 inline constexpr std::size_t kMaxUploadFiles = 64;
 

@@ -44,14 +44,14 @@ describe('importing runs', () => {
     const bytes = fs.readFileSync(path.join(dir, 'results.db'));
     const imported = await post(bytes);
     assert.equal(imported.status, 200, imported.body);
-    assert.deepEqual(imported.json.runs, [{ id: merged.id, added: 6, present: 0 }]);
+    assert.deepEqual(imported.json.runs, [{ id: merged.id, source_id: merged.id, added: 6, present: 0 }]);
     const report = (await api.get(`/api/v1/runs/${merged.id}`)).json;
     assert.equal(report.name, 'imported');
     assert.deepEqual(report.aggregates, merged.aggregates);
     assert.deepEqual(report.verdict, merged.verdict);
     assert.ok((await api.get('/api/v1/runs?q=imported')).json.items.some((run) => run.id === merged.id));
     const again = await post(bytes);
-    assert.deepEqual(again.json.runs, [{ id: merged.id, added: 0, present: 6 }]);
+    assert.deepEqual(again.json.runs, [{ id: merged.id, source_id: merged.id, added: 0, present: 6 }]);
   });
 
   it('POST /api/v1/runs/import: refuses what is not a database, and a shard of another scenario content (409, nothing kept)', async () => {
@@ -60,7 +60,8 @@ describe('importing runs', () => {
     assert.match(text.json.error.message, /not an SQLite database/);
     const conflicting = await post(fs.readFileSync(path.join(dir, 'edited.db')));
     assert.equal(conflicting.status, 409, conflicting.body);
-    assert.match(conflicting.json.error.message, /its scenario's content \(sha256\) is [0-9a-f]{64} in the uploaded database but [0-9a-f]{64} in this server's/);
+    // The importer learns that the server's run differs, not what it holds.
+    assert.match(conflicting.json.error.message, /its scenario's content \(sha256\) is [0-9a-f]{64} in the uploaded database, another in this server's$/);
     assert.equal((await api.get(`/api/v1/runs/${merged.id}`)).json.episodes.length, 6);
   });
 });

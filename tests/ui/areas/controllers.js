@@ -67,7 +67,7 @@ describe('controllers', () => {
       assert.equal(await page.textContent('.reproduce pre.command'), 'scripts/compare-controllers --scenarios apartment --controllers goal,social --seeds 0-1');
       // The apartment's own robot drives to the living room: the script would not send "kitchen".
       assert.match(await page.textContent(`.reproduce .differences li[data-run="${goal.id}"]`),
-        /controller \{.*"location":"kitchen".*\} where the script passes \{"goal":\{"location":"living_room".*\}/);
+        /controller \{.*"location":"kitchen".*\} where the script's run has \{"goal":\{"location":"living_room".*\}/);
       assert.equal(await page.inputValue('#controllers-scenario'), 'apartment');
       await screenshot(page, 'controllers');
 

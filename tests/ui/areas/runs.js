@@ -651,6 +651,11 @@ describe('runs', () => {
       assert.equal(await page.textContent(`table.compare-runs tr[data-run="${state.runA}"] .verdict-facts`), 'passed');
       assert.deepEqual(await page.$$eval(`table.compare-runs tr[data-run="${runB}"] .verdict-facts code.chip`, (chips) => chips.map((c) => c.textContent)), ['success.mean > 1']);
       assert.match(await page.textContent(`table.compare-runs tr[data-run="${runC}"]`), /third/);
+      // The configurations side by side: the fields that differ, a value per run; the three ran the
+      // queue's own controller, which the page says (their differences cannot be the controller's).
+      assert.match(await page.textContent('#config-same-controller'), /same controller configuration/);
+      assert.deepEqual(await page.$$eval('table.config-differences tr[data-pointer="/seeds"] td', (cells) => cells.length), 3);
+      assert.equal(await page.$$eval('table.config-differences tr[data-pointer^="/effective_controller"]', (rows) => rows.length), 0);
       // Each chosen metric's distribution, a row per run, with a summary and a table.
       const distance = '.distribution-plot[data-metric=minimum_distance_to_people]';
       await page.waitForSelector(`${distance} svg`, WAIT);
