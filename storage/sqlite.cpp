@@ -191,13 +191,15 @@ std::unique_ptr<Database> Database::open_foreign(const std::filesystem::path& pa
   sqlite3_limit(handle, SQLITE_LIMIT_VARIABLE_NUMBER, 32);
   sqlite3_limit(handle, SQLITE_LIMIT_TRIGGER_DEPTH, 1);
   sqlite3_progress_handler(handle, kWorkCheckSteps, charge_work, &work);
-  // A foreign file is read or a scratch copy of it written: nothing to keep through a crash.
-  db->exec("PRAGMA cell_size_check=ON; PRAGMA mmap_size=0; PRAGMA foreign_keys=ON; PRAGMA synchronous=OFF;");
+  db->exec("PRAGMA cell_size_check=ON; PRAGMA mmap_size=0; PRAGMA foreign_keys=ON;");
   return db;
 }
 
 void Database::trust_schema() {
   if (sqlite3_db_config(db_, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 1, nullptr) != SQLITE_OK) fail(db_, SQLITE_ERROR, "configuring a foreign database");
+  // A foreign file is only read, and its copy is scratch: nothing to keep through a crash. (Set once
+  // the schema is trusted: the pragma reads it.)
+  exec("PRAGMA synchronous=OFF");
 }
 
 namespace {

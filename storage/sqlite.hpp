@@ -75,7 +75,8 @@ class Database {
   /// and every statement's work counted against `work` (which must outlive the connection).
   static std::unique_ptr<Database> open_foreign(const std::filesystem::path& path, bool writable, const ForeignLimits& limits, WorkBudget& work);
   /// Trusts the schema's functions again (SQLITE_DBCONFIG_TRUSTED_SCHEMA): only once a foreign file's
-  /// schema was found to be exactly hrisim's own, whose CHECK constraints call json_valid().
+  /// schema was found to be exactly hrisim's own, whose CHECK constraints call json_valid(); and
+  /// stops syncing to disk (the file is only read, its copy is scratch).
   void trust_schema();
   /// An empty database in memory, configured as a file's (foreign keys on): a migrations' reference.
   static std::unique_ptr<Database> in_memory();
