@@ -91,6 +91,9 @@ ForeignDatabase::~ForeignDatabase() {
 
 Store& ForeignDatabase::store() { return *store_; }
 
+std::uint64_t ForeignDatabase::work_spent() const { return work_->spent; }
+std::uint64_t ForeignDatabase::work_budget() const { return work_->steps; }
+
 int ForeignDatabase::remove_abandoned_copies() { return core::remove_folders_of_ended_processes(kFolderPrefix); }
 
 ForeignDatabase ForeignDatabase::from_file(const fs::path& file, std::string name, std::uint64_t max_bytes) {

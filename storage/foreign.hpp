@@ -17,9 +17,11 @@ struct WorkBudget;
 /// import is bounded by its request body limit before it gets here.
 inline constexpr std::uint64_t kDefaultMaxForeignBytes = std::uint64_t{4} << 30;
 /// SQLite virtual-machine steps a foreign database may cost per byte of its file, over every statement
-/// that checks, copies and reads it; plus kForeignWorkBase. Reading hrisim's own tables costs about 10
-/// per byte (measured on merged shards); the rest is headroom. A statement past it fails.
-inline constexpr std::uint64_t kForeignWorkPerByte = 200;
+/// that checks, copies and reads it; plus kForeignWorkBase for what any file costs. Checking, copying
+/// and reading the whole of a results file of hrisim's costs 0.05 a byte (two merged shards, 104 KiB:
+/// ForeignDatabase.AResultsFileCostsAFractionOfItsBudget prints it), so the budget is 200 times that.
+/// A statement past it fails.
+inline constexpr std::uint64_t kForeignWorkPerByte = 10;
 inline constexpr std::uint64_t kForeignWorkBase = 50'000'000;
 
 class ForeignDatabase {
@@ -44,6 +46,9 @@ class ForeignDatabase {
   /// Removes the private copies of processes that were killed before they removed them; how many.
   static int remove_abandoned_copies();
   const std::string& name() const { return name_; }
+  /// SQLite virtual-machine steps spent on the file so far, and all it may spend.
+  std::uint64_t work_spent() const;
+  std::uint64_t work_budget() const;
 
  private:
   ForeignDatabase(std::string name, std::filesystem::path folder);
