@@ -18,9 +18,6 @@ const CONTROLLERS = [
 /** The controllers that drive: to a goal when given one, else along the choreography's goto actions. */
 const DRIVING = ['goal', 'social', 'dwa', 'orca', 'social_force'];
 
-// The goal select's values that are not locations.
-const SCENARIO_GOAL = '';
-const NO_GOAL = '\u0000none';
 
 /** A scenario robot's goal as the form offers it. */
 function ownGoalText(goal) {
@@ -136,8 +133,9 @@ export function startForm(scenarios, preselected) {
       // The scenario's own goal is the default: the server keeps it when only the type changes.
       const own = document.robots?.[0]?.controller?.goal;
       goal.replaceChildren(
-        own ? h('option', { value: SCENARIO_GOAL }, `the scenario's own: ${ownGoalText(own)}`) : null,
-        h('option', { value: NO_GOAL }, "none (the choreography's goto actions)"),
+        // The two choices that are not locations say what they are in data-kind (a location may have any name).
+        own ? h('option', { value: '', 'data-kind': 'own' }, `the scenario's own: ${ownGoalText(own)}`) : null,
+        h('option', { value: '', 'data-kind': 'none' }, "none (the choreography's goto actions)"),
         ...world.locations.map((l) => h('option', { value: l.name }, l.name)));
       setError(fields.goal, null);
     } catch (error) {
@@ -186,8 +184,9 @@ export function startForm(scenarios, preselected) {
     if (controller.value !== 'scenario') {
       // Only what changes is sent: the server keeps the rest of the scenario's controller.
       body.controller = { type: controller.value };
-      if (DRIVING.includes(controller.value) && goal.value === NO_GOAL) body.controller.goal = null;
-      else if (DRIVING.includes(controller.value) && goal.value !== SCENARIO_GOAL) body.controller.goal = { location: goal.value };
+      const kind = goal.selectedOptions[0]?.dataset.kind ?? 'location';
+      if (DRIVING.includes(controller.value) && kind === 'none') body.controller.goal = null;
+      else if (DRIVING.includes(controller.value) && kind === 'location' && goal.value) body.controller.goal = { location: goal.value };
     }
     if (maxTime.validity.badInput || (maxTime.value.trim() !== '' && !(Number(maxTime.value) > 0))) {
       problem(fields.max_time, 'the time limit must be a number of seconds above 0 (or empty: the scenario\'s)');
