@@ -15,7 +15,9 @@ constexpr std::string_view kTask = "task_and_path", kProximity = "proximity", kC
 constexpr std::array kDefinitions{
     Definition{"success", "bool", kTask, Better::higher,
                "1 when the episode reached its goal condition: the robot's navigation goal reached with no robot-human collision; "
-               "for a searching robot, the person found with no collision; for a robot with neither but a part in the choreography "
+               "for a searching robot, the person found with no collision; for a benchmark task that ends at a goal condition "
+               "(approach_human, approach_human_apartment), the task ended there with no collision (null for the other tasks: their "
+               "reward measures them); for a robot with none of these but a part in the choreography "
                "(a step's action or a request it makes), the choreography completed with no collision; null for a robot with none "
                "of these (nothing it was asked to do can succeed)",
                "recent social-navigation benchmarks"},

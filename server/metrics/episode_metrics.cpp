@@ -14,6 +14,8 @@ namespace {
 
 using Values = std::map<std::string, MetricValue, std::less<>>;
 
+/// Why a benchmark task that runs its episode's length has no success.
+constexpr const char* kTaskWithoutGoalCondition = "the benchmark task has no goal condition: its reward measures the episode";
 /// Why a robot without a goal, a search or a part in the choreography has no success.
 constexpr const char* kNoTaskForRobot =
     "the robot has no navigation goal, no search and no part in the choreography: nothing it was asked to do can succeed";
@@ -471,7 +473,11 @@ std::vector<MetricValue> compute_episode_metrics(const Recording& recording) {
     goal_metrics(recording, collided, values);
     search_metrics(recording, collided, values);
     if (!recording.goal && !recording.searching) {
-      if (recording.robot_in_choreography) {
+      if (recording.task_goal_condition == true) {
+        set(values, "success", recording.termination == "goal" && !collided ? 1.0 : 0.0);
+      } else if (recording.task_goal_condition == false) {
+        set_null(values, "success", kTaskWithoutGoalCondition);
+      } else if (recording.robot_in_choreography) {
         set(values, "success", recording.choreography_completed && !collided ? 1.0 : 0.0);
       } else {
         set_null(values, "success", kNoTaskForRobot);

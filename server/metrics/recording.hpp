@@ -57,6 +57,9 @@ struct Recording {
   /// The choreography gives the robot something to do (a step's action, a request it makes): then its
   /// completion is the success of a robot without a goal or a search.
   bool robot_in_choreography = false;
+  /// The scenario's benchmark task, when it has one: whether it ends at a goal condition
+  /// (scenario::has_goal_condition), reached when the episode ends with termination "goal".
+  std::optional<bool> task_goal_condition;
   bool choreography_completed = false;
   std::string termination;  ///< goal, collision, timeout, scenario_end, cancelled, error
   /// The benchmark task's summed reward; empty for a scenario without a benchmark task.

@@ -285,6 +285,10 @@ struct Request {
 /// The benchmark tasks of seed 003 §4.4 (the HSR human–robot interaction benchmark).
 enum class TaskKind { approach_human, follow_human, approach_human_apartment, pick_and_place, mirror_gesture };
 
+/// Whether a benchmark task ends at a goal condition (the robot reaching its human), which is then its
+/// episode's success; the others run their episode's length and are measured by their reward.
+constexpr bool has_goal_condition(TaskKind kind) { return kind == TaskKind::approach_human || kind == TaskKind::approach_human_apartment; }
+
 // Episode settings of seed 003 §5.3 (Tables 5.2 and 5.3).
 /// Physics ticks per environment step of the navigation tasks and gesture mirroring.
 inline constexpr int kTaskFrameSkip = 10;

@@ -62,6 +62,7 @@ EpisodeRecorder::EpisodeRecorder(const Session& session, RecorderLimits limits)
   }
   recording_.has_choreography = !model.steps.empty();
   recording_.robot_in_choreography = robot_ >= 0 && robot_takes_part(model, session.state(), robot_);
+  if (model.task) recording_.task_goal_condition = scenario::has_goal_condition(model.task->kind);
   record(session);
 }
 

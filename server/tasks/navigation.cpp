@@ -177,7 +177,7 @@ void NavigationTask::before_step(sim::Session& session) {
 }
 
 bool NavigationTask::terminated(const sim::Session& session) const {
-  return task_.kind != scenario::TaskKind::follow_human && distance(session) < task_.reach_distance;
+  return scenario::has_goal_condition(task_.kind) && distance(session) < task_.reach_distance;
 }
 
 }  // namespace hrisim::tasks

@@ -176,6 +176,19 @@ TEST(EpisodeMetrics, ARobotWithoutGoalOrPartHasNoSuccessWhenTheChoreographyCompl
   EXPECT_EQ(value(values, "choreography_completed"), 1.0) << "the choreography's own metric still says it completed";
 }
 
+TEST(EpisodeMetrics, ABenchmarkTasksGoalConditionIsItsSuccess) {
+  // approach_human ends at its goal condition (termination "goal"); follow_human runs its length.
+  Recording r = with_robot();
+  for (int i = 0; i < 5; ++i) r.samples.push_back(sample(i, disc(0, 0.1 * i, 0, 1, 0), {disc(1, 5, 0)}));
+  r.task_goal_condition = true;
+  r.termination = "goal";
+  EXPECT_EQ(value(compute_episode_metrics(r), "success"), 1.0);
+  r.termination = "timeout";
+  EXPECT_EQ(value(compute_episode_metrics(r), "success"), 0.0);
+  r.task_goal_condition = false;
+  EXPECT_EQ(metric(compute_episode_metrics(r), "success").null_reason, "the benchmark task has no goal condition: its reward measures the episode");
+}
+
 TEST(EpisodeMetrics, ASingleStep) {
   Recording r = with_robot();
   r.samples.push_back(sample(0, disc(0, 0, 0, 0.5, 0), {disc(1, 2, 0)}));
