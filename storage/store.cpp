@@ -16,6 +16,7 @@
 
 #include "core/bounded_json.hpp"
 #include "core/error.hpp"
+#include "core/random.hpp"
 #include "core/sha256.hpp"
 #include "core/text.hpp"
 #include "storage/sqlite.hpp"
@@ -512,6 +513,18 @@ std::vector<SeriesRecord> Store::series(const std::string& episode_id, const std
     list.push_back(std::move(series));
   }
   return list;
+}
+
+std::string Store::secret(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  // Made and kept in one statement: two processes sharing the file agree on the first one kept.
+  Statement insert = db_->prepare("INSERT OR IGNORE INTO secrets (name, value) VALUES (?1, ?2)");
+  insert.bind(1, name).bind(2, core::unguessable_id('k').substr(1));
+  insert.run();
+  Statement select = db_->prepare("SELECT value FROM secrets WHERE name = ?1");
+  select.bind(1, name);
+  if (!select.step()) throw core::Error(core::ErrorCode::storage, "the database keeps no secret '" + name + "'");
+  return select.text(0);
 }
 
 bool Store::has_episode(const std::string& id) {

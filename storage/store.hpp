@@ -243,6 +243,10 @@ class Store {
     std::unique_ptr<Transaction> transaction_;
   };
 
+  /// The secret of this database called `name`: 32 random hex digits, made when first asked for and
+  /// kept with the database (never in what it exports: a merge or an import copies runs, not secrets).
+  std::string secret(const std::string& name);
+
   /// Version of the SQLite library in use, e.g. "3.40.1".
   static std::string sqlite_version();
 

@@ -82,7 +82,9 @@ struct Plan {
 class Merger {
  public:
   Merger(storage::Store& target, std::string source_name, std::string target_name, std::optional<std::string> owner)
-      : target_(target), source_name_(std::move(source_name)), target_name_(std::move(target_name)), owner_(std::move(owner)) {}
+      : target_(target), source_name_(std::move(source_name)), target_name_(std::move(target_name)), owner_(std::move(owner)) {
+    if (owner_) id_key_ = target_.secret("import_ids");
+  }
 
   Plan plan(SourceRun read) {
     Plan plan;
@@ -141,7 +143,8 @@ class Merger {
   }
 
   /// An importer's run: its own id, unless another owner holds that id; then one derived from the
-  /// owner and the id, the same for every shard of the run this owner imports.
+  /// owner and the id, the same for every shard of the run this owner imports, and keyed with the
+  /// target's secret so that no one can take it in advance.
   std::string id_for_owner(const std::string& id) const {
     const std::optional<storage::RunRecord> existing = target_.run(id);
     if (!existing || existing->owner == *owner_) return id;
@@ -149,7 +152,9 @@ class Merger {
   }
 
   /// The id of this owner's copy of a record of `id`.
-  std::string owned_id(char prefix, const std::string& id) const { return prefix + core::sha256_hex(*owner_ + '\0' + id).substr(0, 32); }
+  std::string owned_id(char prefix, const std::string& id) const {
+    return prefix + core::sha256_hex(id_key_ + '\0' + *owner_ + '\0' + id).substr(0, 32);
+  }
 
   /// Where the run's scenario is in the target: a content-addressed one at its id (the same content
   /// wherever it is); an upload at its id when the target lacks it or has it with the same content for
@@ -238,6 +243,7 @@ class Merger {
   storage::Store& target_;
   std::string source_name_, target_name_;
   std::optional<std::string> owner_;
+  std::string id_key_;  ///< the target's secret for derived ids
 };
 
 }  // namespace

@@ -146,9 +146,9 @@ TEST_F(Imports, ScenariosCannotBePlantedUnderAContentIdOrAnotherOwner) {
   const std::string upload = "u0123456789abcdef0123456789abcdef";
   const std::string as_upload = "UPDATE scenarios SET id = '" + upload + "', owner = 'alice'; UPDATE runs SET scenario_id = '" + upload +
                                 "', id = 'r00000000000000000000000000000001'; UPDATE episodes SET scenario_id = '" + upload +
-                                "', run_id = 'r00000000000000000000000000000001', id = 'e0' || substr(id, 3); UPDATE metric_values SET episode_id = 'e0' || substr(episode_id, 3); "
-                                "UPDATE events SET episode_id = 'e0' || substr(episode_id, 3); UPDATE trajectory_samples SET episode_id = 'e0' || substr(episode_id, 3); "
-                                "UPDATE metric_series SET episode_id = 'e0' || substr(episode_id, 3);";
+                                "', run_id = 'r00000000000000000000000000000001', id = 'e' || lower(hex(substr(id, 2, 16))); UPDATE metric_values SET episode_id = 'e' || lower(hex(substr(episode_id, 2, 16))); "
+                                "UPDATE events SET episode_id = 'e' || lower(hex(substr(episode_id, 2, 16))); UPDATE trajectory_samples SET episode_id = 'e' || lower(hex(substr(episode_id, 2, 16))); "
+                                "UPDATE metric_series SET episode_id = 'e' || lower(hex(substr(episode_id, 2, 16)));";
   const HttpReply imported = import(variant(as_upload), kBob);
   ASSERT_EQ(imported.status, 200) << imported.body;
   const HttpReply alices = http(server_->port(), "GET", "/api/v1/scenarios/" + upload, "", bearer(kAlice));

@@ -476,5 +476,20 @@ TEST(Store, UnopenablePathIsAStorageError) {
   }
 }
 
+TEST(Store, ASecretIsMadeOnceKeptWithItsDatabaseAndOfItsOwn) {
+  TempDir dir;
+  std::string first;
+  {
+    Store store(dir / "a.db");
+    first = store.secret("import_ids");
+    EXPECT_EQ(first.size(), 32u);
+    EXPECT_EQ(first.find_first_not_of("0123456789abcdef"), std::string::npos);
+    EXPECT_EQ(store.secret("import_ids"), first);
+    EXPECT_NE(store.secret("another"), first);
+  }
+  EXPECT_EQ(Store(dir / "a.db").secret("import_ids"), first) << "kept with the file";
+  EXPECT_NE(Store(dir / "b.db").secret("import_ids"), first) << "each database has its own";
+}
+
 }  // namespace
 }  // namespace hrisim::storage
