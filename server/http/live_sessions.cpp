@@ -24,6 +24,18 @@ Response locked(std::shared_ptr<Live> live, std::function<Response(Live&)> work)
   });
 }
 
+Response simulation_later(std::shared_ptr<void> place, std::function<Response()> work) {
+  // Shared by every copy of the job, so that giving it back in the one that runs gives it back.
+  auto held = std::make_shared<std::shared_ptr<void>>(std::move(place));
+  return Response::later([held, work = std::move(work)] {
+    struct GiveBack {
+      std::shared_ptr<void>& place;
+      ~GiveBack() { place.reset(); }
+    } give_back{*held};
+    return work();
+  });
+}
+
 std::shared_ptr<void> Registry::admit_simulation(const std::string& owner) {
   std::lock_guard lock(simulations_->mutex);
   int& held = simulations_->held[owner];

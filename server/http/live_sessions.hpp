@@ -101,6 +101,11 @@ inline constexpr int kSimulationRetryAfter = 1;
 /// I/O thread never waits behind a long step (health checks and other sessions stay answered).
 Response locked(std::shared_ptr<Live> live, std::function<Response(Live&)> work);
 
+/// Does a restore's or seek's `work` on the worker pool holding `place` (Registry::admit_simulation),
+/// given back as soon as the work ends, before its answer is sent: the owner's next one may follow it
+/// at once instead of finding the place still taken.
+Response simulation_later(std::shared_ptr<void> place, std::function<Response()> work);
+
 /// What a new session is made of (POST /api/v1/sessions, checked).
 struct NewSession {
   std::string scenario;

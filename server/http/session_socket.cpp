@@ -120,8 +120,7 @@ class SessionSocket : public WebSocketPeer {
 
   /// Restoring and seeking simulate again: work for the pool, one of an owner's at a time.
   Response simulated_again(const std::shared_ptr<Live>& live, const json& body, const char* type, json (*go)(Live&, const json&)) {
-    std::shared_ptr<void> place = registry_->admit_simulation(caller_.owner);
-    return Response::later([live, body, type, go, place] {
+    return simulation_later(registry_->admit_simulation(caller_.owner), [live, body, type, go] {
       try {
         std::lock_guard lock(live->mutex);
         return reply(type, go(*live, body));

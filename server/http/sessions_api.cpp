@@ -198,7 +198,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
         response.headers.emplace_back("Retry-After", std::to_string(kSimulationRetryAfter));
         return response;
       }
-      return Response::later([live, body, go, place] {
+      return simulation_later(std::move(place), [live, body, go] {
         std::lock_guard lock(live->mutex);
         return Response::json(200, go(*live, body));
       });
