@@ -20,6 +20,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// The first 16 bytes of every SQLite database file, its NUL included.
+constexpr std::string_view kSqliteMagic("SQLite format 3\0", 16);
+
+bool is_sqlite(std::string_view bytes) { return bytes.starts_with(kSqliteMagic); }
+
 /// The private folders' names begin so: remove_abandoned_copies finds those of a killed process.
 const std::string kFolderPrefix = "hrisim-foreign-";
 
@@ -107,6 +112,7 @@ ForeignDatabase ForeignDatabase::from_file(const fs::path& file, std::string nam
 }
 
 ForeignDatabase ForeignDatabase::from_bytes(std::string_view bytes, std::string name) {
+  if (!is_sqlite(bytes)) refuse(name, "is not an SQLite database");  // before anything is written
   ForeignDatabase database(std::move(name), core::make_private_temp_folder(kFolderPrefix));
   const fs::path upload = database.folder_ / "upload.db";
   {
@@ -120,10 +126,9 @@ ForeignDatabase ForeignDatabase::from_bytes(std::string_view bytes, std::string 
 
 void ForeignDatabase::open(const fs::path& source, std::uint64_t bytes) {
   work_->steps = kForeignWorkBase + kForeignWorkPerByte * bytes;
-  static constexpr char kMagic[] = "SQLite format 3";  // with its NUL: the file header's first 16 bytes
-  char header[sizeof kMagic] = {};
+  char header[kSqliteMagic.size()] = {};
   std::ifstream(source, std::ios::binary).read(header, sizeof header);
-  if (!std::equal(std::begin(header), std::end(header), std::begin(kMagic))) refuse(name_, "is not an SQLite database");
+  if (!is_sqlite(std::string_view(header, sizeof header))) refuse(name_, "is not an SQLite database");
   const fs::path copy = folder_ / "copy.db";
   try {
     // Read-only, the file is checked where it is and copied (its log included) into the private

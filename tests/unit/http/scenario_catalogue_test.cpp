@@ -4,28 +4,18 @@
 
 #include <gtest/gtest.h>
 
+#include "support/hunav_yaml.hpp"
 #include "storage/store.hpp"
 #include "support/temp_dir.hpp"
 
 namespace hrisim::http {
 namespace {
 
-/// `agents` people walking one list of `goals` goals, written once and aliased into each.
-std::string aliased_goals(int agents, int goals) {
-  std::string yaml = "hunav_loader:\n  ros__parameters:\n    agents: [a0";
-  for (int i = 1; i < agents; ++i) yaml += ", a" + std::to_string(i);
-  yaml += "]\n    a0: &agent\n      init_pose: {x: 1, y: 1}\n      g: {x: 2, y: 2}\n      goals: [g";
-  for (int g = 1; g < goals; ++g) yaml += ", g";
-  yaml += "]\n";
-  for (int i = 1; i < agents; ++i) yaml += "    a" + std::to_string(i) + ": *agent\n";
-  return yaml;
-}
-
 TEST(ScenarioCatalogue, TheCacheSizesAnUploadByWhatItsSourceExpandsTo) {
   testing::TempDir dir;
   storage::Store store(dir / "hrisim.db");
   ScenarioCatalogue catalogue(&store, dir / "no-bundled-scenarios");
-  const std::string yaml = aliased_goals(10, 5000);
+  const std::string yaml = testing::aliased_goals(10, 5000);
   scenario::CompiledSource compiled;
   const auto added = catalogue.add({yaml, scenario::SourceFormat::hunav_yaml, {}}, "", compiled);
   ASSERT_FALSE(added.id.empty()) << (compiled.errors.empty() ? "" : compiled.errors[0].message);

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "support/hunav_yaml.hpp"
 #include "episode/episode.hpp"
 #include "scenario/import.hpp"
 #include "sim/session.hpp"
@@ -180,21 +181,8 @@ TEST(ImportHunav, FaultsAreSaidAtTheirLines) {
   EXPECT_TRUE(has_message(errors_of(std::string(kHeader) + agent, missing_map), 0, "map /nonexistent/map.yaml does not exist"));
 }
 
-/// Issue 40's alias bomb: `agents` people whose block, written once under an anchor with a list of
-/// `goals` goals, is aliased into every other one (100 agents, 10,000 goals: a 64 KB file that took
-/// 56 s and 1.7 GB). Lines: 3 the names, 4 the anchored block, 8 on the aliases.
-std::string alias_bomb(int agents, int goals) {
-  std::string yaml = std::string(kHeader) + "    agents: [a0";
-  for (int i = 1; i < agents; ++i) yaml += ", a" + std::to_string(i);
-  yaml += "]\n    a0: &agent\n      init_pose: {x: 1, y: 1}\n      g: {x: 2, y: 2}\n      goals: [g";
-  for (int g = 1; g < goals; ++g) yaml += ", g";
-  yaml += "]\n";
-  for (int i = 1; i < agents; ++i) yaml += "    a" + std::to_string(i) + ": *agent\n";
-  return yaml;
-}
-
 TEST(ImportHunav, YamlAliasesThatMultiplyWorkAreRefusedAtTheirLine) {
-  const std::string bomb = alias_bomb(100, 10000);
+  const std::string bomb = testing::aliased_goals(100, 10000);
   EXPECT_LT(bomb.size(), 64u * 1024u);
   const auto started = std::chrono::steady_clock::now();
   const ImportResult refused = import_hunav(bomb, {});
@@ -207,7 +195,7 @@ TEST(ImportHunav, YamlAliasesThatMultiplyWorkAreRefusedAtTheirLine) {
   EXPECT_LE(error.line, 106);
   EXPECT_TRUE(refused.scenario.is_null()) << "nothing imported";
   // Aliases as such are fine: the same file of fewer people and goals imports, every goal walked.
-  const ImportResult small = import_hunav(alias_bomb(10, 100), {});
+  const ImportResult small = import_hunav(testing::aliased_goals(10, 100), {});
   ASSERT_TRUE(small.errors.empty()) << small.errors[0].message;
   EXPECT_EQ(small.scenario["humans"].size(), 10u);
   EXPECT_EQ(small.scenario["tasks"]["a9_goals"].size(), 100u);
