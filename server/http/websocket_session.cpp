@@ -75,7 +75,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     if (closing_) return;
     if (const std::string reason = peer_->close_reason(); !reason.empty()) return end(beast::websocket::close_code::normal, reason);
     ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) return;  // closed, timed out or too big: Beast has told the peer
+      if (ec) return self->drop();  // closed, timed out or too big: Beast has told the peer
       std::string text = beast::buffers_to_string(self->buffer_.data());
       self->buffer_.consume(self->buffer_.size());
       self->answer(std::move(text));
@@ -153,7 +153,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   void write_next() {
     ws_.binary(outbox_.front().binary);
     ws_.async_write(net::buffer(outbox_.front().data), [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) return;
+      if (ec) return self->drop();
       self->outbox_.pop_front();
       if (self->outbox_.empty()) {
         if (self->closing_) self->send_close();
@@ -184,6 +184,18 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
       beast::error_code ignored;
       beast::get_lowest_layer(self->ws_).socket().close(ignored);
     });
+  }
+
+  /// The peer is gone (its read or a write failed): the socket and its place are given up at once, not
+  /// when a timer next looks, so a client that drops sockets in a loop never holds more than it has open.
+  /// A close the server began is left to its grace timer.
+  void drop() {
+    if (closing_) return;
+    closing_ = true;
+    push_timer_.cancel();
+    watch_timer_.cancel();
+    beast::error_code ignored;
+    beast::get_lowest_layer(ws_).socket().close(ignored);
   }
 
   void send_close() {
