@@ -290,6 +290,22 @@ void summarize_ended_runs(storage::Store& store, runs::Executor& executor) {
   }
 }
 
+/// An imported run's config compiled against its scenario as POST /api/v1/runs compiles a request
+/// (controller, time limit, requests): a run that could not have been asked for here is refused.
+void check_imported_config(ScenarioCatalogue& catalogue, const storage::ScenarioRecord& scenario, const storage::RunRecord& run) {
+  const auto format = scenario::source_format(scenario.format);
+  if (!format) throw core::Error(core::ErrorCode::bad_request, "its scenario has a format hrisim does not read");
+  catalogue.check(Upload{scenario.source, *format, scenario.files}, [&run](const scenario::CompiledSource& compiled, const scenario::SourceOptions& options) {
+    if (!compiled.model) {
+      const std::string first = compiled.errors.empty() ? "" : ": " + compiled.errors.front().message;
+      throw core::Error(core::ErrorCode::bad_request, "its scenario does not load here" + first);
+    }
+    runs::RunRequest request = runs::replay_request(compiled.document, options.load, run.config, 0);
+    request.seeds = run.config.value("seeds", std::vector<std::uint64_t>{});
+    (void)runs::make_run_spec(request);
+  });
+}
+
 }  // namespace
 
 void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, storage::Store* store, runs::Executor* executor) {
@@ -428,12 +444,15 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
     return Response::json(200, {{"items", items}});
   });
 
-  router.add("POST", "/api/v1/runs/import", [store](const Request& request) {
+  router.add("POST", "/api/v1/runs/import", [catalogue, store](const Request& request) {
     // Checking, copying and merging the database: work for the pool.
-    return Response::later([store, body = request.body, owner = request.caller.owner] {
+    return Response::later([catalogue, store, body = request.body, owner = request.caller.owner] {
       storage::ForeignDatabase source = storage::ForeignDatabase::from_bytes(body, "the uploaded database");
       json runs = json::array();
-      for (const runs::MergedRun& merged : runs::merge_database(*store, source, "this server's", owner)) {
+      const runs::RunCheck as_asked = [&catalogue](const storage::ScenarioRecord& scenario, const storage::RunRecord& run) {
+        check_imported_config(*catalogue, scenario, run);
+      };
+      for (const runs::MergedRun& merged : runs::merge_database(*store, source, "this server's", owner, as_asked)) {
         runs.push_back({{"id", merged.id}, {"source_id", merged.source_id}, {"added", merged.added}, {"present", merged.present}});
       }
       return Response::json(200, {{"runs", runs}});

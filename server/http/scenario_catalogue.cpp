@@ -154,12 +154,27 @@ scenario::CompiledSource ScenarioCatalogue::compile(const Upload& upload, const 
   return compiled;
 }
 
-scenario::CompiledSource ScenarioCatalogue::check(const Upload& upload) {
+scenario::CompiledSource ScenarioCatalogue::check(const Upload& upload, const AlsoCheck& also) {
   const std::filesystem::path files = write_files("check-" + core::unguessable_id('f'), upload.files);
-  scenario::CompiledSource compiled = compile(upload, files);
-  std::error_code ignored;
-  if (!files.empty()) std::filesystem::remove_all(files, ignored);
-  return compiled;
+  const auto remove_files = [&files] {
+    std::error_code ignored;
+    if (!files.empty()) std::filesystem::remove_all(files, ignored);
+  };
+  try {
+    scenario::CompiledSource compiled = compile(upload, files);
+    if (also) {
+      try {
+        also(compiled, options_with(files));
+      } catch (const core::Error& e) {
+        throw core::Error(e.code(), files.empty() ? e.what() : without_folder(e.what(), files), e.details());
+      }
+    }
+    remove_files();
+    return compiled;
+  } catch (...) {
+    remove_files();
+    throw;
+  }
 }
 
 ScenarioCatalogue::Added ScenarioCatalogue::add(const Upload& upload, const std::string& owner, scenario::CompiledSource& compiled) {

@@ -7,6 +7,7 @@
 // in before the bundled scenarios' folder. Thread-safe.
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <list>
 #include <map>
 #include <memory>
@@ -73,8 +74,11 @@ class ScenarioCatalogue {
   /// How the scenario of `entry` is compiled here (again, e.g. with another controller): its files
   /// first, then the bundled scenarios' folder, within the limits.
   scenario::SourceOptions options(const Entry& entry) const;
-  /// Compiles an upload without keeping it (validation).
-  scenario::CompiledSource check(const Upload& upload);
+  /// Compiles an upload without keeping it (validation). `also`, when given, is called with what was
+  /// compiled and the options it was compiled with while the upload's files are still there (a run's
+  /// config compiled against it).
+  using AlsoCheck = std::function<void(const scenario::CompiledSource&, const scenario::SourceOptions&)>;
+  scenario::CompiledSource check(const Upload& upload, const AlsoCheck& also = {});
   /// What add() did: the scenario's id (empty when it is not valid) and whether `owner` had uploaded
   /// the same content in the same format before (then that one's id, listed again).
   struct Added {

@@ -40,7 +40,7 @@ struct SourceRun {
 };
 
 /// Reads every run of the source with its scenario and episodes, each value checked as the API would.
-std::vector<SourceRun> read_source(storage::ForeignDatabase& source) {
+std::vector<SourceRun> read_source(storage::ForeignDatabase& source, const RunCheck& check_run) {
   storage::Store& store = source.store();
   const std::string& name = source.name();
   std::vector<SourceRun> runs;
@@ -54,6 +54,16 @@ std::vector<SourceRun> read_source(storage::ForeignDatabase& source) {
     std::optional<storage::ScenarioRecord> scenario = store.scenario(run.scenario_id);
     if (!scenario) throw core::Error(core::ErrorCode::bad_request, name + ": run " + run.id + " names a scenario the database does not hold");
     check_imported_scenario(*scenario, name);
+    if (check_run) {
+      try {
+        check_run(*scenario, run);
+      } catch (const core::Error& e) {
+        if (e.code() != core::ErrorCode::bad_request) throw;
+        json details = e.details();
+        details["run"] = run.id;
+        throw core::Error(core::ErrorCode::bad_request, name + ": run " + run.id + "'s config is not one the API would take: " + e.what(), details);
+      }
+    }
     SourceRun read{std::move(run), std::move(*scenario), {}};
     std::set<std::uint64_t> seeds;
     for (const std::string& id : store.episode_ids_of_run(read.run.id)) {
@@ -249,10 +259,10 @@ class Merger {
 }  // namespace
 
 std::vector<MergedRun> merge_database(storage::Store& target, storage::ForeignDatabase& source, const std::string& target_name,
-                                      const std::optional<std::string>& owner) {
+                                      const std::optional<std::string>& owner, const RunCheck& check_run) {
   std::vector<SourceRun> read;
   try {
-    read = read_source(source);
+    read = read_source(source, check_run);
   } catch (const core::Error& e) {
     // The store's own refusals (JSON nested too deep, work spent) do not know whose file it is.
     const std::string message = e.what();

@@ -165,6 +165,22 @@ TEST_F(Imports, AConfigOfTheWrongTypesIsRefusedAndListingsKeepWorking) {
   EXPECT_GE(runs_of(kAlice), 0);
 }
 
+TEST_F(Imports, AConfigTheApiWouldNotTakeIsRefusedWithItsPointer) {
+  // Configs of the right types that POST /api/v1/runs would refuse: each is compiled against its
+  // scenario as a request is, and refused naming the run and the field.
+  const int before = runs_of(kAlice);
+  expect_refused(import(variant("UPDATE runs SET config = json_set(config, '$.effective_controller', json('{\"type\": \"goal\", \"goal\": {\"location\": \"nowhere\"}}'))")),
+                 400, "unknown location 'nowhere'");
+  expect_refused(import(variant("UPDATE runs SET config = json_set(config, '$.max_time', 1e12)")), 400, "max_time");
+  expect_refused(import(variant("UPDATE runs SET config = json_set(config, '$.requests', json('[{\"time\": 1, \"routine\": \"nope\"}]'))")), 400,
+                 "the scenario has no task 'nope'");
+  const HttpReply refused = import(variant("UPDATE runs SET config = json_set(config, '$.max_time', 1e12)"));
+  const json error = json::parse(refused.body)["error"];
+  EXPECT_NE(error["message"].get<std::string>().find("config is not one the API would take"), std::string::npos) << refused.body;
+  EXPECT_EQ(error["details"]["pointer"], "/max_time") << refused.body;
+  EXPECT_EQ(runs_of(kAlice), before) << "nothing stored";
+}
+
 TEST_F(Imports, ARunIdImportedFirstByAnotherOwnerDoesNotBlockTheOwnersImport) {
   const std::string base = variant("");
   const HttpReply bobs = import(base, kBob);
