@@ -221,7 +221,7 @@ void Episode::keep_checkpoint() {
   const std::int64_t tick = session_->state().tick;
   if (checkpoint_every_ == 0 || tick < next_checkpoint_ || (environment_ && ticks_left_ > 0)) return;
   std::optional<sim::Session::Copy> copy = session_->copy();
-  if (!copy) return;  // Bullet remembers contacts now: tried again after the next env step
+  if (!copy) return;  // Bullet's world holds history now: tried again after the next env step (at the latest when it is built again)
   auto checkpoint = std::make_shared<Checkpoint>(
       Checkpoint{std::move(*copy), environment_, tick, env_steps_, reward_, last_reward_, log_.size() - 1, log_.back().count, 0});
   checkpoint->bytes = kCheckpointBytesPerStateByte * sim::state_data_bytes(checkpoint->session.state) + sizeof(Checkpoint);

@@ -36,7 +36,9 @@ namespace hrisim::episode {
 /// the input log) about this often, simulated seconds: a seek back simulates again at most this much
 /// from the checkpoint before it (the elevator: 600 ticks, ≈ 25 ms) instead of everything from tick 0,
 /// while copying the state that rarely costs well under 1% of stepping (bench/RESULTS.md, seek_bench).
-inline constexpr double kCheckpointInterval = 10.0;
+/// The interval at which a physics world with movable objects is built again from the state, so that
+/// such scenarios can be copied exactly then (sim::kPhysicsRebuildInterval).
+inline constexpr double kCheckpointInterval = sim::kPhysicsRebuildInterval;
 /// Bytes of checkpoints one episode keeps at most (estimated from the state's data; the elevator's are
 /// about 130 KiB each, so about 80 minutes of it fit). Past it, every
 /// other checkpoint goes and the interval doubles: memory stays bounded, and a seek back simulates

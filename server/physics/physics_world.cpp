@@ -242,6 +242,12 @@ void PhysicsWorld::place(int body, const Eigen::Isometry3d& pose) {
   entry.body->activate(true);
 }
 
+void PhysicsWorld::set_velocity(int body, const Twist& velocity) {
+  btRigidBody& moved = *impl_->at(body).body;
+  moved.setLinearVelocity(btVector3(velocity.linear.x(), velocity.linear.y(), velocity.linear.z()));
+  moved.setAngularVelocity(btVector3(velocity.angular.x(), velocity.angular.y(), velocity.angular.z()));
+}
+
 void PhysicsWorld::set_enabled(int body, bool enabled) {
   Impl::Body& entry = impl_->at(body);
   if (entry.enabled == enabled) return;
@@ -317,6 +323,12 @@ void PhysicsWorld::step() {
 }
 
 Eigen::Isometry3d PhysicsWorld::pose(int body) const { return from_bullet(impl_->at(body).body->getWorldTransform()); }
+
+Twist PhysicsWorld::velocity(int body) const {
+  const btRigidBody& moving = *impl_->at(body).body;
+  const btVector3 linear = moving.getLinearVelocity(), angular = moving.getAngularVelocity();
+  return {Eigen::Vector3d(linear.x(), linear.y(), linear.z()), Eigen::Vector3d(angular.x(), angular.y(), angular.z())};
+}
 
 const BodyOwner& PhysicsWorld::owner(int body) const { return impl_->at(body).owner; }
 

@@ -45,6 +45,12 @@ struct Wrench {
   Eigen::Vector3d torque = Eigen::Vector3d::Zero();
 };
 
+/// A body's velocity (m/s, rad/s; world frame).
+struct Twist {
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();
+};
+
 class PhysicsWorld {
  public:
   explicit PhysicsWorld(double dt);
@@ -61,6 +67,8 @@ class PhysicsWorld {
 
   /// Places a dynamic body, at rest (the uniform set-pose interface: moving a cup before a test).
   void place(int body, const Eigen::Isometry3d& pose);
+  /// Sets a dynamic body's velocity: a world built again from a state goes on as the state's went.
+  void set_velocity(int body, const Twist& velocity);
   /// Moves a kinematic body (people, robot links) to where its owner is now.
   void set_kinematic_pose(int body, const Eigen::Isometry3d& pose);
   /// Takes a body out of the world (a person who left) or puts it back.
@@ -90,6 +98,7 @@ class PhysicsWorld {
   void step();
 
   Eigen::Isometry3d pose(int body) const;
+  Twist velocity(int body) const;
   const BodyOwner& owner(int body) const;
   /// Whether Bullet keeps contact points between two bodies, neither of them the floor, from earlier
   /// steps: history that a world built afresh from where every body is would not have (the floor's

@@ -50,7 +50,7 @@ void skip(const scenario::Model& model, State& state, int agent, const scenario:
 }
 
 Vec2 item_position(const State& state, const scenario::Action& action) {
-  return action.kind == Kind::pick_up ? Vec2(state.object_poses[action.target].translation().head<2>()) : action.pose.position();
+  return action.kind == Kind::pick_up ? Vec2(state.objects[action.target].pose.translation().head<2>()) : action.pose.position();
 }
 
 }  // namespace
@@ -111,7 +111,7 @@ void tend_reaching(const scenario::Model& model, State& state, int agent, const 
   } else if (played >= kReachGraspTime && !pick && self.carried_object >= 0) {
     const scenario::MovableObject& object = model.objects[self.carried_object];
     const double z = action.value + half_height(object.shape) + kPutDownClearance;
-    state.object_poses[self.carried_object] = upright(object, self.heading, {action.pose.x, action.pose.y, z});
+    state.objects[self.carried_object] = ObjectState{upright(object, self.heading, {action.pose.x, action.pose.y, z})};
     emit(model, state, "put_down", id, {{"object", object.name}, {"x", action.pose.x}, {"y", action.pose.y}});
     self.carried_object = -1;
   }

@@ -104,7 +104,7 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       self.target_heading = core::direction_to(self.position, model.locations[action.target].pose.position());
       return true;
     case Kind::look_at_object: {
-      const Vec2 object = action.target >= 0 ? Vec2(state.object_poses[action.target].translation().head<2>()) : action.pose.position();
+      const Vec2 object = action.target >= 0 ? Vec2(state.objects[action.target].pose.translation().head<2>()) : action.pose.position();
       self.target_heading = core::direction_to(self.position, object);
       return true;
     }

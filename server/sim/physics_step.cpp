@@ -40,9 +40,12 @@ robots::Shape capsule(double radius, double length) {
   return shape;
 }
 
-void store_object_poses(State& state, const PhysicsBodies& physics) {
-  state.object_poses.resize(physics.objects.size());
-  for (std::size_t o = 0; o < physics.objects.size(); ++o) state.object_poses[o] = physics.world->pose(physics.objects[o]);
+void store_objects(State& state, const PhysicsBodies& physics) {
+  state.objects.resize(physics.objects.size());
+  for (std::size_t o = 0; o < physics.objects.size(); ++o) {
+    const physics::Twist velocity = physics.world->velocity(physics.objects[o]);
+    state.objects[o] = {physics.world->pose(physics.objects[o]), velocity.linear, velocity.angular};
+  }
 }
 
 /// The two finger contacts of a grasp, on the object's surface; none unless both fingers touch it.
@@ -198,7 +201,7 @@ void hand_over_carried(const scenario::Model& model, State& state, PhysicsBodies
     AgentState& person = state.agents[a];
     if (person.carried_object < 0) continue;
     if (!person.active) {
-      state.object_poses[person.carried_object] = carried_pose(model, state, bodies, static_cast<int>(a));
+      state.objects[person.carried_object] = ObjectState{carried_pose(model, state, bodies, static_cast<int>(a))};
       emit(model, state, "dropped", model.agents[a].id, {{"object", model.objects[person.carried_object].name}});
       person.carried_object = -1;
       continue;
@@ -207,7 +210,7 @@ void hand_over_carried(const scenario::Model& model, State& state, PhysicsBodies
   }
   for (std::size_t o = 0; o < physics.objects.size(); ++o) {
     if (carried[o] == physics.carried[o]) continue;
-    if (!carried[o]) physics.world->place(physics.objects[o], state.object_poses[o]);
+    if (!carried[o]) physics.world->place(physics.objects[o], state.objects[o].pose);
     physics.world->set_enabled(physics.objects[o], !carried[o]);
   }
   physics.carried = std::move(carried);
@@ -217,13 +220,17 @@ void hand_over_carried(const scenario::Model& model, State& state, PhysicsBodies
 void place_carried(const scenario::Model& model, State& state, const HumanBodies& bodies) {
   for (std::size_t a = 0; a < state.agents.size(); ++a) {
     const AgentState& person = state.agents[a];
-    if (person.carried_object >= 0) state.object_poses[person.carried_object] = carried_pose(model, state, bodies, static_cast<int>(a));
+    if (person.carried_object >= 0) state.objects[person.carried_object] = ObjectState{carried_pose(model, state, bodies, static_cast<int>(a))};
   }
 }
 
 }  // namespace
 
-PhysicsBodies build_physics(const scenario::Model& model, State& state, const HumanBodies& bodies) {
+namespace {
+
+/// The world of the model with the agents and doors as the state has them, and the movable objects at
+/// `objects` (their poses and velocities): the model's at the start, the state's when built again.
+PhysicsBodies build_world(const scenario::Model& model, const State& state, const HumanBodies& bodies, std::span<const ObjectState> objects) {
   PhysicsBodies physics;
   if (state.robots.empty() && model.objects.empty()) return physics;
   physics.world = std::make_unique<physics::PhysicsWorld>(model.dt);
@@ -287,10 +294,21 @@ PhysicsBodies build_physics(const scenario::Model& model, State& state, const Hu
   }
   for (std::size_t o = 0; o < model.objects.size(); ++o) {
     const scenario::MovableObject& object = model.objects[o];
-    physics.objects.push_back(world.add_dynamic(object.shape, object.mass, robots::to_isometry(object.pose), {BodyOwner::Kind::object, static_cast<int>(o), object.name}));
+    physics.objects.push_back(world.add_dynamic(object.shape, object.mass, objects[o].pose, {BodyOwner::Kind::object, static_cast<int>(o), object.name}));
+    world.set_velocity(physics.objects.back(), {objects[o].linear_velocity, objects[o].angular_velocity});
   }
   physics.carried.assign(physics.objects.size(), false);
-  store_object_poses(state, physics);
+  physics.built_at_tick = state.tick;
+  return physics;
+}
+
+}  // namespace
+
+PhysicsBodies build_physics(const scenario::Model& model, State& state, const HumanBodies& bodies) {
+  std::vector<ObjectState> at_start;
+  for (const scenario::MovableObject& object : model.objects) at_start.push_back({robots::to_isometry(object.pose)});
+  PhysicsBodies physics = build_world(model, state, bodies, at_start);
+  if (physics.world) store_objects(state, physics);
   return physics;
 }
 
@@ -298,15 +316,37 @@ bool physics_holds_history(const PhysicsBodies& physics) {
   return physics.world && (!physics.objects.empty() || physics.world->caches_contacts_off_the_floor());
 }
 
-PhysicsBodies build_physics_again(const scenario::Model& model, State& state, const HumanBodies& bodies) {
-  PhysicsBodies physics = build_physics(model, state, bodies);
+PhysicsBodies build_physics_again(const scenario::Model& model, const State& state, const HumanBodies& bodies) {
+  PhysicsBodies physics = build_world(model, state, bodies, state.objects);
+  if (!physics.world) return physics;
+  physics::PhysicsWorld& world = *physics.world;
   for (std::size_t r = 0; r < state.robots.size(); ++r) {
-    if (state.agents[state.robots[r].agent].active) continue;
-    for (const int body : physics.robot_links[r]) {
-      if (body >= 0) physics.world->set_enabled(body, false);
+    const RobotRuntime& runtime = state.robots[r];
+    if (!state.agents[runtime.agent].active) {
+      for (const int body : physics.robot_links[r]) {
+        if (body >= 0) world.set_enabled(body, false);
+      }
+      continue;
     }
+    if (runtime.held_object < 0) continue;
+    // The grasp again, as the hand and the object are now.
+    const Hand hand = hand_of(runtime, physics.robot_links[r]);
+    std::vector<int> holding = hand.fingers;
+    holding.push_back(hand.palm);
+    world.attach(physics.objects[runtime.held_object], hand.palm, holding);
+  }
+  for (const AgentState& person : state.agents) {
+    if (person.carried_object < 0 || !person.active) continue;
+    physics.carried[person.carried_object] = true;
+    world.set_enabled(physics.objects[person.carried_object], false);
   }
   return physics;
+}
+
+void rebuild_physics_when_due(const scenario::Model& model, const State& state, PhysicsBodies& physics, const HumanBodies& bodies) {
+  const std::int64_t every = std::max<std::int64_t>(1, std::llround(kPhysicsRebuildInterval / model.dt));
+  if (state.tick % every != 0 || !physics_holds_history(physics)) return;
+  physics = build_physics_again(model, state, bodies);
 }
 
 void place_people_and_doors(const scenario::Model& model, const State& state, PhysicsBodies& physics, const HumanBodies& bodies) {
@@ -408,7 +448,7 @@ void step_physics(const scenario::Model& model, State& state, PhysicsBodies& phy
   grasp_and_release(model, state, physics);
   world.step();
   check_grips(model, state, physics);
-  store_object_poses(state, physics);
+  store_objects(state, physics);
   place_carried(model, state, bodies);
 }
 

@@ -52,21 +52,37 @@ struct PhysicsBodies {
   std::vector<int> objects;
   std::vector<bool> carried;  ///< per object: a person carried it at the last step (its body left out)
   std::vector<std::vector<int>> robot_links;  ///< per robot with a model: each link's body, -1 without a shape
+  /// The tick of the state the world was built from, while nothing changed it since (a copy of the
+  /// state then carries all of it); -1 once something did between ticks.
+  std::int64_t built_at_tick = -1;
 };
+
+/// A world that holds history (physics_holds_history) is built again from the state every this many
+/// simulated seconds, at the end of the tick, on every path alike (runs, sessions, replays): a copy
+/// of the session taken then (a checkpoint) goes on bit for bit as the session does, so a seek back in
+/// a scenario with movable objects re-simulates at most this stretch. Bullet's contact cache and
+/// solver warm start start afresh then (velocities, grasps and carried objects are in the state).
+/// hrisim's own; the checkpoint interval (episode::kCheckpointInterval).
+inline constexpr double kPhysicsRebuildInterval = 10.0;
 
 /// The world of the model as the state is now (tick 0); the objects' poses go to the state.
 PhysicsBodies build_physics(const scenario::Model& model, State& state, const HumanBodies& bodies);
 
 /// Whether the world holds history that a copy of the state would not carry: movable objects (their
-/// velocities, sleep, grasps and put-down bookkeeping are Bullet's) or contact points Bullet cached
-/// between bodies other than the floor. Without it, a world built again from the state is the same
-/// world for everything the simulation reads from it.
+/// sleep, contacts and the solver's warm start are Bullet's) or contact points Bullet cached between
+/// bodies other than the floor. Without it, a world built again from the state is the same world for
+/// everything the simulation reads from it; with it, only right after it was built (built_at_tick).
 bool physics_holds_history(const PhysicsBodies& physics);
 
-/// The world of a state copied between ticks of a session whose world held no history then
-/// (physics_holds_history): as build_physics, with robots that left the scene out of it as the last
-/// tick left them. People and doors are placed again by the next tick before anything meets them.
-PhysicsBodies build_physics_again(const scenario::Model& model, State& state, const HumanBodies& bodies);
+/// The world of a state copied between ticks (of a world that held no history then, or was just built
+/// again): as build_physics, with the objects as the state has them (poses, velocities; carried ones
+/// out of the world, held ones attached to their hands again) and robots that left the scene out of it
+/// as the last tick left them. People and doors are placed again by the next tick before anything
+/// meets them.
+PhysicsBodies build_physics_again(const scenario::Model& model, const State& state, const HumanBodies& bodies);
+
+/// The tick's last phase: the world built again from the state when one is due (kPhysicsRebuildInterval).
+void rebuild_physics_when_due(const scenario::Model& model, const State& state, PhysicsBodies& physics, const HumanBodies& bodies);
 
 /// People's bodies, the doors and robots without a model (they walk with the crowd) as the state has
 /// them now, before robots with a model move among them.

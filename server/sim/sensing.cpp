@@ -79,10 +79,10 @@ sensors::RayScene range_scene(const scenario::Model& model, const State& state, 
     world::append_edges({door.from - across, door.to - across, door.to + across, door.from + across}, edges);
     for (const world::Segment& edge : edges) scene.add(edge);
   }
-  for (std::size_t o = 0; o < state.object_poses.size(); ++o) {
+  for (std::size_t o = 0; o < state.objects.size(); ++o) {
     // Movable objects as their footprint at this height, taken upright (a lying cup reads as standing).
     const scenario::MovableObject& object = model.objects[o];
-    const Eigen::Isometry3d& pose = state.object_poses[o];
+    const Eigen::Isometry3d& pose = state.objects[o].pose;
     const robots::Shape& shape = object.shape;
     const double half_height = shape.kind == robots::Shape::Kind::box      ? 0.5 * shape.size.z()
                                : shape.kind == robots::Shape::Kind::sphere ? shape.radius

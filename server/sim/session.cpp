@@ -135,7 +135,7 @@ Session::Session(std::shared_ptr<const scenario::Model> model, Copy copy, std::s
 }
 
 std::optional<Session::Copy> Session::copy() {
-  if (physics_holds_history(physics_)) return std::nullopt;
+  if (physics_holds_history(physics_) && physics_.built_at_tick != state_.tick) return std::nullopt;
   // The events are set aside while the rest is copied: they grow with the episode, and the session's
   // own are the copy's events, as they are only ever appended.
   std::vector<Event> events = std::exchange(state_.events, {});
@@ -172,6 +172,7 @@ void Session::tick() {
   listen(model, state_);
   notice_people_found(model, state_);
   end_at_time_limit();
+  if (physics_.world) rebuild_physics_when_due(model, state_, physics_, bodies_);
 }
 
 void Session::end_at_time_limit() {
@@ -358,10 +359,10 @@ void Session::command_robot_gripper(AgentId robot, bool closed) {
 }
 
 Eigen::Isometry3d Session::object_pose(int object) const {
-  if (object < 0 || object >= static_cast<int>(state_.object_poses.size())) {
+  if (object < 0 || object >= static_cast<int>(state_.objects.size())) {
     throw core::Error(core::ErrorCode::not_found, "no object " + std::to_string(object));
   }
-  return state_.object_poses[object];
+  return state_.objects[object].pose;
 }
 
 void Session::place_agent(AgentId id, const Pose2& pose) {
@@ -402,7 +403,8 @@ void Session::place_object(int object, const Eigen::Isometry3d& pose) {
     throw core::Error(core::ErrorCode::conflict, "object '" + model_->objects[object].name + "' is held by a gripper");
   }
   physics_.world->place(body, pose);
-  state_.object_poses[object] = physics_.world->pose(body);
+  state_.objects[object] = ObjectState{physics_.world->pose(body)};
+  physics_.built_at_tick = -1;  // no longer the world a build from the state makes
   emit(*model_, state_, "placed", model_->objects[object].name, {{"x", pose.translation().x()}, {"y", pose.translation().y()}, {"z", pose.translation().z()}});
 }
 

@@ -49,7 +49,8 @@ class Session {
   Session(std::shared_ptr<const scenario::Model> model, Copy copy, std::span<const Event> events);
 
   /// A copy of this session now, or none when its physics world holds history the copy would not carry
-  /// (physics_holds_history): going on from the copy would not be going on from here, bit for bit.
+  /// (physics_holds_history) and was not just built again from the state (kPhysicsRebuildInterval):
+  /// going on from the copy would not be going on from here, bit for bit.
   std::optional<Copy> copy();
 
   /// Advances one tick; does nothing once finished.

@@ -183,6 +183,15 @@ struct StepRecord {
 
 enum class DoorPhase { closed, opening, open, closing };
 
+/// A movable object as the physics world left it after the last step.
+struct ObjectState {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  /// m/s and rad/s in the map frame: a physics world built again from the state goes on from them.
+  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+  auto fields() const { return std::tie(pose, linear_velocity, angular_velocity); }
+};
+
 struct DoorState {
   DoorPhase phase = DoorPhase::closed;
   double opening = 0.0;  ///< 0 closed … 1 fully open
@@ -244,8 +253,8 @@ struct State {
   core::Random attraction_random;  ///< who is drawn to an attraction, where to and for how long
   /// Robots with a model: motors, controllers, sensor readings and their random streams.
   std::vector<RobotRuntime> robots;
-  /// Movable objects' poses after the last physics step (the physics world moves them).
-  std::vector<Eigen::Isometry3d> object_poses;
+  /// Movable objects after the last physics step (the physics world moves them).
+  std::vector<ObjectState> objects;
   /// What the planner searched already: later plans to the same goal follow its field.
   world::PlanningHistory planning_history;
   double time_limit = 0.0;  ///< s of simulation time; the episode ends there
@@ -258,7 +267,7 @@ struct State {
   std::string termination;  ///< "scenario_end", "timeout" or "goal" once finished
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, queues, requests, next_request_id, scheduled, events, events_digest, commanded, random, attraction_random, robots, object_poses, planning_history, time_limit, clock_start, sounds, speakers, finished, termination); }
+  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, queues, requests, next_request_id, scheduled, events, events_digest, commanded, random, attraction_random, robots, objects, planning_history, time_limit, clock_start, sounds, speakers, finished, termination); }
 };
 
 /// Hash of everything in the state, bit for bit.

@@ -21,6 +21,7 @@ static_assert(sizeof(DoorState) == 16, "DoorState changed: list every member in 
 static_assert(sizeof(ElevatorState) == 112, "ElevatorState changed: list every member in its fields()");
 static_assert(sizeof(Message) == 64, "Message changed: list every member in its fields()");
 static_assert(sizeof(QueueState) == 72, "QueueState changed: list every member in its fields()");
+static_assert(sizeof(ObjectState) == 176, "ObjectState changed: list every member in its fields()");
 static_assert(sizeof(State) == 640, "State changed: list every member in its fields()");
 
 template <class T>
@@ -39,6 +40,7 @@ void put(Hasher& hash, E value) {
 void put(Hasher& hash, const std::string& text) { hash.add(std::string_view(text)); }
 void put(Hasher& hash, const Vec2& point) { hash.add(point.x()).add(point.y()); }
 void put(Hasher& hash, const Pose2& pose) { hash.add(pose.x).add(pose.y).add(pose.theta); }
+void put(Hasher& hash, const Eigen::Vector3d& vector) { hash.add(vector.x()).add(vector.y()).add(vector.z()); }
 void put(Hasher& hash, const Eigen::Isometry3d& pose) {
   for (int k = 0; k < 16; ++k) hash.add(pose.data()[k]);
 }

@@ -158,7 +158,7 @@ const json kFetchCup = json::parse(R"([
 TEST(Carrying, ThePersonPicksTheCupUpCarriesItInTheHandAndPutsItDown) {
   Session session(testing::load_valid(furnished(json::array({person("p", 8, 2)}), kFetchCup)), 1);
   const int p = session.index_of(session.agent_id("p"));
-  const Eigen::Vector3d on_table = session.state().object_poses[0].translation();
+  const Eigen::Vector3d on_table = session.state().objects[0].pose.translation();
   while (event_time(session, "picked_up", "p") < 0 && session.time() < 30) session.tick();
   ASSERT_GE(event_time(session, "picked_up", "p"), 0.0) << "never picked the cup up";
   HumanBodies bodies(session.model());
@@ -168,13 +168,13 @@ TEST(Carrying, ThePersonPicksTheCupUpCarriesItInTheHandAndPutsItDown) {
   // Carried: it goes where the hand goes.
   for (int k = 0; k < 120; ++k) session.tick();
   EXPECT_EQ(session.state().agents[p].carried_object, 0);
-  EXPECT_LT((session.state().object_poses[0].translation() - wrist()).norm(), kGripOffset + 1e-6);
-  EXPECT_GT((session.state().object_poses[0].translation() - on_table).norm(), 0.5) << "it left the table with the person";
+  EXPECT_LT((session.state().objects[0].pose.translation() - wrist()).norm(), kGripOffset + 1e-6);
+  EXPECT_GT((session.state().objects[0].pose.translation() - on_table).norm(), 0.5) << "it left the table with the person";
   run_until(session, 40);
   ASSERT_GE(event_time(session, "put_down", "p"), 0.0) << "never put the cup down";
   EXPECT_TRUE(session.state().finished);
   EXPECT_EQ(session.state().agents[p].carried_object, -1);
-  const Eigen::Vector3d rests = session.state().object_poses[0].translation();
+  const Eigen::Vector3d rests = session.state().objects[0].pose.translation();
   EXPECT_NEAR(rests.x(), 2.5, 0.01);
   EXPECT_NEAR(rests.y(), 8.5, 0.01);
   EXPECT_NEAR(rests.z(), 0.05, 0.005) << "stands upright on the floor";
@@ -186,7 +186,7 @@ TEST(Carrying, ThePersonPutsTheCupOnATablesAnchor) {
   Session session(testing::load_valid(furnished(json::array({person("p", 8, 2)}), steps)), 1);
   run_until(session, 40);
   ASSERT_TRUE(session.state().finished);
-  const Eigen::Vector3d rests = session.state().object_poses[0].translation();
+  const Eigen::Vector3d rests = session.state().objects[0].pose.translation();
   EXPECT_NEAR(rests.x(), 7.4, 0.01);
   EXPECT_NEAR(rests.y(), 5.0, 0.01);
   EXPECT_NEAR(rests.z(), 0.75 + 0.05, 0.005) << "on the table top";

@@ -296,6 +296,42 @@ TEST(RobotSession, GripperGraspsLiftsAndReleasesACup) {
   EXPECT_LT((session.object_pose(0).translation() - put_down).head<2>().norm(), 0.01) << "where it was put down";
 }
 
+// The world with a movable object is built again from the state every kPhysicsRebuildInterval: a cup
+// held up in the air stays in the hand through it, and a copy of the session taken then (the only
+// ticks one can be) goes on bit for bit as the session does — the grasp made again from the state.
+TEST(RobotSession, AHeldCupStaysHeldThroughTheWorldsRebuildAndACopyThenGoesOnBitForBit) {
+  Session session = hand_around_a_cup(0.2, 0.0);
+  const AgentId hsr = session.agent_id("hsr");
+  session.command_robot_gripper(hsr, true);
+  for (int i = 0; i < 30; ++i) session.tick();
+  ASSERT_EQ(events_of(session, "grasp").size(), 1u);
+  session.command_robot_joints(hsr, "arm", {0.5, -1.5708, 0.0, 0.0, 0.0, 0.0});
+  const std::int64_t every = std::llround(kPhysicsRebuildInterval / session.model().dt);
+  std::optional<Session::Copy> copy;
+  while (!copy) {
+    ASSERT_LE(session.state().tick, every) << "no copy by the first rebuild";
+    session.tick();
+    copy = session.copy();
+  }
+  EXPECT_EQ(session.state().tick, every) << "a world with an object is copied only when just built again";
+  ASSERT_GE(session.robot_runtime(hsr)->held_object, 0);
+  const Eigen::Vector3d lifted = session.object_pose(0).translation();
+  EXPECT_GT(lifted.z(), 0.606 + 0.15) << "lifted with the arm";
+  Session restored(session.shared_model(), std::move(*copy), session.state().events);
+  EXPECT_EQ(restored.state_hash(), session.state_hash());
+  // Down again, through the next rebuild: both the same at every tick, the cup held all along.
+  session.command_robot_joints(hsr, "arm", {0.3, -1.5708, 0.0, 0.0, 0.0, 0.0});
+  restored.command_robot_joints(restored.agent_id("hsr"), "arm", {0.3, -1.5708, 0.0, 0.0, 0.0, 0.0});
+  for (std::int64_t t = 0; t < every + 10; ++t) {
+    session.tick();
+    restored.tick();
+    ASSERT_EQ(restored.state_hash(), session.state_hash()) << "tick " << session.state().tick;
+  }
+  EXPECT_TRUE(events_of(session, "slip").empty());
+  EXPECT_TRUE(events_of(session, "release").empty());
+  EXPECT_NEAR(session.object_pose(0).translation().z(), 0.606, 0.01) << "put down on the side table, still in the hand";
+}
+
 // A cup heavier than the HSR's payload (1.3 kg) is gripped, but slips out once the arm lifts it.
 TEST(RobotSession, ACupHeavierThanThePayloadSlipsOutOfTheGrip) {
   Session session = hand_around_a_cup(1.6, 0.0);
