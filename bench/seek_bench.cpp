@@ -1,8 +1,8 @@
-// Seeking back: the CPU time of a seek one tick back at a given tick, on the bundled elevator scenario
-// kept going (a last step in which ada waits, a time limit past the tick), as a live session runs it
-// (recorded, with checkpoints every kCheckpointInterval). Prints the median of several repetitions
-// and the ticks simulated again.
-//   usage: seek_bench [repetitions=5] [path to the project's scenarios/=scenarios] [tick=100000]
+// Seeking back: the CPU time of a seek one tick back at a given tick, on a bundled scenario (the
+// elevator by default; tea_break has movable objects) kept going (a last step in which its first
+// person waits, a time limit past the tick), as a live session runs it (recorded, with checkpoints
+// every kCheckpointInterval). Prints the median of several repetitions and the ticks simulated again.
+//   usage: seek_bench [repetitions=5] [path to the project's scenarios/=scenarios] [tick=100000] [scenario=elevator]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -30,16 +30,18 @@ int main(int argc, char** argv) {
   const int repetitions = argc > 1 ? std::atoi(argv[1]) : 5;
   const std::string scenarios = argc > 2 ? argv[2] : "scenarios";
   const std::int64_t tick = argc > 3 ? std::atoll(argv[3]) : 100'000;
-  std::ifstream file(scenarios + "/elevator.json");
+  const std::string name = argc > 4 ? argv[4] : "elevator";
+  std::ifstream file(scenarios + "/" + name + ".json");
   if (!file) {
-    std::fprintf(stderr, "no %s/elevator.json\n", scenarios.c_str());
+    std::fprintf(stderr, "no %s/%s.json\n", scenarios.c_str(), name.c_str());
     return 1;
   }
-  json elevator = json::parse(file);
+  json document = json::parse(file);
   const double seconds = static_cast<double>(tick) / 60.0 + 60.0;
-  elevator["time_limit"] = seconds;
-  elevator["steps"].push_back({{"name", "linger"}, {"actions", json::array({{{"agent", "ada"}, {"wait", {{"duration", seconds}}}}})}});
-  const auto loaded = hrisim::scenario::load_scenario(elevator, {{scenarios}, {}});
+  document["time_limit"] = seconds;
+  const json person = document["humans"][0]["id"];
+  document["steps"].push_back({{"name", "linger"}, {"actions", json::array({{{"agent", person}, {"wait", {{"duration", seconds}}}}})}});
+  const auto loaded = hrisim::scenario::load_scenario(document, {{scenarios}, {}});
   if (!loaded.model) {
     std::fprintf(stderr, "invalid scenario: %s %s\n", loaded.errors[0].pointer.c_str(), loaded.errors[0].message.c_str());
     return 1;
@@ -73,8 +75,8 @@ int main(int argc, char** argv) {
     simulated_again = back->ticks_simulated_again();
   }
   std::sort(costs.begin(), costs.end());
-  std::printf("seek_bench: elevator kept going, stepped to tick %lld in %.2f s CPU, %zu checkpoints (estimated %zu KiB, on the heap %lld KiB)\n",
-              static_cast<long long>(tick), forward, episode->checkpoints(), episode->checkpoint_bytes() / 1024,
+  std::printf("seek_bench: %s kept going, stepped to tick %lld in %.2f s CPU, %zu checkpoints (estimated %zu KiB, on the heap %lld KiB)\n",
+              name.c_str(), static_cast<long long>(tick), forward, episode->checkpoints(), episode->checkpoint_bytes() / 1024,
               (static_cast<long long>(heap_with) - static_cast<long long>(heap_without)) / 1024);
   std::printf("seek one tick back (to %lld): median %.4f s CPU of %d, %lld ticks simulated again\n", static_cast<long long>(tick - 1),
               costs[costs.size() / 2], repetitions, static_cast<long long>(simulated_again));
