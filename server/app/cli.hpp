@@ -24,7 +24,7 @@ struct ServeOptions {
   std::uint64_t max_database_bytes = 0;  ///< 0: as large as the disk allows
   std::filesystem::path scenarios = kDefaultScenarios;
   std::filesystem::path web_root = kDefaultWebRoot;
-  http::SessionLimits sessions;
+  live::SessionLimits sessions;
   unsigned run_jobs = 0;               ///< episodes of runs at once, 0 for one per core
   http::AccessPolicy access;           ///< tokens (from --token and --tokens), allowed origins and hosts
   scenario::ScenarioLimits scenario_limits;

@@ -89,7 +89,7 @@ int serve(const std::vector<std::string>& args) {
   hrisim::core::MemoryBudget recording_memory(options.max_recording_bytes);
   hrisim::runs::Executor executor(store, options.run_jobs ? options.run_jobs : std::max(1u, std::thread::hardware_concurrency()), nullptr,
                                   &recording_memory);
-  hrisim::http::SessionLimits session_limits = options.sessions;
+  hrisim::live::SessionLimits session_limits = options.sessions;
   session_limits.recording_memory = &recording_memory;
   if (options.access.tokens.empty() && !hrisim::app::is_loopback(options.server.host)) {
     std::fprintf(stderr, "hrisim: warning: listening on %s without a token: anyone who can reach it controls the simulator\n",

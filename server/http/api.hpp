@@ -25,7 +25,7 @@ struct ApiContext {
   std::filesystem::path web_root;        ///< browser UI served at /
   std::filesystem::path scenarios_dir;   ///< bundled scenarios
   AccessPolicy access;                   ///< tokens, allowed origins and hosts
-  SessionLimits sessions;                ///< how many live sessions, how long they may idle
+  live::SessionLimits sessions;                ///< how many live sessions, how long they may idle
   runs::Executor* executor = nullptr;    ///< runs the episodes of runs; must outlive the router
   scenario::ScenarioLimits scenario_limits;  ///< what one scenario may ask for
   std::size_t scenario_cache_bytes = kDefaultScenarioCacheBytes;  ///< compiled uploads kept in memory

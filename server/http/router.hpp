@@ -10,16 +10,14 @@
 #include <variant>
 #include <vector>
 
+#include "core/caller.hpp"
 #include "core/error.hpp"
 
 namespace hrisim::http {
 
 /// Who sends a request, as the token guard found out.
-struct Caller {
-  std::string owner;       ///< namespace of what they create and see; empty on a server without owners
-  bool sees_all = true;    ///< an admin (or a server without owners): everyone's sessions, runs and uploads
-  bool read_only = false;  ///< may look, not change anything
-};
+using core::Caller;
+using core::visible_to;
 
 struct Request {
   Caller caller;
@@ -131,9 +129,6 @@ class Router {
 /// the answer is there, on the calling thread: a core::Error becomes its JSON error, a JSON type error
 /// a 400, anything else a 500 logged with `where`.
 Response complete(Response response, const std::string& where);
-
-/// Whether `caller` may see something `owner` made.
-inline bool visible_to(const Caller& caller, const std::string& owner) { return caller.sees_all || caller.owner == owner; }
 
 /// Decodes %XX escapes (of a path, or a query's value); throws core::Error(bad_request) on a malformed
 /// escape, an encoded NUL or what is not UTF-8 once decoded.

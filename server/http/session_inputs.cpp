@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/json_schema.hpp"
 #include "http/request_helpers.hpp"
+#include "http/session_limits.hpp"
 #include "http/session_views.hpp"
 
 namespace hrisim::http {
@@ -120,14 +121,14 @@ std::optional<std::vector<double>> action_of(const json& body) {
 }
 
 /// 409 for stepping a session the server steps itself.
-void check_lockstep(const Live& live) {
-  if (live.mode != "lockstep") {
-    throw core::Error(core::ErrorCode::conflict, "session " + live.id + " runs in realtime mode: the server steps it", {{"mode", live.mode}});
+void check_lockstep(const LiveSession& live) {
+  if (live.mode != Mode::lockstep) {
+    throw core::Error(core::ErrorCode::conflict, "session " + live.id + " runs in realtime mode: the server steps it", {{"mode", to_string(live.mode)}});
   }
 }
 
 /// Gives a list of commands, each checked before any is given (the session's lock held).
-json give_commands(Live& live, const json& commands) {
+json give_commands(LiveSession& live, const json& commands) {
   const sim::Session& session = live.session();
   std::vector<episode::Episode::Input> apply;
   for (std::size_t i = 0; i < commands.size(); ++i) {
@@ -148,7 +149,7 @@ json give_commands(Live& live, const json& commands) {
 /// Advances up to `steps` environment steps (the session's lock held; each the task's frame skip in
 /// ticks, one tick without a task): the status, the events of those steps, and Gymnasium's terminated
 /// (the task's ending, or the scenario's last step done) and truncated (its time limit).
-std::string step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action, std::string_view type) {
+std::string step_session(LiveSession& live, std::int64_t steps, const std::optional<std::vector<double>>& action, std::string_view type) {
   const sim::Session& session = live.session();
   if (action && !live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act", {{"pointer", "/action"}});
   const double reward = live.episode->step(action, steps);
@@ -195,7 +196,7 @@ Response step_many(Registry& registry, const Caller& caller, const json& body, s
     if (!ids[i].is_string()) throw core::Error(core::ErrorCode::bad_request, "sessions: session ids", {{"pointer", at}});
     const std::string& id = ids[i].get_ref<const std::string&>();
     if (!seen.insert(id).second) throw core::Error(core::ErrorCode::bad_request, "session " + id + " is listed twice", {{"pointer", at}});
-    std::shared_ptr<Live> live;
+    std::shared_ptr<LiveSession> live;
     try {
       live = registry.find(id, caller);
       check_lockstep(*live);
@@ -223,7 +224,7 @@ Response step_many(Registry& registry, const Caller& caller, const json& body, s
 }
 
 /// Keeps the episode's present point as a snapshot (the session's lock held).
-json take_snapshot(Live& live) {
+json take_snapshot(LiveSession& live) {
   if (live.snapshots.size() >= kMaxSnapshots) {
     throw core::Error(core::ErrorCode::conflict, "session " + live.id + " keeps its maximum of " + std::to_string(kMaxSnapshots) +
                                                      " snapshots: delete one (DELETE /api/v1/sessions/" + live.id + "/snapshots/{snapshot})");
@@ -236,7 +237,7 @@ json take_snapshot(Live& live) {
 }
 
 /// The snapshot a restore names, checked before the work (the session's lock held).
-static const episode::Episode::Snapshot& snapshot_named(const Live& live, const json& body) {
+static const episode::Episode::Snapshot& snapshot_named(const LiveSession& live, const json& body) {
   refuse_unknown_keys(body, {"snapshot"});
   if (!body.contains("snapshot") || !body["snapshot"].is_string()) {
     throw core::Error(core::ErrorCode::bad_request, "snapshot: the id of a snapshot of this session is required", {{"pointer", "/snapshot"}});
@@ -253,7 +254,7 @@ static const episode::Episode::Snapshot& snapshot_named(const Live& live, const 
 /// to its tick (the session's lock held). Gymnasium's observation and info, with the status.
 /// The session goes on from `episode` (restored or rewound): viewers see a fresh start; the events up
 /// to here are not reported again; a realtime session's clock starts from its tick.
-static json go_on_from(Live& live, std::unique_ptr<episode::Episode> episode) {
+static json go_on_from(LiveSession& live, std::unique_ptr<episode::Episode> episode) {
   live.episode = std::move(episode);
   ++live.generation;
   live.events_reported = live.session().state().events.size();
@@ -264,12 +265,12 @@ static json go_on_from(Live& live, std::unique_ptr<episode::Episode> episode) {
   return reply;
 }
 
-json restore_snapshot(Live& live, const json& body) { return go_on_from(live, live.episode->restore(snapshot_named(live, body))); }
+json restore_snapshot(LiveSession& live, const json& body) { return go_on_from(live, live.episode->restore(snapshot_named(live, body))); }
 
-json seek_session(Live& live, const json& body) {
+json seek_session(LiveSession& live, const json& body) {
   refuse_unknown_keys(body, {"tick"});
   const std::int64_t now = live.session().state().tick;
-  const bool lockstep = live.mode == "lockstep";
+  const bool lockstep = live.mode == Mode::lockstep;
   if (!body.contains("tick")) throw core::Error(core::ErrorCode::bad_request, "tick: the tick to go to is required", {{"pointer", "/tick"}});
   const std::int64_t tick = integer_field(body, "tick", 0, lockstep ? now + kMaxStepsPerRequest : now, 0);
   if (tick <= now) {

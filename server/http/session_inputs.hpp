@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "episode/episode.hpp"
-#include "http/live_sessions.hpp"
+#include "http/session_work.hpp"
 #include "http/router.hpp"
 
 namespace hrisim::http {
@@ -18,14 +18,14 @@ namespace hrisim::http {
 /// The optional "action" of a step: a list of numbers.
 std::optional<std::vector<double>> action_of(const nlohmann::json& body);
 /// 409 for stepping a session the server steps itself.
-void check_lockstep(const Live& live);
+void check_lockstep(const LiveSession& live);
 /// Gives a list of commands, each checked before any is given.
-nlohmann::json give_commands(Live& live, const nlohmann::json& commands);
+nlohmann::json give_commands(LiveSession& live, const nlohmann::json& commands);
 /// Advances up to `steps` environment steps (each the task's frame skip in ticks, one tick without a
 /// task): the reply's JSON text — its `type` first when given (a WebSocket's), the status, the events
 /// of those steps, Gymnasium's observation, reward, info, terminated (the task's ending, or the
 /// scenario's last step done) and truncated (its time limit).
-std::string step_session(Live& live, std::int64_t steps, const std::optional<std::vector<double>>& action, std::string_view type = {});
+std::string step_session(LiveSession& live, std::int64_t steps, const std::optional<std::vector<double>>& action, std::string_view type = {});
 /// Steps several lockstep sessions `n` env steps each, each by its own action, the sessions shared out
 /// over the worker pool: the body {"sessions": [ids], "actions": [one per session, a list or null],
 /// "n"} is checked first (an unknown or realtime session, a repeated id, a malformed action: an error
@@ -33,14 +33,14 @@ std::string step_session(Live& live, std::int64_t steps, const std::optional<std
 /// {"error": …}, in the order asked, under "results" (after `type`, when given).
 Response step_many(Registry& registry, const Caller& caller, const nlohmann::json& body, std::string_view type = {});
 /// Keeps the episode's present point as a snapshot.
-nlohmann::json take_snapshot(Live& live);
+nlohmann::json take_snapshot(LiveSession& live);
 /// Goes back (or forth) to the snapshot the body names: the episode again from its start with the
 /// snapshot's inputs, up to its tick. Gymnasium's observation and info, with the status.
-nlohmann::json restore_snapshot(Live& live, const nlohmann::json& body);
+nlohmann::json restore_snapshot(LiveSession& live, const nlohmann::json& body);
 /// Goes to the tick the body names ({"tick"}): back, the episode again from its start with its inputs
 /// up to that tick (a new branch from there); forward (lockstep only, at most kMaxStepsPerRequest
 /// ticks), the ticks a clock would give. Gymnasium's observation and info, with the status.
-nlohmann::json seek_session(Live& live, const nlohmann::json& body);
+nlohmann::json seek_session(LiveSession& live, const nlohmann::json& body);
 /// The input that places an agent or object by name at a pose {x, y, z, roll, pitch, yaw} (checked; `at`
 /// is its JSON pointer prefix): seed 000's uniform pose interface. People and robots stay upright on
 /// the floor; a place off the floor is refused when the input is given.

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "http/frames.hpp"
 #include "http/request_helpers.hpp"
+#include "http/session_limits.hpp"
 #include "http/session_inputs.hpp"
 #include "http/session_views.hpp"
 #include "sim/scene_view.hpp"
@@ -27,13 +28,13 @@ class SessionSocket : public WebSocketPeer {
   /// read-only token may not send those).
   struct MessageType {
     std::string_view name;
-    Response (SessionSocket::*handle)(const std::shared_ptr<Live>&, json&);
+    Response (SessionSocket::*handle)(const std::shared_ptr<LiveSession>&, json&);
     bool changes_session;
   };
   static const std::array<MessageType, 13> kMessageTypes;
 
   /// Holds no reference to the session: a deleted one is freed, and the socket then closes.
-  SessionSocket(std::shared_ptr<Registry> registry, const std::shared_ptr<Live>& live, Caller caller)
+  SessionSocket(std::shared_ptr<Registry> registry, const std::shared_ptr<LiveSession>& live, Caller caller)
       : registry_(std::move(registry)), id_(live->id), clients_(live->clients), caller_(std::move(caller)) {
     ++*clients_;
   }
@@ -49,7 +50,7 @@ class SessionSocket : public WebSocketPeer {
   double push_rate() const override { return rate_; }
 
   std::vector<Response> push_frames(std::uint64_t dropped) override {
-    const std::shared_ptr<Live> live = registry_->find_if_live(id_);
+    const std::shared_ptr<LiveSession> live = registry_->find_if_live(id_);
     if (!live) {
       rate_ = 0.0;  // the session is gone
       return {};
@@ -84,7 +85,7 @@ class SessionSocket : public WebSocketPeer {
   }
 
  private:
-  Response on_step(const std::shared_ptr<Live>& live, json& body) {
+  Response on_step(const std::shared_ptr<LiveSession>& live, json& body) {
     refuse_unknown_keys(body, {"n", "action"});
     const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
     const auto action = action_of(body);
@@ -99,27 +100,27 @@ class SessionSocket : public WebSocketPeer {
     });
   }
 
-  Response on_step_many(const std::shared_ptr<Live>&, json& body) { return step_many(*registry_, caller_, body, "step_many"); }
+  Response on_step_many(const std::shared_ptr<LiveSession>&, json& body) { return step_many(*registry_, caller_, body, "step_many"); }
 
-  Response on_commands(const std::shared_ptr<Live>& live, json& body) {
+  Response on_commands(const std::shared_ptr<LiveSession>& live, json& body) {
     refuse_unknown_keys(body, {"commands"});
     if (!body.contains("commands") || !body["commands"].is_array()) {
       throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
     }
-    return answer_locked(live, [commands = body["commands"]](Live& session) { return reply("commands", give_commands(session, commands)); });
+    return answer_locked(live, [commands = body["commands"]](LiveSession& session) { return reply("commands", give_commands(session, commands)); });
   }
 
-  Response on_snapshot(const std::shared_ptr<Live>& live, json& body) {
+  Response on_snapshot(const std::shared_ptr<LiveSession>& live, json& body) {
     refuse_unknown_keys(body, {});
-    return answer_locked(live, [](Live& session) { return reply("snapshot", take_snapshot(session)); });
+    return answer_locked(live, [](LiveSession& session) { return reply("snapshot", take_snapshot(session)); });
   }
 
-  Response on_restore(const std::shared_ptr<Live>& live, json& body) { return simulated_again(live, body, "restore", restore_snapshot); }
+  Response on_restore(const std::shared_ptr<LiveSession>& live, json& body) { return simulated_again(live, body, "restore", restore_snapshot); }
 
-  Response on_seek(const std::shared_ptr<Live>& live, json& body) { return simulated_again(live, body, "seek", seek_session); }
+  Response on_seek(const std::shared_ptr<LiveSession>& live, json& body) { return simulated_again(live, body, "seek", seek_session); }
 
   /// Restoring and seeking simulate again: work for the pool, one of an owner's at a time.
-  Response simulated_again(const std::shared_ptr<Live>& live, const json& body, const char* type, json (*go)(Live&, const json&)) {
+  Response simulated_again(const std::shared_ptr<LiveSession>& live, const json& body, const char* type, json (*go)(LiveSession&, const json&)) {
     return simulation_later(registry_->admit_simulation(caller_.owner), [live, body, type, go] {
       try {
         std::lock_guard lock(live->mutex);
@@ -130,15 +131,15 @@ class SessionSocket : public WebSocketPeer {
     });
   }
 
-  Response on_sensors(const std::shared_ptr<Live>& live, json& body) {
+  Response on_sensors(const std::shared_ptr<LiveSession>& live, json& body) {
     refuse_unknown_keys(body, {"robot"});
     if (!body.contains("robot") || !body["robot"].is_string()) {
       throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
     }
-    return answer_locked(live, [robot = body["robot"].get<std::string>()](Live& session) { return reply("sensors", sensors_of(session.session(), robot)); });
+    return answer_locked(live, [robot = body["robot"].get<std::string>()](LiveSession& session) { return reply("sensors", sensors_of(session.session(), robot)); });
   }
 
-  Response on_laser(const std::shared_ptr<Live>& live, json& body) {
+  Response on_laser(const std::shared_ptr<LiveSession>& live, json& body) {
     refuse_unknown_keys(body, {"robot", "sensor"});
     if (!body.contains("robot") || !body["robot"].is_string()) {
       throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
@@ -146,22 +147,22 @@ class SessionSocket : public WebSocketPeer {
     if (body.contains("sensor") && !body["sensor"].is_string()) {
       throw core::Error(core::ErrorCode::bad_request, "sensor: a laser's name", {{"pointer", "/sensor"}});
     }
-    return answer_locked(live, [robot = body["robot"].get<std::string>(), sensor = body.value("sensor", "")](Live& session) {
+    return answer_locked(live, [robot = body["robot"].get<std::string>(), sensor = body.value("sensor", "")](LiveSession& session) {
       return Response{200, kBinaryContentType, laser_of(session.session(), robot, sensor), {}, {}};
     });
   }
 
-  Response on_audio(const std::shared_ptr<Live>& live, json& body) {
+  Response on_audio(const std::shared_ptr<LiveSession>& live, json& body) {
     refuse_unknown_keys(body, {"robot"});
     if (!body.contains("robot") || !body["robot"].is_string()) {
       throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
     }
-    return answer_locked(live, [robot = body["robot"].get<std::string>()](Live& session) {
+    return answer_locked(live, [robot = body["robot"].get<std::string>()](LiveSession& session) {
       return Response{200, kBinaryContentType, audio_of(session.session(), robot), {}, {}};
     });
   }
 
-  Response on_camera(const std::shared_ptr<Live>& live, json& body) {
+  Response on_camera(const std::shared_ptr<LiveSession>& live, json& body) {
     refuse_unknown_keys(body, {"camera", "width", "height", "ids"});
     if (!body.contains("camera") || !body["camera"].is_string()) {
       throw core::Error(core::ErrorCode::bad_request, "camera: a camera's name is required", {{"pointer", "/camera"}});
@@ -169,18 +170,18 @@ class SessionSocket : public WebSocketPeer {
     const auto width = static_cast<int>(integer_field(body, "width", 16, kMaxFrameSize, 0));
     const auto height = static_cast<int>(integer_field(body, "height", 16, kMaxFrameSize, 0));
     if (body.contains("ids") && !body["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/ids"}});
-    return answer_locked(live, [camera = body["camera"].get<std::string>(), width, height, ids = body.value("ids", false)](Live& session) {
+    return answer_locked(live, [camera = body["camera"].get<std::string>(), width, height, ids = body.value("ids", false)](LiveSession& session) {
       return camera_frame(session.session(), camera, width, height, ids);
     });
   }
 
-  Response on_scene(const std::shared_ptr<Live>& live, json& body) {
+  Response on_scene(const std::shared_ptr<LiveSession>& live, json& body) {
     refuse_unknown_keys(body, {"all"});
     if (body.contains("all") && !body["all"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "all: true or false", {{"pointer", "/all"}});
-    return answer_locked(live, [all = body.value("all", false)](Live& session) { return scene_frame(session.session(), all); });
+    return answer_locked(live, [all = body.value("all", false)](LiveSession& session) { return scene_frame(session.session(), all); });
   }
 
-  Response on_subscribe(const std::shared_ptr<Live>& live, json& body) {
+  Response on_subscribe(const std::shared_ptr<LiveSession>& live, json& body) {
     refuse_unknown_keys(body, {"rate", "camera"});
     if (!body.contains("rate") || !body["rate"].is_number() || !(body["rate"].get<double>() >= 0.0) ||
         body["rate"].get<double>() > kMaxPushRate) {
@@ -208,15 +209,15 @@ class SessionSocket : public WebSocketPeer {
     return reply("subscribed", answer);
   }
 
-  Response on_state(const std::shared_ptr<Live>& live, json& body) {
+  Response on_state(const std::shared_ptr<LiveSession>& live, json& body) {
     refuse_unknown_keys(body, {"events_since"});
     const auto since = integer_field(body, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
-    return answer_locked(live, [since](Live& session) { return reply("state", state_of(session, since)); });
+    return answer_locked(live, [since](LiveSession& session) { return reply("state", state_of(session, since)); });
   }
 
   /// locked(), with errors answered as WebSocket error messages wherever the work runs.
-  static Response answer_locked(std::shared_ptr<Live> live, std::function<Response(Live&)> work) {
-    return locked(std::move(live), [work = std::move(work)](Live& session) {
+  static Response answer_locked(std::shared_ptr<LiveSession> live, std::function<Response(LiveSession&)> work) {
+    return locked(std::move(live), [work = std::move(work)](LiveSession& session) {
       try {
         return work(session);
       } catch (const core::Error& e) {
@@ -303,7 +304,7 @@ Response SessionSocket::on_message(const std::string& text) {
 
 }  // namespace
 
-std::shared_ptr<WebSocketPeer> open_session_socket(std::shared_ptr<Registry> registry, const std::shared_ptr<Live>& live, Caller caller) {
+std::shared_ptr<WebSocketPeer> open_session_socket(std::shared_ptr<Registry> registry, const std::shared_ptr<LiveSession>& live, Caller caller) {
   return std::make_shared<SessionSocket>(std::move(registry), live, std::move(caller));
 }
 

@@ -3,13 +3,13 @@
 // at the rate a client subscribed to. The protocol is a table from message type to handler.
 #include <memory>
 
-#include "http/live_sessions.hpp"
+#include "http/session_work.hpp"
 #include "http/router.hpp"
 
 namespace hrisim::http {
 
 /// The socket of `live` for `caller`; it holds no reference to the session (a deleted one is freed,
 /// and the socket then closes).
-std::shared_ptr<WebSocketPeer> open_session_socket(std::shared_ptr<Registry> registry, const std::shared_ptr<Live>& live, Caller caller);
+std::shared_ptr<WebSocketPeer> open_session_socket(std::shared_ptr<Registry> registry, const std::shared_ptr<LiveSession>& live, Caller caller);
 
 }  // namespace hrisim::http

@@ -50,7 +50,7 @@ json clock_reading(const sim::Session& session) {
 
 }  // namespace
 
-void write_status(core::JsonWriter& out, const Live& live) {
+void write_status(core::JsonWriter& out, const LiveSession& live) {
   const sim::Session& session = live.session();
   const sim::State& state = session.state();
   const bool in_step = state.current_step < static_cast<int>(session.model().steps.size());
@@ -61,9 +61,9 @@ void write_status(core::JsonWriter& out, const Live& live) {
       out.null();
     }
   };
-  out.key("id").value(live.id).key("scenario").value(live.scenario).key("seed").value(live.seed).key("mode").value(live.mode);
+  out.key("id").value(live.id).key("scenario").value(live.scenario).key("seed").value(live.seed).key("mode").value(to_string(live.mode));
   out.key("realtime_factor");
-  live.mode == "realtime" ? out.value(live.realtime_factor) : out.null();
+  live.mode == Mode::realtime ? out.value(live.realtime_factor) : out.null();
   out.key("controller");
   live.controller ? out.value(*live.controller) : out.null();
   out.key("connected_clients").value(live.clients->load());
@@ -90,7 +90,7 @@ void write_status(core::JsonWriter& out, const Live& live) {
   out.key("state_hash").value(session.state_hash_hex());
 }
 
-json status_of(const Live& live) {
+json status_of(const LiveSession& live) {
   core::JsonWriter out;
   out.begin_object();
   write_status(out, live);
@@ -108,7 +108,7 @@ static json path_ahead(const sim::AgentState& agent) {
   return points;
 }
 
-json state_of(const Live& live, std::int64_t events_since_tick) {
+json state_of(const LiveSession& live, std::int64_t events_since_tick) {
   const sim::Session& session = live.session();
   const sim::State& state = session.state();
   json agents = json::array();
@@ -274,7 +274,7 @@ json poses_of(const sim::Session& session) {
 
 /// Gymnasium's observation and info now: the observation null when it is a camera image (fetched as
 /// a binary camera frame), info the tick, time and the last step's reward terms.
-void write_observation(core::JsonWriter& out, const Live& live) {
+void write_observation(core::JsonWriter& out, const LiveSession& live) {
   const sim::Session& session = live.session();
   out.key("observation");
   if (live.environment() && !live.environment()->image()) {
@@ -287,7 +287,7 @@ void write_observation(core::JsonWriter& out, const Live& live) {
   out.end_object();
 }
 
-void add_observation(const Live& live, json& reply) {
+void add_observation(const LiveSession& live, json& reply) {
   core::JsonWriter out;
   out.begin_object();
   write_observation(out, live);

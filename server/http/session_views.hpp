@@ -8,7 +8,7 @@
 
 #include "core/json_writer.hpp"
 #include "episode/episode.hpp"
-#include "http/live_sessions.hpp"
+#include "http/session_work.hpp"
 #include "sim/scene_view.hpp"
 #include "sim/session.hpp"
 #include "tasks/view.hpp"
@@ -24,10 +24,10 @@ Response scene_frame(const sim::Session& session, bool all);
 nlohmann::json event_json(const sim::Event& event);
 /// Status of a session: id, scenario, seed, mode, tick, time, its end, the choreography step, the task,
 /// the state hash; as members of an object being written, or as a JSON object.
-void write_status(core::JsonWriter& out, const Live& live);
-nlohmann::json status_of(const Live& live);
+void write_status(core::JsonWriter& out, const LiveSession& live);
+nlohmann::json status_of(const LiveSession& live);
 /// Every agent's pose and motion, requests waiting for an answer, and the events since a tick.
-nlohmann::json state_of(const Live& live, std::int64_t events_since_tick);
+nlohmann::json state_of(const LiveSession& live, std::int64_t events_since_tick);
 /// A pose as x, y, z, roll, pitch, yaw (rpy about fixed x, y, z).
 nlohmann::json pose_json(const Eigen::Isometry3d& pose);
 /// A number as JSON, infinities spelled "inf" and "-inf", which JSON numbers cannot hold (REP 117's
@@ -44,8 +44,8 @@ nlohmann::json poses_of(const sim::Session& session);
 /// Gymnasium's observation and info now: the observation null when it is a camera image (fetched as
 /// a binary camera frame), info the tick, time and the last step's reward terms; as members of an
 /// object being written, or added to a JSON object.
-void write_observation(core::JsonWriter& out, const Live& live);
-void add_observation(const Live& live, nlohmann::json& reply);
+void write_observation(core::JsonWriter& out, const LiveSession& live);
+void add_observation(const LiveSession& live, nlohmann::json& reply);
 nlohmann::json snapshot_json(const std::string& id, const episode::Episode::Snapshot& snapshot);
 /// A robot's laser reading by sensor name (the first laser when empty), as a binary frame.
 std::string laser_of(const sim::Session& session, const std::string& robot, const std::string& sensor);

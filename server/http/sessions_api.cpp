@@ -7,7 +7,7 @@
 #include "core/json_schema.hpp"
 #include "http/episodes_api.hpp"
 #include "http/frames.hpp"
-#include "http/live_sessions.hpp"
+#include "http/session_work.hpp"
 #include "http/request_helpers.hpp"
 #include "http/session_inputs.hpp"
 #include "http/session_socket.hpp"
@@ -77,14 +77,14 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     }
     const std::string scenario = body.value("scenario", "");
     const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, 0);
-    const std::string mode = body.contains("mode") && body["mode"].is_string() ? body["mode"].get<std::string>() : body.contains("mode") ? "" : "lockstep";
-    if (mode != "lockstep" && mode != "realtime") {
-      throw core::Error(core::ErrorCode::bad_request, "mode: lockstep or realtime", {{"pointer", "/mode"}});
-    }
+    const std::optional<Mode> asked_mode =
+        !body.contains("mode") ? Mode::lockstep : body["mode"].is_string() ? parse_mode(body["mode"].get<std::string>()) : std::nullopt;
+    if (!asked_mode) throw core::Error(core::ErrorCode::bad_request, "mode: lockstep or realtime", {{"pointer", "/mode"}});
+    const Mode mode = *asked_mode;
     double factor = 1.0;
     if (body.contains("realtime_factor")) {
       const json& value = body["realtime_factor"];
-      if (mode != "realtime" || !value.is_number() || !(value.get<double>() > 0.0) || value.get<double>() > kMaxRealtimeFactor) {
+      if (mode != Mode::realtime || !value.is_number() || !(value.get<double>() > 0.0) || value.get<double>() > kMaxRealtimeFactor) {
         throw core::Error(core::ErrorCode::bad_request,
                           "realtime_factor: for a realtime session, simulated seconds per second, above 0 and at most " +
                               std::to_string(static_cast<int>(kMaxRealtimeFactor)),
@@ -151,7 +151,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   });
 
   router.add("GET", "/api/v1/sessions/{id}", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) { return Response::json(200, status_of(live)); });
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](LiveSession& live) { return Response::json(200, status_of(live)); });
   });
 
   router.add("DELETE", "/api/v1/sessions/{id}", [registry](const Request& request) {
@@ -162,12 +162,12 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   router.add("POST", "/api/v1/sessions/{id}/snapshots", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
     refuse_unknown_keys(json_object_body(request), {});
-    return locked(live, [](Live& session) { return Response::json(201, take_snapshot(session)); });
+    return locked(live, [](LiveSession& session) { return Response::json(201, take_snapshot(session)); });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/snapshots", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
-    return locked(live, [](Live& session) {
+    return locked(live, [](LiveSession& session) {
       json items = json::array();
       for (const auto& [id, snapshot] : session.snapshots) items.push_back(snapshot_json(id, snapshot));
       return Response::json(200, {{"items", items}, {"max_snapshots", kMaxSnapshots}});
@@ -176,14 +176,14 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
 
   router.add("DELETE", "/api/v1/sessions/{id}/snapshots/{snapshot}", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
-    return locked(live, [name = request.path_params.at("snapshot")](Live& session) {
+    return locked(live, [name = request.path_params.at("snapshot")](LiveSession& session) {
       if (session.snapshots.erase(name) == 0) throw core::Error(core::ErrorCode::not_found, "session " + session.id + " has no snapshot '" + name + "'");
       return Response{204, "application/json", "", {}, {}};
     });
   });
 
   // Restoring a snapshot and seeking simulate again: work for the pool, one of an owner's at a time.
-  using GoTo = json (*)(Live&, const json&);
+  using GoTo = json (*)(LiveSession&, const json&);
   for (const auto& route : {std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/restore", restore_snapshot},
                             std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/seek", seek_session}}) {
     const GoTo go = route.second;  // a plain variable: lambdas may not capture structured bindings in C++20
@@ -208,34 +208,34 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   router.add("GET", "/api/v1/sessions/{id}/scene", [registry](const Request& request) {
     const auto all = query_value(request.query, "all").value_or("false");
     if (all != "true" && all != "false") throw core::Error(core::ErrorCode::bad_request, "all: true or false", {{"parameter", "all"}});
-    return locked(registry->find(request.path_params.at("id"), request.caller), [all = all == "true"](Live& live) { return scene_frame(live.session(), all); });
+    return locked(registry->find(request.path_params.at("id"), request.caller), [all = all == "true"](LiveSession& live) { return scene_frame(live.session(), all); });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/state", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
     const auto since = integer_query(request, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
-    return locked(live, [since](Live& session) { return Response::json(200, state_of(session, since)); });
+    return locked(live, [since](LiveSession& session) { return Response::json(200, state_of(session, since)); });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/robots/{robot}/sensors", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [robot = request.path_params.at("robot")](Live& live) {
+    return locked(registry->find(request.path_params.at("id"), request.caller), [robot = request.path_params.at("robot")](LiveSession& live) {
       return Response::json(200, sensors_of(live.session(), robot));
     });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/robots/{robot}/audio", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [robot = request.path_params.at("robot")](Live& live) {
+    return locked(registry->find(request.path_params.at("id"), request.caller), [robot = request.path_params.at("robot")](LiveSession& live) {
       return Response{200, kBinaryContentType, audio_of(live.session(), robot), {}, {}};
     });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/poses", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) { return Response::json(200, poses_of(live.session())); });
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](LiveSession& live) { return Response::json(200, poses_of(live.session())); });
   });
 
   router.add("PUT", "/api/v1/sessions/{id}/poses/{name}", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
-    return locked(live, [body = json_object_body(request), name = request.path_params.at("name")](Live& session) {
+    return locked(live, [body = json_object_body(request), name = request.path_params.at("name")](LiveSession& session) {
       session.episode->give(place(session.session(), name, body, ""));
       return Response::json(200, poses_of(session.session()));
     });
@@ -258,7 +258,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, live->seed);
       // A fresh session of the same scenario: everything starts again from tick 0, then the poses given
       // are set (all or none: a bad one leaves the old session as it was).
-      auto fresh = std::make_unique<Live>();
+      auto fresh = std::make_unique<LiveSession>();
       fresh->seed = seed;
       fresh->recording_memory = live->recording_memory;
       fresh->crowd_threads = live->crowd_threads;
@@ -289,7 +289,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     if (!body.contains("commands") || !body["commands"].is_array()) {
       throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
     }
-    return locked(live, [commands = body["commands"]](Live& session) { return Response::json(200, give_commands(session, commands)); });
+    return locked(live, [commands = body["commands"]](LiveSession& session) { return Response::json(200, give_commands(session, commands)); });
   });
 
   router.add("POST", "/api/v1/sessions/step", [registry](const Request& request) {
@@ -334,7 +334,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     const auto live = registry->find(request.path_params.at("id"), request.caller);
     const FrameRequest asked = frame_request(request);
     // The scene is copied under the session's lock; drawing happens after, on the worker pool.
-    return locked(live, [asked, name = request.path_params.at("camera")](Live& session) {
+    return locked(live, [asked, name = request.path_params.at("camera")](LiveSession& session) {
       const sim::CameraInfo info = sim::camera_of(session.session(), name, asked.width, asked.height);
       return Response::later([scene = sim::scene_for(session.session(), info), camera = info.camera, asked] {
         return encode_frame(render::render_on_this_thread(scene, camera), asked);
@@ -343,7 +343,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   });
 
   router.add("GET", "/api/v1/sessions/{id}/cameras", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) {
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](LiveSession& live) {
       json cameras = json::array();
       for (const sim::CameraInfo& info : sim::cameras_of(live.session())) cameras.push_back(camera_json(info));
       return Response::json(200, {{"id", live.id}, {"tick", live.session().state().tick}, {"cameras", cameras},
@@ -352,14 +352,14 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   });
 
   router.add("GET", "/api/v1/sessions/{id}/action_space", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) {
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](LiveSession& live) {
       if (!live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act");
       return Response::json(200, space_json(live.environment()->action_space()));
     });
   });
 
   router.add("GET", "/api/v1/sessions/{id}/observation_space", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](Live& live) {
+    return locked(registry->find(request.path_params.at("id"), request.caller), [](LiveSession& live) {
       if (!live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot to observe");
       return Response::json(200, space_json(live.environment()->observation_space(), live.environment()->image()));
     });

@@ -8,6 +8,7 @@
 
 #include "http/router.hpp"
 #include "http/session_limits.hpp"
+#include "http/session_work.hpp"
 #include "http/scenario_catalogue.hpp"
 #include "http/ws_tickets.hpp"
 

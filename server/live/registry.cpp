@@ -1,13 +1,16 @@
-#include "http/live_sessions.hpp"
+#include "live/registry.hpp"
 
 #include <algorithm>
 
-namespace hrisim::http {
+#include "core/error.hpp"
+#include "core/random.hpp"
+
+namespace hrisim::live {
 namespace {
 
 /// A session whose episode is over. One busy with a request counts as running: its lock is not waited
 /// for (the registry's is held).
-bool finished(Live& live) {
+bool finished(LiveSession& live) {
   std::unique_lock lock(live.mutex, std::try_to_lock);
   return lock && live.episode->over();
 }
@@ -15,26 +18,6 @@ bool finished(Live& live) {
 core::Error not_found(const std::string& id) { return core::Error(core::ErrorCode::not_found, "no session '" + id + "'", {{"id", id}}); }
 
 }  // namespace
-
-Response locked(std::shared_ptr<Live> live, std::function<Response(Live&)> work) {
-  if (std::unique_lock lock(live->mutex, std::try_to_lock); lock) return work(*live);
-  return Response::later([live = std::move(live), work = std::move(work)] {
-    std::lock_guard lock(live->mutex);
-    return work(*live);
-  });
-}
-
-Response simulation_later(std::shared_ptr<void> place, std::function<Response()> work) {
-  // Shared by every copy of the job, so that giving it back in the one that runs gives it back.
-  auto held = std::make_shared<std::shared_ptr<void>>(std::move(place));
-  return Response::later([held, work = std::move(work)] {
-    struct GiveBack {
-      std::shared_ptr<void>& place;
-      ~GiveBack() { place.reset(); }
-    } give_back{*held};
-    return work();
-  });
-}
 
 std::shared_ptr<void> Registry::admit_simulation(const std::string& owner) {
   std::lock_guard lock(simulations_->mutex);
@@ -51,10 +34,10 @@ std::shared_ptr<void> Registry::admit_simulation(const std::string& owner) {
   });
 }
 
-std::shared_ptr<Live> Registry::create(NewSession request) {
+std::shared_ptr<LiveSession> Registry::create(NewSession request) {
   std::lock_guard lock(mutex_);
   expire_idle();
-  std::vector<std::shared_ptr<Live>> done;
+  std::vector<std::shared_ptr<LiveSession>> done;
   int running = 0;
   for (const auto& [id, live] : sessions_) {
     if (finished(*live)) {
@@ -80,11 +63,11 @@ std::shared_ptr<Live> Registry::create(NewSession request) {
     --kept;
   }
 
-  auto live = std::make_shared<Live>();
+  auto live = std::make_shared<LiveSession>();
   live->id = core::unguessable_id('s');
   live->scenario = std::move(request.scenario);
   live->seed = request.seed;
-  live->mode = std::move(request.mode);
+  live->mode = request.mode;
   live->realtime_factor = request.realtime_factor;
   live->controller = std::move(request.controller);
   live->owner = std::move(request.owner);
@@ -100,16 +83,16 @@ std::shared_ptr<Live> Registry::create(NewSession request) {
   return live;
 }
 
-std::shared_ptr<Live> Registry::find(const std::string& id, const Caller& caller) {
+std::shared_ptr<LiveSession> Registry::find(const std::string& id, const core::Caller& caller) {
   std::lock_guard lock(mutex_);
   expire_idle();
   const auto found = sessions_.find(id);
-  if (found == sessions_.end() || !visible_to(caller, found->second->owner)) throw not_found(id);
+  if (found == sessions_.end() || !core::visible_to(caller, found->second->owner)) throw not_found(id);
   found->second->last_used = Clock::now();
   return found->second;
 }
 
-std::shared_ptr<Live> Registry::find_if_live(const std::string& id) {
+std::shared_ptr<LiveSession> Registry::find_if_live(const std::string& id) {
   std::lock_guard lock(mutex_);
   const auto found = sessions_.find(id);
   if (found == sessions_.end()) return nullptr;
@@ -122,19 +105,19 @@ bool Registry::contains(const std::string& id) {
   return sessions_.contains(id);
 }
 
-void Registry::remove(const std::string& id, const Caller& caller) {
+void Registry::remove(const std::string& id, const core::Caller& caller) {
   std::lock_guard lock(mutex_);
   const auto found = sessions_.find(id);
-  if (found == sessions_.end() || !visible_to(caller, found->second->owner)) throw not_found(id);
+  if (found == sessions_.end() || !core::visible_to(caller, found->second->owner)) throw not_found(id);
   sessions_.erase(found);
 }
 
-std::vector<std::shared_ptr<Live>> Registry::all(const Caller& caller) {
+std::vector<std::shared_ptr<LiveSession>> Registry::all(const core::Caller& caller) {
   std::lock_guard lock(mutex_);
   expire_idle();
-  std::vector<std::shared_ptr<Live>> list;
+  std::vector<std::shared_ptr<LiveSession>> list;
   for (const auto& [id, live] : sessions_) {
-    if (visible_to(caller, live->owner)) list.push_back(live);
+    if (core::visible_to(caller, live->owner)) list.push_back(live);
   }
   return list;
 }
@@ -142,7 +125,7 @@ std::vector<std::shared_ptr<Live>> Registry::all(const Caller& caller) {
 void Registry::expire_idle() {
   const auto now = Clock::now();
   std::erase_if(sessions_, [&](const auto& entry) {
-    const Live& live = *entry.second;
+    const LiveSession& live = *entry.second;
     if (*live.clients > 0) return false;
     const auto unused = now - live.last_used.load();
     return unused > limits_.idle_timeout || (live.unwatched_grace && unused > *live.unwatched_grace);
@@ -158,12 +141,12 @@ void Registry::step_realtime(std::stop_token stop) {
   for (int round = 1; !stop.stop_requested(); ++round) {
     next += period;
     std::this_thread::sleep_until(next);
-    std::vector<std::shared_ptr<Live>> realtime;
+    std::vector<std::shared_ptr<LiveSession>> realtime;
     {
       std::lock_guard lock(mutex_);
       if (round % ticks_per_expiry == 0) expire_idle();  // a closed tab's session goes without waiting for a request
       for (const auto& [id, live] : sessions_) {
-        if (live->mode == "realtime") realtime.push_back(live);
+        if (live->mode == Mode::realtime) realtime.push_back(live);
       }
     }
     const auto now = Clock::now();
@@ -188,4 +171,4 @@ void Registry::step_realtime(std::stop_token stop) {
   }
 }
 
-}  // namespace hrisim::http
+}  // namespace hrisim::live
