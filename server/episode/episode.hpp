@@ -5,7 +5,7 @@
 // session stepped by a client, a realtime session, a run and a replay:
 //
 //   tick():  begin an env step when none is under way (the task's hooks, e.g. the person walks on)
-//            → Session::step() → the env step's after-tick bookkeeping → at its last tick its reward
+//            → Session::tick() → the env step's after-tick bookkeeping → at its last tick its reward
 //            (and the task's ending, which ends the episode) → the recording's sample.
 //   step(action, n): n env steps, the action given at the first; each is its frame skip of ticks.
 //

@@ -1,9 +1,10 @@
 #pragma once
 // A session runs one scenario model: fixed time step, seeded randomness owned by the session, no wall
-// clock. step() advances one tick as a list of phases, each a free function over the model, the state
+// clock. tick() advances one tick as a list of phases, each a free function over the model, the state
 // and its inputs in a file named for it:
-//   scheduled requests → doors and elevators → requests → choreography → robots decide → walking →
-//   robots move → tick → physics → sensing → time limit.
+//   people enter → scheduled requests → doors and elevators → requests → choreography → queues →
+//   attractions → robots decide → walking → robots move → sounds → tick → physics → sensing →
+//   listening → search → time limit → the physics world built again when due.
 // Same model, seed and inputs give bit-identical states.
 #include <memory>
 #include <optional>
