@@ -290,6 +290,12 @@ void summarize_ended_runs(storage::Store& store, runs::Executor& executor) {
   }
 }
 
+/// Distinct run configurations (scenario content, controller, time limit, requests) one import may
+/// hold: each is compiled against its scenario, which costs what compiling the scenario costs, so an
+/// import of many small runs could otherwise ask for thousands of compiles. Results of shards and of
+/// a few controllers hold a handful.
+constexpr std::size_t kMaxImportedConfigurations = 64;
+
 /// An imported run's config compiled against its scenario as POST /api/v1/runs compiles a request
 /// (controller, time limit, requests): a run that could not have been asked for here is refused.
 void check_imported_config(ScenarioCatalogue& catalogue, const storage::ScenarioRecord& scenario, const storage::RunRecord& run) {
@@ -449,8 +455,19 @@ void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue
     return Response::later([catalogue, store, body = request.body, owner = request.caller.owner] {
       storage::ForeignDatabase source = storage::ForeignDatabase::from_bytes(body, "the uploaded database");
       json runs = json::array();
-      const runs::RunCheck as_asked = [&catalogue](const storage::ScenarioRecord& scenario, const storage::RunRecord& run) {
+      std::set<std::string> compiled;  // the configurations checked already, each compiled once
+      const runs::RunCheck as_asked = [&catalogue, &compiled](const storage::ScenarioRecord& scenario, const storage::RunRecord& run) {
+        const json& config = run.config;
+        std::string configuration = scenario.sha256;
+        for (const char* key : {"effective_controller", "controller", "max_time", "requests"}) configuration += '\0' + config.value(key, json()).dump();
+        if (compiled.contains(configuration)) return;
+        if (compiled.size() == kMaxImportedConfigurations) {
+          throw core::Error(core::ErrorCode::bad_request, "more than " + std::to_string(kMaxImportedConfigurations) +
+                                                              " distinct run configurations (scenario, controller, max_time, requests) in one import: "
+                                                              "import the database in parts, or with hrisim serve --import");
+        }
         check_imported_config(*catalogue, scenario, run);
+        compiled.insert(std::move(configuration));
       };
       for (const runs::MergedRun& merged : runs::merge_database(*store, source, "this server's", owner, as_asked)) {
         runs.push_back({{"id", merged.id}, {"source_id", merged.source_id}, {"added", merged.added}, {"present", merged.present}});

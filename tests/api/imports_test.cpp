@@ -181,6 +181,24 @@ TEST_F(Imports, AConfigTheApiWouldNotTakeIsRefusedWithItsPointer) {
   EXPECT_EQ(runs_of(kAlice), before) << "nothing stored";
 }
 
+TEST_F(Imports, ManyDistinctConfigurationsAreRefusedBeforeTheyAreCompiled) {
+  // Each distinct configuration is compiled against its scenario; an import may not ask for more than
+  // 64 compiles (64 more runs of the base run, each with its own max_time, make 65).
+  const std::string runs = "WITH RECURSIVE n(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM n WHERE i < 64) "
+                           "INSERT INTO runs (id, scenario_id, controller, config, status, created_at, finished_at, owner, name, tags, notes) "
+                           "SELECT printf('r%032x', i), scenario_id, controller, json_set(config, '$.max_time', 1 + i / 100.0), status, created_at, "
+                           "finished_at, owner, name, tags, notes FROM runs, n";
+  const int before = runs_of(kAlice);
+  expect_refused(import(variant(runs)), 400, "more than 64 distinct run configurations");
+  EXPECT_EQ(runs_of(kAlice), before) << "nothing stored";
+  // The same 65 runs of one configuration are one compile, and are imported.
+  const std::string same = "WITH RECURSIVE n(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM n WHERE i < 64) "
+                           "INSERT INTO runs (id, scenario_id, controller, config, status, created_at, finished_at, owner, name, tags, notes) "
+                           "SELECT printf('r%032x', i + 1000), scenario_id, controller, config, status, created_at, finished_at, owner, name, tags, notes FROM runs, n";
+  const HttpReply imported = import(variant(same));
+  EXPECT_EQ(imported.status, 200) << imported.body;
+}
+
 TEST_F(Imports, ARunIdImportedFirstByAnotherOwnerDoesNotBlockTheOwnersImport) {
   const std::string base = variant("");
   const HttpReply bobs = import(base, kBob);
