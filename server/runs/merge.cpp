@@ -264,8 +264,11 @@ std::vector<MergedRun> merge_database(storage::Store& target, storage::ForeignDa
   try {
     read = read_source(source, check_run);
   } catch (const core::Error& e) {
-    // The store's own refusals (JSON nested too deep, work spent) do not know whose file it is.
+    // The store's own refusals (JSON nested too deep, work spent) do not know whose file it is; and
+    // what SQLite cannot read in the private copy (a file damaged where quick_check does not look:
+    // fuzz_import found one whose copy lacked a table) is the file's fault too, not the server's.
     const std::string message = e.what();
+    if (e.code() == core::ErrorCode::storage) throw core::Error(core::ErrorCode::bad_request, source.name() + " cannot be read: " + message);
     if (e.code() != core::ErrorCode::bad_request || message.starts_with(source.name())) throw;
     throw core::Error(core::ErrorCode::bad_request, source.name() + ": " + message, e.details());
   }
