@@ -98,6 +98,13 @@ Hand hand_of(const RobotRuntime& runtime, const std::vector<int>& links) {
   return hand;
 }
 
+/// Holds `object` by the palm as it is now, clear of the fingers and palm that hold it.
+void hold_in(physics::PhysicsWorld& world, const Hand& hand, int object) {
+  std::vector<int> holding = hand.fingers;
+  holding.push_back(hand.palm);
+  world.attach(object, hand.palm, holding);
+}
+
 /// Places the fingers' bodies as they are with the gripper joint at `position`.
 void place_fingers(physics::PhysicsWorld& world, const robots::Robot& robot, const Hand& hand, double position) {
   const std::vector<Eigen::Isometry3d> poses = robot.link_poses(robot.configuration_with_gripper_at(position));
@@ -155,9 +162,7 @@ void grasp_and_release(const scenario::Model& model, State& state, PhysicsBodies
         continue;
       }
       runtime.robot.stop_gripper_at(touch);
-      std::vector<int> holding = hand.fingers;
-      holding.push_back(hand.palm);
-      world.attach(object, hand.palm, holding);
+      hold_in(world, hand, object);
       const Eigen::Isometry3d palm_inverse = world.pose(hand.palm).inverse();
       runtime.held_object = static_cast<int>(o);
       runtime.grasped_at = state.tick;
@@ -330,10 +335,7 @@ PhysicsBodies build_physics_again(const scenario::Model& model, const State& sta
     }
     if (runtime.held_object < 0) continue;
     // The grasp again, as the hand and the object are now.
-    const Hand hand = hand_of(runtime, physics.robot_links[r]);
-    std::vector<int> holding = hand.fingers;
-    holding.push_back(hand.palm);
-    world.attach(physics.objects[runtime.held_object], hand.palm, holding);
+    hold_in(world, hand_of(runtime, physics.robot_links[r]), physics.objects[runtime.held_object]);
   }
   for (const AgentState& person : state.agents) {
     if (person.carried_object < 0 || !person.active) continue;
