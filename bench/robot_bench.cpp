@@ -39,7 +39,7 @@ void measure(const std::string& label, const json& document, const std::string& 
     episode.run();
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     ticks = session.state().tick;
-    termination = session.state().termination;
+    termination = hrisim::sim::to_string(session.state().termination);
     rates.push_back(ticks / seconds);
   }
   std::sort(rates.begin(), rates.end());

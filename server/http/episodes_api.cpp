@@ -140,7 +140,7 @@ void add_episode_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     // METRICS.md's step_durations: how long each choreography step took, from its step_finished event.
     json step_durations = json::array();
     for (const storage::EventRecord& event : episode.events) {
-      if (event.kind == "step_finished") step_durations.push_back({{"step", event.subject}, {"duration", event.data.value("duration", 0.0)}});
+      if (event.kind == sim::events::StepFinished::kind) step_durations.push_back({{"step", event.subject}, {"duration", event.data.value("duration", 0.0)}});
     }
     reply["step_durations"] = step_durations;
     json null_reasons = json::object();

@@ -169,8 +169,9 @@ std::string step_session(LiveSession& live, std::int64_t steps, const std::optio
   for (std::size_t e = live.events_reported; e < all.size(); ++e) out.value(event_json(all[e]));
   out.end_array();
   live.events_reported = all.size();
-  out.key("terminated").value(session.state().termination == "scenario_end" || session.state().termination == "goal");
-  out.key("truncated").value(session.state().termination == "timeout");
+  const sim::Termination termination = session.state().termination;
+  out.key("terminated").value(termination == sim::Termination::scenario_end || termination == sim::Termination::goal);
+  out.key("truncated").value(termination == sim::Termination::timeout);
   out.end_object();
   return out.take();
 }

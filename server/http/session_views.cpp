@@ -15,10 +15,6 @@ namespace hrisim::http {
 
 using nlohmann::json;
 
-json event_json(const sim::Event& event) {
-  return {{"tick", event.tick}, {"time", event.time}, {"kind", event.kind}, {"subject", event.subject}, {"data", event.data}};
-}
-
 /// The events of tick `first` and later; they are kept in tick order, so only the new ones are looked at.
 static json events_since(const sim::Session& session, std::int64_t first) {
   const auto& events = session.state().events;
@@ -75,7 +71,7 @@ void write_status(core::JsonWriter& out, const LiveSession& live) {
   out.key("clock").value(clock_reading(session));
   out.key("status").value(state.finished ? "finished" : "running");
   out.key("termination");
-  state.finished ? out.value(state.termination) : out.null();
+  state.finished ? out.value(sim::to_string(state.termination)) : out.null();
   out.key("current_step");
   current_step();
   out.key("step");  // the former name, kept for one version

@@ -9,6 +9,7 @@
 #include "core/json_writer.hpp"
 #include "episode/episode.hpp"
 #include "http/session_work.hpp"
+#include "sim/event_json.hpp"
 #include "sim/scene_view.hpp"
 #include "sim/session.hpp"
 #include "tasks/view.hpp"
@@ -21,7 +22,7 @@ inline constexpr double kMaxPushRate = 60.0;
 /// The session's scene as a binary scene frame (scene_message): what moves, or with `all` everything.
 Response scene_frame(const sim::Session& session, bool all);
 
-nlohmann::json event_json(const sim::Event& event);
+using sim::event_json;
 /// Status of a session: id, scenario, seed, mode, tick, time, its end, the choreography step, the task,
 /// the state hash; as members of an object being written, or as a JSON object.
 void write_status(core::JsonWriter& out, const LiveSession& live);

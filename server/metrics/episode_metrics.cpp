@@ -171,7 +171,7 @@ void search_metrics(const Recording& r, bool collided, Values& values) {
     set_null(values, "time_to_find", "the robot does not search for anyone");
     return;
   }
-  const auto found = std::find_if(r.events.begin(), r.events.end(), [](const RecordedEvent& event) { return event.kind == "person_found"; });
+  const auto found = std::find_if(r.events.begin(), r.events.end(), [](const RecordedEvent& event) { return event.kind == RecordedEvent::Kind::person_found; });
   std::optional<double> found_at;
   if (found != r.events.end()) found_at = static_cast<double>(found->tick - r.samples.front().tick) * r.dt;
   set_optional(values, "time_to_find", found_at, "the robot never saw the person's face");
@@ -342,13 +342,13 @@ void interaction_metrics(const Recording& r, Values& values) {
   std::map<std::int64_t, std::int64_t> asked_at;  // request id → tick
   double latency_sum = 0.0;
   for (const RecordedEvent& event : r.events) {
-    if (event.kind == "request") {
+    if (event.kind == RecordedEvent::Kind::request) {
       ++sent;
       if (event.request) asked_at[*event.request] = event.tick;
-    } else if (event.kind == "request_accepted") {
+    } else if (event.kind == RecordedEvent::Kind::request_accepted) {
       ++accepted;
       if (event.request && asked_at.contains(*event.request)) latency_sum += static_cast<double>(event.tick - asked_at[*event.request]) * r.dt;
-    } else if (event.kind == "request_dropped") {
+    } else if (event.kind == RecordedEvent::Kind::request_dropped) {
       ++dropped;
     }
   }

@@ -37,10 +37,11 @@ struct Sample {
   double reward = 0.0;
 };
 
+/// The events the metrics read: a robot's requests and their answers, and a search's find.
 struct RecordedEvent {
+  enum class Kind { request, request_accepted, request_dropped, person_found };
   std::int64_t tick = 0;
-  std::string kind;
-  std::string subject;
+  Kind kind = Kind::request;
   std::optional<std::int64_t> request;  ///< request events: the request's id
 };
 

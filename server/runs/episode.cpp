@@ -7,6 +7,7 @@
 #include "core/memory_budget.hpp"
 #include "metrics/episode_metrics.hpp"
 #include "episode/episode.hpp"
+#include "sim/event_json.hpp"
 
 namespace hrisim::runs {
 namespace {
@@ -105,12 +106,12 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
   }
   std::map<std::string, int> counts;
   for (const sim::Event& event : state.events) {
-    ++counts[event.kind];
-    record.events.push_back({event.tick, event.time, event.kind, event.subject, event.data});
+    ++counts[std::string(event.kind())];
+    record.events.push_back({event.tick, event.time, std::string(event.kind()), event.subject, sim::event_data_json(event.data)});
   }
   record.seed = seed;
   record.status = "finished";
-  record.termination_reason = state.termination;
+  record.termination_reason = sim::to_string(state.termination);
   record.ticks = state.tick;
   record.sim_time = session.time();
   record.state_hash = session.state_hash_hex();
@@ -133,8 +134,8 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
                     {"dt", model.dt},
                     {"ticks", state.tick},
                     {"sim_time", session.time()},
-                    {"completed", state.termination == "scenario_end"},
-                    {"termination", state.termination},
+                    {"completed", state.termination == sim::Termination::scenario_end},
+                    {"termination", sim::to_string(state.termination)},
                     {"current_step", current_step},
                     {"step", current_step},  // the former name, kept for one version
                     {"steps", steps_json(session)},

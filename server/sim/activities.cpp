@@ -74,10 +74,10 @@ void begin_activity(const scenario::Model& model, State& state, int agent, const
   const Activity& activity = living.activities[self.activity];
   self.activity_action = action_for(living, activity, state, agent, self.activity_random);
   self.program.push_back({kActivityAction, agent, -1});
-  nlohmann::json data{{"activity", activity.name}, {"model", living.name}};
-  if (self.activity_action.kind == Kind::go_to_location) data["location"] = model.locations[self.activity_action.target].name;
-  if (activity.kind == Activity::Kind::walk && self.activity_action.kind == Kind::wait_duration) data["waiting"] = "every place is taken";
-  emit(model, state, "activity_started", def.id, std::move(data));
+  events::ActivityStarted started{activity.name, living.name, std::nullopt, std::nullopt};
+  if (self.activity_action.kind == Kind::go_to_location) started.location = model.locations[self.activity_action.target].name;
+  if (activity.kind == Activity::Kind::walk && self.activity_action.kind == Kind::wait_duration) started.waiting = "every place is taken";
+  emit(model, state, def.id, std::move(started));
 }
 
 /// Gives the person one action of their own (the activity's slot in the program).
@@ -121,10 +121,9 @@ void begin_stay(const scenario::Model& model, State& state, int agent, const sce
     self.in_room = false;
     self.activity = -1;
   }
-  emit(model, state, "stay_started", model.agents[agent].id,
-       {{"room", model.rooms[room].name},
-        {"at", scenario::format_time_of_day(std::fmod(now, scenario::kSecondsPerDay))},
-        {"until", scenario::format_time_of_day(std::fmod(ends, scenario::kSecondsPerDay))}});
+  emit(model, state, model.agents[agent].id,
+       events::StayStarted{model.rooms[room].name, scenario::format_time_of_day(std::fmod(now, scenario::kSecondsPerDay)),
+                           scenario::format_time_of_day(std::fmod(ends, scenario::kSecondsPerDay))});
 }
 
 /// Sets off to a free spot of the stay's room, standing up first if need be.

@@ -39,7 +39,7 @@ void draw_people_to_attractions(const scenario::Model& model, State& state) {
     linger.value = stay;
     const scenario::Action visit[] = {go, linger};
     interrupt(state, static_cast<int>(a), visit);
-    emit(model, state, "attracted", model.agents[a].id, {{"attraction", nearest->name}, {"x", spot.x()}, {"y", spot.y()}, {"for", stay}});
+    emit(model, state, model.agents[a].id, events::Attracted{nearest->name, spot.x(), spot.y(), stay});
   }
 }
 

@@ -33,11 +33,10 @@ int robot_in_view(const scenario::Model& model, const State& state, int agent) {
   return nearest;
 }
 
-void end_reaction(const scenario::Model& model, State& state, int agent, const char* why) {
+void end_reaction(const scenario::Model& model, State& state, int agent, events::ReactionEnd why) {
   AgentState& self = state.agents[agent];
   if (self.reacting_to < 0) return;
-  emit(model, state, "reaction_ended", model.agents[agent].id,
-       {{"behaviour", humans::behaviour_name(self.behaviour.type)}, {"robot", model.agents[self.reacting_to].id}, {"why", why}});
+  emit(model, state, model.agents[agent].id, events::ReactionEnded{self.behaviour.type, model.agents[self.reacting_to].id, why});
   self.reacting_to = -1;
 }
 
@@ -49,18 +48,17 @@ Vec2 react_to_robots(const scenario::Model& model, State& state, int agent, cons
   if (behaviour.detection_distance <= 0.0 || self.behaviour_spent) return preferred;
   const int robot = robot_in_view(model, state, agent);
   if (robot < 0) {
-    end_reaction(model, state, agent, "out of view");  // the reaction's clock runs only while the robot is seen
+    end_reaction(model, state, agent, events::ReactionEnd::out_of_view);  // the reaction's clock runs only while the robot is seen
     return preferred;
   }
   if (self.reacting_to != robot) {
-    end_reaction(model, state, agent, "another robot");
+    end_reaction(model, state, agent, events::ReactionEnd::another_robot);
     self.reacting_to = robot;
-    emit(model, state, "reaction_started", model.agents[agent].id,
-         {{"behaviour", humans::behaviour_name(behaviour.type)}, {"robot", model.agents[robot].id}});
+    emit(model, state, model.agents[agent].id, events::ReactionStarted{behaviour.type, model.agents[robot].id});
   }
   self.behaviour_seen += model.dt;
   if (self.behaviour_seen >= behaviour.duration) {
-    end_reaction(model, state, agent, "duration");
+    end_reaction(model, state, agent, events::ReactionEnd::duration);
     self.behaviour_seen = 0.0;
     self.behaviour_spent = behaviour.once;
     return preferred;

@@ -45,7 +45,11 @@ bool held_by_someone_else(const State& state, int agent, int object) {
 }
 
 void skip(const scenario::Model& model, State& state, int agent, const scenario::Action& action, const std::string& reason) {
-  emit(model, state, action.kind == Kind::pick_up ? "pick_up_skipped" : "put_down_skipped", model.agents[agent].id, {{"reason", reason}});
+  if (action.kind == Kind::pick_up) {
+    emit(model, state, model.agents[agent].id, events::PickUpSkipped{reason});
+  } else {
+    emit(model, state, model.agents[agent].id, events::PutDownSkipped{reason});
+  }
   state.agents[agent].reach_phase = ReachPhase::done;
 }
 
@@ -107,12 +111,12 @@ void tend_reaching(const scenario::Model& model, State& state, int agent, const 
   const std::string& id = model.agents[agent].id;
   if (played >= kReachGraspTime && pick && self.carried_object != action.target) {
     self.carried_object = action.target;
-    emit(model, state, "picked_up", id, {{"object", model.objects[action.target].name}});
+    emit(model, state, id, events::PickedUp{model.objects[action.target].name});
   } else if (played >= kReachGraspTime && !pick && self.carried_object >= 0) {
     const scenario::MovableObject& object = model.objects[self.carried_object];
     const double z = action.value + half_height(object.shape) + kPutDownClearance;
     state.objects[self.carried_object] = ObjectState{upright(object, self.heading, {action.pose.x, action.pose.y, z})};
-    emit(model, state, "put_down", id, {{"object", object.name}, {"x", action.pose.x}, {"y", action.pose.y}});
+    emit(model, state, id, events::PutDown{object.name, action.pose.x, action.pose.y});
     self.carried_object = -1;
   }
   if (played >= humans::builtin_motion("reach")->duration()) self.reach_phase = ReachPhase::done;

@@ -115,15 +115,15 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
     case Kind::publish:
       state.topics[action.topic] = action.message;
       state.inbox.push_back({action.topic, action.message});
-      emit(model, state, "publish", model.agents[agent].id, {{"topic", action.topic}, {"message", action.message}});
+      emit(model, state, model.agents[agent].id, events::Publish{action.topic, action.message});
       return true;
     case Kind::form_group:
       state.groups[action.target] = action.members;
-      emit(model, state, "group_formed", model.groups[action.target].name, {{"members", action.members.size()}});
+      emit(model, state, model.groups[action.target].name, events::GroupFormed{static_cast<std::int64_t>(action.members.size())});
       return true;
     case Kind::dismantle_group:
       state.groups[action.target].clear();
-      emit(model, state, "group_dismantled", model.groups[action.target].name);
+      emit(model, state, model.groups[action.target].name, events::GroupDismantled{});
       return true;
     case Kind::harass:
       release_reservations(state, agent);
@@ -309,7 +309,7 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
     if (!action_done(state, agent, action, pending)) return;
     finish_action(state, agent);
     if (action.kind == Kind::leave) {
-      leave_scene(model, state, agent, "left");
+      leave_scene(model, state, agent, events::Left{});
       return;
     }
   }
@@ -331,7 +331,7 @@ void release_reservations(State& state, int agent) {
   self.reserved_slot = -1;
 }
 
-void leave_scene(const scenario::Model& model, State& state, int agent, const char* event) {
+void leave_scene(const scenario::Model& model, State& state, int agent, EventData event) {
   AgentState& self = state.agents[agent];
   self.active = false;
   self.left = true;
@@ -341,7 +341,7 @@ void leave_scene(const scenario::Model& model, State& state, int agent, const ch
   self.velocity = Vec2::Zero();
   release_reservations(state, agent);
   for (auto& members : state.groups) std::erase(members, agent);
-  emit(model, state, event, model.agents[agent].id);
+  emit(model, state, model.agents[agent].id, std::move(event));
 }
 
 void let_people_in(const scenario::Model& model, State& state) {
@@ -349,7 +349,7 @@ void let_people_in(const scenario::Model& model, State& state) {
     AgentState& self = state.agents[a];
     if (self.active || self.left || model.agents[a].enters_at <= 0.0 || time_of(model, state) < model.agents[a].enters_at) continue;
     self.active = true;
-    emit(model, state, "entered", model.agents[a].id);
+    emit(model, state, model.agents[a].id, events::Entered{});
   }
 }
 
@@ -357,7 +357,7 @@ void start_step(const scenario::Model& model, State& state, int step) {
   state.current_step = step;
   state.steps[step].started_tick = state.tick;
   const scenario::Step& definition = model.steps[step];
-  emit(model, state, "step_started", definition.name, {{"index", step}});
+  emit(model, state, definition.name, events::StepStarted{step});
   for (std::size_t i = 0; i < definition.actions.size(); ++i) {
     const Action& action = definition.actions[i];
     if (action.group < 0) {
@@ -365,7 +365,7 @@ void start_step(const scenario::Model& model, State& state, int step) {
       continue;
     }
     const std::vector<int>& members = state.groups[action.group];
-    if (members.empty()) emit(model, state, "group_empty", model.groups[action.group].name, {{"step", definition.name}});
+    if (members.empty()) emit(model, state, model.groups[action.group].name, events::GroupEmpty{definition.name});
     for (std::size_t role = 0; role < members.size(); ++role) {
       state.agents[members[role]].program.push_back({-1, static_cast<int>(i), step, static_cast<int>(role), static_cast<int>(members.size()), action.group});
     }
@@ -375,11 +375,9 @@ void start_step(const scenario::Model& model, State& state, int step) {
 void make_request(const scenario::Model& model, State& state, int robot, int routine) {
   const Vec2 position = state.agents[robot].position;
   const std::int64_t id = state.next_request_id++;
-  emit(model, state, "request", model.agents[robot].id,
-       {{"request", id}, {"routine", model.routines[routine].name}, {"task", model.routines[routine].name}, {"x", position.x()}, {"y", position.y()}});
+  emit(model, state, model.agents[robot].id, events::Request{id, model.routines[routine].name, position.x(), position.y()});
   if (std::find(model.async_routines.begin(), model.async_routines.end(), routine) == model.async_routines.end()) {
-    emit(model, state, "request_dropped", model.agents[robot].id,
-         {{"request", id}, {"routine", model.routines[routine].name}, {"task", model.routines[routine].name}, {"reason", "the scenario has no response for this routine"}});
+    emit(model, state, model.agents[robot].id, events::RequestDropped{id, model.routines[routine].name, events::DropReason::no_response});
     return;
   }
   state.requests.push_back({id, robot, routine, position, state.tick, state.tick});
@@ -408,10 +406,9 @@ void update_requests(const scenario::Model& model, State& state) {
       AgentState& human = state.agents[chosen];
       human.answering_request = true;
       for (std::size_t i = 0; i < model.routines[open.routine].actions.size(); ++i) human.program.push_back({open.routine, static_cast<int>(i), -1});
-      emit(model, state, "request_accepted", model.agents[chosen].id,
-           {{"request", open.id}, {"routine", routine}, {"task", routine}, {"robot", model.agents[open.robot].id}, {"distance", chosen_distance}});
+      emit(model, state, model.agents[chosen].id, events::RequestAccepted{open.id, routine, model.agents[open.robot].id, chosen_distance});
     } else if (state.tick - open.asked_tick + retry > timeout) {
-      emit(model, state, "request_dropped", model.agents[open.robot].id, {{"request", open.id}, {"routine", routine}, {"task", routine}, {"reason", "no idle human within 3 m"}});
+      emit(model, state, model.agents[open.robot].id, events::RequestDropped{open.id, routine, events::DropReason::no_idle_human});
     } else {
       open.next_try_tick += retry;
       still_open.push_back(open);
@@ -439,8 +436,8 @@ void update_choreography(const scenario::Model& model, State& state) {
       // A benchmark task's episode ends by the task or its length.
       if (!state.finished && !model.task && !robot_on_its_way(state) && !anyone_lives_on(model)) {
         state.finished = true;
-        state.termination = "scenario_end";
-        emit(model, state, "scenario_finished", model.name);
+        state.termination = Termination::scenario_end;
+        emit(model, state, model.name, events::ScenarioFinished{});
       }
       return;
     }
@@ -450,8 +447,7 @@ void update_choreography(const scenario::Model& model, State& state) {
       }
     }
     state.steps[step].finished_tick = state.tick;
-    emit(model, state, "step_finished", model.steps[step].name,
-         {{"index", step}, {"duration", static_cast<double>(state.tick - state.steps[step].started_tick) * model.dt}});
+    emit(model, state, model.steps[step].name, events::StepFinished{step, static_cast<double>(state.tick - state.steps[step].started_tick) * model.dt});
     if (step + 1 < static_cast<int>(model.steps.size())) {
       start_step(model, state, step + 1);
     } else {
@@ -505,7 +501,7 @@ void startle(const scenario::Model& model, State& state, int human, int robot) {
   pause.value = kStartleLook;
   actions.push_back(pause);
   interrupt(state, human, actions);
-  emit(model, state, "startled", model.agents[human].id, {{"robot", model.agents[robot].id}, {"stepped_back", stepped_back}});
+  emit(model, state, model.agents[human].id, events::Startled{model.agents[robot].id, stepped_back});
 }
 
 }  // namespace hrisim::sim

@@ -39,8 +39,8 @@ const scenario::Action& action_of(const scenario::Model& model, const State& sta
 void release_reservations(State& state, int agent);
 
 /// The agent leaves the scene for good: out of the crowd, its groups and lines, its program dropped;
-/// `event` ("left", "agent_removed") says so.
-void leave_scene(const scenario::Model& model, State& state, int agent, const char* event);
+/// `event` (events::Left, events::AgentRemoved) says so.
+void leave_scene(const scenario::Model& model, State& state, int agent, EventData event);
 
 /// Humans whose enters_at has come appear at their start (event "entered").
 void let_people_in(const scenario::Model& model, State& state);

@@ -7,24 +7,14 @@
 namespace hrisim::sim {
 namespace {
 
-const char* phase_name(DoorPhase phase) {
-  switch (phase) {
-    case DoorPhase::closed: return "closed";
-    case DoorPhase::opening: return "opening";
-    case DoorPhase::open: return "open";
-    case DoorPhase::closing: return "closing";
-  }
-  return "closed";
-}
-
 void set_door(const scenario::Model& model, State& state, int door, DoorPhase phase) {
   if (state.doors[door].phase == phase) return;
   state.doors[door].phase = phase;
   for (const scenario::Elevator& elevator : model.elevators) {
     if (std::find(elevator.doors.begin(), elevator.doors.end(), door) == elevator.doors.end()) continue;
-    state.topics[elevator.topic + "/" + model.doors[door].name + "_state"] = phase_name(phase);
+    state.topics[elevator.topic + "/" + model.doors[door].name + "_state"] = std::string(phase_name(phase));
   }
-  emit(model, state, "door_state", model.doors[door].name, {{"state", phase_name(phase)}});
+  emit(model, state, model.doors[door].name, events::DoorState{door, phase});
 }
 
 bool someone_in_doorway(const scenario::Model& model, const State& state, int door) {
@@ -72,14 +62,14 @@ void update_elevator(const scenario::Model& model, State& state, int index) {
         cabin.destination = cabin.queue.front();
         cabin.phase = Phase::travelling;
         cabin.until_tick = state.tick + ticks(model, elevator.travel_time + elevator.settle_time);
-        emit(model, state, "elevator_departed", elevator.name, {{"from", cabin.floor + 1}, {"to", cabin.destination + 1}});
+        emit(model, state, elevator.name, events::ElevatorDeparted{cabin.floor, cabin.destination});
       }
       break;
     case Phase::travelling:
       if (state.tick >= cabin.until_tick) {
         cabin.floor = cabin.destination;
         cabin.phase = Phase::idle;
-        emit(model, state, "elevator_arrived", elevator.name, {{"floor", cabin.floor + 1}});
+        emit(model, state, elevator.name, events::ElevatorArrived{index, cabin.floor});
       }
       break;
     case Phase::opening:
@@ -141,7 +131,7 @@ void update_doors_and_elevators(const scenario::Model& model, State& state) {
         if (message.text == model.doors[elevator.doors[d]].name || message.text == "floor" + std::to_string(d + 1)) floor = static_cast<int>(d);
       }
       if (floor < 0) {
-        emit(model, state, "elevator_ignored_request", elevator.name, {{"message", message.text}});
+        emit(model, state, elevator.name, events::ElevatorIgnoredRequest{message.text});
         continue;
       }
       std::deque<int>& queue = state.elevators[e].queue;

@@ -133,12 +133,19 @@ metrics::Recording EpisodeRecorder::finish(const Session& session, std::string t
   const State& state = session.state();
   for (const Event& event : state.events) {
     if (event.tick > recorded_until()) break;  // after what was recorded (events are in tick order)
-    metrics::RecordedEvent recorded{event.tick, event.kind, event.subject, std::nullopt};
-    if (event.data.contains("request") && event.data["request"].is_number_integer()) recorded.request = event.data["request"].get<std::int64_t>();
-    recording.events.push_back(std::move(recorded));
+    using Kind = metrics::RecordedEvent::Kind;
+    if (const auto* request = event.as<events::Request>()) {
+      recording.events.push_back({event.tick, Kind::request, request->request});
+    } else if (const auto* accepted = event.as<events::RequestAccepted>()) {
+      recording.events.push_back({event.tick, Kind::request_accepted, accepted->request});
+    } else if (const auto* dropped = event.as<events::RequestDropped>()) {
+      recording.events.push_back({event.tick, Kind::request_dropped, dropped->request});
+    } else if (event.is<events::PersonFound>()) {
+      recording.events.push_back({event.tick, Kind::person_found, std::nullopt});
+    }
   }
   recording.choreography_completed = state.current_step >= static_cast<int>(session.model().steps.size());
-  recording.termination = termination.empty() ? state.termination : std::move(termination);
+  recording.termination = termination.empty() ? std::string(to_string(state.termination)) : std::move(termination);
   return recording;
 }
 

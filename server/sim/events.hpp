@@ -3,10 +3,8 @@
 // events stamped with the tick they happen at.
 #include <cmath>
 #include <cstdint>
-#include <nlohmann/json.hpp>
 #include <string>
 
-#include "core/state_hash.hpp"
 #include "scenario/model.hpp"
 #include "sim/state.hpp"
 
@@ -18,13 +16,7 @@ inline double time_of(const scenario::Model& model, const State& state) { return
 /// Whole ticks in a duration of simulation time.
 inline std::int64_t ticks(const scenario::Model& model, double seconds) { return std::llround(seconds / model.dt); }
 
-/// Records an event at the state's tick.
-inline void emit(const scenario::Model& model, State& state, std::string kind, std::string subject,
-                 nlohmann::json data = nlohmann::json::object()) {
-  core::StateHasher digest;
-  digest.add(state.events_digest).add(state.tick).add(std::string_view(kind)).add(std::string_view(subject)).add(std::string_view(data.dump()));
-  state.events_digest = digest.value();
-  state.events.push_back({state.tick, time_of(model, state), std::move(kind), std::move(subject), std::move(data)});
-}
+/// Records an event at the state's tick, and folds it into the state's events digest.
+void emit(const scenario::Model& model, State& state, std::string subject, EventData data);
 
 }  // namespace hrisim::sim

@@ -143,7 +143,7 @@ void grasp_and_release(const scenario::Model& model, State& state, PhysicsBodies
       runtime.slipped = false;
       if (runtime.held_object < 0) continue;
       world.detach(physics.objects[runtime.held_object]);
-      emit(model, state, "release", id, {{"object", model.objects[runtime.held_object].name}});
+      emit(model, state, id, events::Release{model.objects[runtime.held_object].name});
       runtime.held_object = -1;
       continue;
     }
@@ -169,7 +169,7 @@ void grasp_and_release(const scenario::Model& model, State& state, PhysicsBodies
       runtime.grip_position = touch;
       runtime.grip_from = palm_inverse * contacts->first.point;
       runtime.grip_to = palm_inverse * contacts->second.point;
-      emit(model, state, "grasp", id, {{"object", model.objects[o].name}});
+      emit(model, state, id, events::Grasp{model.objects[o].name});
       break;
     }
   }
@@ -192,7 +192,7 @@ void check_grips(const scenario::Model& model, State& state, PhysicsBodies& phys
       continue;
     }
     world.detach(held);
-    emit(model, state, "slip", model.agents[runtime.agent].id, {{"object", model.objects[runtime.held_object].name}});
+    emit(model, state, model.agents[runtime.agent].id, events::Slip{model.objects[runtime.held_object].name});
     runtime.held_object = -1;
     runtime.slipped = true;
   }
@@ -207,7 +207,7 @@ void hand_over_carried(const scenario::Model& model, State& state, PhysicsBodies
     if (person.carried_object < 0) continue;
     if (!person.active) {
       state.objects[person.carried_object] = ObjectState{carried_pose(model, state, bodies, static_cast<int>(a))};
-      emit(model, state, "dropped", model.agents[a].id, {{"object", model.objects[person.carried_object].name}});
+      emit(model, state, model.agents[a].id, events::Dropped{model.objects[person.carried_object].name});
       person.carried_object = -1;
       continue;
     }

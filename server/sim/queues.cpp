@@ -24,7 +24,7 @@ void tend_queueing(const scenario::Model& model, State& state, int agent) {
     const Pose2 end = queue.place(static_cast<int>(line.size()));
     if ((self.position - end.position()).norm() <= scenario::kQueueJoinDistance) {
       line.push_back(agent);
-      emit(model, state, "queue_joined", model.agents[agent].id, {{"queue", queue.name}, {"place", line.size() - 1}});
+      emit(model, state, model.agents[agent].id, events::QueueJoined{queue.name, static_cast<std::int64_t>(line.size()) - 1});
     }
   }
   if (const auto found = std::find(line.begin(), line.end(), agent); found != line.end()) self.queue_place = static_cast<int>(found - line.begin());
@@ -52,7 +52,7 @@ void serve_queues(const scenario::Model& model, State& state) {
     person.served = true;
     person.queue = -1;
     person.queue_place = -1;
-    emit(model, state, "served", model.agents[head].id, {{"queue", queue.name}});
+    emit(model, state, model.agents[head].id, events::Served{queue.name});
   }
 }
 

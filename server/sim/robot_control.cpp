@@ -87,7 +87,7 @@ void move_robots(const scenario::Model& model, State& state, PhysicsBodies& phys
     if (self.target_heading && std::abs(core::wrap_angle(*self.target_heading - pose.theta)) <= kHeadingTolerance) self.target_heading.reset();
     if (was_navigating && runtime.controller.goal && (self.goal - self.position).norm() <= self.goal_radius &&
         (*runtime.controller.goal).position() == self.goal) {
-      emit(model, state, "robot_goal_reached", model.agents[runtime.agent].id, {{"x", self.position.x()}, {"y", self.position.y()}});
+      emit(model, state, model.agents[runtime.agent].id, events::RobotGoalReached{self.position.x(), self.position.y()});
     }
   }
 }

@@ -92,7 +92,7 @@ std::optional<robots::Twist> search_command(const scenario::Model& model, State&
   go_to(model, state, runtime.agent, lookout.pose, kLookoutRadius, false);
   search.closest = (lookout.pose.position() - self.position).norm();
   search.closer_tick = state.tick;
-  emit(model, state, "search_room", model.agents[runtime.agent].id, {{"room", model.rooms[search.room].name}});
+  emit(model, state, model.agents[runtime.agent].id, events::SearchRoom{model.rooms[search.room].name});
   return std::nullopt;
 }
 
@@ -106,13 +106,11 @@ void notice_people_found(const scenario::Model& model, State& state) {
     runtime.search.found = true;
     state.agents[runtime.agent].navigating = false;
     const AgentState& found = state.agents[person];
-    emit(model, state, "person_found", model.agents[runtime.agent].id,
-         {{"person", model.agents[person].id},
-          {"room", found.room >= 0 ? nlohmann::json(model.rooms[found.room].name) : nlohmann::json()},
-          {"range", seen->range}});
+    emit(model, state, model.agents[runtime.agent].id,
+         events::PersonFound{model.agents[person].id, found.room >= 0 ? std::optional(model.rooms[found.room].name) : std::nullopt, seen->range});
     if (!state.finished) {
       state.finished = true;
-      state.termination = "goal";
+      state.termination = Termination::goal;
     }
   }
 }

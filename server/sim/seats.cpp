@@ -37,7 +37,7 @@ bool start_sitting(const scenario::Model& model, State& state, int agent, int se
   const scenario::Seat& place = model.seats[seat];
   const std::optional<Vec2> front = scenario::seat_approach(model, place, model.agents[agent].radius);
   if (!front) {
-    emit(model, state, "seat_unreachable", model.agents[agent].id, {{"seat", place.name}});
+    emit(model, state, model.agents[agent].id, events::SeatUnreachable{place.name});
     return true;
   }
   release_reservations(state, agent);
@@ -121,7 +121,7 @@ void tend_seat(const scenario::Model& model, State& state, int agent) {
     case SeatPhase::sitting:
       if (!motion_over(model, state, self, "sit_down")) return;
       self.seat_phase = SeatPhase::seated;
-      emit(model, state, "sat_down", model.agents[agent].id, {{"seat", seat.name}});
+      emit(model, state, model.agents[agent].id, events::SatDown{seat.name});
       return;
     case SeatPhase::standing_up:
       if (motion_over(model, state, self, "stand_up")) self.seat_phase = SeatPhase::stepping_out;
@@ -132,7 +132,7 @@ void tend_seat(const scenario::Model& model, State& state, int agent) {
       self.velocity = Vec2::Zero();
       self.hold = self.position;
       leave(self);
-      emit(model, state, "stood_up", model.agents[agent].id, {{"seat", seat.name}});
+      emit(model, state, model.agents[agent].id, events::StoodUp{seat.name});
       return;
   }
 }

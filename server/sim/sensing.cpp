@@ -162,13 +162,13 @@ void sense(const scenario::Model& model, State& state, const PhysicsBodies& phys
     };
     for (const Contact& contact : contacts) {
       if (std::find(runtime.contacts.begin(), runtime.contacts.end(), contact) == runtime.contacts.end()) {
-        emit(model, state, "contact_start", id, {{"with", with(contact)}, {"part", contact.part}});
+        emit(model, state, id, events::ContactStart{with(contact), contact.part});
         if (contact.agent >= 0) startle(model, state, contact.agent, runtime.agent);
       }
     }
     for (const Contact& contact : runtime.contacts) {
       if (std::find(contacts.begin(), contacts.end(), contact) == contacts.end()) {
-        emit(model, state, "contact_end", id, {{"with", with(contact)}, {"part", contact.part}});
+        emit(model, state, id, events::ContactEnd{with(contact), contact.part});
       }
     }
     runtime.contacts = std::move(contacts);

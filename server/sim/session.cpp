@@ -178,16 +178,16 @@ void Session::tick() {
 void Session::end_at_time_limit() {
   if (time() < state_.time_limit) return;
   state_.finished = true;
-  state_.termination = "timeout";
+  state_.termination = Termination::timeout;
   const bool in_step = state_.current_step < static_cast<int>(model_->steps.size());
-  emit(*model_, state_, "time_limit", in_step ? model_->steps[state_.current_step].name : "", {{"step", state_.current_step}});
+  emit(*model_, state_, in_step ? model_->steps[state_.current_step].name : "", events::TimeLimit{state_.current_step});
 }
 
 void Session::end_by_task() {
   if (state_.finished) return;
   state_.finished = true;
-  state_.termination = "goal";
-  emit(*model_, state_, "task_ended", model_->task ? model_->task->name : "");
+  state_.termination = Termination::goal;
+  emit(*model_, state_, model_->task ? model_->task->name : "", events::TaskEnded{});
 }
 
 AgentId Session::agent_id(const std::string& name) const {
@@ -209,7 +209,7 @@ AgentId Session::agent_at(int index) const {
 void Session::remove_agent(AgentId id) {
   const int index = ids_.at(id);
   ids_.remove(id);
-  leave_scene(*model_, state_, index, "agent_removed");
+  leave_scene(*model_, state_, index, events::AgentRemoved{});
 }
 
 void Session::request(AgentId robot, int routine) { make_request(*model_, state_, index_of(robot), routine); }
@@ -323,7 +323,7 @@ void Session::command_human(const Action& action, std::string text) {
     throw core::Error(core::ErrorCode::bad_request, "a command goes to a human");
   }
   interrupt(state_, agent, std::span<const Action>(&action, 1));
-  emit(*model_, state_, "command", model_->agents[agent].id, {{"text", std::move(text)}});
+  emit(*model_, state_, model_->agents[agent].id, events::Command{std::move(text)});
 }
 
 void Session::command_robot(AgentId robot, const Vec2& velocity) {
@@ -383,7 +383,7 @@ void Session::place_agent(AgentId id, const Pose2& pose) {
     state.hold = at;
   }
   if (const int runtime = runtime_of_agent_[agent]; runtime >= 0) state_.robots[runtime].robot.set_pose({at.x(), at.y(), state.heading});
-  emit(*model_, state_, "placed", model_->agents[agent].id, {{"x", at.x()}, {"y", at.y()}, {"theta", state.heading}});
+  emit(*model_, state_, model_->agents[agent].id, events::AgentPlaced{at.x(), at.y(), state.heading});
 }
 
 void Session::set_rooted(AgentId agent, bool rooted) { state_.agents[index_of(agent)].rooted = rooted; }
@@ -405,7 +405,7 @@ void Session::place_object(int object, const Eigen::Isometry3d& pose) {
   physics_.world->place(body, pose);
   state_.objects[object] = ObjectState{physics_.world->pose(body)};
   physics_.built_at_tick = -1;  // no longer the world a build from the state makes
-  emit(*model_, state_, "placed", model_->objects[object].name, {{"x", pose.translation().x()}, {"y", pose.translation().y()}, {"z", pose.translation().z()}});
+  emit(*model_, state_, model_->objects[object].name, events::ObjectPlaced{pose.translation().x(), pose.translation().y(), pose.translation().z()});
 }
 
 humans::BodyCapsules Session::human_body(int agent) const { return bodies_.of(*model_, state_, agent); }

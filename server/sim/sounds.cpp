@@ -31,29 +31,16 @@ bool crosses(const Vec2& a, const Vec2& b, const std::vector<Vec2>& polygon) {
   return false;
 }
 
-int door_named(const scenario::Model& model, const std::string& name) {
-  for (std::size_t d = 0; d < model.doors.size(); ++d) {
-    if (model.doors[d].name == name) return static_cast<int>(d);
-  }
-  return -1;
-}
-
 /// Doors shutting and elevators arriving in this tick's events.
 void sounds_of_events(const scenario::Model& model, State& state, std::size_t first_event, double now) {
   for (std::size_t e = first_event; e < state.events.size(); ++e) {
     const Event& event = state.events[e];
-    if (event.kind == "door_state" && event.data.value("state", "") == "closed") {
-      const int door = door_named(model, event.subject);
-      if (door < 0) continue;
-      const Vec2 middle = (model.doors[door].from + model.doors[door].to) / 2.0;
+    if (const auto* door = event.as<events::DoorState>(); door && door->state == DoorPhase::closed) {
+      const Vec2 middle = (model.doors[door->door].from + model.doors[door->door].to) / 2.0;
       add_sound(state, SoundSource::door(seed_of(event.subject, event.tick), now), at_height(middle, kDoorSoundHeight));
-    } else if (event.kind == "elevator_arrived") {
-      for (const scenario::Elevator& elevator : model.elevators) {
-        const int floor = event.data.value("floor", 0) - 1;
-        if (elevator.name != event.subject || floor < 0 || floor >= static_cast<int>(elevator.doors.size())) continue;
-        const scenario::Door& door = model.doors[elevator.doors[floor]];
-        add_sound(state, SoundSource::bell(now), at_height((door.from + door.to) / 2.0, kChimeHeight));
-      }
+    } else if (const auto* arrived = event.as<events::ElevatorArrived>()) {
+      const scenario::Door& door = model.doors[model.elevators[arrived->elevator].doors[arrived->floor]];
+      add_sound(state, SoundSource::bell(now), at_height((door.from + door.to) / 2.0, kChimeHeight));
     }
   }
 }

@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <deque>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -17,6 +16,7 @@
 #include "core/random.hpp"
 #include "humans/motion.hpp"
 #include "sensors/sound.hpp"
+#include "sim/event_types.hpp"
 #include "sim/robot_runtime.hpp"
 #include "world/path_planner.hpp"
 
@@ -142,14 +142,6 @@ struct AgentState {
   auto fields() const { return std::tie(active, left, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, nearest_to_goal, progress_tick, stuck_reported, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, queue, queue_place, served, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase, seat, seat_phase, seat_front, carried_object, reach_phase); }
 };
 
-struct Event {
-  std::int64_t tick = 0;
-  double time = 0.0;
-  std::string kind;
-  std::string subject;
-  nlohmann::json data = nlohmann::json::object();
-};
-
 /// A robot request waiting for an idle human (IMHuS's asynchronous step).
 struct OpenRequest {
   std::int64_t id = 0;
@@ -180,8 +172,6 @@ struct StepRecord {
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
   auto fields() const { return std::tie(started_tick, finished_tick); }
 };
-
-enum class DoorPhase { closed, opening, open, closing };
 
 /// A movable object as the physics world left it after the last step.
 struct ObjectState {
@@ -232,6 +222,20 @@ struct Message {
   auto fields() const { return std::tie(topic, text); }
 };
 
+/// Why an episode's simulation finished: its choreography's last step ended, its time limit came, or
+/// its goal was reached (a search found the person, the benchmark task ended it).
+enum class Termination { none, scenario_end, timeout, goal };
+/// The termination's name in the API and the store; "" while running.
+constexpr std::string_view to_string(Termination termination) {
+  switch (termination) {
+    case Termination::none: return "";
+    case Termination::scenario_end: return "scenario_end";
+    case Termination::timeout: return "timeout";
+    case Termination::goal: return "goal";
+  }
+  return "";
+}
+
 struct State {
   std::int64_t tick = 0;
   std::vector<AgentState> agents;
@@ -264,7 +268,7 @@ struct State {
   std::vector<sensors::SoundSource> sounds;
   std::vector<int> speakers;
   bool finished = false;
-  std::string termination;  ///< "scenario_end", "timeout" or "goal" once finished
+  Termination termination = Termination::none;  ///< why it finished
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
   auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, queues, requests, next_request_id, scheduled, events, events_digest, commanded, random, attraction_random, robots, objects, planning_history, time_limit, clock_start, sounds, speakers, finished, termination); }

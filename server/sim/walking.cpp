@@ -70,9 +70,8 @@ void note_progress(const scenario::Model& model, State& state, int agent) {
     self.stuck_reported = false;
   } else if (!self.stuck_reported && state.tick - self.progress_tick >= ticks(model, kStuckTime)) {
     self.stuck_reported = true;
-    emit(model, state, "stuck", model.agents[agent].id,
-         {{"x", self.position.x()}, {"y", self.position.y()}, {"goal_x", self.goal.x()}, {"goal_y", self.goal.y()}, {"goal_distance", to_goal},
-          {"for", static_cast<double>(state.tick - self.progress_tick) * model.dt}});
+    emit(model, state, model.agents[agent].id,
+         events::Stuck{self.position.x(), self.position.y(), self.goal.x(), self.goal.y(), to_goal, static_cast<double>(state.tick - self.progress_tick) * model.dt});
   }
 }
 
@@ -282,7 +281,7 @@ bool plan_path(const scenario::Model& model, State& state, int agent) {
     return true;
   }
   self.path.clear();
-  if (self.replan_at_tick < 0) emit(model, state, "goal_unreachable", model.agents[agent].id, {{"x", self.goal.x()}, {"y", self.goal.y()}});
+  if (self.replan_at_tick < 0) emit(model, state, model.agents[agent].id, events::GoalUnreachable{self.goal.x(), self.goal.y()});
   self.replan_at_tick = state.tick + ticks(model, kReplanRetry);
   return false;
 }

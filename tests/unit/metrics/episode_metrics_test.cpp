@@ -273,8 +273,9 @@ TEST(EpisodeMetrics, RequestsAndTheirLatency) {
   r.robot_in_choreography = true;
   r.choreography_completed = true;
   for (int i = 0; i <= 50; ++i) r.samples.push_back(sample(i, disc(0, 0, 0), {}));
-  r.events = {{10, "request", "robot", 1}, {12, "request", "robot", 2}, {30, "request_dropped", "robot", 2},
-              {40, "request_accepted", "ana", 1}};
+  using Kind = RecordedEvent::Kind;
+  r.events = {{10, Kind::request, 1}, {12, Kind::request, 2}, {30, Kind::request_dropped, 2},
+              {40, Kind::request_accepted, 1}};
   const auto values = compute_episode_metrics(r);
   EXPECT_EQ(value(values, "requests_sent"), 2.0);
   EXPECT_EQ(value(values, "requests_accepted"), 1.0);

@@ -55,7 +55,7 @@ std::vector<std::vector<double>> distance_per_window(const std::shared_ptr<const
       last[a] = session.state().agents[a].position;
     }
   }
-  EXPECT_EQ(session.state().termination, "timeout") << "cyclic goals run to the time limit";
+  EXPECT_EQ(session.state().termination, sim::Termination::timeout) << "cyclic goals run to the time limit";
   return walked;
 }
 

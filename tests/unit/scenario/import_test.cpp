@@ -217,11 +217,11 @@ ElevatorRun run_elevator(const std::filesystem::path& file, const std::string& r
   for (double time : request_times) session.schedule_request(time, robot, model->find_routine(task));
   session.set_time_limit(time_limit);
   session_run.run();
-  ElevatorRun run{session.state().termination == "scenario_end", "", {}, {}};
+  ElevatorRun run{session.state().termination == sim::Termination::scenario_end, "", {}, {}};
   for (const sim::Event& event : session.state().events) {
-    if (event.kind == "publish") run.publications.push_back(event.data["topic"].get<std::string>() + "=" + event.data["message"].get<std::string>());
-    if (event.kind == "request_accepted") run.accepted_by.push_back(event.subject);
-    if (event.kind == "time_limit") run.last_step = event.subject;
+    if (const auto* published = event.as<sim::events::Publish>()) run.publications.push_back(published->topic + "=" + published->message);
+    if (event.is<sim::events::RequestAccepted>()) run.accepted_by.push_back(event.subject);
+    if (event.is<sim::events::TimeLimit>()) run.last_step = event.subject;
   }
   return run;
 }
@@ -386,7 +386,7 @@ std::vector<int> arrivals(const std::shared_ptr<const Model>& model, double seco
       }
     }
   }
-  EXPECT_EQ(session.state().termination, "timeout") << "a looping route runs to the time limit";
+  EXPECT_EQ(session.state().termination, sim::Termination::timeout) << "a looping route runs to the time limit";
   return count;
 }
 
@@ -407,8 +407,8 @@ Flow flow(const std::shared_ptr<const Model>& model, double seconds) {
     counted.most = std::max(counted.most, static_cast<int>(std::count_if(agents.begin(), agents.end(), [](const sim::AgentState& a) { return a.active; })));
   }
   for (const sim::Event& event : session.state().events) {
-    counted.entered += event.kind == "entered";
-    counted.left += event.kind == "left";
+    counted.entered += event.is<sim::events::Entered>();
+    counted.left += event.is<sim::events::Left>();
   }
   return counted;
 }
@@ -600,7 +600,7 @@ TEST(ImportPedsim, PedsimRosParametersReachWaypointsByWallsAndAJamIsReported) {
       reached |= (run.session().state().agents[0].position - Vec2(5, 0.6)).norm() <= 0.3;
     }
     int stuck = 0;
-    for (const sim::Event& event : run.session().state().events) stuck += event.kind == "stuck";
+    for (const sim::Event& event : run.session().state().events) stuck += event.is<sim::events::Stuck>();
     return std::tuple{imported.scenario["locomotion"], reached, stuck};
   };
   const auto [ros_locomotion, ros_reached, ros_stuck] = walk("");
@@ -678,7 +678,7 @@ TEST(ImportImhus, GroupsAndARobotChoreographyBesideTheScenario) {
   sim::Session& session = session_run.session();
   session.set_time_limit(120.0);
   session_run.run();
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
 }
 
 TEST(ImportImhus, GroupsTakeGotoWaitLookAtAndCompoundTasks) {

@@ -38,8 +38,9 @@ struct Started {
 std::vector<Started> activities_of(const Session& session, const std::string& person) {
   std::vector<Started> started;
   for (const Event& event : session.state().events) {
-    if (event.kind == "activity_started" && event.subject == person) {
-      started.push_back({event.time, event.data["activity"], event.data.value("location", "")});
+    const auto* activity = event.as<events::ActivityStarted>();
+    if (activity && event.subject == person) {
+      started.push_back({event.time, activity->activity, activity->location.value_or("")});
     }
   }
   return started;
@@ -55,15 +56,16 @@ TEST(Activities, PeopleFollowTheChainAndWalkWhereItSends) {
     session.tick();
     for (std::size_t e = before; e < session.state().events.size(); ++e) {
       const Event& event = session.state().events[e];
-      if (event.kind != "activity_started" || event.subject != "ada") continue;
+      if (!event.is<sim::events::ActivityStarted>() || event.subject != "ada") continue;
       // A walk is over when the next activity starts: she is at the place it drew.
       if (!walking_to.empty()) {
         EXPECT_LT((session.state().agents[ada].position - places.at(walking_to)).norm(), 0.5) << walking_to;
       }
-      walking_to = event.data["activity"] == "walk" ? event.data["location"].get<std::string>() : "";
+      const auto& activity = *event.as<events::ActivityStarted>();
+      walking_to = activity.activity == "walk" ? activity.location.value() : "";
     }
   }
-  EXPECT_EQ(session.state().termination, "timeout") << "people living on keep the episode going";
+  EXPECT_EQ(session.state().termination, sim::Termination::timeout) << "people living on keep the episode going";
   const std::vector<Started> started = activities_of(session, "ada");
   ASSERT_GT(started.size(), 40u);
   EXPECT_EQ(started[0].activity, "stand");
@@ -118,7 +120,7 @@ TEST(Activities, TheChoreographyComesFirstAndTheSameSeedGivesTheSameLife) {
   ASSERT_FALSE(ada.empty());
   double step_finished = -1;
   for (const Event& event : first.state().events) {
-    if (event.kind == "step_finished") step_finished = event.time;
+    if (event.is<sim::events::StepFinished>()) step_finished = event.time;
   }
   EXPECT_GE(step_finished, 4.0);
   EXPECT_EQ(ada[0].time, step_finished) << "her life starts when the choreography is over";

@@ -36,8 +36,8 @@ Walk walk_past(const std::shared_ptr<const scenario::Model>& model, Session& ses
     }
   }
   for (const Event& event : session.state().events) {
-    if (event.kind == "attracted") walk.attracted.push_back(&event);
-    if (event.kind == "step_finished") walk.arrived = event.time;
+    if (event.is<sim::events::Attracted>()) walk.attracted.push_back(&event);
+    if (event.is<sim::events::StepFinished>()) walk.arrived = event.time;
   }
   return walk;
 }
@@ -48,12 +48,13 @@ TEST(Attractions, AStrongOneDrawsAPasserByInForAWhileThenTheyGoOn) {
   const Walk walk = walk_past(model, session);
   ASSERT_FALSE(walk.attracted.empty());
   const Event& first = *walk.attracted.front();
-  EXPECT_EQ(first.data["attraction"], "kiosk");
-  EXPECT_LE(std::abs(first.data["x"].get<double>() - 5.0), 0.5) << "a point of the area";
-  EXPECT_LE(std::abs(first.data["y"].get<double>() - 3.5), 0.5);
+  const auto& attracted = *first.as<events::Attracted>();
+  EXPECT_EQ(attracted.attraction, "kiosk");
+  EXPECT_LE(std::abs(attracted.x - 5.0), 0.5) << "a point of the area";
+  EXPECT_LE(std::abs(attracted.y - 3.5), 0.5);
   EXPECT_GT(walk.seconds_in_the_kiosk, 5.0) << "she stays a while";
   EXPECT_GT(walk.arrived, 0.0) << "and reaches her goal afterwards (the step ends)";
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
 }
 
 TEST(Attractions, NoneWithoutStrengthOrBeyondSevenMetres) {
@@ -74,7 +75,7 @@ TEST(Attractions, StaysAreDrawnWithTheirMeanAndFollowTheSeed) {
     Session session(model, seed);
     const Walk walk = walk_past(model, session);
     ASSERT_FALSE(walk.attracted.empty());
-    sum += walk.attracted.front()->data["for"].get<double>();
+    sum += walk.attracted.front()->as<events::Attracted>()->stay;
     first_times.push_back(walk.attracted.front()->time);
   }
   const double mean = 1.0 / scenario::kAttractionLeaveRate;

@@ -40,7 +40,7 @@ struct Watch {
   /// When the first reaction started, or -1.
   double reaction_started() const {
     for (const Event& event : session.state().events) {
-      if (event.kind == "reaction_started") return event.time;
+      if (event.is<sim::events::ReactionStarted>()) return event.time;
     }
     return -1.0;
   }

@@ -18,7 +18,7 @@ TEST_P(Bundled, CompletesForEverySeed) {
     episode::Episode run(loaded.model, seed), again(loaded.model, seed);
     run.run();
     again.run();
-    EXPECT_EQ(run.session().state().termination, "scenario_end") << GetParam() << " seed " << seed;
+    EXPECT_EQ(run.session().state().termination, sim::Termination::scenario_end) << GetParam() << " seed " << seed;
     EXPECT_EQ(run.session().state_hash(), again.session().state_hash()) << GetParam() << " seed " << seed;
   }
 }
@@ -53,7 +53,7 @@ TEST(EpisodeRecorder, StopsAtItsBodyLimitAndKeepsTheEventsUpToThere) {
   EXPECT_EQ(full.recorded_until(), 600);
   const metrics::Recording recording = capped.finish(session);
   ASSERT_EQ(recording.samples.size(), 10u);
-  for (const metrics::RecordedEvent& event : recording.events) EXPECT_LE(event.tick, 9) << event.kind;
+  for (const metrics::RecordedEvent& event : recording.events) EXPECT_LE(event.tick, 9) << static_cast<int>(event.kind);
   EXPECT_GT(full.finish(session).events.size(), recording.events.size());
   EXPECT_NE(capped.stopped().find(std::to_string(10 * bodies) + " bodies"), std::string::npos) << capped.stopped();
   EXPECT_EQ(full.stopped(), "");

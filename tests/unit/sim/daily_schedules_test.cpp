@@ -109,11 +109,11 @@ TEST(DailySchedules, StaysEndWithTheirHourAndNobodyWalksOffSeated) {
     session.tick();
     for (std::size_t e = events_before; e < session.state().events.size(); ++e) {
       const Event& event = session.state().events[e];
-      if (event.kind != "stay_started") continue;
+      if (!event.is<sim::events::StayStarted>()) continue;
       stays += 1;
       // "until" is at most the next full hour of the clock.
       const double now = scenario::time_of_day(session_clock(*model, session.state()), event.time);
-      const std::string until = event.data["until"];
+      const std::string until = event.as<events::StayStarted>()->until;
       const double until_seconds = std::stoi(until.substr(0, 2)) * 3600.0 + std::stoi(until.substr(3, 2)) * 60.0 + std::stoi(until.substr(6, 2));
       const double next_hour = (std::floor(now / 3600.0) + 1.0) * 3600.0;
       EXPECT_LE(until_seconds == 0.0 ? scenario::kSecondsPerDay : until_seconds, next_hour + 1.0) << event.subject << " at " << event.time;

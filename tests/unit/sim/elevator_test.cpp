@@ -28,12 +28,12 @@ struct Timeline {
 Timeline timeline_of(const Session& session) {
   Timeline timeline;
   for (const Event& event : session.state().events) {
-    if (event.kind == "door_state") {
-      timeline.door_states.emplace_back(event.time, event.subject + " " + event.data["state"].get<std::string>());
-    } else if (event.kind == "elevator_departed") {
-      timeline.trips.emplace_back(event.time, "departed " + event.data["from"].dump() + "->" + event.data["to"].dump());
-    } else if (event.kind == "elevator_arrived") {
-      timeline.trips.emplace_back(event.time, "arrived " + event.data["floor"].dump());
+    if (const auto* door = event.as<events::DoorState>()) {
+      timeline.door_states.emplace_back(event.time, event.subject + " " + std::string(phase_name(door->state)));
+    } else if (const auto* departed = event.as<events::ElevatorDeparted>()) {
+      timeline.trips.emplace_back(event.time, "departed " + std::to_string(departed->from + 1) + "->" + std::to_string(departed->to + 1));
+    } else if (const auto* arrived = event.as<events::ElevatorArrived>()) {
+      timeline.trips.emplace_back(event.time, "arrived " + std::to_string(arrived->floor + 1));
     }
   }
   return timeline;
@@ -93,7 +93,7 @@ TEST(Elevator, OtherFloorTakesTheTripFirstAndRequestsAreServedInOrder) {
   EXPECT_EQ(timeline.trips[2].second, "departed 2->1");
   EXPECT_EQ(timeline.trips[3].second, "arrived 1");
   EXPECT_EQ(session.state().events.end() != std::find_if(session.state().events.begin(), session.state().events.end(),
-                                                          [](const Event& e) { return e.kind == "elevator_ignored_request"; }),
+                                                          [](const Event& e) { return e.is<sim::events::ElevatorIgnoredRequest>(); }),
             true);
 }
 
@@ -105,10 +105,10 @@ TEST(Elevator, ClosedDoorsAreWalls) {
   Session& session = session_run.session();
   session.set_time_limit(20.0);
   session_run.run();
-  EXPECT_EQ(session.state().termination, "timeout");
+  EXPECT_EQ(session.state().termination, sim::Termination::timeout);
   EXPECT_GT(session.state().agents[0].position.x(), 1.3) << "ann never passes the closed door";
   const auto unreachable = std::count_if(session.state().events.begin(), session.state().events.end(),
-                                         [](const Event& e) { return e.kind == "goal_unreachable"; });
+                                         [](const Event& e) { return e.is<sim::events::GoalUnreachable>(); });
   EXPECT_EQ(unreachable, 1);
 }
 
@@ -127,7 +127,7 @@ TEST(Elevator, RidersGoInRideAndLeaveOnTheOtherFloor) {
   Session& session = session_run.session();
   session.set_time_limit(80.0);
   session_run.run();
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   EXPECT_LT(session.state().agents[0].position.x(), -3.5) << "ann is on floor 2";
   EXPECT_EQ(session.state().agents[0].reserved_space, -1) << "the cabin slot was released when the door closed";
 }
@@ -150,7 +150,8 @@ TEST(Elevator, DoorWaitsForARiderOnTheWay) {
     const AgentState& bo = session.state().agents[1];
     if (boarded < 0.0 && !bo.navigating && bo.position.x() < 1.0) boarded = session.time();
     for (const Event& event : session.state().events) {
-      if (closing < 0.0 && event.kind == "door_state" && event.data["state"] == "closing") closing = event.time;
+      const auto* door = event.as<events::DoorState>();
+      if (closing < 0.0 && door && door->state == DoorPhase::closing) closing = event.time;
     }
   }
   const Timeline timeline = timeline_of(session);

@@ -8,9 +8,10 @@ namespace {
 
 using nlohmann::json;
 
-const Event* first_event(const Session& session, const std::string& kind, const std::string& subject) {
+template <class Kind>
+const Event* first_event(const Session& session, const std::string& subject) {
   for (const Event& event : session.state().events) {
-    if (event.kind == kind && event.subject == subject) return &event;
+    if (event.is<Kind>() && event.subject == subject) return &event;
   }
   return nullptr;
 }
@@ -30,14 +31,14 @@ TEST(EnteringAndLeaving, AHumanEntersAtTheirTimeAndLeavesWhereTheyStand) {
   EXPECT_FALSE(session.state().agents[ben].active) << "not in the scene before 3 s";
   EXPECT_EQ(session.state().agents[ben].position, Vec2(1, 8)) << "and not walking";
   while (session.time() < 3.2) session.tick();
-  const Event* entered = first_event(session, "entered", "ben");
+  const Event* entered = first_event<events::Entered>(session, "ben");
   ASSERT_TRUE(entered);
   EXPECT_NEAR(entered->time, 3.0, 1e-9);
   EXPECT_TRUE(session.state().agents[ben].active);
   while (!session.state().finished) session.tick();
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   EXPECT_LT((session.state().agents[ben].position - Vec2(8, 8)).norm(), 0.25) << "ben walked once in";
-  const Event* left = first_event(session, "left", "ana");
+  const Event* left = first_event<events::Left>(session, "ana");
   ASSERT_TRUE(left);
   EXPECT_FALSE(session.state().agents[ana].active);
   EXPECT_LT((session.state().agents[ana].position - Vec2(8, 2)).norm(), 0.25) << "she left where she arrived";

@@ -36,10 +36,11 @@ json furnished(const json& humans, const json& steps) {
 
 json person(const char* id, double x, double y) { return {{"id", id}, {"start", {{"x", x}, {"y", y}}}, {"preferred_speed", 1.2}}; }
 
-/// The time of the first event of `kind` about `subject`, or -1.
-double event_time(const Session& session, const std::string& kind, const std::string& subject) {
+/// The time of the first event of kind `Kind` about `subject`, or -1.
+template <class Kind>
+double event_time(const Session& session, const std::string& subject) {
   for (const Event& event : session.state().events) {
-    if (event.kind == kind && event.subject == subject) return event.time;
+    if (event.is<Kind>() && event.subject == subject) return event.time;
   }
   return -1.0;
 }
@@ -58,8 +59,8 @@ TEST(Sitting, ThePersonReachesTheSeatAndSitsOnIt) {
   Session session(testing::load_valid(furnished(json::array({person("p", 8, 2)}), kSitThenLeave)), 1);
   const int p = session.index_of(session.agent_id("p"));
   const scenario::Seat& seat = session.model().seats[session.model().find_seat("chair", "")];
-  while (event_time(session, "sat_down", "p") < 0 && session.time() < 30) session.tick();
-  ASSERT_GE(event_time(session, "sat_down", "p"), 0.0) << "never sat down";
+  while (event_time<events::SatDown>(session, "p") < 0 && session.time() < 30) session.tick();
+  ASSERT_GE(event_time<events::SatDown>(session, "p"), 0.0) << "never sat down";
   const AgentState& self = session.state().agents[p];
   EXPECT_EQ(self.seat_phase, SeatPhase::seated);
   EXPECT_NEAR((self.position - scenario::seat_spot(seat)).norm(), 0.0, 1e-9);
@@ -77,7 +78,7 @@ TEST(Sitting, ThePersonStandsUpAndStepsOffBeforeWalkingOn) {
   Session session(testing::load_valid(furnished(json::array({person("p", 8, 2)}), kSitThenLeave)), 1);
   const int p = session.index_of(session.agent_id("p"));
   run_until(session, 40);
-  const double sat = event_time(session, "sat_down", "p"), stood = event_time(session, "stood_up", "p");
+  const double sat = event_time<events::SatDown>(session, "p"), stood = event_time<events::StoodUp>(session, "p");
   ASSERT_GE(sat, 0.0);
   ASSERT_GE(stood, 0.0) << "never stood up";
   EXPECT_GE(stood - sat, 3.0 + humans::builtin_motion("stand_up")->duration() - 1e-9) << "rests 3 s, then stands up";
@@ -96,10 +97,10 @@ TEST(Sitting, OnePersonPerSeat) {
   document["tasks"]["sit_then_go"] = json::parse(R"([{"sit_on": {"obstacle": "chair"}}, {"wait": {"duration": 2}}, {"goto": {"pose": {"x": 2, "y": 8}}}])");
   Session session(testing::load_valid(document), 3);
   run_until(session, 50);
-  const double q_sat = event_time(session, "sat_down", "q");
-  ASSERT_GE(event_time(session, "stood_up", "p"), 0.0);
+  const double q_sat = event_time<events::SatDown>(session, "q");
+  ASSERT_GE(event_time<events::StoodUp>(session, "p"), 0.0);
   ASSERT_GE(q_sat, 0.0) << "q never got the seat";
-  EXPECT_GT(q_sat, event_time(session, "stood_up", "p")) << "q sits only once p has left the seat";
+  EXPECT_GT(q_sat, event_time<events::StoodUp>(session, "p")) << "q sits only once p has left the seat";
 }
 
 TEST(Sitting, StandUpMotionLeavesTheSeatAndIsNotPlayedTwice) {
@@ -108,7 +109,7 @@ TEST(Sitting, StandUpMotionLeavesTheSeatAndIsNotPlayedTwice) {
     {"name": "up", "actions": [{"agent": "p", "motion": {"name": "stand_up"}}]}])");
   Session session(testing::load_valid(furnished(json::array({person("p", 4, 5)}), steps)), 1);
   run_until(session, 30);
-  const double stood = event_time(session, "stood_up", "p");
+  const double stood = event_time<events::StoodUp>(session, "p");
   ASSERT_GE(stood, 0.0);
   EXPECT_TRUE(session.state().finished);
   const StepRecord& up = session.state().steps[1];
@@ -159,8 +160,8 @@ TEST(Carrying, ThePersonPicksTheCupUpCarriesItInTheHandAndPutsItDown) {
   Session session(testing::load_valid(furnished(json::array({person("p", 8, 2)}), kFetchCup)), 1);
   const int p = session.index_of(session.agent_id("p"));
   const Eigen::Vector3d on_table = session.state().objects[0].pose.translation();
-  while (event_time(session, "picked_up", "p") < 0 && session.time() < 30) session.tick();
-  ASSERT_GE(event_time(session, "picked_up", "p"), 0.0) << "never picked the cup up";
+  while (event_time<events::PickedUp>(session, "p") < 0 && session.time() < 30) session.tick();
+  ASSERT_GE(event_time<events::PickedUp>(session, "p"), 0.0) << "never picked the cup up";
   HumanBodies bodies(session.model());
   const auto wrist = [&] { return bodies.of(session.model(), session.state(), p)[static_cast<int>(humans::BodyPart::r_forearm)].to; };
   const Eigen::Vector3d hand = carried_pose(session.model(), session.state(), bodies, p).translation();
@@ -171,7 +172,7 @@ TEST(Carrying, ThePersonPicksTheCupUpCarriesItInTheHandAndPutsItDown) {
   EXPECT_LT((session.state().objects[0].pose.translation() - wrist()).norm(), kGripOffset + 1e-6);
   EXPECT_GT((session.state().objects[0].pose.translation() - on_table).norm(), 0.5) << "it left the table with the person";
   run_until(session, 40);
-  ASSERT_GE(event_time(session, "put_down", "p"), 0.0) << "never put the cup down";
+  ASSERT_GE(event_time<events::PutDown>(session, "p"), 0.0) << "never put the cup down";
   EXPECT_TRUE(session.state().finished);
   EXPECT_EQ(session.state().agents[p].carried_object, -1);
   const Eigen::Vector3d rests = session.state().objects[0].pose.translation();
@@ -198,9 +199,9 @@ TEST(Carrying, ImpossibleReachesAreSkippedWithTheReason) {
   run_until(session, 5);
   EXPECT_TRUE(session.state().finished);
   const auto& events = session.state().events;
-  const auto skipped = std::find_if(events.begin(), events.end(), [](const Event& e) { return e.kind == "put_down_skipped"; });
+  const auto skipped = std::find_if(events.begin(), events.end(), [](const Event& e) { return e.is<sim::events::PutDownSkipped>(); });
   ASSERT_NE(skipped, events.end());
-  EXPECT_EQ(skipped->data["reason"], "carrying nothing");
+  EXPECT_EQ(skipped->as<events::PutDownSkipped>()->reason, "carrying nothing");
 }
 
 TEST(Carrying, ASecondPersonWaitsForTheCup) {
@@ -212,7 +213,7 @@ TEST(Carrying, ASecondPersonWaitsForTheCup) {
   Session session(testing::load_valid(document), 2);
   run_until(session, 50);
   ASSERT_TRUE(session.state().finished);
-  const double p_put = event_time(session, "put_down", "p"), q_took = event_time(session, "picked_up", "q");
+  const double p_put = event_time<events::PutDown>(session, "p"), q_took = event_time<events::PickedUp>(session, "q");
   ASSERT_GE(p_put, 0.0);
   ASSERT_GE(q_took, 0.0);
   EXPECT_GT(q_took, p_put);
@@ -241,7 +242,7 @@ TEST(SittingAndCarrying, SameSeedSameLife) {
     b.tick();
   }
   EXPECT_EQ(state_hash(a.state()), state_hash(b.state()));
-  EXPECT_GE(event_time(a, "sat_down", "p"), 0.0);
+  EXPECT_GE(event_time<events::SatDown>(a, "p"), 0.0);
 }
 
 }  // namespace

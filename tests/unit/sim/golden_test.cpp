@@ -81,7 +81,7 @@ TEST(StateHash, EveryMemberOfTheStateCounts) {
   differs("goal", [](State& s) { s.agents[0].goal.x() += 1e-12; });
   differs("target_heading", [](State& s) { s.agents[0].target_heading = s.agents[0].target_heading.value_or(0.0) + 0.5; });
   differs("hold", [](State& s) { s.agents[0].hold = Vec2(1, 2); });
-  differs("an event's subject", [&](State& s) { emit(*loaded.model, s, "x", "y"); s.events.pop_back(); });
+  differs("an event", [&](State& s) { emit(*loaded.model, s, "y", events::Entered{}); s.events.pop_back(); });
   differs("a laser reading", [](State& s) { s.robots.at(0).lasers.at(0).reading.ranges.at(0) += 1e-9; });
   differs("the time limit", [](State& s) { s.time_limit += 1.0; });
   EXPECT_EQ(state_hash(State(state)), before) << "a copy is the same state";

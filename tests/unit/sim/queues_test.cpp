@@ -32,24 +32,24 @@ TEST(Queues, PeopleLineUpInTheOrderTheyCameAndAreServedOneAtATime) {
   ASSERT_TRUE(model);
   Session session(model, 1);
   // Everyone has joined and stands at their place, facing the head.
-  while (session.time() < 20.0 && events_of(session, "queue_joined").size() < 4) session.tick();
+  while (session.time() < 20.0 && events_of<sim::events::QueueJoined>(session).size() < 4) session.tick();
   for (int settle = 0; settle < 300; ++settle) session.tick();
-  const auto joined = events_of(session, "queue_joined");
+  const auto joined = events_of<sim::events::QueueJoined>(session);
   ASSERT_EQ(joined.size(), 4u);
   std::vector<std::string> order;
   for (const Event* event : joined) order.push_back(event->subject);
   EXPECT_EQ(order, (std::vector<std::string>{"ana", "ben", "cai", "dee"})) << "the nearest reach the end of the line first";
   const scenario::Queue& queue = model->queues[0];
   const std::vector<int>& line = session.state().queues[0].line;
-  const int served_before = static_cast<int>(events_of(session, "served").size());
+  const int served_before = static_cast<int>(events_of<sim::events::Served>(session).size());
   for (std::size_t place = 0; place < line.size(); ++place) {
     const AgentState& person = session.state().agents[line[place]];
     EXPECT_LT((person.position - queue.place(static_cast<int>(place) + served_before).position()).norm(), 0.5 + 0.8 * served_before)
         << model->agents[line[place]].id << " stands in line";
   }
   while (!session.state().finished) session.tick();
-  EXPECT_EQ(session.state().termination, "scenario_end");
-  const auto served = events_of(session, "served");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
+  const auto served = events_of<sim::events::Served>(session);
   ASSERT_EQ(served.size(), 4u);
   for (std::size_t i = 0; i < served.size(); ++i) EXPECT_EQ(served[i]->subject, order[i]) << "served in the order they joined";
   for (std::size_t i = 1; i < served.size(); ++i) {
@@ -69,7 +69,7 @@ TEST(Queues, ServiceTimesAreDrawnWithTheirMeanAndDifferBySeed) {
     const auto model = testing::load_valid(scenario);
     Session session(model, static_cast<std::uint64_t>(seed));
     while (!session.state().finished) session.tick();
-    const auto served = events_of(session, "served");
+    const auto served = events_of<sim::events::Served>(session);
     ASSERT_EQ(served.size(), 4u);
     first_services.push_back(served[0]->time);
     // From the moment each stands at the head (the previous one leaves, then 0.8 m to walk) to served.
@@ -84,7 +84,7 @@ TEST(Queues, ServiceTimesAreDrawnWithTheirMeanAndDifferBySeed) {
   const auto model = testing::load_valid(scenario);
   Session again(model, 1);
   while (!again.state().finished) again.tick();
-  EXPECT_EQ(events_of(again, "served")[0]->time, first_services[0]) << "the same seed, the same times";
+  EXPECT_EQ(events_of<sim::events::Served>(again)[0]->time, first_services[0]) << "the same seed, the same times";
 }
 
 TEST(Queues, SomeoneLeavingTheLineLetsThoseBehindMoveUp) {

@@ -40,8 +40,8 @@ Pass drive_past_a_standing_person(const std::string& controller) {
     const double gap = (session.state().agents[robot].position - session.state().agents[ana].position).norm() - radii;
     pass.closest_gap = std::min(pass.closest_gap, gap);
     for (const Event& event : session.state().events) {
-      pass.reached |= event.kind == "robot_goal_reached";
-      pass.touched |= event.kind == "contact_start" && event.data.value("with", "") == "ana";
+      pass.reached |= event.is<sim::events::RobotGoalReached>();
+      if (const auto* contact = event.as<events::ContactStart>()) pass.touched |= contact->with == "ana";
     }
   }
   return pass;
@@ -84,8 +84,8 @@ int clean_elevator_rides(const std::string& controller) {
     Session session(model, seed);
     while (!session.state().finished) session.tick();
     const bool touched = std::any_of(session.state().events.begin(), session.state().events.end(),
-                                     [](const Event& event) { return event.kind == "contact_start"; });
-    if (session.state().termination == "scenario_end" && !touched) ++clean;
+                                     [](const Event& event) { return event.is<sim::events::ContactStart>(); });
+    if (session.state().termination == sim::Termination::scenario_end && !touched) ++clean;
   }
   return clean;
 }

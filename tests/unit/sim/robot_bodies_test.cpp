@@ -111,7 +111,7 @@ TEST_P(WallsStopRobots, AtTopSpeedIntoEveryFace) {
           for (const scenario::Obstacle& other : empty->obstacles) nearest = std::min(nearest, signed_distance(at, other.polygon) - radius);
           EXPECT_LE(nearest, 0.02) << where << ": stopped short";
           bool touched = false;
-          for (const Event& event : session.state().events) touched |= event.kind == "contact_start" && event.data.value("with", "") == "map";
+          for (const Event& event : session.state().events) if (const auto* contact = event.as<events::ContactStart>()) touched |= contact->with == "map";
           EXPECT_TRUE(touched) << where;
           ++faces;
         }
@@ -138,7 +138,7 @@ TEST(DoorsStopRobots, AClosedElevatorDoorStopsTheHsrAtItsSlab) {
   EXPECT_GE(x - radius, slab - kAllowedPenetration) << "not through the door";
   EXPECT_LE(x - radius, slab + 0.02) << "stopped by the door, not before";
   bool touched = false;
-  for (const Event& event : session.state().events) touched |= event.kind == "contact_start" && event.data.value("part", "") == "door1";
+  for (const Event& event : session.state().events) if (const auto* contact = event.as<events::ContactStart>()) touched |= contact->part == "door1";
   EXPECT_TRUE(touched);
 }
 
@@ -162,7 +162,7 @@ TEST(PeopleStopRobots, ARobotDrivingAtAStandingPersonStopsAgainstHer) {
   EXPECT_LT(closest, radius + 0.35) << "stopped by her, not before";
   EXPECT_LT(session.state().agents[session.index_of(robot)].position.x(), 5.0);
   bool touched = false;
-  for (const Event& event : session.state().events) touched |= event.kind == "contact_start" && event.data.value("with", "") == "ana";
+  for (const Event& event : session.state().events) if (const auto* contact = event.as<events::ContactStart>()) touched |= contact->with == "ana";
   EXPECT_TRUE(touched);
 }
 
@@ -177,7 +177,7 @@ TEST(PeopleReactToTouch, ATouchedPersonStepsBackAndLooksAtTheRobot) {
   const AgentId robot = session.agent_id("robot");
   const int ana = session.index_of(session.agent_id("ana")), artos = session.index_of(robot);
   session.command_robot_twist(robot, {1.0, 0.0});
-  const auto startled = [&] { return std::count_if(session.state().events.begin(), session.state().events.end(), [](const Event& e) { return e.kind == "startled"; }); };
+  const auto startled = [&] { return std::count_if(session.state().events.begin(), session.state().events.end(), [](const Event& e) { return e.is<sim::events::Startled>(); }); };
   while (startled() == 0 && session.time() < 10.0) session.tick();
   ASSERT_EQ(startled(), 1) << "the robot reached her";
   session.command_robot_twist(robot, {0.0, 0.0});
@@ -187,10 +187,10 @@ TEST(PeopleReactToTouch, ATouchedPersonStepsBackAndLooksAtTheRobot) {
   EXPECT_GT(gap(), touching + 0.3) << "she stepped back";
   const AgentState& her = session.state().agents[ana];
   EXPECT_LT(std::abs(core::wrap_angle(core::direction_to(her.position, session.state().agents[artos].position) - her.heading)), 0.2) << "she looks at it";
-  const auto event = std::find_if(session.state().events.begin(), session.state().events.end(), [](const Event& e) { return e.kind == "startled"; });
+  const auto event = std::find_if(session.state().events.begin(), session.state().events.end(), [](const Event& e) { return e.is<sim::events::Startled>(); });
   EXPECT_EQ(event->subject, "ana");
-  EXPECT_EQ(event->data["robot"], "robot");
-  EXPECT_TRUE(event->data["stepped_back"].get<bool>());
+  EXPECT_EQ(event->as<events::Startled>()->robot, "robot");
+  EXPECT_TRUE(event->as<events::Startled>()->stepped_back);
 }
 
 }  // namespace

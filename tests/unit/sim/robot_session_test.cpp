@@ -33,13 +33,13 @@ TEST(RobotSession, GoalControllerDrivesAroundTheTableToTheGoal) {
   Session session(with_hsr({{"controller", {{"type", "goal"}, {"goal", {{"pose", {{"x", 8}, {"y", 5}}}}}}}}), 1);
   const AgentId hsr = session.agent_id("hsr");
   double closest_to_table = 1e9;
-  while (events_of(session, "robot_goal_reached").empty() && session.time() < 50.0) {
+  while (events_of<sim::events::RobotGoalReached>(session).empty() && session.time() < 50.0) {
     session.tick();
     const Vec2 p = session.state().agents[session.index_of(hsr)].position;
     closest_to_table = std::min(closest_to_table, (p - Vec2(std::clamp(p.x(), 4.4, 5.6), std::clamp(p.y(), 4.6, 5.4))).norm());
     ASSERT_LE(session.robot_runtime(hsr)->robot.twist().linear, 0.8 / 3.6 + 0.02) << "HSR's 0.8 km/h";
   }
-  ASSERT_EQ(events_of(session, "robot_goal_reached").size(), 1u);
+  ASSERT_EQ(events_of<sim::events::RobotGoalReached>(session).size(), 1u);
   EXPECT_LE((session.state().agents[session.index_of(hsr)].position - Vec2(8, 5)).norm(), 0.2 + 0.01);
   EXPECT_GT(closest_to_table, 0.215 - 0.05) << "the footprint stays off the table";
   // 6 m and the detour at 0.22 m/s.
@@ -101,13 +101,13 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
   session.tick();
   // Her skeleton's capsules — shins, feet, thighs — overlap the HSR's 0.215 m base; each part is its
   // own contact, named by its body part.
-  const auto started = events_of(session, "contact_start");
+  const auto started = events_of<sim::events::ContactStart>(session);
   ASSERT_GE(started.size(), 2u);
   std::set<std::string> parts;
   for (const Event* event : started) {
     EXPECT_EQ(event->subject, "hsr");
-    EXPECT_EQ(event->data["with"], "ana");
-    parts.insert(event->data["part"]);
+    EXPECT_EQ(event->as<events::ContactStart>()->with, "ana");
+    parts.insert(event->as<events::ContactStart>()->part);
   }
   EXPECT_TRUE(parts.contains("l_shin") || parts.contains("r_shin"));
   EXPECT_TRUE(std::all_of(parts.begin(), parts.end(), [](const std::string& part) {
@@ -119,8 +119,8 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
   session.command_robot_twist(hsr, {-0.2, 0.0});
   for (int i = 0; i < 200; ++i) session.tick();
   // Every contact that started has ended (she may brush the robot again as she steps about).
-  const std::size_t touches = events_of(session, "contact_start").size();
-  EXPECT_EQ(events_of(session, "contact_end").size(), touches);
+  const std::size_t touches = events_of<sim::events::ContactStart>(session).size();
+  EXPECT_EQ(events_of<sim::events::ContactEnd>(session).size(), touches);
   EXPECT_TRUE(session.robot_runtime(hsr)->contacts.empty());
   // A robot taken out of the session stops sensing and touching; the others go on.
   const RobotRuntime* runtime = session.robot_runtime(hsr);
@@ -129,7 +129,7 @@ TEST(RobotSession, TouchingAPersonStartsAndEndsAContact) {
   session.remove_agent(hsr);
   for (int i = 0; i < 200; ++i) session.tick();
   EXPECT_EQ(runtime->lasers.front().reading.tick, last_scan);
-  EXPECT_EQ(events_of(session, "contact_start").size(), touches) << "no contacts of a removed robot";
+  EXPECT_EQ(events_of<sim::events::ContactStart>(session).size(), touches) << "no contacts of a removed robot";
   EXPECT_THROW(session.robot_runtime(hsr), core::Error) << "its id is stale";
 }
 
@@ -220,17 +220,17 @@ TEST(RobotSession, BundledElevatorRobotRidesUpAndBackDown) {
     // The cabin spans x from -1.2 to 1.3; floor 2 is the room at x < -1.2, floor 1 the one at x > 1.3.
     on_floor2 |= session.state().agents[session.index_of(robot)].position.x() < -1.5;
   }
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   EXPECT_TRUE(on_floor2);
   std::vector<std::string> story;
   for (const Event& event : session.state().events) {
-    if (event.kind == "request_accepted") story.push_back(event.data["routine"].get<std::string>());
-    if (event.kind == "elevator_arrived") story.push_back("arrived at " + std::to_string(event.data["floor"].get<int>()));
+    if (event.is<sim::events::RequestAccepted>()) story.push_back(event.as<events::RequestAccepted>()->routine);
+    if (event.is<sim::events::ElevatorArrived>()) story.push_back("arrived at " + std::to_string(event.as<events::ElevatorArrived>()->floor + 1));
   }
   ASSERT_GE(story.size(), 4u);
   EXPECT_EQ(std::vector<std::string>(story.end() - 4, story.end()),
             (std::vector<std::string>{"call_elevator_floor2", "arrived at 2", "send_elevator_floor1", "arrived at 1"}));
-  for (const Event* accepted : events_of(session, "request_accepted")) EXPECT_EQ(accepted->data["robot"], "robot");
+  for (const Event* accepted : events_of<sim::events::RequestAccepted>(session)) EXPECT_EQ(accepted->as<events::RequestAccepted>()->robot, "robot");
   const Vec2 end = session.state().agents[session.index_of(robot)].position;
   EXPECT_GT(end.x(), 2.3) << "out of the cabin on floor 1: " << end.transpose();
   const RobotRuntime& runtime = *session.robot_runtime(robot);
@@ -270,9 +270,9 @@ TEST(RobotSession, GripperGraspsLiftsAndReleasesACup) {
   Session session = hand_around_a_cup(0.2, 0.0);
   const AgentId hsr = session.agent_id("hsr");
   session.command_robot_gripper(hsr, true);
-  for (int i = 0; i < 8 && events_of(session, "grasp").empty(); ++i) session.tick();
-  ASSERT_EQ(events_of(session, "grasp").size(), 1u) << "within the seed's 8-tick gripper step";
-  EXPECT_EQ(events_of(session, "grasp")[0]->data["object"], "cup");
+  for (int i = 0; i < 8 && events_of<sim::events::Grasp>(session).empty(); ++i) session.tick();
+  ASSERT_EQ(events_of<sim::events::Grasp>(session).size(), 1u) << "within the seed's 8-tick gripper step";
+  EXPECT_EQ(events_of<sim::events::Grasp>(session)[0]->as<events::Grasp>()->object, "cup");
   const RobotRuntime& runtime = *session.robot_runtime(hsr);
   const robots::Robot& robot = runtime.robot;
   const int gripper = robot.joint_index("hand_motor_joint");
@@ -285,13 +285,13 @@ TEST(RobotSession, GripperGraspsLiftsAndReleasesACup) {
   // Put it back down and let go: it stands on the table again, not kicked by the opening fingers.
   session.command_robot_joints(hsr, "arm", {0.3, -1.5708, 0.0, 0.0, 0.0, 0.0});
   for (int i = 0; i < 120; ++i) session.tick();
-  EXPECT_TRUE(events_of(session, "release").empty()) << "held until the gripper opens";
-  EXPECT_TRUE(events_of(session, "slip").empty());
+  EXPECT_TRUE(events_of<sim::events::Release>(session).empty()) << "held until the gripper opens";
+  EXPECT_TRUE(events_of<sim::events::Slip>(session).empty());
   const Eigen::Vector3d put_down = session.object_pose(0).translation();
   session.command_robot_gripper(hsr, false);
   for (int i = 0; i < 120; ++i) session.tick();
-  ASSERT_EQ(events_of(session, "release").size(), 1u);
-  EXPECT_EQ(events_of(session, "release")[0]->data["object"], "cup");
+  ASSERT_EQ(events_of<sim::events::Release>(session).size(), 1u);
+  EXPECT_EQ(events_of<sim::events::Release>(session)[0]->as<events::Release>()->object, "cup");
   EXPECT_NEAR(session.object_pose(0).translation().z(), 0.606, 0.01) << "standing on the side table";
   EXPECT_LT((session.object_pose(0).translation() - put_down).head<2>().norm(), 0.01) << "where it was put down";
 }
@@ -304,7 +304,7 @@ TEST(RobotSession, AHeldCupStaysHeldThroughTheWorldsRebuildAndACopyThenGoesOnBit
   const AgentId hsr = session.agent_id("hsr");
   session.command_robot_gripper(hsr, true);
   for (int i = 0; i < 30; ++i) session.tick();
-  ASSERT_EQ(events_of(session, "grasp").size(), 1u);
+  ASSERT_EQ(events_of<sim::events::Grasp>(session).size(), 1u);
   session.command_robot_joints(hsr, "arm", {0.5, -1.5708, 0.0, 0.0, 0.0, 0.0});
   const std::int64_t every = std::llround(kPhysicsRebuildInterval / session.model().dt);
   std::optional<Session::Copy> copy;
@@ -327,8 +327,8 @@ TEST(RobotSession, AHeldCupStaysHeldThroughTheWorldsRebuildAndACopyThenGoesOnBit
     restored.tick();
     ASSERT_EQ(restored.state_hash(), session.state_hash()) << "tick " << session.state().tick;
   }
-  EXPECT_TRUE(events_of(session, "slip").empty());
-  EXPECT_TRUE(events_of(session, "release").empty());
+  EXPECT_TRUE(events_of<sim::events::Slip>(session).empty());
+  EXPECT_TRUE(events_of<sim::events::Release>(session).empty());
   EXPECT_NEAR(session.object_pose(0).translation().z(), 0.606, 0.01) << "put down on the side table, still in the hand";
 }
 
@@ -338,13 +338,13 @@ TEST(RobotSession, ACupHeavierThanThePayloadSlipsOutOfTheGrip) {
   const AgentId hsr = session.agent_id("hsr");
   session.command_robot_gripper(hsr, true);
   for (int i = 0; i < 30; ++i) session.tick();
-  ASSERT_EQ(events_of(session, "grasp").size(), 1u);
+  ASSERT_EQ(events_of<sim::events::Grasp>(session).size(), 1u);
   session.command_robot_joints(hsr, "arm", {0.5, -1.5708, 0.0, 0.0, 0.0, 0.0});
   for (int i = 0; i < 120; ++i) session.tick();
-  ASSERT_EQ(events_of(session, "slip").size(), 1u);
-  EXPECT_EQ(events_of(session, "slip")[0]->data["object"], "cup");
+  ASSERT_EQ(events_of<sim::events::Slip>(session).size(), 1u);
+  EXPECT_EQ(events_of<sim::events::Slip>(session)[0]->as<events::Slip>()->object, "cup");
   EXPECT_EQ(session.robot_runtime(hsr)->held_object, -1);
-  EXPECT_EQ(events_of(session, "grasp").size(), 1u) << "no new grasp until the gripper opens";
+  EXPECT_EQ(events_of<sim::events::Grasp>(session).size(), 1u) << "no new grasp until the gripper opens";
   EXPECT_LT(session.object_pose(0).translation().z(), 0.606 + 0.02) << "it stayed on the table or fell";
 }
 
@@ -393,7 +393,7 @@ TEST(RobotSession, FingersHoldACupOnlyWithinTheirFrictionCones) {
     const AgentId hsr = session.agent_id("hsr");
     session.command_robot_gripper(hsr, true);
     for (int i = 0; i < 60; ++i) session.tick();
-    EXPECT_EQ(events_of(session, "grasp").size(), held ? 1u : 0u) << farther;
+    EXPECT_EQ(events_of<sim::events::Grasp>(session).size(), held ? 1u : 0u) << farther;
     session.command_robot_joints(hsr, "arm", {0.5, -1.5708, 0.0, 0.0, 0.0, 0.0});
     for (int i = 0; i < 120; ++i) session.tick();
     EXPECT_EQ(session.object_pose(0).translation().z() > 0.606 + 0.15, held) << "lifted with the arm: " << farther;
@@ -416,12 +416,12 @@ double closest_approach(const std::string& controller) {
                   1);
   const AgentId hsr = session.agent_id("hsr"), ana = session.agent_id("ana");
   double closest = 1e9;
-  for (int i = 0; i < 60 * 40 && events_of(session, "robot_goal_reached").empty(); ++i) {
+  for (int i = 0; i < 60 * 40 && events_of<sim::events::RobotGoalReached>(session).empty(); ++i) {
     session.tick();
     closest = std::min(closest, (session.state().agents[session.index_of(hsr)].position -
                                  session.state().agents[session.index_of(ana)].position).norm());
   }
-  EXPECT_EQ(events_of(session, "robot_goal_reached").size(), 1u) << controller;
+  EXPECT_EQ(events_of<sim::events::RobotGoalReached>(session).size(), 1u) << controller;
   return closest;
 }
 
@@ -450,10 +450,10 @@ TEST(RobotSession, LaserSeesMovableObjectsAndRobotsTouchDiscRobots) {
   const LaserReading& scan = session.robot_runtime(session.agent_id("hsr"))->lasers.front().reading;
   // The crate's near face is at x = 3.3; the laser sits 0.1675 m ahead of the robot's centre.
   EXPECT_NEAR(scan.ranges[540], 3.3 - 2.1675, 0.05);
-  const auto started = events_of(session, "contact_start");
+  const auto started = events_of<sim::events::ContactStart>(session);
   ASSERT_EQ(started.size(), 1u) << "the cart (a robot without a model) is a 0.2 m cylinder in the physics world";
-  EXPECT_EQ(started[0]->data["with"], "cart");
-  EXPECT_EQ(started[0]->data["part"], "body");
+  EXPECT_EQ(started[0]->as<events::ContactStart>()->with, "cart");
+  EXPECT_EQ(started[0]->as<events::ContactStart>()->part, "body");
 }
 
 }  // namespace

@@ -39,7 +39,7 @@ json two_rooms(const std::string& strategy, double ada_faces, double time_limit 
 struct Search {
   std::vector<std::string> rooms;  ///< in the order the robot looked into them
   std::optional<double> found_at;
-  std::string termination;
+  sim::Termination termination = sim::Termination::none;
   std::map<std::string, metrics::MetricValue> metrics;
 };
 
@@ -50,12 +50,12 @@ Search run(const json& document, std::uint64_t seed = 1) {
   Search search;
   for (const Event& event : episode.session().state().events) {
     if (event.subject != "artos") continue;
-    if (event.kind == "search_room") search.rooms.push_back(event.data["room"]);
-    if (event.kind == "person_found") {
+    if (const auto* room = event.as<events::SearchRoom>()) search.rooms.push_back(room->room);
+    if (const auto* found = event.as<events::PersonFound>()) {
       search.found_at = event.time;
-      EXPECT_EQ(event.data["person"], "ada");
-      EXPECT_EQ(event.data["room"], "east");
-      EXPECT_LE(event.data["range"].get<double>(), sensors::kFaceRange + 0.25) << "within the face range, give or take the detector's noise";
+      EXPECT_EQ(found->person, "ada");
+      EXPECT_EQ(found->room, "east");
+      EXPECT_LE(found->range, sensors::kFaceRange + 0.25) << "within the face range, give or take the detector's noise";
     }
   }
   search.termination = episode.session().state().termination;
@@ -68,7 +68,7 @@ TEST(Search, ByPresenceTheMostLikelyRoomComesFirst) {
   ASSERT_FALSE(presence.rooms.empty());
   EXPECT_EQ(presence.rooms.front(), "east") << "she is in the east room all day";
   ASSERT_TRUE(presence.found_at);
-  EXPECT_EQ(presence.termination, "goal");
+  EXPECT_EQ(presence.termination, sim::Termination::goal);
   EXPECT_DOUBLE_EQ(*presence.metrics["time_to_find"].value, *presence.found_at);
   EXPECT_EQ(presence.metrics["success"].value, 1.0);
 
@@ -84,7 +84,7 @@ TEST(Search, ByPresenceTheMostLikelyRoomComesFirst) {
 TEST(Search, AFaceTurnedAwayIsNotFoundAndTheRobotGoesRoundAgain) {
   Search search = run(two_rooms("presence", 0.0));  // her back to the east room's lookout
   EXPECT_FALSE(search.found_at);
-  EXPECT_EQ(search.termination, "timeout");
+  EXPECT_EQ(search.termination, sim::Termination::timeout);
   ASSERT_GE(search.rooms.size(), 3u);
   EXPECT_EQ(search.rooms[0], "east");
   EXPECT_EQ(search.rooms[1], "west");

@@ -36,7 +36,7 @@ TEST(Session, GotoReachesTheLocationAndTakesItsHeading) {
     "steps": [{"name": "walk", "actions": [{"agent": "ana", "goto": {"location": "window"}}]}]})"), 1);
   Session& session = session_run.session();
   session_run.run();
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   const AgentState& ana = session.state().agents[0];
   EXPECT_LE((ana.position - Vec2(8, 2)).norm(), 0.2 + 1e-9);
   EXPECT_NEAR(ana.heading, 1.5708, kHeadingTolerance);
@@ -58,7 +58,7 @@ TEST(Session, GotoWalksAroundTheTable) {
     const Vec2 on_table(std::clamp(p.x(), 4.4, 5.6), std::clamp(p.y(), 4.6, 5.4));
     closest_to_table = std::min(closest_to_table, (p - on_table).norm());
   }
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   EXPECT_GT(closest_to_table, 0.3 - 0.05) << "within half a grid cell of the planned clearance";
 }
 
@@ -73,8 +73,8 @@ TEST(Session, StepActionsStartTogetherAndTheStepEndsWithTheLast) {
   EXPECT_NEAR(step_duration(session, 0), 2.5, 1e-9);
   EXPECT_NEAR(step_duration(session, 1), 0.5, 1e-9);
   EXPECT_EQ(session.state().steps[1].started_tick, session.state().steps[0].finished_tick);
-  EXPECT_EQ(events_of(session, "step_started").size(), 2u);
-  EXPECT_EQ(events_of(session, "scenario_finished").size(), 1u);
+  EXPECT_EQ(events_of<sim::events::StepStarted>(session).size(), 2u);
+  EXPECT_EQ(events_of<sim::events::ScenarioFinished>(session).size(), 1u);
 }
 
 TEST(Session, SeveralActionsOfOneAgentInAStepRunInOrder) {
@@ -94,11 +94,11 @@ TEST(Session, CompoundTasksRunTheirActionsInOrder) {
     "steps": [{"name": "s", "actions": [{"agent": "ana", "task": "outer"}]}]})"), 1);
   Session& session = session_run.session();
   session_run.run();
-  const auto published = events_of(session, "publish");
+  const auto published = events_of<sim::events::Publish>(session);
   ASSERT_EQ(published.size(), 2u);
-  EXPECT_EQ(published[0]->data["message"], "inner");
+  EXPECT_EQ(published[0]->as<events::Publish>()->message, "inner");
   EXPECT_NEAR(published[0]->time, 1.0, 1e-9);
-  EXPECT_EQ(published[1]->data["message"], "outer");
+  EXPECT_EQ(published[1]->as<events::Publish>()->message, "outer");
   EXPECT_NEAR(published[1]->time, 1.5, 1e-9);
   EXPECT_EQ(published[1]->subject, "ana");
 }
@@ -111,10 +111,10 @@ TEST(Session, ARepeatedTaskRunsOverAndOverUntilTheTimeLimit) {
     "steps": [{"name": "s", "actions": [{"agent": "ana", "task": "round", "repeat": true}]}]})"), 1);
   Session& session = session_run.session();
   session_run.run();
-  const auto laps = events_of(session, "publish");
+  const auto laps = events_of<sim::events::Publish>(session);
   ASSERT_EQ(laps.size(), 13u) << "one lap every 1.5 s for 20 s";
   for (std::size_t k = 0; k < laps.size(); ++k) EXPECT_NEAR(laps[k]->time, 1.5 * static_cast<double>(k + 1), 1e-9);
-  EXPECT_EQ(session.state().termination, "timeout") << "its step never ends";
+  EXPECT_EQ(session.state().termination, sim::Termination::timeout) << "its step never ends";
 }
 
 TEST(Session, ATaskRepeatedForeverMustTakeTime) {
@@ -146,8 +146,8 @@ TEST(Session, WaitForAMessageSeesTheLatestOne) {
   EXPECT_EQ(session.state().topics.at("/door"), "open");
   // A published state is latched: ana's first wait ends at once; the one for "closed" never does.
   EXPECT_EQ(session.state().current_step, 2);
-  EXPECT_EQ(session.state().termination, "timeout");
-  EXPECT_EQ(events_of(session, "time_limit")[0]->subject, "again");
+  EXPECT_EQ(session.state().termination, sim::Termination::timeout);
+  EXPECT_EQ(events_of<sim::events::TimeLimit>(session)[0]->subject, "again");
 }
 
 /// Final heading of ana (starting at heading 0) after one turning action, and how long it took.
@@ -159,7 +159,7 @@ std::pair<double, double> turn(const std::string& action) {
     "steps": [{"name": "turn", "actions": [{"agent": "ana", )" + action + R"(}]}]})"), 1);
   Session& session = session_run.session();
   session_run.run();
-  EXPECT_EQ(session.state().termination, "scenario_end") << action;
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end) << action;
   return {session.state().agents[0].heading, step_duration(session, 0)};
 }
 
@@ -194,7 +194,7 @@ TEST(Session, SocialSpaceSlotsAreTakenInOrder) {
                                           {"agent": "ben", "goto": {"social_space": "bench"}}]}]})"), 1);
   Session& session = session_run.session();
   session_run.run();
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   // cat stands within two radii of slot 2 (6, 8)? No: 2.5 m away, so slots 0 and 1 go to ana and ben.
   EXPECT_LE((session.state().agents[0].position - Vec2(4, 8)).norm(), 0.2 + 1e-9);
   EXPECT_LE((session.state().agents[1].position - Vec2(5, 8)).norm(), 0.2 + 1e-9);
@@ -231,7 +231,7 @@ TEST(Session, ALocationHoldsOnePerson) {
       ben_closest_while_ana_there = std::min(ben_closest_while_ana_there, (state.agents[1].position - Vec2(5, 8)).norm());
     }
   }
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   EXPECT_GT(ben_closest_while_ana_there, 2.0) << "ben waits until ana leaves the spot";
   EXPECT_LE((session.state().agents[1].position - Vec2(5, 8)).norm(), 0.2 + 1e-9);
 }
@@ -250,7 +250,7 @@ TEST(Requests, TheClosestIdleHumanWithinThreeMetresAnswers) {
   session.request(session.agent_id("robot"), 0);
   session.set_time_limit(5.0);
   session_run.run();
-  const auto accepted = events_of(session, "request_accepted");
+  const auto accepted = events_of<sim::events::RequestAccepted>(session);
   ASSERT_EQ(accepted.size(), 1u);
   EXPECT_EQ(accepted[0]->subject, "nearest");
   EXPECT_EQ(accepted[0]->tick, 0);
@@ -268,7 +268,7 @@ TEST(Requests, BusyHumansDoNotAnswerAndTheRequestIsRetriedThenDropped) {
   session.request(session.agent_id("robot"), 0);
   session.set_time_limit(20.0);
   session_run.run();
-  const auto accepted = events_of(session, "request_accepted");
+  const auto accepted = events_of<sim::events::RequestAccepted>(session);
   ASSERT_EQ(accepted.size(), 1u) << "busy becomes idle at 12 s; the retry at 15 s finds it";
   EXPECT_NEAR(accepted[0]->time, 15.0, 1e-9);
 
@@ -282,10 +282,10 @@ TEST(Requests, BusyHumansDoNotAnswerAndTheRequestIsRetriedThenDropped) {
   nobody.request(nobody.agent_id("robot"), 0);
   nobody.set_time_limit(40.0);
   nobody_run.run();
-  const auto dropped = events_of(nobody, "request_dropped");
+  const auto dropped = events_of<sim::events::RequestDropped>(nobody);
   ASSERT_EQ(dropped.size(), 1u);
   EXPECT_NEAR(dropped[0]->time, kRequestTimeout, 1e-9);
-  EXPECT_TRUE(events_of(nobody, "request_accepted").empty());
+  EXPECT_TRUE(events_of<sim::events::RequestAccepted>(nobody).empty());
 }
 
 TEST(Requests, UnknownAsyncTaskIsDroppedAtOnce) {
@@ -296,7 +296,7 @@ TEST(Requests, UnknownAsyncTaskIsDroppedAtOnce) {
     "steps": []})"), 1);
   Session& session = session_run.session();
   session.request(session.agent_id("robot"), 0);
-  const auto dropped = events_of(session, "request_dropped");
+  const auto dropped = events_of<sim::events::RequestDropped>(session);
   ASSERT_EQ(dropped.size(), 1u);
   EXPECT_EQ(dropped[0]->tick, 0);
 }
@@ -308,7 +308,7 @@ TEST(Requests, ScriptedRequestsFireAtTheirTime) {
   Session& session = session_run.session();
   session.set_time_limit(5.0);
   session_run.run();
-  const auto requests = events_of(session, "request");
+  const auto requests = events_of<sim::events::Request>(session);
   ASSERT_EQ(requests.size(), 1u);
   EXPECT_NEAR(requests[0]->time, 2.0, 1e-9);
 }
@@ -380,7 +380,7 @@ TEST(Groups, APairWalksSideBySide) {
     session.tick();
     farthest_apart = std::max(farthest_apart, (session.state().agents[0].position - session.state().agents[1].position).norm());
   }
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   EXPECT_LT(farthest_apart, 1.5) << "bo keeps beside ann all the way";
   const Vec2 ann = session.state().agents[0].position, bo = session.state().agents[1].position;
   EXPECT_LE((ann - Vec2(3, 8.5)).norm(), 0.2 + 1e-9);
@@ -410,7 +410,7 @@ TEST(Groups, APairRunsACompoundTaskTogether) {
     const auto faces_cy = [&](int a) { return std::abs(core::wrap_angle(agents[a].heading - core::direction_to(agents[a].position, agents[2].position))) < 0.05; };
     both_faced_cy |= agents[0].position.x() < 4 && faces_cy(0) && faces_cy(1);
   }
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   EXPECT_TRUE(both_faced_cy) << "each member looks at cy";
   EXPECT_LT(farthest_apart, 1.5) << "bo keeps beside ann on both legs";
   const Vec2 ann = session.state().agents[0].position, bo = session.state().agents[1].position;
@@ -429,13 +429,13 @@ TEST(Groups, GroupsFormAndDismantleAndTakeSlots) {
       {"name": "nobody", "actions": [{"group": "friends", "goto": {"pose": {"x": 2, "y": 2}}}]}]})"), 1);
   Session& session = session_run.session();
   session_run.run();
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   std::set<int> slots;
   for (int a = 0; a < 3; ++a) slots.insert(session.state().agents[a].reserved_slot);
   EXPECT_EQ(slots, (std::set<int>{0, 1, 2})) << "one slot per member";
-  EXPECT_EQ(events_of(session, "group_formed").size(), 1u);
-  EXPECT_EQ(events_of(session, "group_dismantled").size(), 1u);
-  EXPECT_EQ(events_of(session, "group_empty").size(), 1u) << "a dismantled group has nobody to move";
+  EXPECT_EQ(events_of<sim::events::GroupFormed>(session).size(), 1u);
+  EXPECT_EQ(events_of<sim::events::GroupDismantled>(session).size(), 1u);
+  EXPECT_EQ(events_of<sim::events::GroupEmpty>(session).size(), 1u) << "a dismantled group has nobody to move";
 }
 
 TEST(Attitudes, HarassingHumanStandsInTheRobotsWay) {
@@ -446,7 +446,7 @@ TEST(Attitudes, HarassingHumanStandsInTheRobotsWay) {
   Session& session = session_run.session();
   session.command_robot(session.agent_id("robot"), Vec2(0.3, 0.0));
   session_run.run();
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   EXPECT_NEAR(step_duration(session, 0), 12.0, 1e-9);
   const AgentState& pest = session.state().agents[0];
   const AgentState& robot = session.state().agents[1];
@@ -475,7 +475,7 @@ TEST(Attitudes, StopAndLookWhenTheRobotComesNear) {
   episode::Episode until_end_run(model_of(kStopAndLook), 1);
   Session& until_end = until_end_run.session();
   until_end_run.run();
-  EXPECT_EQ(until_end.state().termination, "scenario_end") << "after the attitude ends she walks on";
+  EXPECT_EQ(until_end.state().termination, sim::Termination::scenario_end) << "after the attitude ends she walks on";
   EXPECT_GT(until_end.time(), 8.0);
 }
 
@@ -493,9 +493,9 @@ TEST(RobotChoreography, TheRobotWalksAsksAndWaitsForTheOutcome) {
       {"name": "ask_again", "actions": [{"agent": "robot", "request": {"task": "greet"}}]}]})"), 1);
   Session& session = session_run.session();
   session_run.run();
-  EXPECT_EQ(session.state().termination, "scenario_end");
-  EXPECT_EQ(events_of(session, "request_accepted").size(), 1u) << "ann is within 3 m at the first request";
-  EXPECT_EQ(events_of(session, "request_dropped").size(), 1u) << "and far away at the second";
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
+  EXPECT_EQ(events_of<sim::events::RequestAccepted>(session).size(), 1u) << "ann is within 3 m at the first request";
+  EXPECT_EQ(events_of<sim::events::RequestDropped>(session).size(), 1u) << "and far away at the second";
   EXPECT_NEAR(step_duration(session, 1), session.model().dt, 1e-9) << "accepted on the next tick";
   EXPECT_NEAR(step_duration(session, 3), kRequestTimeout, 1e-9) << "waits until it is dropped";
   EXPECT_EQ(session.state().topics.at("/greeting"), "hi");
@@ -522,9 +522,9 @@ TEST(AgentIds, RemovedAgentsLeaveAndTheirIdsGoStale) {
   EXPECT_EQ(session.index_of(left[0]), 0) << "creation order";
   EXPECT_EQ(session.index_of(left[1]), 2);
   session.tick();
-  EXPECT_EQ(session.state().termination, "scenario_end") << "the step no longer waits for bo";
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end) << "the step no longer waits for bo";
   EXPECT_FALSE(session.state().agents[1].active);
-  EXPECT_EQ(events_of(session, "agent_removed").size(), 1u);
+  EXPECT_EQ(events_of<sim::events::AgentRemoved>(session).size(), 1u);
 }
 
 }  // namespace
@@ -546,10 +546,10 @@ TEST(Session, TextualCommandsGoFirstAndTheChoreographyResumes) {
     closest_to_detour = std::min(closest_to_detour, (session.state().agents[0].position - Vec2(2, 8)).norm());
   }
   EXPECT_LE(closest_to_detour, scenario::kDefaultGoalRadius + 1e-9) << "walked to the commanded spot first";
-  EXPECT_EQ(session.state().termination, "scenario_end");
+  EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   EXPECT_LE((session.state().agents[0].position - Vec2(8, 2)).norm(), 0.2 + 1e-9) << "then did her step";
-  ASSERT_EQ(events_of(session, "command").size(), 1u);
-  EXPECT_EQ(events_of(session, "command")[0]->data["text"], "walk 2 8");
+  ASSERT_EQ(events_of<sim::events::Command>(session).size(), 1u);
+  EXPECT_EQ(events_of<sim::events::Command>(session)[0]->as<events::Command>()->text, "walk 2 8");
 }
 
 TEST(Session, BadTextualCommandsSayWhatIsWrong) {

@@ -257,7 +257,7 @@ TEST(ApproachHuman, RunsOutAfter1536TicksAndRefusesWrongActions) {
     ++steps;
   }
   EXPECT_EQ(run.session.state().tick, 1536);
-  EXPECT_EQ(run.session.state().termination, "timeout");
+  EXPECT_EQ(run.session.state().termination, sim::Termination::timeout);
   EXPECT_EQ(steps, 154) << "153 whole steps of 10 ticks and a last one cut at the limit";
 }
 
@@ -352,7 +352,7 @@ TEST(PickAndPlace, RewardIsTheSumOfItsTermsAndStepsLastTheirFrames) {
   run.step(arm(kGrasp));
   run.step(gripper(true));
   EXPECT_EQ(run.session.state().tick, 256);
-  EXPECT_EQ(run.session.state().termination, "timeout") << "256 ticks per episode";
+  EXPECT_EQ(run.session.state().termination, sim::Termination::timeout) << "256 ticks per episode";
 }
 
 // The seed's schedule (§5.3.4): approach 120 ticks, grasp 8, carry 120, and 8 to let go — 256.
