@@ -82,6 +82,16 @@ TEST(StateHash, EveryMemberOfTheStateCounts) {
   differs("target_heading", [](State& s) { s.agents[0].target_heading = s.agents[0].target_heading.value_or(0.0) + 0.5; });
   differs("hold", [](State& s) { s.agents[0].hold = Vec2(1, 2); });
   differs("an event", [&](State& s) { emit(*loaded.model, s, "y", events::Entered{}); s.events.pop_back(); });
+  const auto digest_after = [&](EventData data) {
+    State changed = state;
+    emit(*loaded.model, changed, "ana", std::move(data));
+    return changed.events_digest;
+  };
+  EXPECT_NE(digest_after(events::Command{"walk 1 2"}), digest_after(events::Command{"walk 1 3"})) << "an event's text";
+  EXPECT_NE(digest_after(events::Stuck{1, 2, 3, 4, 5, 6}), digest_after(events::Stuck{1, 2, 3, 4, 5, 6.5})) << "an event's number";
+  EXPECT_NE(digest_after(events::PersonFound{"ada", std::nullopt, 1.0}), digest_after(events::PersonFound{"ada", "", 1.0}))
+      << "in no room is not in a room named ''";
+  EXPECT_NE(digest_after(events::AgentPlaced{1, 2, 3}), digest_after(events::ObjectPlaced{1, 2, 3})) << "two kinds of one name";
   differs("a laser reading", [](State& s) { s.robots.at(0).lasers.at(0).reading.ranges.at(0) += 1e-9; });
   differs("the time limit", [](State& s) { s.time_limit += 1.0; });
   EXPECT_EQ(state_hash(State(state)), before) << "a copy is the same state";
