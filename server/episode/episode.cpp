@@ -70,7 +70,7 @@ Episode::Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t see
 
 double Episode::step(const std::optional<std::vector<double>>& action, std::int64_t n) {
   if (action && environment_) tasks::check_action(*action, static_cast<std::size_t>(environment_->action_space().shape.at(0)));
-  log_.push_back({Snapshot::Entry::Kind::step, nullptr, action, 0});
+  log_.push_back({Snapshot::Entry::Kind::step, session_->state().tick, std::nullopt, action, 0});
   double reward = 0.0;
   for (std::int64_t i = 0; i < n && !over(); ++i) {
     ++log_.back().count;
@@ -124,26 +124,39 @@ bool Episode::run(const std::atomic<bool>* cancel, const std::function<void(cons
 }
 
 void Episode::give(const Input& input) {
-  input(*session_);
-  log_.push_back({Snapshot::Entry::Kind::input, input, std::nullopt, 0});
+  give_input(*session_, input);
+  log_.push_back({Snapshot::Entry::Kind::input, session_->state().tick, input, std::nullopt, 0});
 }
 
 void Episode::log_ticks(std::int64_t count) {
   if (!log_.empty() && log_.back().kind == Snapshot::Entry::Kind::ticks) {
     log_.back().count += count;
   } else {
-    log_.push_back({Snapshot::Entry::Kind::ticks, nullptr, std::nullopt, count});
+    log_.push_back({Snapshot::Entry::Kind::ticks, session_->state().tick, std::nullopt, std::nullopt, count});
   }
 }
 
 Episode::Snapshot Episode::snapshot() const { return {log_, session_->state().tick, session_->state_hash()}; }
 
-std::unique_ptr<Episode> Episode::restore(const Snapshot& snapshot) const {
+std::unique_ptr<Episode> Episode::restore(const Snapshot& snapshot, bool foreign) const {
+  const auto refuse = [&](const std::string& what, nlohmann::json details) {
+    if (!foreign) throw core::Error(core::ErrorCode::internal, what + ": the simulation was not deterministic here");
+    throw core::Error(core::ErrorCode::conflict,
+                      what + ": the snapshot was changed, or this build of hrisim simulates the scenario differently from the one that took it",
+                      std::move(details));
+  };
   auto restored = std::make_unique<Episode>(model_, seed_, settings_);
-  for (const Snapshot::Entry& entry : snapshot.log) restored->replay(entry);
+  for (std::size_t e = 0; e < snapshot.log.size(); ++e) {
+    const std::int64_t reached = restored->session().state().tick;
+    if (reached != snapshot.log[e].tick) {
+      refuse("input " + std::to_string(e) + " of the snapshot was given at tick " + std::to_string(snapshot.log[e].tick) + ", replayed at tick " +
+                 std::to_string(reached),
+             {{"input", e}});
+    }
+    restored->replay(snapshot.log[e]);
+  }
   if (restored->session().state_hash() != snapshot.state_hash) {
-    throw core::Error(core::ErrorCode::internal, "restoring the snapshot of tick " + std::to_string(snapshot.tick) +
-                                                     " did not reach its state: the simulation was not deterministic here");
+    refuse("restoring the snapshot of tick " + std::to_string(snapshot.tick) + " did not reach the state it names", {{"state_hash", true}});
   }
   return restored;
 }
@@ -186,10 +199,10 @@ void Episode::replay_until(const Episode& from, std::size_t entry, std::int64_t 
   for (std::size_t e = entry; e < from.log_.size(); ++e, done = 0) {
     const Snapshot::Entry& given = from.log_[e];
     if (given.kind == Snapshot::Entry::Kind::input) {
-      give(given.input);
+      give(*given.input);
       continue;
     }
-    if (done == 0) log_.push_back({given.kind, nullptr, given.action, 0});
+    if (done == 0) log_.push_back({given.kind, session_->state().tick, std::nullopt, given.action, 0});
     for (; done < given.count && !at_tick() && !over(); ++done) {
       ++log_.back().count;
       // One env step at a time, the action at the first: the same ticks as step(action, count).
@@ -253,7 +266,7 @@ bool Episode::fit(std::shared_ptr<const Checkpoint> checkpoint) {
 void Episode::replay(const Snapshot::Entry& entry) {
   switch (entry.kind) {
     case Snapshot::Entry::Kind::input:
-      give(entry.input);
+      give(*entry.input);
       return;
     case Snapshot::Entry::Kind::step:
       step(entry.action, entry.count);

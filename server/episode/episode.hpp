@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/memory_budget.hpp"
+#include "episode/inputs.hpp"
 #include "metrics/recording.hpp"
 #include "sim/episode_recorder.hpp"
 #include "sim/session.hpp"
@@ -64,15 +65,13 @@ struct Settings {
 
 class Episode {
  public:
-  /// An input from outside (a command, a placement), given to the session between ticks.
-  using Input = std::function<void(sim::Session&)>;
-
   /// A point of an episode to come back to (Episode::restore).
   struct Snapshot {
     struct Entry {
       enum class Kind { input, step, ticks };
       Kind kind = Kind::ticks;
-      Input input;                                ///< input: what was given
+      std::int64_t tick = 0;                      ///< the session's tick when it was given or began
+      std::optional<Input> input;                 ///< input: what was given
       std::optional<std::vector<double>> action;  ///< step: the action of its first env step
       std::int64_t count = 0;                     ///< step: env steps done; ticks: how many
     };
@@ -99,12 +98,16 @@ class Episode {
   /// Gives an input to the session now and keeps it in the log. What it throws, it throws before
   /// changing anything (check first), and then it is not kept.
   void give(const Input& input);
+  /// Everything that drove the episode so far.
+  const std::vector<Snapshot::Entry>& input_log() const { return log_; }
 
   /// This point of the episode.
   Snapshot snapshot() const;
   /// A fresh episode of the same scenario, seed and settings driven by the snapshot's log: the state
-  /// the snapshot was taken in, bit for bit (checked by its hash; core::Error(internal) otherwise).
-  std::unique_ptr<Episode> restore(const Snapshot& snapshot) const;
+  /// the snapshot was taken in, bit for bit. Checked by each entry's tick and the snapshot's hash:
+  /// core::Error(internal) otherwise, or core::Error(conflict) for a snapshot that came from elsewhere
+  /// (`foreign`), which another build of hrisim may have simulated differently.
+  std::unique_ptr<Episode> restore(const Snapshot& snapshot, bool foreign = false) const;
   /// This episode as it was at `tick` (at most the present tick), with the inputs given at that tick:
   /// the latest checkpoint at or before `tick` (or a fresh episode of the same scenario, seed and
   /// settings) given this one's inputs from there until then. With a benchmark task it stops at the

@@ -63,6 +63,7 @@ EpisodeReplay replay_of_episode(storage::Store& store, ScenarioCatalogue& catalo
   replay.config = run ? run->config : json::object();
   replay.request = runs::replay_request(entry->source.document, catalogue.options(*entry).load, replay.config, replay.episode.seed);
   replay.spec = runs::make_run_spec(replay.request);
+  replay.scenario_sha256 = entry->content_sha256();
   return replay;
 }
 

@@ -28,6 +28,7 @@ struct EpisodeReplay {
   nlohmann::json config;  ///< its run's (empty for an episode without a run)
   runs::RunRequest request;
   runs::RunSpec spec;
+  std::string scenario_sha256;  ///< of its scenario as this server has it
 };
 /// 404 as find_episode; 409 when its scenario no longer loads.
 EpisodeReplay replay_of_episode(storage::Store& store, ScenarioCatalogue& catalogue, const std::string& id, const Caller& caller,

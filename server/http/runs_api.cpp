@@ -9,7 +9,6 @@
 
 #include "core/error.hpp"
 #include "core/random.hpp"
-#include "core/sha256.hpp"
 #include "core/text.hpp"
 #include "http/episodes_api.hpp"
 #include "http/request_helpers.hpp"
@@ -135,7 +134,7 @@ runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue, con
   request.scenario_id = id;
   request.document = entry->source.document;
   request.load = catalogue.options(*entry).load;
-  request.scenario_sha256 = entry->sha256.empty() ? core::sha256_hex(core::json_text(entry->source.document)) : entry->sha256;
+  request.scenario_sha256 = entry->content_sha256();
   request.seeds = seeds_of(body, problems);
   if (body.contains("controller") && !body["controller"].is_null()) request.controller = body["controller"];
   if (body.contains("baseline_without_robot")) {

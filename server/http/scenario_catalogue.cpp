@@ -8,10 +8,16 @@
 
 #include "core/files.hpp"
 #include "core/random.hpp"
+#include "core/sha256.hpp"
 #include "core/text.hpp"
 #include "storage/store.hpp"
 
 namespace hrisim::http {
+
+std::string ScenarioCatalogue::Entry::content_sha256() const {
+  return sha256.empty() ? core::sha256_hex(core::json_text(source.document)) : sha256;
+}
+
 namespace {
 
 /// Values (objects, arrays, members, numbers, strings) of a JSON document, counted without recursion.

@@ -69,6 +69,9 @@ class ScenarioCatalogue {
     std::string sha256;  ///< of an uploaded source and its files
     std::string owner;   ///< who uploaded it; empty for bundled ones and without owners
     std::filesystem::path files;  ///< where the files uploaded with it are; empty without any
+
+    /// What the scenario is made of: an upload's sha256, a bundled one's of its document.
+    std::string content_sha256() const;
   };
 
   /// How the scenario of `entry` is compiled here (again, e.g. with another controller): its files

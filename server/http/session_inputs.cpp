@@ -23,7 +23,7 @@ static double number_of(const json& object, const char* key, const std::string& 
 }
 
 /// Checks one command against the session and returns the input that gives it (nothing is changed yet).
-static episode::Episode::Input checked_command(const sim::Session& session, const json& command, const std::string& at) {
+static episode::Input checked_command(const sim::Session& session, const json& command, const std::string& at) {
   if (!command.is_object()) throw core::Error(core::ErrorCode::bad_request, "a command is an object", {{"pointer", at}});
   const bool human = command.contains("human"), robot = command.contains("robot");
   if (human == robot || !command[human ? "human" : "robot"].is_string()) {
@@ -45,7 +45,7 @@ static episode::Episode::Input checked_command(const sim::Session& session, cons
     }
     const std::string text = command["command"];
     const scenario::Action action = session.parse_human_command(id, text);  // throws when it is wrong
-    return [action, text](sim::Session& to) { to.command_human(action, text); };
+    return episode::inputs::HumanCommand{agent, action, text};
   }
   refuse_unknown_keys(command, {"robot", "velocity", "joints", "gripper", "request"});
   if (def.kind != scenario::AgentKind::robot) throw core::Error(core::ErrorCode::bad_request, "'" + who + "' is not a robot", {{"pointer", at + "/robot"}});
@@ -56,7 +56,7 @@ static episode::Episode::Input checked_command(const sim::Session& session, cons
     if (!runtime || !def.robot_model->drive) {
       throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no drive to take a velocity", {{"pointer", at + "/velocity"}});
     }
-    return [agent, linear, angular](sim::Session& to) { to.command_robot_twist(to.agent_at(agent), {linear, angular}); };
+    return episode::inputs::RobotTwist{agent, {linear, angular}};
   }
   if (command.contains("joints")) {
     const json& joints = command["joints"];
@@ -79,7 +79,7 @@ static episode::Episode::Input checked_command(const sim::Session& session, cons
                         {{"pointer", at + "/joints/" + (velocities ? "velocities" : "positions")}});
     }
     const std::vector<double> targets = values.get<std::vector<double>>();
-    return [agent, group, targets, velocities](sim::Session& to) { to.command_robot_joints(to.agent_at(agent), group, targets, velocities); };
+    return episode::inputs::RobotJoints{agent, group, targets, velocities};
   }
   if (command.contains("gripper")) {
     const json& gripper = command["gripper"];
@@ -90,18 +90,18 @@ static episode::Episode::Input checked_command(const sim::Session& session, cons
       throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no gripper", {{"pointer", at + "/gripper"}});
     }
     const bool close = gripper == "close";
-    return [agent, close](sim::Session& to) { to.command_robot_gripper(to.agent_at(agent), close); };
+    return episode::inputs::RobotGripper{agent, close};
   }
   if (command.contains("request")) {
-    const int task = command["request"].is_string() ? session.model().find_routine(command["request"]) : -1;
-    if (task < 0) throw core::Error(core::ErrorCode::bad_request, "request: no task by that name", {{"pointer", at + "/request"}});
-    return [agent, task](sim::Session& to) { to.request(to.agent_at(agent), task); };
+    const int routine = command["request"].is_string() ? session.model().find_routine(command["request"]) : -1;
+    if (routine < 0) throw core::Error(core::ErrorCode::bad_request, "request: no routine by that name", {{"pointer", at + "/request"}});
+    return episode::inputs::RobotRequest{agent, routine};
   }
   throw core::Error(core::ErrorCode::bad_request, "a robot command gives velocity, joints, gripper or request", {{"pointer", at}});
 }
 
 /// An action given at JSON pointer `at`: a list of numbers, or null for none.
-static std::optional<std::vector<double>> action_at(const json& action, const std::string& at) {
+std::optional<std::vector<double>> action_at(const json& action, const std::string& at) {
   if (action.is_null()) return std::nullopt;
   if (!action.is_array()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", at}});
   std::vector<double> values;
@@ -130,7 +130,7 @@ void check_lockstep(const LiveSession& live) {
 /// Gives a list of commands, each checked before any is given (the session's lock held).
 json give_commands(LiveSession& live, const json& commands) {
   const sim::Session& session = live.session();
-  std::vector<episode::Episode::Input> apply;
+  std::vector<episode::Input> apply;
   for (std::size_t i = 0; i < commands.size(); ++i) {
     const std::string at = "/commands/" + std::to_string(i);
     try {
@@ -255,7 +255,7 @@ static const episode::Episode::Snapshot& snapshot_named(const LiveSession& live,
 /// to its tick (the session's lock held). Gymnasium's observation and info, with the status.
 /// The session goes on from `episode` (restored or rewound): viewers see a fresh start; the events up
 /// to here are not reported again; a realtime session's clock starts from its tick.
-static json go_on_from(LiveSession& live, std::unique_ptr<episode::Episode> episode) {
+json go_on_from(LiveSession& live, std::unique_ptr<episode::Episode> episode) {
   live.episode = std::move(episode);
   ++live.generation;
   live.events_reported = live.session().state().events.size();
@@ -290,7 +290,7 @@ json seek_session(LiveSession& live, const json& body) {
 /// The input that places an agent or object by name at a pose {x, y, z, roll, pitch, yaw} (checked; `at`
 /// is its JSON pointer prefix): seed 000's uniform pose interface. People and robots stay upright on
 /// the floor; a place off the floor is refused when the input is given.
-episode::Episode::Input place(const sim::Session& session, const std::string& name, const json& body, const std::string& at) {
+episode::Input place(const sim::Session& session, const std::string& name, const json& body, const std::string& at) {
   if (!body.is_object()) throw core::Error(core::ErrorCode::bad_request, "a pose is an object {x, y, z, roll, pitch, yaw}", {{"pointer", at}});
   for (const auto& [key, unused] : body.items()) {
     if (key != "x" && key != "y" && key != "z" && key != "roll" && key != "pitch" && key != "yaw") {
@@ -307,14 +307,71 @@ episode::Episode::Input place(const sim::Session& session, const std::string& na
       }
     }
     const int agent = session.index_of(session.agent_id(name));
-    return [agent, x, y, yaw](sim::Session& to) { to.place_agent(to.agent_at(agent), {x, y, yaw}); };
+    return episode::inputs::PlaceAgent{agent, {x, y, yaw}};
   }
   const auto& objects = session.model().objects;
   const auto found = std::find_if(objects.begin(), objects.end(), [&](const scenario::MovableObject& o) { return o.name == name; });
   if (found == objects.end()) throw core::Error(core::ErrorCode::not_found, "no agent or object '" + name + "'", {{"name", name}, {"pointer", at}});
   const int object = static_cast<int>(found - objects.begin());
-  const Eigen::Isometry3d pose = robots::to_isometry({x, y, z, roll, pitch, yaw});
-  return [object, pose](sim::Session& to) { to.place_object(object, pose); };
+  return episode::inputs::PlaceObject{object, {x, y, z, roll, pitch, yaw}};
+}
+
+}  // namespace hrisim::http
+
+namespace hrisim::http {
+
+namespace {
+
+/// An input as the API takes it: {"command": a command object} or {"place": name, "pose": {…}}.
+struct InputJson {
+  const scenario::Model& model;
+  json operator()(const episode::inputs::HumanCommand& given) const {
+    return {{"command", {{"human", model.agents[given.human].id}, {"command", given.text}}}};
+  }
+  json operator()(const episode::inputs::RobotTwist& given) const {
+    return {{"command", {{"robot", model.agents[given.robot].id}, {"velocity", {{"linear", given.twist.linear}, {"angular", given.twist.angular}}}}}};
+  }
+  json operator()(const episode::inputs::RobotJoints& given) const {
+    return {{"command",
+             {{"robot", model.agents[given.robot].id}, {"joints", {{"group", given.group}, {given.velocities ? "velocities" : "positions", given.targets}}}}}};
+  }
+  json operator()(const episode::inputs::RobotGripper& given) const {
+    return {{"command", {{"robot", model.agents[given.robot].id}, {"gripper", given.close ? "close" : "open"}}}};
+  }
+  json operator()(const episode::inputs::RobotRequest& given) const {
+    return {{"command", {{"robot", model.agents[given.robot].id}, {"request", model.routines[given.routine].name}}}};
+  }
+  json operator()(const episode::inputs::PlaceAgent& given) const {
+    return {{"place", model.agents[given.agent].id}, {"pose", {{"x", given.pose.x}, {"y", given.pose.y}, {"yaw", given.pose.theta}}}};
+  }
+  json operator()(const episode::inputs::PlaceObject& given) const {
+    const core::Pose3& pose = given.pose;
+    return {{"place", model.objects[given.object].name},
+            {"pose", {{"x", pose.x}, {"y", pose.y}, {"z", pose.z}, {"roll", pose.roll}, {"pitch", pose.pitch}, {"yaw", pose.yaw}}}};
+  }
+};
+
+}  // namespace
+
+json input_json(const scenario::Model& model, const episode::Input& input) { return std::visit(InputJson{model}, input); }
+
+episode::Input input_of(const sim::Session& session, const json& given, const std::string& at) {
+  if (given.is_object() && given.contains("command")) {
+    refuse_unknown_keys(given, {"command"}, at);
+    return checked_command(session, given["command"], at + "/command");
+  }
+  if (given.is_object() && given.contains("place")) {
+    refuse_unknown_keys(given, {"place", "pose"}, at);
+    if (!given["place"].is_string()) throw core::Error(core::ErrorCode::bad_request, "place: the name of an agent or object", {{"pointer", at + "/place"}});
+    if (!given.contains("pose")) throw core::Error(core::ErrorCode::bad_request, "pose: where to place it is required", {{"pointer", at + "/pose"}});
+    try {
+      return place(session, given["place"], given["pose"], at + "/pose");
+    } catch (const core::Error& e) {
+      if (e.code() != core::ErrorCode::not_found) throw;
+      throw core::Error(core::ErrorCode::bad_request, e.what(), {{"pointer", at + "/place"}});
+    }
+  }
+  throw core::Error(core::ErrorCode::bad_request, "an input is {\"command\": …} or {\"place\": name, \"pose\": …}", {{"pointer", at}});
 }
 
 }  // namespace hrisim::http

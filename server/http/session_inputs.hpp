@@ -17,6 +17,8 @@ namespace hrisim::http {
 
 /// The optional "action" of a step: a list of numbers.
 std::optional<std::vector<double>> action_of(const nlohmann::json& body);
+/// An action given at JSON pointer `at`: a list of numbers, or null for none.
+std::optional<std::vector<double>> action_at(const nlohmann::json& action, const std::string& at);
 /// 409 for stepping a session the server steps itself.
 void check_lockstep(const LiveSession& live);
 /// Gives a list of commands, each checked before any is given.
@@ -37,6 +39,10 @@ nlohmann::json take_snapshot(LiveSession& live);
 /// Goes back (or forth) to the snapshot the body names: the episode again from its start with the
 /// snapshot's inputs, up to its tick. Gymnasium's observation and info, with the status.
 nlohmann::json restore_snapshot(LiveSession& live, const nlohmann::json& body);
+/// The session goes on from `episode` (restored or rewound): viewers see a fresh start; the events up
+/// to here are not reported again; a realtime session's clock starts from its tick. Gymnasium's
+/// observation and info, with the status.
+nlohmann::json go_on_from(LiveSession& live, std::unique_ptr<episode::Episode> episode);
 /// Goes to the tick the body names ({"tick"}): back, the episode again from its start with its inputs
 /// up to that tick (a new branch from there); forward (lockstep only, at most kMaxStepsPerRequest
 /// ticks), the ticks a clock would give. Gymnasium's observation and info, with the status.
@@ -44,6 +50,10 @@ nlohmann::json seek_session(LiveSession& live, const nlohmann::json& body);
 /// The input that places an agent or object by name at a pose {x, y, z, roll, pitch, yaw} (checked; `at`
 /// is its JSON pointer prefix): seed 000's uniform pose interface. People and robots stay upright on
 /// the floor; a place off the floor is refused when the input is given.
-episode::Episode::Input place(const sim::Session& session, const std::string& name, const nlohmann::json& body, const std::string& at);
+episode::Input place(const sim::Session& session, const std::string& name, const nlohmann::json& body, const std::string& at);
+/// An input as the API takes it, {"command": a command} or {"place": name, "pose": {…}}, checked against
+/// the session (`at`: its JSON pointer); input_json writes one so.
+episode::Input input_of(const sim::Session& session, const nlohmann::json& given, const std::string& at);
+nlohmann::json input_json(const scenario::Model& model, const episode::Input& input);
 
 }  // namespace hrisim::http

@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/json_schema.hpp"
+#include "core/text.hpp"
 #include "http/episodes_api.hpp"
 #include "http/frames.hpp"
 #include "http/session_work.hpp"
@@ -12,6 +13,7 @@
 #include "http/session_inputs.hpp"
 #include "http/session_socket.hpp"
 #include "http/session_views.hpp"
+#include "http/snapshot_files.hpp"
 #include "metrics/episode_metrics.hpp"
 #include "runs/executor.hpp"
 #include "runs/spec.hpp"
@@ -42,6 +44,21 @@ Response created(Registry& registry, NewSession request) {
   }
 }
 
+/// Does `work` that simulates again (a restore, a seek, a start from a snapshot file) on the worker pool,
+/// holding one of the owner's places (live::Registry::admit_simulation); 503 with Retry-After when they
+/// are all taken.
+Response simulation_for(Registry& registry, const Caller& caller, std::function<Response()> work) {
+  std::shared_ptr<void> place;
+  try {
+    place = registry.admit_simulation(caller.owner);
+  } catch (const core::Error& error) {
+    Response response = Response::error(error);
+    response.headers.emplace_back("Retry-After", std::to_string(kSimulationRetryAfter));
+    return response;
+  }
+  return simulation_later(std::move(place), std::move(work));
+}
+
 /// A session that plays a stored episode again; stepped to its end it reaches the episode's state hash.
 NewSession replay_of(storage::Store& store, ScenarioCatalogue& catalogue, const std::string& id, const Caller& caller) {
   const EpisodeReplay episode = replay_of_episode(store, catalogue, id, caller, "/episode");
@@ -54,6 +71,7 @@ NewSession replay_of(storage::Store& store, ScenarioCatalogue& catalogue, const 
   replay.episode_id = id;
   replay.time_limit = episode.spec.max_time;
   replay.requests = episode.spec.requests;
+  replay.scenario_sha256 = episode.scenario_sha256;
   return replay;
 }
 
@@ -63,8 +81,16 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
 
   router.add("POST", "/api/v1/sessions", [catalogue, registry, store](const Request& request) {
     const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"scenario", "episode", "seed", "mode", "realtime_factor", "controller", "unwatched_grace"});
-    if (body.contains("episode")) {
+    refuse_unknown_keys(body, {"scenario", "episode", "snapshot", "seed", "mode", "realtime_factor", "controller", "unwatched_grace"});
+    if (body.contains("snapshot")) {
+      for (const char* key : {"scenario", "episode", "seed", "controller"}) {
+        if (body.contains(key)) {
+          throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": a session started from a snapshot takes the snapshot's own",
+                            {{"pointer", std::string("/") + key}});
+        }
+      }
+      read_snapshot_origin(body["snapshot"], "/snapshot");  // a malformed file is refused before any work
+    } else if (body.contains("episode")) {
       for (const char* key : {"scenario", "seed", "controller"}) {
         if (body.contains(key)) {
           throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": a replay of an episode takes the episode's own",
@@ -96,6 +122,24 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     if (body.contains("unwatched_grace") && !body["unwatched_grace"].is_null()) {
       unwatched_grace = std::chrono::seconds(integer_field(body, "unwatched_grace", 1, kMaxUnwatchedGrace.count(), 0));
     }
+    if (body.contains("snapshot")) {
+      return simulation_for(*registry, request.caller, [catalogue, registry, body, mode, factor, unwatched_grace, caller = request.caller] {
+        NewSession settings;
+        settings.mode = mode;
+        settings.realtime_factor = factor;
+        settings.unwatched_grace = unwatched_grace;
+        try {
+          const auto live = start_from_snapshot(*registry, *catalogue, caller, body["snapshot"], std::move(settings));
+          std::lock_guard lock(live->mutex);
+          Response response = Response::json(201, status_of(*live));
+          response.headers.emplace_back("Location", "/api/v1/sessions/" + live->id);
+          return response;
+        } catch (const core::Error& error) {
+          if (error.code() != core::ErrorCode::unavailable) throw;
+          return refused(error);
+        }
+      });
+    }
     // Compiling an upload and building the session's world (physics, sensors) are work for the pool.
     return Response::later([catalogue, registry, store, body, scenario, seed, mode, factor, unwatched_grace, caller = request.caller] {
       if (body.contains("episode")) {
@@ -117,7 +161,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
         model = runs::with_controller(entry->source.document, *controller, catalogue->options(*entry).load, errors).model;
         runs::throw_if_problems(errors);
       }
-      return created(*registry, {scenario, model, seed, mode, factor, controller, caller.owner, unwatched_grace, "", std::nullopt, {}});
+      return created(*registry, {scenario, model, seed, mode, factor, controller, caller.owner, unwatched_grace, "", std::nullopt, {}, entry->content_sha256()});
     });
   });
 
@@ -174,6 +218,23 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     });
   });
 
+  router.add("GET", "/api/v1/sessions/{id}/snapshots/{snapshot}", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
+    return locked(live, [name = request.path_params.at("snapshot")](LiveSession& session) {
+      const auto found = session.snapshots.find(name);
+      if (found == session.snapshots.end()) throw core::Error(core::ErrorCode::not_found, "session " + session.id + " has no snapshot '" + name + "'");
+      return download(core::json_text(snapshot_file(session, name, found->second)), "application/json",
+                      session.scenario + "-" + session.id + "-" + name + ".json");
+    });
+  });
+
+  router.add("GET", "/api/v1/sessions/{id}/inputs", [registry](const Request& request) {
+    const auto live = registry->find(request.path_params.at("id"), request.caller);
+    return locked(live, [](LiveSession& session) {
+      return Response::json(200, {{"tick", session.session().state().tick}, {"items", input_log_json(session.session().model(), session.episode->input_log())}});
+    });
+  });
+
   router.add("DELETE", "/api/v1/sessions/{id}/snapshots/{snapshot}", [registry](const Request& request) {
     const auto live = registry->find(request.path_params.at("id"), request.caller);
     return locked(live, [name = request.path_params.at("snapshot")](LiveSession& session) {
@@ -190,15 +251,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     router.add("POST", route.first, [registry, go](const Request& request) {
       const auto live = registry->find(request.path_params.at("id"), request.caller);
       const json body = json_object_body(request);
-      std::shared_ptr<void> place;
-      try {
-        place = registry->admit_simulation(request.caller.owner);
-      } catch (const core::Error& error) {
-        Response response = Response::error(error);
-        response.headers.emplace_back("Retry-After", std::to_string(kSimulationRetryAfter));
-        return response;
-      }
-      return simulation_later(std::move(place), [live, body, go] {
+      return simulation_for(*registry, request.caller, [live, body, go] {
         std::lock_guard lock(live->mutex);
         return Response::json(200, go(*live, body));
       });
@@ -247,8 +300,19 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     refuse_unknown_keys(body, {"seed", "options"});
     const json options = body.value("options", json::object());
     if (!options.is_object()) throw core::Error(core::ErrorCode::bad_request, "options: an object", {{"pointer", "/options"}});
-    for (const auto& [key, unused] : options.items()) {
-      if (key != "poses") throw core::Error(core::ErrorCode::bad_request, "options: unknown field '" + key + "'", {{"pointer", "/options/" + key}});
+    refuse_unknown_keys(options, {"poses", "snapshot"}, "/options");
+    if (options.contains("snapshot")) {
+      // Back to a moment kept in a file: its own seed, nothing placed anew; simulated again on the pool.
+      for (const char* key : {"seed", "poses"}) {
+        if (body.contains(key) || options.contains(key)) {
+          throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": a snapshot brings its own",
+                            {{"pointer", body.contains(key) ? std::string("/") + key : std::string("/options/") + key}});
+        }
+      }
+      return simulation_for(*registry, request.caller, [live, snapshot = options["snapshot"]] {
+        std::lock_guard lock(live->mutex);
+        return Response::json(200, reset_to_snapshot(*live, snapshot, "/options/snapshot"));
+      });
     }
     const json poses = options.value("poses", json::object());
     if (!poses.is_object()) throw core::Error(core::ErrorCode::bad_request, "options.poses: {name: pose}", {{"pointer", "/options/poses"}});
@@ -256,24 +320,18 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
     return Response::later([live, body, poses] {
       std::lock_guard lock(live->mutex);
       const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, live->seed);
-      // A fresh session of the same scenario: everything starts again from tick 0, then the poses given
+      // A fresh episode of the same scenario: everything starts again from tick 0, then the poses given
       // are set (all or none: a bad one leaves the old session as it was).
-      auto fresh = std::make_unique<LiveSession>();
-      fresh->seed = seed;
-      fresh->recording_memory = live->recording_memory;
-      fresh->crowd_threads = live->crowd_threads;
-      fresh->time_limit = live->time_limit;
-      fresh->requests = live->requests;
-      fresh->start(live->session().shared_model());
+      std::unique_ptr<episode::Episode> fresh = live->new_episode(live->session().shared_model(), seed);
       for (const auto& [name, pose] : poses.items()) {
-        fresh->episode->give(place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name)));
+        fresh->give(place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name)));
       }
       live->seed = seed;
       ++live->generation;
-      live->episode = std::move(fresh->episode);
+      live->episode = std::move(fresh);
       live->snapshots.clear();
       live->events_reported = 0;
-      live->realtime_origin = fresh->realtime_origin;
+      live->realtime_origin = Clock::now();
       live->realtime_origin_tick = 0;
       // Gymnasium's reset: the first observation and info, with the session's status.
       json reply = status_of(*live);

@@ -60,6 +60,7 @@ struct LiveSession {
   std::string episode_id;
   std::optional<double> time_limit;
   std::vector<std::pair<double, std::string>> requests;
+  std::string scenario_sha256;  ///< of the scenario's document: a snapshot file starts only on the same scenario
   std::mutex mutex;  ///< one request at a time works on the session
   std::unique_ptr<episode::Episode> episode;
   core::MemoryBudget* recording_memory = nullptr;  ///< shared by every recording of the server
@@ -83,12 +84,16 @@ struct LiveSession {
   /// The Gymnasium environment; null without a robot that can act.
   const tasks::Environment* environment() const { return episode->environment(); }
 
-  /// A fresh episode of the same model (the lock held, or before anyone else has it).
-  void start(std::shared_ptr<const scenario::Model> model) {
-    episode = std::make_unique<episode::Episode>(
-        std::move(model), static_cast<std::uint64_t>(seed),
+  /// A fresh episode of `model` with `seed` and this session's settings, not yet its own.
+  std::unique_ptr<episode::Episode> new_episode(std::shared_ptr<const scenario::Model> model, std::int64_t with_seed) const {
+    return std::make_unique<episode::Episode>(
+        std::move(model), static_cast<std::uint64_t>(with_seed),
         episode::Settings{time_limit, requests, true, sim::RecorderLimits{kMaxLiveRecordedBodies, recording_memory}, crowd_threads,
                           episode::CheckpointLimits{episode::kCheckpointInterval, episode::kMaxCheckpointBytes, recording_memory}});
+  }
+  /// A fresh episode of the same model (the lock held, or before anyone else has it).
+  void start(std::shared_ptr<const scenario::Model> model) {
+    episode = new_episode(std::move(model), seed);
     events_reported = 0;
     realtime_origin = Clock::now();
     realtime_origin_tick = 0;

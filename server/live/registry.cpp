@@ -75,6 +75,7 @@ std::shared_ptr<LiveSession> Registry::create(NewSession request) {
   live->episode_id = std::move(request.episode_id);
   live->time_limit = request.time_limit;
   live->requests = std::move(request.requests);
+  live->scenario_sha256 = std::move(request.scenario_sha256);
   live->recording_memory = limits_.recording_memory;
   live->crowd_threads = limits_.crowd_threads;
   live->start(std::move(request.model));

@@ -41,6 +41,7 @@ struct NewSession {
   std::string episode_id;  ///< a replay of this stored episode, with its run's settings below
   std::optional<double> time_limit;
   std::vector<std::pair<double, std::string>> requests;
+  std::string scenario_sha256;  ///< of the scenario's document, as its snapshot files name it
 };
 
 /// At most `max_sessions` run at once; finished ones do not count, but the registry keeps at most that

@@ -6,6 +6,7 @@ The server is started once for the module on a free loopback port and stopped at
 second one with --token runs for the token test only. Without HRISIM_BINARY the tests are skipped.
 """
 
+import json
 import os
 import re
 import shutil
@@ -145,6 +146,23 @@ class EnvTest(unittest.TestCase):
             oa = a.step(action)[0]
             ob = b.step(action)[0]
             np.testing.assert_array_equal(oa, ob)
+
+    def test_reset_from_a_saved_snapshot_comes_back_to_that_moment_in_another_env(self):
+        env = self.make(seed=3)
+        env.reset()
+        for _ in range(30):
+            env.step([0.2, 0.1])
+        saved = json.loads(json.dumps(env.save_snapshot()))  # as a file keeps it
+        later = [env.step([0.1, -0.1])[0] for _ in range(10)]
+        other = self.make(seed=99)
+        obs, info = other.reset(options={"snapshot": saved})
+        self.assertEqual(info["tick"], saved["tick"])
+        self.assertEqual(other.last_status["seed"], 3)
+        again = [other.step([0.1, -0.1])[0] for _ in range(10)]
+        np.testing.assert_array_equal(np.array(later), np.array(again))
+        with self.assertRaises(hrisim.HrisimError) as caught:
+            other.reset(seed=1, options={"snapshot": saved})
+        self.assertEqual(caught.exception.details.get("pointer"), "/seed")
 
     def test_a_wrong_action_length_is_an_error_naming_the_action(self):
         env = self.make()

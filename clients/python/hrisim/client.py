@@ -180,6 +180,27 @@ class Client:
             body["realtime_factor"] = realtime_factor
         return self.post("/api/v1/sessions", body)
 
+    def start_from_snapshot(self, snapshot, mode="lockstep", realtime_factor=None):
+        """A new session at the moment a snapshot file (a dict, as ``snapshot_file`` returns it) keeps:
+        its scenario, seed, controller and inputs, simulated again to its tick on this server."""
+        body = {"snapshot": snapshot, "mode": mode}
+        if realtime_factor is not None:
+            body["realtime_factor"] = realtime_factor
+        return self.post("/api/v1/sessions", body)
+
+    def take_snapshot(self, session_id):
+        """Keeps the session's present moment → ``{"snapshot", "tick", "state_hash"}``."""
+        return self.post("/api/v1/sessions/%s/snapshots" % self._q(session_id))
+
+    def snapshot_file(self, session_id, snapshot_id):
+        """A kept snapshot as a file (a dict; ``json.dump`` it to keep it), which ``start_from_snapshot``
+        or ``reset(options={"snapshot": …})`` on any server of the same version goes back to."""
+        return self.get("/api/v1/sessions/%s/snapshots/%s" % (self._q(session_id), self._q(snapshot_id)))
+
+    def session_inputs(self, session_id):
+        """What drove the session so far: its env steps, ticks, commands and placements, each with its tick."""
+        return self.get("/api/v1/sessions/%s/inputs" % self._q(session_id))
+
     def sessions(self):
         return self.get("/api/v1/sessions")
 

@@ -256,13 +256,16 @@ class Env(_EnvBase):
         reset and afterwards one drawn from the previous episode's seed, so that successive episodes
         differ (a task draws its human's place, gesture or walking style from it) and the sequence is
         the same for the same first seed, as Gymnasium's reset continues its generator.
-        ``options`` as POST .../reset's (``{"poses": {"robot": {"x", "y", "yaw"}}}``).
+        ``options`` as POST .../reset's: ``{"poses": {"robot": {"x", "y", "yaw"}}}``, or
+        ``{"snapshot": file}`` to start the episode from a saved moment (``save_snapshot``), with the
+        seed the file keeps (give no ``seed`` then).
         """
         if self._closed:
             raise HrisimError(None, "closed", "the environment is closed")
         if _gym is not None and seed is not None:
             _gym.Env.reset(self, seed=seed)
-        if seed is None:
+        from_snapshot = isinstance(options, dict) and "snapshot" in options
+        if seed is None and not from_snapshot:
             seed = self._next_seed
         reply = self.client.reset_session(self.session_id, seed=seed, options=options)
         self._next_seed = int(np.random.default_rng(int(reply["seed"])).integers(0, 2 ** 53))
@@ -271,6 +274,12 @@ class Env(_EnvBase):
         info.setdefault("tick", reply.get("tick"))
         info.setdefault("time", reply.get("time"))
         return self._observe(reply), info
+
+    def save_snapshot(self):
+        """The episode's present moment as a snapshot file (a dict): ``reset(options={"snapshot": it})``
+        comes back to it, here or on another server of the same version, bit for bit."""
+        taken = self.client.take_snapshot(self.session_id)
+        return self.client.snapshot_file(self.session_id, taken["snapshot"])
 
     def _observe(self, reply):
         if self.observation_camera is None:

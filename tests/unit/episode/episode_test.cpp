@@ -79,7 +79,7 @@ TEST(Episode, RewindingGivesTheStateOfThatTickWithItsInputs) {
   const auto model = bundled("elevator");
   Episode original(model, 3);
   std::vector<std::uint64_t> hashes;  // at each tick
-  const auto drive = [](sim::Session& session) { session.command_robot_twist(session.agent_id("robot"), {0.2, 0.1}); };
+  const Input drive = inputs::RobotTwist{model->find_agent("robot"), {0.2, 0.1}};
   for (int t = 0; t < 240; ++t) {
     if (t == 120) original.give(drive);
     hashes.push_back(original.session().state_hash());
@@ -126,9 +126,7 @@ TEST_P(Snapshots, RestoringThenSteppingIsBitIdenticalToSteppingTheOriginal) {
     for (std::size_t a = 0; a < model->agents.size(); ++a) {
       if (model->agents[a].kind != scenario::AgentKind::human) continue;
       const sim::AgentState& person = original.session().state().agents[a];
-      original.give([a, at = person.position, heading = person.heading](sim::Session& session) {
-        session.place_agent(session.agent_at(static_cast<int>(a)), {at.x(), at.y(), heading + 0.5});
-      });
+      original.give(inputs::PlaceAgent{static_cast<int>(a), {person.position.x(), person.position.y(), person.heading + 0.5}});
       break;
     }
     if (original.environment()) original.step(std::nullopt, 3);
@@ -212,9 +210,7 @@ struct Path {
     for (std::int64_t t = from; t < to && !episode.over(); ++t) {
       if (t == 250 && t > from) {  // a rewind to tick 250 has it already
         const sim::AgentState& person = session.state().agents[first_person(session.model())];
-        episode.give([a = first_person(session.model()), at = person.position, heading = person.heading](sim::Session& to_session) {
-          to_session.place_agent(to_session.agent_at(a), {at.x(), at.y(), heading + 0.5});
-        });
+        episode.give(inputs::PlaceAgent{first_person(session.model()), {person.position.x(), person.position.y(), person.heading + 0.5}});
       }
       if (path) path->hashes.push_back(session.state_hash());
       episode.tick();
