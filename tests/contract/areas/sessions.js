@@ -384,6 +384,33 @@ describe('sessions', () => {
     assert.equal((await api.delete(at(`/snapshots/${taken.json.snapshot}`))).status, 404);
   });
 
+  it('GET …/snapshots/{snapshot} is a file to keep: POST /api/v1/sessions {snapshot} and POST …/reset {options: {snapshot}} come back to it; GET …/inputs is its input log', async () => {
+    const taken = await api.post(at('/snapshots'));
+    assert.equal(taken.status, 201, taken.body);
+    const file = await api.get(at(`/snapshots/${taken.json.snapshot}`));
+    assert.equal(file.status, 200, file.body);
+    assert.match(file.headers['content-disposition'], /^attachment/);
+    assert.equal(file.json.tick, taken.json.tick);
+    assert.equal(file.json.state_hash, taken.json.state_hash);
+    const inputs = await api.get(at('/inputs'));
+    assert.equal(inputs.status, 200, inputs.body);
+    assert.deepEqual(inputs.json.items, file.json.inputs, 'nothing was given since');
+    const started = await api.post('/api/v1/sessions', { snapshot: file.json });
+    assert.equal(started.status, 201, started.body);
+    assert.equal(started.json.tick, taken.json.tick);
+    assert.equal(started.json.state_hash, taken.json.state_hash);
+    assert.equal((await api.delete(`/api/v1/sessions/${started.json.id}`)).status, 204);
+    const back = await api.post(at('/reset'), { options: { snapshot: file.json } });
+    assert.equal(back.status, 200, back.body);
+    assert.equal(back.json.state_hash, taken.json.state_hash);
+    const malformed = await api.post('/api/v1/sessions', { snapshot: { ...file.json, seed: -1 } });
+    assert.equal(malformed.status, 400);
+    assert.equal(malformed.json.error.details.pointer, '/snapshot/seed');
+    const withSeed = await api.post(at('/reset'), { seed: 1, options: { snapshot: file.json } });
+    assert.equal(withSeed.status, 400);
+    assert.equal(withSeed.json.error.details.pointer, '/seed');
+  });
+
   it('GET …/scene: the people\'s body capsules, the robot\'s links and the doors as a binary frame; all=true adds the floor and walls', async () => {
     const reply = await api.get(at('/scene'));
     assert.equal(reply.status, 200);
