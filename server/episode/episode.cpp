@@ -70,7 +70,11 @@ Episode::Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t see
 
 double Episode::step(const std::optional<std::vector<double>>& action, std::int64_t n) {
   if (action && environment_) tasks::check_action(*action, static_cast<std::size_t>(environment_->action_space().shape.at(0)));
-  log_.push_back({Snapshot::Entry::Kind::step, session_->state().tick, std::nullopt, action, 0});
+  // Env steps without a new action go on the last run of env steps: replayed, it gives them the same
+  // way (no action after its first), and a client stepping one at a time keeps the log short.
+  if (action || log_.empty() || log_.back().kind != Snapshot::Entry::Kind::step) {
+    log_.push_back({Snapshot::Entry::Kind::step, session_->state().tick, std::nullopt, action, 0});
+  }
   double reward = 0.0;
   for (std::int64_t i = 0; i < n && !over(); ++i) {
     ++log_.back().count;

@@ -9,6 +9,7 @@
 #include "http/request_helpers.hpp"
 #include "http/session_limits.hpp"
 #include "http/session_views.hpp"
+#include "scenario/human_commands.hpp"
 
 namespace hrisim::http {
 
@@ -44,7 +45,7 @@ static episode::Input checked_command(const sim::Session& session, const json& c
       throw core::Error(core::ErrorCode::bad_request, "command: the text of a command is required", {{"pointer", at + "/command"}});
     }
     const std::string text = command["command"];
-    const scenario::Action action = session.parse_human_command(id, text);  // throws when it is wrong
+    const scenario::Action action = scenario::parse_human_command(session.model(), agent, text);  // throws when it is wrong
     return episode::inputs::HumanCommand{agent, action, text};
   }
   refuse_unknown_keys(command, {"robot", "velocity", "joints", "gripper", "request"});

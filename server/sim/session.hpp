@@ -81,16 +81,10 @@ class Session {
   void request(AgentId robot, int routine);
   /// A robot will ask for a routine at simulation time `time`.
   void schedule_request(double time, AgentId robot, int routine);
-  /// A textual command to a human, as SimVis3D's command interface: "walk X Y", "wait S",
-  /// "turn_to RAD", "look_at NAME" (an agent or a location), "motion NAME [S]" (a motion primitive).
-  /// It goes before whatever the human was doing, which starts again afterwards. Throws
-  /// core::Error(bad_request) saying what is wrong.
-  void command_human(AgentId human, std::string_view text);
-  /// The action a command would give, checked but not given.
-  scenario::Action parse_human_command(AgentId human, std::string_view text) const;
-  /// Gives a human an action as a command (before whatever it was doing), `text` saying what for the
-  /// event. The action's agent is the human's index; parse_human_command(), walk_action() and
-  /// motion_action() make them.
+  /// Gives a human an action as a command: it goes before whatever they were doing, which starts again
+  /// afterwards; `text` says what for the event. The action's agent is the human's index;
+  /// scenario::parse_human_command() (the text command language), walk_action() and motion_action()
+  /// make them. Throws core::Error(bad_request) for an action to anyone but a human.
   void command_human(const scenario::Action& action, std::string text);
   /// Sets the velocity of a robot without a model, in the map frame, until changed.
   void command_robot(AgentId robot, const Vec2& velocity);

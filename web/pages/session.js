@@ -1,7 +1,7 @@
 // #/sessions/ID: a live lockstep session. The page steps it itself over the session's WebSocket at the
 // chosen speed (one step message in flight at most), draws the agents in 3D with the robot's laser
 // and proxemic rings, shows a camera's frames, the choreography's progress and the events as they
-// happen, goes back (or forth) to a tick, and lets the user drive the robot, command a human or make a
+// happen, what was given when (and a snapshot file of the moment), goes back (or forth) to a tick, and lets the user drive the robot, command a human or make a
 // robot request.
 // The driver (session/driver.js) talks to the server; each panel under session/ renders its part of
 // what the driver hears. This page lays them out and owns the session's head and its end.
@@ -15,6 +15,7 @@ import { cameraPanel } from '../session/camera.js';
 import { taskPanel } from '../session/task.js';
 import { teleopPanel } from '../session/teleop.js';
 import { eventsPanel } from '../session/events.js';
+import { inputsPanel } from '../session/inputs.js';
 import { agentsPanel } from '../session/agents.js';
 import { humanCommandPanel, robotRequestPanel } from '../session/commands.js';
 
@@ -89,7 +90,7 @@ export async function render(root, { id }, query) {
     eventsPanel(driver),
     agentsPanel(driver, world.agents),
     h('div', { class: 'session-commands' }, humans.length ? humanCommandPanel(driver, humans) : null,
-      robot && routines.length ? robotRequestPanel(driver, { robot, routines, answered }) : null)));
+      robot && routines.length ? robotRequestPanel(driver, { robot, routines, answered }) : null, inputsPanel(driver, id))));
   scene.mount();
   if (shownCamera?.position) scene.setCameraPose(shownCamera);
   else if (shownCamera) scene.setView(shownCamera.view);

@@ -8,6 +8,7 @@
 // objects as the scene frames have them, moving at the display rate while playing, and goes full screen;
 // the 3D view and its camera are kept in the address.
 const assert = require('node:assert/strict');
+const fs = require('node:fs');
 const { describe, it } = require('node:test');
 const context = require('../lib/context');
 const { newPage, screenshot } = require('../lib/browser');
@@ -129,6 +130,18 @@ describe('session', () => {
       await tab.page.press('.human-command input', 'Enter');
       await tab.page.waitForSelector('.human-command .message.error');
       assert.match(await tab.page.textContent('.human-command .message'), /not free floor/);
+
+      // What was given when, newest first; the moment as a snapshot file, which starts a session again.
+      await tab.page.waitForSelector('.input-list li:has-text("ada: walk 2 3")');
+      assert.equal(await tab.page.locator('.input-list li:has-text("robot asks for call_elevator_floor2")').count(), 1);
+      assert.match(await tab.page.textContent('.input-list li:first-child'), /ada: walk 2 3/);
+      const [saved] = await Promise.all([tab.page.waitForEvent('download', { timeout: 10000 }), tab.page.click('.inputs-panel button:has-text("Save a snapshot file")')]);
+      const file = JSON.parse(fs.readFileSync(await saved.path(), 'utf8'));
+      const now = (await call('GET', `/api/v1/sessions/${id}`)).body;
+      assert.equal(file.state_hash, now.state_hash);
+      assert.equal(file.tick, now.tick);
+      assert.match(saved.suggestedFilename(), /^elevator-.*\.json$/);
+      assert.equal((await call('GET', `/api/v1/sessions/${id}/snapshots`)).body.items.length, 0, 'kept in the file, not in the session');
 
       await screenshot(tab.page, 'session');
       // On a narrow screen the agents' table scrolls in its panel, not the page.

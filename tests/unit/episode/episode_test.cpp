@@ -147,6 +147,36 @@ INSTANTIATE_TEST_SUITE_P(Bundled, Snapshots,
                                            "elevator", "follow_human", "mirror_gesture", "pair_walking", "perpendicular_crossing",
                                            "pick_and_place", "queue"));
 
+TEST(Snapshots, StepsWithoutANewActionJoinTheLastRunAndEveryEntryKeepsItsTick) {
+  const auto model = bundled("elevator");
+  Episode original(model, 5);
+  original.step(std::vector<double>{0.2, 0.1});
+  for (int i = 0; i < 50; ++i) original.step();  // a client stepping one at a time, as the browser does
+  original.give(inputs::RobotTwist{model->find_agent("robot"), {0.1, -0.2}});
+  for (int i = 0; i < 10; ++i) original.step();
+  original.step(std::vector<double>{0.0, 0.3}, 5);
+  const Episode::Snapshot snapshot = original.snapshot();
+  ASSERT_EQ(snapshot.log.size(), 4u) << "a run of steps, the command, a run of steps, the run with a new action";
+  EXPECT_EQ(snapshot.log[0].count, 51);
+  EXPECT_EQ(snapshot.log[1].tick, 51);
+  EXPECT_EQ(snapshot.log[2].tick, 51);
+  EXPECT_EQ(snapshot.log[3].tick, 61);
+  EXPECT_EQ(original.restore(snapshot)->session().state_hash(), snapshot.state_hash);
+
+  // A log that says an input came at another tick is refused there: as the snapshot's own, the
+  // simulation was not deterministic (internal); as a file from elsewhere, the file is the suspect.
+  Episode::Snapshot moved = snapshot;
+  moved.log[1].tick = 50;
+  try {
+    original.restore(moved, true);
+    ADD_FAILURE() << "restored a log with a moved input";
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.code(), core::ErrorCode::conflict);
+    EXPECT_EQ(e.details().value("input", -1), 1);
+  }
+  EXPECT_THROW(original.restore(moved), core::Error);
+}
+
 /// A bundled scenario kept going for `seconds` (at 60 Hz): its first person waits that long at the end,
 /// and its time limit (a task's episode length) is that long, so that a seek can be tried deep into an
 /// episode.

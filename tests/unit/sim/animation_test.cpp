@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "sim/scene_view.hpp"
 #include "sim/session.hpp"
+#include "support/commands.hpp"
 #include "support/scenarios.hpp"
 
 namespace hrisim::sim {
@@ -84,10 +85,10 @@ TEST(Animation, AMotionPlaysHoldsItsLastPoseAndBlendsOutOnceThePersonWalks) {
   EXPECT_EQ(session.state().agents[ana].motion, nullptr);
 
   // The same by command, and what a command may not say.
-  session.command_human(session.agent_id("ana"), "motion wave 1.5");
-  EXPECT_THROW(session.command_human(session.agent_id("ana"), "motion dance"), core::Error);
-  EXPECT_THROW(session.command_human(session.agent_id("ana"), "motion wave -1"), core::Error);
-  EXPECT_THROW(session.command_human(session.agent_id("ana"), "motion wave 2 3"), core::Error);
+  testing::command(session, "ana", "motion wave 1.5");
+  EXPECT_THROW(testing::command(session, "ana", "motion dance"), core::Error);
+  EXPECT_THROW(testing::command(session, "ana", "motion wave -1"), core::Error);
+  EXPECT_THROW(testing::command(session, "ana", "motion wave 2 3"), core::Error);
   session.tick();
   EXPECT_EQ(session.state().agents[ana].motion, humans::builtin_motion("wave"));
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "sim/session.hpp"
+#include "support/commands.hpp"
 #include "support/scenarios.hpp"
 
 namespace hrisim::sim {
@@ -133,13 +134,13 @@ TEST(Behaviours, TheRegularOneDoesNotReactAndACommandChangesTheBehaviour) {
   Watch watch(scene("regular", {{"x", 9}, {"y", 3}, {"theta", 3.14159}}, {{"x", 2}, {"y", 2}, {"theta", 0}}, kWalkWest));
   watch.run_until(3.0);
   EXPECT_LT(watch.reaction_started(), 0.0);
-  watch.session.command_human(watch.session.agent_id("p"), "behaviour surprised");
+  testing::command(watch.session, "p", "behaviour surprised");
   EXPECT_EQ(watch.person().behaviour.type, humans::BehaviourType::regular) << "a command acts at the next tick";
   watch.run_until(8.0);
   EXPECT_EQ(watch.person().behaviour.type, humans::BehaviourType::surprised);
   EXPECT_DOUBLE_EQ(watch.person().behaviour.detection_distance, 4.0);
   EXPECT_GE(watch.reaction_started(), 3.0);
-  EXPECT_THROW(watch.session.command_human(watch.session.agent_id("p"), "behaviour grumpy"), core::Error);
+  EXPECT_THROW(testing::command(watch.session, "p", "behaviour grumpy"), core::Error);
 }
 
 TEST(Behaviours, AScenarioOverridesTheDefaults) {

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "episode/episode.hpp"
+#include "support/commands.hpp"
 #include "support/events.hpp"
 #include "support/scenarios.hpp"
 
@@ -538,8 +539,7 @@ TEST(Session, TextualCommandsGoFirstAndTheChoreographyResumes) {
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}, "preferred_speed": 1.2}, {"id": "ben", "start": {"x": 8, "y": 8}}],
     "steps": [{"name": "walk", "actions": [{"agent": "ana", "goto": {"pose": {"x": 8, "y": 2}}}]}]})"), 1);
   Session& session = session_run.session();
-  const AgentId ana = session.agent_id("ana");
-  session.command_human(ana, "walk 2 8");
+  testing::command(session, "ana", "walk 2 8");
   double closest_to_detour = 1e9;
   while (!session.state().finished && session.time() < 50) {
     session.tick();
@@ -562,7 +562,7 @@ TEST(Session, BadTextualCommandsSayWhatIsWrong) {
   const AgentId ana = session.agent_id("ana");
   const auto message = [&](AgentId who, const std::string& text) {
     try {
-      session.command_human(who, text);
+      session.command_human(scenario::parse_human_command(session.model(), session.index_of(who), text), text);
     } catch (const core::Error& e) {
       EXPECT_EQ(e.code(), core::ErrorCode::bad_request) << text;
       return std::string(e.what());

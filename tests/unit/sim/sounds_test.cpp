@@ -12,6 +12,7 @@
 #include "scenario/load.hpp"
 #include "sim/session.hpp"
 #include "sim/sounds.hpp"
+#include "support/commands.hpp"
 #include "support/scenarios.hpp"
 #include "support/temp_dir.hpp"
 
@@ -155,12 +156,12 @@ TEST(Sounds, APersonSaysAClipAndTheSayCommandWorks) {
   for (int tick = 0; tick < 10; ++tick) session.tick();
   EXPECT_EQ(session.state().current_step, 1) << "the say action lasts the clip's 0.5 s";
 
-  session.command_human(session.agent_id("ada"), "say 1.5");
-  session.command_human(session.agent_id("ada"), "say hello");
+  testing::command(session, "ada", "say 1.5");
+  testing::command(session, "ada", "say hello");
   EXPECT_EQ(session.state().commanded.back().kind, scenario::Action::Kind::say);
-  EXPECT_THROW(session.command_human(session.agent_id("ada"), "say goodbye"), core::Error);
-  EXPECT_THROW(session.command_human(session.agent_id("ada"), "say -2"), core::Error);
-  EXPECT_THROW(session.command_human(session.agent_id("ada"), "say"), core::Error);
+  EXPECT_THROW(testing::command(session, "ada", "say goodbye"), core::Error);
+  EXPECT_THROW(testing::command(session, "ada", "say -2"), core::Error);
+  EXPECT_THROW(testing::command(session, "ada", "say"), core::Error);
 }
 
 TEST(Sounds, WhatTheSoundSettingsRefuse) {
