@@ -276,7 +276,7 @@ void Episode::replay(const Snapshot::Entry& entry) {
       step(entry.action, entry.count);
       return;
     case Snapshot::Entry::Kind::ticks:
-      for (std::int64_t t = 0; t < entry.count; ++t) tick();
+      for (std::int64_t t = 0; t < entry.count && !over(); ++t) tick();  // a file's count may be far past the end
       return;
   }
 }

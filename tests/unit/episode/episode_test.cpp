@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
@@ -175,6 +176,11 @@ TEST(Snapshots, StepsWithoutANewActionJoinTheLastRunAndEveryEntryKeepsItsTick) {
     EXPECT_EQ(e.details().value("input", -1), 1);
   }
   EXPECT_THROW(original.restore(moved), core::Error);
+
+  // A file may ask for more ticks than the episode has: they end at its end, not after 2^63 turns.
+  Episode::Snapshot endless = snapshot;
+  endless.log.push_back({Episode::Snapshot::Entry::Kind::ticks, snapshot.tick, std::nullopt, std::nullopt, std::numeric_limits<std::int64_t>::max()});
+  EXPECT_THROW(original.restore(endless, true), core::Error) << "the end's state is not the snapshot's";
 }
 
 /// A bundled scenario kept going for `seconds` (at 60 Hz): its first person waits that long at the end,
