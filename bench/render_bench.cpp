@@ -14,7 +14,7 @@
 #include "render/offscreen_context.hpp"
 #include "render/scene_renderer.hpp"
 #include "scenario/load.hpp"
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 #include "sim/session.hpp"
 
 namespace {

@@ -1,6 +1,6 @@
 #pragma once
 // One episode of a scenario with a seed: the session, the Gymnasium environment of its scenario (the
-// benchmark task, or the default navigation view; none without a robot that can act) and the recording
+// benchmark task, or the default navigation task; none without a robot that can act) and the recording
 // its metrics are computed from. Every driver goes through it, so a scenario behaves the same in a
 // session stepped by a client, a realtime session, a run and a replay:
 //

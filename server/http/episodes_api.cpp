@@ -14,7 +14,7 @@
 #include "runs/episode.hpp"
 #include "runs/report.hpp"
 #include "runs/video.hpp"
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 #include "storage/store.hpp"
 
 namespace hrisim::http {

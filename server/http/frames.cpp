@@ -10,7 +10,7 @@
 #include "core/error.hpp"
 #include "http/request_helpers.hpp"
 #include "render/image_codec.hpp"
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 
 namespace hrisim::http {
 

@@ -10,7 +10,7 @@
 #include "render/image_codec.hpp"
 #include "render/scene_renderer.hpp"
 #include "scenario/source.hpp"
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 #include "sim/session.hpp"
 #include "storage/store.hpp"
 

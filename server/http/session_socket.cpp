@@ -12,7 +12,7 @@
 #include "http/session_limits.hpp"
 #include "http/session_inputs.hpp"
 #include "http/session_views.hpp"
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 
 namespace hrisim::http {
 namespace {

@@ -10,9 +10,9 @@
 #include "episode/episode.hpp"
 #include "http/session_work.hpp"
 #include "sim/event_json.hpp"
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 #include "sim/session.hpp"
-#include "tasks/view.hpp"
+#include "tasks/task.hpp"
 
 namespace hrisim::http {
 

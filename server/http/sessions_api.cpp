@@ -18,7 +18,7 @@
 #include "runs/executor.hpp"
 #include "runs/spec.hpp"
 #include "storage/store.hpp"
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 
 namespace hrisim::http {
 

@@ -24,7 +24,7 @@ Shard checked(long long index, long long count, const std::string& from) {
 }
 
 /// A scheduler's variable as a whole number; nullopt when it is not set.
-std::optional<long long> variable(const Environment& environment, const char* name) {
+std::optional<long long> variable(const VariableReader& environment, const char* name) {
   const auto text = environment(name);
   if (!text) return std::nullopt;
   const auto value = whole(*text);
@@ -34,7 +34,7 @@ std::optional<long long> variable(const Environment& environment, const char* na
 
 }  // namespace
 
-Shard parse_shard(const std::string& text, const Environment& environment) {
+Shard parse_shard(const std::string& text, const VariableReader& environment) {
   if (text == "auto") {
     if (const auto id = variable(environment, "SLURM_ARRAY_TASK_ID")) {
       const auto count = variable(environment, "SLURM_ARRAY_TASK_COUNT");

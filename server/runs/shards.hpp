@@ -17,7 +17,7 @@ struct Shard {
 };
 
 /// Reads an environment variable (std::getenv in the command line, a map in tests).
-using Environment = std::function<std::optional<std::string>(const char* name)>;
+using VariableReader = std::function<std::optional<std::string>(const char* name)>;
 
 /// Most shards a run may be split into.
 inline constexpr int kMaxShards = 100000;
@@ -27,7 +27,7 @@ inline constexpr int kMaxShards = 100000;
 /// CI_NODE_TOTAL, CircleCI's CIRCLE_NODE_INDEX + 1 of CIRCLE_NODE_TOTAL, Buildkite's
 /// BUILDKITE_PARALLEL_JOB + 1 of BUILDKITE_PARALLEL_JOB_COUNT) or "auto/N" (Kubernetes' Indexed Job:
 /// JOB_COMPLETION_INDEX + 1 of N). Throws core::Error(bad_request) saying what is wrong or missing.
-Shard parse_shard(const std::string& text, const Environment& environment);
+Shard parse_shard(const std::string& text, const VariableReader& environment);
 
 /// The positions (0-based) of `total` items that shard `shard` takes: every N-th from K − 1, so parts
 /// differ in size by one at most and neighbouring seeds go to different machines.

@@ -8,7 +8,7 @@
 #include "render/scene_renderer.hpp"
 #include "render/video_writer.hpp"
 #include "runs/episode.hpp"
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 
 namespace hrisim::runs {
 namespace {

@@ -7,9 +7,9 @@
 
 namespace hrisim::tasks {
 
-std::unique_ptr<View> make_view(const sim::Session& session) {
+std::unique_ptr<Task> make_task(const sim::Session& session) {
   const auto& task = session.model().task;
-  if (!task) return std::make_unique<DefaultView>(session);
+  if (!task) return std::make_unique<DefaultTask>(session);
   switch (task->kind) {
     case scenario::TaskKind::approach_human:
     case scenario::TaskKind::follow_human:
@@ -23,25 +23,25 @@ std::unique_ptr<View> make_view(const sim::Session& session) {
   throw core::Error(core::ErrorCode::internal, "unknown task");
 }
 
-Environment::Environment(sim::Session& session) : view_(make_view(session)) {
-  view_->begin(session);
-  terminated_ = view_->terminated(session);
+Environment::Environment(sim::Session& session) : task_(make_task(session)) {
+  task_->begin(session);
+  terminated_ = task_->terminated(session);
 }
 
 int Environment::begin_step(sim::Session& session, const std::optional<std::vector<double>>& action) {
   if (!action) {
-    view_->before_step(session);
-    return view_->idle_ticks();
+    task_->before_step(session);
+    return task_->idle_ticks();
   }
   check_action(*action, static_cast<std::size_t>(action_space().shape.at(0)));
-  const int ticks = view_->act(session, *action);
-  view_->before_step(session);
+  const int ticks = task_->act(session, *action);
+  task_->before_step(session);
   return ticks;
 }
 
 Reward Environment::end_step(const sim::Session& session) {
-  Reward reward = view_->reward(session);
-  terminated_ = view_->terminated(session);
+  Reward reward = task_->reward(session);
+  terminated_ = task_->terminated(session);
   return reward;
 }
 

@@ -24,15 +24,15 @@
 
 #include "core/random.hpp"
 #include "tasks/rewards.hpp"
-#include "tasks/view.hpp"
+#include "tasks/task.hpp"
 #include "tasks/task_support.hpp"
 
 namespace hrisim::tasks {
 
-class PickAndPlace : public View {
+class PickAndPlace : public Task {
  public:
   explicit PickAndPlace(const sim::Session& session);
-  std::unique_ptr<View> clone() const override { return std::make_unique<PickAndPlace>(*this); }
+  std::unique_ptr<Task> clone() const override { return std::make_unique<PickAndPlace>(*this); }
   void begin(sim::Session& session) override;
   std::vector<double> observe(const sim::Session& session) const override;
   int act(sim::Session& session, const std::vector<double>& action) override;
@@ -52,10 +52,10 @@ class PickAndPlace : public View {
   nlohmann::json terms_ = nlohmann::json::object();
 };
 
-class MirrorGesture : public View {
+class MirrorGesture : public Task {
  public:
   explicit MirrorGesture(const sim::Session& session);
-  std::unique_ptr<View> clone() const override { return std::make_unique<MirrorGesture>(*this); }
+  std::unique_ptr<Task> clone() const override { return std::make_unique<MirrorGesture>(*this); }
   void begin(sim::Session& session) override;
   std::vector<double> observe(const sim::Session&) const override { return {}; }
   int act(sim::Session& session, const std::vector<double>& action) override;

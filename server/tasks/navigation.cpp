@@ -1,4 +1,4 @@
-// The navigation environments: the default view of scenarios without a task, and the benchmark's
+// The navigation tasks: the default one of scenarios that name none, and the benchmark's
 // approach_human, follow_human and approach_human_apartment (seed 003 §4.4.1–4.4.3).
 #include <algorithm>
 #include <cmath>
@@ -18,7 +18,7 @@ constexpr int kPlacementTries = 10000;
 
 }  // namespace
 
-DefaultView::DefaultView(const sim::Session& session) {
+DefaultTask::DefaultTask(const sim::Session& session) {
   const scenario::Model& model = session.model();
   for (std::size_t a = 0; a < model.agents.size() && robot_ < 0; ++a) {
     if (model.agents[a].kind == scenario::AgentKind::robot) robot_ = static_cast<int>(a);
@@ -42,7 +42,7 @@ DefaultView::DefaultView(const sim::Session& session) {
   observation_space_ = box(std::move(low), std::move(high));
 }
 
-std::vector<double> DefaultView::observe(const sim::Session& session) const {
+std::vector<double> DefaultTask::observe(const sim::Session& session) const {
   const scenario::Model& model = session.model();
   const sim::AgentState& robot = session.state().agents[robot_];
   std::vector<double> observation = robot_motion(session, robot_);
@@ -69,7 +69,7 @@ std::vector<double> DefaultView::observe(const sim::Session& session) const {
   return observation;
 }
 
-int DefaultView::act(sim::Session& session, const std::vector<double>& action) {
+int DefaultTask::act(sim::Session& session, const std::vector<double>& action) {
   if (drive_) {
     drive(session, robot_, action, action_space_);
   } else {

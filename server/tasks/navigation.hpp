@@ -1,5 +1,5 @@
 #pragma once
-// Navigation environments. The default view, for scenarios without a task:
+// Navigation tasks. The default one, for scenarios that name no task:
 //
 //   observation (float64, kObservationSize values)
 //     [0, 1]  x, y of the robot in the map frame, m
@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "core/random.hpp"
-#include "tasks/view.hpp"
+#include "tasks/task.hpp"
 #include "tasks/task_support.hpp"
 
 namespace hrisim::tasks {
@@ -42,10 +42,10 @@ inline constexpr double kDiscRobotMaxSpeed = 2.0;
 /// follow_human: each leg of the human's walk ends at least this far from where it starts, m.
 inline constexpr double kFollowMinLeg = 2.0;
 
-class DefaultView : public View {
+class DefaultTask : public Task {
  public:
-  explicit DefaultView(const sim::Session& session);
-  std::unique_ptr<View> clone() const override { return std::make_unique<DefaultView>(*this); }
+  explicit DefaultTask(const sim::Session& session);
+  std::unique_ptr<Task> clone() const override { return std::make_unique<DefaultTask>(*this); }
   std::vector<double> observe(const sim::Session& session) const override;
   int act(sim::Session& session, const std::vector<double>& action) override;
   int idle_ticks() const override { return 1; }
@@ -57,10 +57,10 @@ class DefaultView : public View {
 };
 
 /// approach_human, follow_human and approach_human_apartment.
-class NavigationTask : public View {
+class NavigationTask : public Task {
  public:
   explicit NavigationTask(const sim::Session& session);
-  std::unique_ptr<View> clone() const override { return std::make_unique<NavigationTask>(*this); }
+  std::unique_ptr<Task> clone() const override { return std::make_unique<NavigationTask>(*this); }
   void begin(sim::Session& session) override;
   std::vector<double> observe(const sim::Session& session) const override;
   int act(sim::Session& session, const std::vector<double>& action) override;

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "tasks/view.hpp"
+#include "tasks/task.hpp"
 
 namespace hrisim::tasks {
 

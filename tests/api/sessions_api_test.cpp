@@ -824,7 +824,7 @@ TEST(SessionModes, ARealtimeSessionStepsItselfAndAControllerReplacesTheRobots) {
 
 #include "render/image_codec.hpp"
 #include "render/scene_renderer.hpp"
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 
 namespace hrisim::testing {
 namespace {

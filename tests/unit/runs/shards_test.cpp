@@ -11,14 +11,14 @@ namespace hrisim::runs {
 namespace {
 
 /// An environment of these variables only.
-Environment with(std::map<std::string, std::string> variables) {
+VariableReader with(std::map<std::string, std::string> variables) {
   return [variables = std::move(variables)](const char* name) -> std::optional<std::string> {
     const auto found = variables.find(name);
     return found == variables.end() ? std::nullopt : std::optional(found->second);
   };
 }
 
-std::string refusal(const std::string& text, const Environment& environment) {
+std::string refusal(const std::string& text, const VariableReader& environment) {
   try {
     parse_shard(text, environment);
   } catch (const core::Error& e) {

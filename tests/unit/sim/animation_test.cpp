@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 #include "sim/session.hpp"
 #include "support/commands.hpp"
 #include "support/scenarios.hpp"

@@ -1,4 +1,4 @@
-#include "sim/scene_view.hpp"
+#include "sim/camera_scene.hpp"
 
 #include <cmath>
 #include <numbers>

@@ -1,7 +1,7 @@
 #pragma once
-// A Gymnasium environment's behaviour over a session: its spaces, what the robot under test observes
-// and does, and an env step's reward and ending: a View. Each benchmark task of seed 003 §4.4 is one;
-// so is the default navigation view of scenarios without a task.
+// A benchmark task: a Gymnasium environment's behaviour over a session — its spaces, what the robot
+// under test observes and does, and an env step's reward and ending. Each task of seed 003 §4.4 is one;
+// so is the default navigation task of scenarios that name none.
 #include <memory>
 #include <string>
 #include <utility>
@@ -39,12 +39,12 @@ struct Reward {
   std::vector<std::pair<std::string, double>> terms;
 };
 
-class View {
+class Task {
  public:
-  virtual ~View() = default;
-  /// A copy of this view as it is now, for a copy of its episode (a checkpoint); it refers to the same
+  virtual ~Task() = default;
+  /// A copy of this task as it is now, for a copy of its episode (a checkpoint); it refers to the same
   /// model.
-  virtual std::unique_ptr<View> clone() const = 0;
+  virtual std::unique_ptr<Task> clone() const = 0;
 
   const Space& observation_space() const { return observation_space_; }
   const Space& action_space() const { return action_space_; }
@@ -76,8 +76,8 @@ class View {
   std::optional<ImageObservation> image_;
 };
 
-/// The task a session's scenario names, or the default navigation view. Throws core::Error(conflict)
+/// The task a session's scenario names, or the default navigation task. Throws core::Error(conflict)
 /// when the scenario has no robot that can act.
-std::unique_ptr<View> make_view(const sim::Session& session);
+std::unique_ptr<Task> make_task(const sim::Session& session);
 
 }  // namespace hrisim::tasks
