@@ -332,16 +332,6 @@ Twist PhysicsWorld::velocity(int body) const {
 
 const BodyOwner& PhysicsWorld::owner(int body) const { return impl_->at(body).owner; }
 
-bool PhysicsWorld::caches_contacts_off_the_floor() const {
-  btDispatcher& dispatcher = impl_->dispatcher;
-  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
-    const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-    const bool with_floor = manifold->getBody0()->getUserIndex() == impl_->floor || manifold->getBody1()->getUserIndex() == impl_->floor;
-    if (!with_floor && manifold->getNumContacts() > 0) return true;
-  }
-  return false;
-}
-
 std::vector<std::pair<int, int>> PhysicsWorld::touching() const {
   std::vector<std::pair<int, int>> pairs;
   btDispatcher& dispatcher = impl_->dispatcher;

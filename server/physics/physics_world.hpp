@@ -100,10 +100,6 @@ class PhysicsWorld {
   Eigen::Isometry3d pose(int body) const;
   Twist velocity(int body) const;
   const BodyOwner& owner(int body) const;
-  /// Whether Bullet keeps contact points between two bodies, neither of them the floor, from earlier
-  /// steps: history that a world built afresh from where every body is would not have (the floor's
-  /// contacts are the robots' wheels on the ground, which nothing reads).
-  bool caches_contacts_off_the_floor() const;
   /// Pairs of bodies (lower id first) touching after the last step, sorted.
   std::vector<std::pair<int, int>> touching() const;
   /// Where body `a` touches or overlaps body `on` most deeply as they are placed now (not after the

@@ -317,10 +317,6 @@ PhysicsBodies build_physics(const scenario::Model& model, State& state, const Hu
   return physics;
 }
 
-bool physics_holds_history(const PhysicsBodies& physics) {
-  return physics.world && (!physics.objects.empty() || physics.world->caches_contacts_off_the_floor());
-}
-
 PhysicsBodies build_physics_again(const scenario::Model& model, const State& state, const HumanBodies& bodies) {
   PhysicsBodies physics = build_world(model, state, bodies, state.objects);
   if (!physics.world) return physics;
@@ -347,7 +343,7 @@ PhysicsBodies build_physics_again(const scenario::Model& model, const State& sta
 
 void rebuild_physics_when_due(const scenario::Model& model, const State& state, PhysicsBodies& physics, const HumanBodies& bodies) {
   const std::int64_t every = std::max<std::int64_t>(1, std::llround(kPhysicsRebuildInterval / model.dt));
-  if (state.tick % every != 0 || !physics_holds_history(physics)) return;
+  if (state.tick % every != 0 || !physics.world) return;
   physics = build_physics_again(model, state, bodies);
 }
 

@@ -57,22 +57,19 @@ struct PhysicsBodies {
   std::int64_t built_at_tick = -1;
 };
 
-/// A world that holds history (physics_holds_history) is built again from the state every this many
-/// simulated seconds, at the end of the tick, on every path alike (runs, sessions, replays): a copy
-/// of the session taken then (a checkpoint) goes on bit for bit as the session does, so a seek back in
-/// a scenario with movable objects re-simulates at most this stretch. Bullet's contact cache and
-/// solver warm start start afresh then (velocities, grasps and carried objects are in the state).
+/// A physics world is built again from the state every this many simulated seconds, at the end of the
+/// tick, on every path alike (runs, sessions, replays): a copy of the session taken then (a checkpoint)
+/// goes on bit for bit as the session does, so a seek back re-simulates at most this stretch (more when
+/// an env step of a task does not end there). Bullet's contact caches, solver warm start and the order
+/// of its broadphase pairs, which a world built from the state would not have, start afresh then on
+/// every path (velocities, grasps and carried objects are in the state). A copy at any other tick went
+/// on differently after hundreds of ticks (the elevator: 695 ticks after a copy at tick 480).
 /// hrisim's own; the checkpoint interval (episode::kCheckpointInterval).
 inline constexpr double kPhysicsRebuildInterval = 10.0;
 
 /// The world of the model as the state is now (tick 0); the objects' poses go to the state.
 PhysicsBodies build_physics(const scenario::Model& model, State& state, const HumanBodies& bodies);
 
-/// Whether the world holds history that a copy of the state would not carry: movable objects (their
-/// sleep, contacts and the solver's warm start are Bullet's) or contact points Bullet cached between
-/// bodies other than the floor. Without it, a world built again from the state is the same world for
-/// everything the simulation reads from it; with it, only right after it was built (built_at_tick).
-bool physics_holds_history(const PhysicsBodies& physics);
 
 /// The world of a state copied between ticks (of a world that held no history then, or was just built
 /// again): as build_physics, with the objects as the state has them (poses, velocities; carried ones

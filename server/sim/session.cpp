@@ -135,7 +135,7 @@ Session::Session(std::shared_ptr<const scenario::Model> model, Copy copy, std::s
 }
 
 std::optional<Session::Copy> Session::copy() {
-  if (physics_holds_history(physics_) && physics_.built_at_tick != state_.tick) return std::nullopt;
+  if (physics_.world && physics_.built_at_tick != state_.tick) return std::nullopt;
   // The events are set aside while the rest is copied: they grow with the episode, and the session's
   // own are the copy's events, as they are only ever appended.
   std::vector<Event> events = std::exchange(state_.events, {});

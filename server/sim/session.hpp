@@ -49,9 +49,9 @@ class Session {
   /// session's it was copied from); its physics world built again from the state.
   Session(std::shared_ptr<const scenario::Model> model, Copy copy, std::span<const Event> events);
 
-  /// A copy of this session now, or none when its physics world holds history the copy would not carry
-  /// (physics_holds_history) and was not just built again from the state (kPhysicsRebuildInterval):
-  /// going on from the copy would not be going on from here, bit for bit.
+  /// A copy of this session now, or none when it has a physics world that was not just built again from
+  /// the state (kPhysicsRebuildInterval): Bullet's world holds history a copy would not carry, and going
+  /// on from the copy would not be going on from here, bit for bit.
   std::optional<Copy> copy();
 
   /// Advances one tick; does nothing once finished.

@@ -9,7 +9,7 @@ import { errorText, showMessage } from './messages.js';
 
 /** The newest inputs shown; the file keeps them all. */
 export const SHOWN_INPUTS = 200;
-/** The list is fetched again at most this often while the session moves, ms. */
+/** The list is fetched again this often while the page shows it, ms. */
 const REFRESH_MS = 1000;
 
 const plural = (count, word) => `${count} ${word}${count === 1 ? '' : 's'}`;
@@ -53,19 +53,15 @@ export function inputsPanel(driver, sessionId) {
       fetching = false;
     }
   }
-  // At most once a REFRESH_MS while the session moves, and once more after its last move.
-  let later = null;
-  driver.on('status', () => {
-    const waited = Date.now() - fetched;
-    if (waited >= REFRESH_MS) {
-      refresh();
-    } else if (!later) {
-      later = setTimeout(() => {
-        later = null;
-        refresh();
-      }, REFRESH_MS - waited);
+  // Looked at again once a REFRESH_MS while the page shows it: the session moves, and inputs come from
+  // this page's panels and from other clients alike.
+  const timer = setInterval(() => {
+    if (!list.isConnected && fetched > 0) {
+      clearInterval(timer);
+      return;
     }
-  });
+    refresh();
+  }, REFRESH_MS);
   driver.on('reset', refresh);
 
   const save = h('button', { type: 'button', class: 'secondary', onclick: saveSnapshot }, 'Save a snapshot file');
