@@ -119,7 +119,8 @@ struct GreyImage {
 };
 
 void check_size(const std::filesystem::path& image, std::int64_t width, std::int64_t height, std::int64_t max_cells) {
-  if (width * height > max_cells) {
+  // Each side first: a PNG header's 32-bit sides multiplied would overflow.
+  if (width > max_cells || height > max_cells || width * height > max_cells) {
     fail(image, 0, std::to_string(width) + " × " + std::to_string(height) + " cells: more than the " + std::to_string(max_cells) +
                        " a map may have (--max-grid-cells)");
   }

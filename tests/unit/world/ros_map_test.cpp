@@ -140,6 +140,17 @@ TEST(RosMap, APngLargerThanTheLimitIsRefusedBeforeDecoding) {
   }
   write(dir / "m.yaml", "image: huge.png\nresolution: 0.05\norigin: [0, 0, 0]\nmode: raw\n");
   EXPECT_THROW(read_ros_map_yaml(dir / "m.yaml"), core::Error) << "raw is not read";
+
+  // Sides whose product overflows 64 bits (fuzz_ros_map's finding): refused the same way.
+  png.replace(16, 8, std::string("\xff\xff\xff\xff\xff\xff\xff\xff", 8));
+  write(dir / "huge.png", png);
+  write(dir / "m.yaml", "image: huge.png\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  try {
+    load_ros_map(dir / "m.yaml");
+    FAIL() << "a 4294967295 x 4294967295 map loaded";
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("4294967295 × 4294967295 cells: more than the"), std::string::npos) << e.what();
+  }
 }
 
 // The fixture's image row 30 (map row 9) holds grey levels 89, 90, 205, 206, 253, 128, 1 at x = 10 to 16:
