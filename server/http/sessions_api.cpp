@@ -24,9 +24,12 @@ namespace hrisim::http {
 
 using nlohmann::json;
 
-/// A 503 for too many sessions carries Retry-After.
+/// A 503 for too many sessions carries Retry-After, and says how to end one here.
 Response refused(const core::Error& error) {
-  Response response = Response::error(error);
+  Response response = Response::error(error.code() != core::ErrorCode::unavailable
+                                          ? error
+                                          : core::Error(error.code(), std::string(error.what()) + " (DELETE /api/v1/sessions/{id}, or the browser's Sessions page)",
+                                                        error.details()));
   if (error.code() == core::ErrorCode::unavailable) response.headers.emplace_back("Retry-After", std::to_string(kSessionRetryAfter));
   return response;
 }

@@ -49,8 +49,7 @@ std::shared_ptr<LiveSession> Registry::create(NewSession request) {
   if (running >= limits_.max_sessions) {
     throw core::Error(core::ErrorCode::unavailable,
                       "the server runs its maximum of " + std::to_string(limits_.max_sessions) +
-                          " sessions (finished ones do not count): end one (DELETE /api/v1/sessions/{id}, or the browser's Sessions page) "
-                          "or retry later",
+                          " sessions (finished ones do not count): end one or retry later",
                       {{"max_sessions", limits_.max_sessions}, {"running", running}, {"retry_after", kSessionRetryAfter}});
   }
   // Finished sessions beyond the maximum: the least recently used that nobody watches go.

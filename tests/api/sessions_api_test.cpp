@@ -216,6 +216,8 @@ TEST(SessionLimits, FinishedSessionsDoNotCountAndTheLeastRecentlyUsedBeyondTheMa
   const HttpReply refused = create("queue");
   ASSERT_EQ(refused.status, 503) << "two running";
   EXPECT_NE(json_of(refused)["error"]["message"].get<std::string>().find("finished ones do not count"), std::string::npos);
+  EXPECT_NE(json_of(refused)["error"]["message"].get<std::string>().find("DELETE /api/v1/sessions/{id}"), std::string::npos)
+      << "the REST front end says how to end one over REST";
   EXPECT_EQ(json_of(refused)["error"]["details"]["running"], 2);
   ASSERT_EQ(http(port, "DELETE", "/api/v1/sessions/" + json_of(first)["id"].get<std::string>()).status, 204);
   const std::string d = finished_session();
