@@ -73,7 +73,7 @@ double Episode::step(const std::optional<std::vector<double>>& action, std::int6
   // Env steps without a new action go on the last run of env steps: replayed, it gives them the same
   // way (no action after its first), and a client stepping one at a time keeps the log short.
   if (action || log_.empty() || log_.back().kind != Snapshot::Entry::Kind::step) {
-    log_.push_back({Snapshot::Entry::Kind::step, session_->state().tick, std::nullopt, action, 0});
+    log({Snapshot::Entry::Kind::step, session_->state().tick, std::nullopt, action, 0});
   }
   double reward = 0.0;
   for (std::int64_t i = 0; i < n && !over(); ++i) {
@@ -129,20 +129,46 @@ bool Episode::run(const std::atomic<bool>* cancel, const std::function<void(cons
 
 void Episode::give(const Input& input) {
   give_input(*session_, input);
-  log_.push_back({Snapshot::Entry::Kind::input, session_->state().tick, input, std::nullopt, 0});
+  log({Snapshot::Entry::Kind::input, session_->state().tick, input, std::nullopt, 0});
 }
 
 void Episode::log_ticks(std::int64_t count) {
   if (!log_.empty() && log_.back().kind == Snapshot::Entry::Kind::ticks) {
     log_.back().count += count;
   } else {
-    log_.push_back({Snapshot::Entry::Kind::ticks, session_->state().tick, std::nullopt, std::nullopt, count});
+    log({Snapshot::Entry::Kind::ticks, session_->state().tick, std::nullopt, std::nullopt, count});
   }
+}
+
+void Episode::log(Snapshot::Entry entry, std::uint64_t serial) {
+  entry.serial = serial != 0 ? serial : ++*last_serial_;
+  log_.push_back(std::move(entry));
+}
+
+bool Episode::continues(const Snapshot& snapshot) const {
+  if (snapshot.log.empty() || snapshot.log.size() > log_.size()) return false;
+  for (std::size_t e = 0; e < snapshot.log.size(); ++e) {
+    const Snapshot::Entry& then = snapshot.log[e];
+    const Snapshot::Entry& now = log_[e];
+    const bool last = e + 1 == snapshot.log.size();
+    if (then.serial == 0 || then.serial != now.serial || then.tick != now.tick || (last ? now.count < then.count : now.count != then.count)) {
+      return false;
+    }
+  }
+  return true;
 }
 
 Episode::Snapshot Episode::snapshot() const { return {log_, session_->state().tick, session_->state_hash()}; }
 
-std::unique_ptr<Episode> Episode::restore(const Snapshot& snapshot, bool foreign) const {
+std::unique_ptr<Episode> Episode::restore(const Snapshot& snapshot, bool foreign) {
+  if (!foreign && continues(snapshot)) {
+    std::unique_ptr<Episode> rewound = rewind(snapshot.tick);
+    if (rewound->session().state_hash() != snapshot.state_hash) {
+      throw core::Error(core::ErrorCode::internal, "going back to the snapshot of tick " + std::to_string(snapshot.tick) +
+                                                       " did not reach its state: the simulation was not deterministic here");
+    }
+    return rewound;
+  }
   const auto refuse = [&](const std::string& what, nlohmann::json details) {
     if (!foreign) throw core::Error(core::ErrorCode::internal, what + ": the simulation was not deterministic here");
     throw core::Error(core::ErrorCode::conflict,
@@ -150,6 +176,7 @@ std::unique_ptr<Episode> Episode::restore(const Snapshot& snapshot, bool foreign
                       std::move(details));
   };
   auto restored = std::make_unique<Episode>(model_, seed_, settings_);
+  restored->last_serial_ = last_serial_;  // its entries are numbered apart from this one's
   for (std::size_t e = 0; e < snapshot.log.size(); ++e) {
     const std::int64_t reached = restored->session().state().tick;
     if (reached != snapshot.log[e].tick) {
@@ -173,6 +200,7 @@ std::unique_ptr<Episode> Episode::rewind(std::int64_t tick) {
   std::int64_t done = 0;
   if (after == checkpoints_.begin()) {
     rewound = std::make_unique<Episode>(model_, seed_, settings_);
+    rewound->last_serial_ = last_serial_;
     rewound->recorder_.reset();  // it takes this one's, below
   } else {
     const Checkpoint& from = **std::prev(after);
@@ -204,9 +232,10 @@ void Episode::replay_until(const Episode& from, std::size_t entry, std::int64_t 
     const Snapshot::Entry& given = from.log_[e];
     if (given.kind == Snapshot::Entry::Kind::input) {
       give(*given.input);
+      log_.back().serial = given.serial;  // the same entry again: snapshots that hold it still continue this
       continue;
     }
-    if (done == 0) log_.push_back({given.kind, session_->state().tick, std::nullopt, given.action, 0});
+    if (done == 0) log({given.kind, session_->state().tick, std::nullopt, given.action, 0}, given.serial);
     for (; done < given.count && !at_tick() && !over(); ++done) {
       ++log_.back().count;
       // One env step at a time, the action at the first: the same ticks as step(action, count).
@@ -225,6 +254,7 @@ Episode::Episode(const Episode& from, const Checkpoint& checkpoint)
     : model_(from.model_),
       seed_(from.seed_),
       settings_(from.settings_),
+      last_serial_(from.last_serial_),
       session_(std::make_unique<sim::Session>(from.model_, checkpoint.session, from.session().state().events)),
       environment_(checkpoint.environment),
       env_steps_(checkpoint.env_steps),

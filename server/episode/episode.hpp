@@ -74,6 +74,9 @@ class Episode {
       std::optional<Input> input;                 ///< input: what was given
       std::optional<std::vector<double>> action;  ///< step: the action of its first env step
       std::int64_t count = 0;                     ///< step: env steps done; ticks: how many
+      /// Its number among the entries of this episode and of the episodes rewound or restored from it
+      /// (0: read from a file): a snapshot whose entries the episode still has continues it.
+      std::uint64_t serial = 0;
     };
     std::vector<Entry> log;  ///< everything that drove the episode up to here
     std::int64_t tick = 0;
@@ -103,11 +106,14 @@ class Episode {
 
   /// This point of the episode.
   Snapshot snapshot() const;
-  /// A fresh episode of the same scenario, seed and settings driven by the snapshot's log: the state
-  /// the snapshot was taken in, bit for bit. Checked by each entry's tick and the snapshot's hash:
-  /// core::Error(internal) otherwise, or core::Error(conflict) for a snapshot that came from elsewhere
-  /// (`foreign`), which another build of hrisim may have simulated differently.
-  std::unique_ptr<Episode> restore(const Snapshot& snapshot, bool foreign = false) const;
+  /// The episode at the snapshot's moment, bit for bit. A snapshot of this episode's own past (its
+  /// entries are still this episode's) is a rewind to its tick: from the checkpoint before it, and the
+  /// returned episode takes this one's recording, as rewind() does (go on with it, not with this).
+  /// Any other — an earlier branch, a file (`foreign`) — drives a fresh episode of the same scenario,
+  /// seed and settings by its log, checked by each entry's tick and the snapshot's hash:
+  /// core::Error(internal) when that fails, or core::Error(conflict) for a file, which another build of
+  /// hrisim may have simulated differently.
+  std::unique_ptr<Episode> restore(const Snapshot& snapshot, bool foreign = false);
   /// This episode as it was at `tick` (at most the present tick), with the inputs given at that tick:
   /// the latest checkpoint at or before `tick` (or a fresh episode of the same scenario, seed and
   /// settings) given this one's inputs from there until then. With a benchmark task it stops at the
@@ -174,6 +180,10 @@ class Episode {
 
   /// Adds ticks to the log (runs of ticks are one entry).
   void log_ticks(std::int64_t count);
+  /// Adds an entry to the log with the next serial (or `serial`, an entry given again by a rewind).
+  void log(Snapshot::Entry entry, std::uint64_t serial = 0);
+  /// Whether the snapshot's entries are this episode's, each as far as it went then.
+  bool continues(const Snapshot& snapshot) const;
   /// Gives a log entry again (restoring).
   void replay(const Snapshot::Entry& entry);
 
@@ -181,6 +191,8 @@ class Episode {
   std::uint64_t seed_;
   Settings settings_;
   std::vector<Snapshot::Entry> log_;
+  /// The last serial given to an entry; shared with the episodes rewound or restored from this one.
+  std::shared_ptr<std::uint64_t> last_serial_ = std::make_shared<std::uint64_t>(0);
   std::unique_ptr<sim::Session> session_;
   std::optional<tasks::Environment> environment_;
   std::optional<sim::EpisodeRecorder> recorder_;

@@ -237,6 +237,35 @@ TEST(Seek, OneTickBackWithMovableObjectsCostsAtMostTheRebuildInterval) {
   EXPECT_LE(ticks_again_one_tick_back_at_20000("tea_break"), std::llround(sim::kPhysicsRebuildInterval / scenario::kDefaultDt));
 }
 
+TEST(Snapshots, OneOfTheEpisodesOwnPastComesBackFromTheCheckpointBeforeIt) {
+  // Before checkpoints served restores, a snapshot at tick 20,000 was simulated again from tick 0.
+  const auto model = kept_going("elevator", 400.0);
+  Episode original(model, 1, with_checkpoints(kCheckpointInterval));
+  original.step(std::nullopt, 19'000);
+  original.give(inputs::RobotTwist{model->find_agent("robot"), {0.1, 0.2}});
+  original.step(std::nullopt, 1'000);
+  const Episode::Snapshot snapshot = original.snapshot();
+  original.step(std::nullopt, 700);
+  const std::uint64_t later = original.session().state_hash();
+
+  std::unique_ptr<Episode> back = original.restore(snapshot);
+  EXPECT_EQ(back->session().state_hash(), snapshot.state_hash);
+  const std::int64_t interval = std::llround(kCheckpointInterval / scenario::kDefaultDt);
+  EXPECT_GT(back->ticks_simulated_again(), 0) << "from a checkpoint";
+  EXPECT_LE(back->ticks_simulated_again(), interval);
+  back->step(std::nullopt, 700);
+  EXPECT_EQ(back->session().state_hash(), later) << "and goes on as the original did";
+
+  // Back before the snapshot and on with another input: the snapshot is of another branch now, and is
+  // simulated again from its log, as exactly.
+  std::unique_ptr<Episode> branch = back->rewind(18'000);
+  branch->give(inputs::RobotTwist{model->find_agent("robot"), {-0.1, 0.0}});
+  branch->step(std::nullopt, 100);
+  std::unique_ptr<Episode> again = branch->restore(snapshot);
+  EXPECT_EQ(again->session().state_hash(), snapshot.state_hash);
+  EXPECT_EQ(again->ticks_simulated_again(), 0) << "a fresh episode by the log, not a rewind";
+}
+
 /// Every tick's state hash along an episode driven by clock ticks with an input at tick 250 (the first person
 /// placed), so that a seek goes back across an input.
 struct Path {
