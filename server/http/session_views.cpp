@@ -295,6 +295,35 @@ json snapshot_json(const std::string& id, const episode::Episode::Snapshot& snap
   return {{"snapshot", id}, {"tick", snapshot.tick}, {"state_hash", sim::hash_hex(snapshot.state_hash)}};
 }
 
+json segmentation_legend(const sim::Session& session) {
+  const scenario::Model& model = session.model();
+  json legend = json::array();
+  legend.push_back({{"id", sim::kFloorId}, {"kind", "floor"}, {"name", "floor"}});
+  if (model.map_from_image) legend.push_back({{"id", sim::kWallsId}, {"kind", "walls"}, {"name", "map"}});
+  if (!model.map_from_image) {
+    for (std::size_t o = 0; o < model.obstacles.size(); ++o) {
+      legend.push_back({{"id", sim::kObstacleIdBase + o}, {"kind", "obstacle"}, {"name", model.obstacles[o].name}});
+    }
+  }
+  for (std::size_t d = 0; d < model.doors.size(); ++d) legend.push_back({{"id", sim::kDoorIdBase + d}, {"kind", "door"}, {"name", model.doors[d].name}});
+  for (std::size_t o = 0; o < model.objects.size(); ++o) legend.push_back({{"id", sim::kObjectIdBase + o}, {"kind", "object"}, {"name", model.objects[o].name}});
+  for (const sim::AgentId id : session.agent_ids()) {
+    const int a = session.index_of(id);
+    const scenario::AgentDef& def = model.agents[a];
+    const sim::RobotRuntime* runtime = session.robot_runtime(id);
+    if (!runtime) {
+      legend.push_back({{"id", sim::kAgentIdBase + a}, {"kind", def.kind == scenario::AgentKind::human ? "human" : "robot"}, {"name", def.id}, {"agent", def.id}});
+      continue;
+    }
+    const auto& links = runtime->robot.description().links;
+    for (std::size_t l = 0; l < links.size(); ++l) {
+      if (!links[l].collision) continue;
+      legend.push_back({{"id", sim::kRobotLinkIdBase + a * 1000 + l}, {"kind", "robot_link"}, {"name", def.id + "/" + links[l].name}, {"agent", def.id}, {"link", links[l].name}});
+    }
+  }
+  return legend;
+}
+
 /// A laser scan as a binary WebSocket message: a 56-byte little-endian header, then the ranges as
 /// float32 (REP 117: +inf beyond range_max, -inf closer than range_min). Layout in api/asyncapi.yaml.
 static std::string laser_frame(const sim::LaserReading& reading, double dt) {

@@ -9,7 +9,7 @@
 #include "core/json_writer.hpp"
 #include "episode/episode.hpp"
 #include "http/session_work.hpp"
-#include "sim/event_json.hpp"
+#include "runs/event_json.hpp"
 #include "sim/camera_scene.hpp"
 #include "sim/session.hpp"
 #include "tasks/task.hpp"
@@ -22,7 +22,10 @@ inline constexpr double kMaxPushRate = 60.0;
 /// The session's scene as a binary scene frame (scene_message): what moves, or with `all` everything.
 Response scene_frame(const sim::Session& session, bool all);
 
-using sim::event_json;
+using runs::event_json;
+/// What each instance id of sim::scene_of stands for: [{"id", "kind" (floor, walls, obstacle, door,
+/// object, human, robot, robot_link), "name", and "agent"/"link" where they apply}].
+nlohmann::json segmentation_legend(const sim::Session& session);
 /// Status of a session: id, scenario, seed, mode, tick, time, its end, the choreography step, the task,
 /// the state hash; as members of an object being written, or as a JSON object.
 void write_status(core::JsonWriter& out, const LiveSession& live);

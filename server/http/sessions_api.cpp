@@ -408,7 +408,7 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
       json cameras = json::array();
       for (const sim::CameraInfo& info : sim::cameras_of(live.session())) cameras.push_back(camera_json(info));
       return Response::json(200, {{"id", live.id}, {"tick", live.session().state().tick}, {"cameras", cameras},
-                                  {"segmentation", sim::segmentation_legend(live.session())}});
+                                  {"segmentation", segmentation_legend(live.session())}});
     });
   });
 

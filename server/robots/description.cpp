@@ -239,9 +239,17 @@ LoadedRobot load_robot_description(const json& document) {
   }
   const json sensors = document.value("sensors", json::array());
   for (const json& entry : sensors) {
-    Sensor sensor{entry["name"], entry["type"], entry["link"], read_pose3(entry.value("origin", json::object())), json::object()};
-    for (const char* settings : {"laser", "camera"}) {
-      if (entry.contains(settings)) sensor.settings = entry[settings];
+    Sensor sensor{entry["name"], entry["type"], entry["link"], read_pose3(entry.value("origin", json::object())), json::object(), {}};
+    if (entry.contains("laser")) sensor.settings = entry["laser"];
+    if (entry.contains("camera")) {
+      const json& camera = entry["camera"];
+      CameraSettings& image = sensor.camera;
+      image.width = camera.value("width", image.width);
+      image.height = camera.value("height", image.height);
+      image.horizontal_fov = camera.value("horizontal_fov", image.horizontal_fov);
+      image.near = camera.value("near", image.near);
+      image.far = camera.value("far", image.far);
+      image.rate = camera.value("rate", image.rate);
     }
     robot->sensors.push_back(std::move(sensor));
   }

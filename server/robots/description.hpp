@@ -57,12 +57,22 @@ struct Joint {
   double initial = 0.0;       ///< position at the start, rad or m
 };
 
+/// What a camera's "camera" settings say about its image (api/robot.schema.json); these defaults where
+/// it says nothing.
+struct CameraSettings {
+  int width = 640, height = 480;  ///< px
+  double horizontal_fov = 1.047;  ///< rad
+  double near = 0.05, far = 20.0;  ///< m
+  double rate = 30.0;             ///< Hz
+};
+
 struct Sensor {
   std::string name;
   std::string type;  ///< laser, rgbd_camera, camera, infrared, microphone, bumper, imu, force_torque
   std::string link;
   Pose3 origin;      ///< sensor frame in the link frame (x forward, z up; cameras look along x)
-  nlohmann::json settings = nlohmann::json::object();  ///< type-specific, read by the sensors module
+  nlohmann::json settings = nlohmann::json::object();  ///< a laser's "laser" settings, read by the sensors module
+  CameraSettings camera;  ///< a camera's image
 };
 
 struct Drive {

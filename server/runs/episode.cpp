@@ -7,7 +7,7 @@
 #include "core/memory_budget.hpp"
 #include "metrics/episode_metrics.hpp"
 #include "episode/episode.hpp"
-#include "sim/event_json.hpp"
+#include "runs/event_json.hpp"
 
 namespace hrisim::runs {
 namespace {
@@ -107,7 +107,7 @@ EpisodeResult run_episode(const std::shared_ptr<const scenario::Model>& shared, 
   std::map<std::string, int> counts;
   for (const sim::Event& event : state.events) {
     ++counts[std::string(event.kind())];
-    record.events.push_back({event.tick, event.time, std::string(event.kind()), event.subject, sim::event_data_json(event.data)});
+    record.events.push_back({event.tick, event.time, std::string(event.kind()), event.subject, event_data_json(event.data)});
   }
   record.seed = seed;
   record.status = "finished";

@@ -66,24 +66,6 @@ render::Part part_of(const robots::Shape& shape, const Eigen::Isometry3d& pose, 
   return part;
 }
 
-/// What a robot sensor's settings say about its image.
-struct CameraSettings {
-  int width = 640, height = 480;
-  double horizontal_fov = 1.047, near = 0.05, far = 20.0, rate = 30.0;
-};
-
-CameraSettings settings_of(const robots::Sensor& sensor) {
-  CameraSettings s;
-  const nlohmann::json& camera = sensor.settings;
-  s.width = camera.value("width", s.width);
-  s.height = camera.value("height", s.height);
-  s.horizontal_fov = camera.value("horizontal_fov", s.horizontal_fov);
-  s.near = camera.value("near", s.near);
-  s.far = camera.value("far", s.far);
-  s.rate = camera.value("rate", s.rate);
-  return s;
-}
-
 /// Straight down onto the whole map with a margin: map x to the right in the image, y up.
 render::Camera overview_camera(const scenario::Model& model, int image_width, int image_height) {
   const world::OccupancyGrid& grid = model.grid;
@@ -195,35 +177,6 @@ render::Scene scene_for(const Session& session, const CameraInfo& camera) {
   return scene;
 }
 
-nlohmann::json segmentation_legend(const Session& session) {
-  const scenario::Model& model = session.model();
-  nlohmann::json legend = nlohmann::json::array();
-  legend.push_back({{"id", kFloorId}, {"kind", "floor"}, {"name", "floor"}});
-  if (model.map_from_image) legend.push_back({{"id", kWallsId}, {"kind", "walls"}, {"name", "map"}});
-  if (!model.map_from_image) {
-    for (std::size_t o = 0; o < model.obstacles.size(); ++o) {
-      legend.push_back({{"id", kObstacleIdBase + o}, {"kind", "obstacle"}, {"name", model.obstacles[o].name}});
-    }
-  }
-  for (std::size_t d = 0; d < model.doors.size(); ++d) legend.push_back({{"id", kDoorIdBase + d}, {"kind", "door"}, {"name", model.doors[d].name}});
-  for (std::size_t o = 0; o < model.objects.size(); ++o) legend.push_back({{"id", kObjectIdBase + o}, {"kind", "object"}, {"name", model.objects[o].name}});
-  for (const AgentId id : session.agent_ids()) {
-    const int a = session.index_of(id);
-    const scenario::AgentDef& def = model.agents[a];
-    const RobotRuntime* runtime = session.robot_runtime(id);
-    if (!runtime) {
-      legend.push_back({{"id", kAgentIdBase + a}, {"kind", def.kind == scenario::AgentKind::human ? "human" : "robot"}, {"name", def.id}, {"agent", def.id}});
-      continue;
-    }
-    const auto& links = runtime->robot.description().links;
-    for (std::size_t l = 0; l < links.size(); ++l) {
-      if (!links[l].collision) continue;
-      legend.push_back({{"id", kRobotLinkIdBase + a * 1000 + l}, {"kind", "robot_link"}, {"name", def.id + "/" + links[l].name}, {"agent", def.id}, {"link", links[l].name}});
-    }
-  }
-  return legend;
-}
-
 std::vector<CameraInfo> cameras_of(const Session& session) {
   std::vector<CameraInfo> cameras;
   const scenario::Model& model = session.model();
@@ -245,7 +198,7 @@ std::vector<CameraInfo> cameras_of(const Session& session) {
     if (!runtime) continue;
     for (const robots::Sensor& sensor : runtime->robot.description().sensors) {
       if (!is_camera(sensor)) continue;
-      const CameraSettings s = settings_of(sensor);
+      const robots::CameraSettings& s = sensor.camera;
       CameraInfo info{model.agents[a].id + "." + sensor.name, sensor.type, render::Camera::pinhole(s.width, s.height, s.horizontal_fov, s.near, s.far), s.rate};
       info.camera.pose = runtime->robot.sensor_pose(sensor);
       const int link = runtime->robot.description().find_link(sensor.link);

@@ -4,7 +4,7 @@
 // objects), and the session's cameras — the robots' own from their descriptions, a top-down
 // orthographic overview of the whole map and a perspective camera following the robot. Built from
 // the session under its lock (cheap); drawing happens afterwards, off the simulation step.
-#include <nlohmann/json.hpp>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -29,10 +29,6 @@ inline constexpr double kDoorHeight = 2.1;
 
 /// The session as the renderer's solids.
 render::Scene scene_of(const Session& session);
-
-/// What each instance id of scene_of stands for: [{"id", "kind" (floor, walls, obstacle, door, object,
-/// human, robot, robot_link), "name", and "agent"/"link" where they apply}].
-nlohmann::json segmentation_legend(const Session& session);
 
 /// A camera the session offers.
 struct CameraInfo {

@@ -1,7 +1,7 @@
 #pragma once
 // The closed set of the simulation's events (docs/events.md): one struct per kind, each with its
 // kind's name and the fields the API shows in the event's `data`. Consumers read these fields; the
-// JSON form is made only at the edges (sim/event_json.hpp), and the state's events digest hashes the
+// JSON form is made only at the edges (runs/event_json.hpp), and the state's events digest hashes the
 // same fields (sim::emit). A struct lists its data fields once, in visit_fields: the JSON writer and
 // the digest both walk that list, so the two cannot disagree.
 #include <cstdint>
