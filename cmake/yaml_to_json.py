@@ -1,4 +1,4 @@
-"""Converts a YAML document (the OpenAPI description) to JSON, so the server can serve both."""
+"""Converts a YAML document (an API description) to JSON, so the server can serve and check against it."""
 import json
 import sys
 

@@ -3,10 +3,10 @@
 #include <boost/version.hpp>
 
 #include "core/build_info.hpp"
-#include "core/embedded.hpp"
 #include "core/random.hpp"
 #include "core/text.hpp"
 #include "http/episodes_api.hpp"
+#include "http/request_contract.hpp"
 #include "http/request_helpers.hpp"
 #include "http/runs_api.hpp"
 #include "http/scenarios_api.hpp"
@@ -19,18 +19,7 @@
 #include "storage/store.hpp"
 
 namespace hrisim::http {
-namespace embedded {
-extern const std::pair<std::string_view, std::string_view> kEmbedded[];
-extern const int kEmbeddedCount;
-}  // namespace embedded
-
 namespace {
-
-std::string_view embedded_file(std::string_view name) {
-  const std::string_view contents = core::find_embedded({embedded::kEmbedded, static_cast<std::size_t>(embedded::kEmbeddedCount)}, name);
-  if (contents.empty()) throw core::Error(core::ErrorCode::internal, "embedded file " + std::string(name) + " is missing");
-  return contents;
-}
 
 /// A built-in robot in a few lines, for lists.
 nlohmann::json robot_summary(const robots::RobotDescription& robot) {
@@ -62,6 +51,68 @@ std::string boost_version() {
          std::to_string(BOOST_VERSION % 100);
 }
 
+/// The service's own routes: its health, its version, the API's description and the built-in robots,
+/// each a named handler (kServiceRoutes).
+class ServiceRoutes {
+ public:
+  ServiceRoutes(storage::Store* store, nlohmann::json version) : store_(store), version_(std::move(version)) {}
+
+  Response health(const Request& request) const;
+  Response version(const Request& request) const;
+  Response description_yaml(const Request& request) const;
+  Response description_json(const Request& request) const;
+  Response robots(const Request& request) const;
+  Response robot(const Request& request) const;
+
+ private:
+  storage::Store* store_;
+  nlohmann::json version_;
+};
+
+constexpr NamedRoute<ServiceRoutes> kServiceRoutes[] = {
+    {"GET", "/healthz", &ServiceRoutes::health},
+    {"GET", "/api/v1/version", &ServiceRoutes::version},
+    {"GET", "/api/v1/openapi.yaml", &ServiceRoutes::description_yaml},
+    {"GET", "/api/v1/openapi.json", &ServiceRoutes::description_json},
+    {"GET", "/api/v1/robots", &ServiceRoutes::robots},
+    {"GET", "/api/v1/robots/{name}", &ServiceRoutes::robot},
+};
+
+Response ServiceRoutes::health(const Request&) const {
+  try {
+    store_->ping();
+    return Response::json(200, {{"status", "ok"}, {"database", "ok"}});
+  } catch (const core::Error& e) {
+    return Response::json(503, {{"status", "unavailable"}, {"database", e.what()}});
+  }
+}
+
+Response ServiceRoutes::version(const Request&) const { return Response::json(200, version_); }
+
+Response ServiceRoutes::description_yaml(const Request&) const {
+  return Response{200, "application/yaml", std::string(api_file("openapi.yaml")), {}, {}};
+}
+
+Response ServiceRoutes::description_json(const Request&) const {
+  return Response{200, "application/json", std::string(api_file("openapi.json")), {}, {}};
+}
+
+Response ServiceRoutes::robots(const Request&) const {
+  nlohmann::json items = nlohmann::json::array();
+  for (const std::string& name : robots::builtin_robot_names()) items.push_back(robot_summary(*robots::builtin_robot(name)));
+  return Response::json(200, {{"items", items}});
+}
+
+Response ServiceRoutes::robot(const Request& request) const {
+  const std::string& name = request.path_params.at("name");
+  const auto robot = robots::builtin_robot(name);
+  if (!robot) {
+    return Response::error(core::Error(core::ErrorCode::not_found, "no robot named '" + name + "' (known: " + core::join(robots::builtin_robot_names()) + ")",
+                                       {{"name", name}}));
+  }
+  return Response::json(200, {{"summary", robot_summary(*robot)}, {"description", robots::builtin_robot_document(name)}});
+}
+
 }  // namespace
 
 nlohmann::json version_info() {
@@ -84,44 +135,13 @@ nlohmann::json version_info() {
 
 std::shared_ptr<const Router> make_api_router(const ApiContext& context) {
   auto router = std::make_shared<Router>();
+  router->follow(RequestContract::embedded());
   storage::Store* store = context.store;
 
-  router->add("GET", "/healthz", [store](const Request&) {
-    try {
-      store->ping();
-      return Response::json(200, {{"status", "ok"}, {"database", "ok"}});
-    } catch (const core::Error& e) {
-      return Response::json(503, {{"status", "unavailable"}, {"database", e.what()}});
-    }
-  });
+  add_routes(*router, std::make_shared<const ServiceRoutes>(store, version_info()), kServiceRoutes);
 
   auto tickets = std::make_shared<TicketBook>();
   router->set_guard(make_guard(context.access, tickets));
-
-  const nlohmann::json version = version_info();
-  router->add("GET", "/api/v1/version", [version](const Request&) { return Response::json(200, version); });
-
-  router->add("GET", "/api/v1/openapi.yaml", [](const Request&) {
-    return Response{200, "application/yaml", std::string(embedded_file("openapi.yaml")), {}, {}};
-  });
-  router->add("GET", "/api/v1/openapi.json", [](const Request&) {
-    return Response{200, "application/json", std::string(embedded_file("openapi.json")), {}, {}};
-  });
-
-  router->add("GET", "/api/v1/robots", [](const Request&) {
-    nlohmann::json items = nlohmann::json::array();
-    for (const std::string& name : robots::builtin_robot_names()) items.push_back(robot_summary(*robots::builtin_robot(name)));
-    return Response::json(200, {{"items", items}});
-  });
-  router->add("GET", "/api/v1/robots/{name}", [](const Request& request) {
-    const std::string& name = request.path_params.at("name");
-    const auto robot = robots::builtin_robot(name);
-    if (!robot) {
-      return Response::error(core::Error(core::ErrorCode::not_found, "no robot named '" + name + "' (known: " + core::join(robots::builtin_robot_names()) + ")",
-                                         {{"name", name}}));
-    }
-    return Response::json(200, {{"summary", robot_summary(*robot)}, {"description", robots::builtin_robot_document(name)}});
-  });
 
   auto catalogue = std::make_shared<ScenarioCatalogue>(store, context.scenarios_dir, context.scenario_limits, context.scenario_cache_bytes);
   add_scenario_routes(*router, catalogue);

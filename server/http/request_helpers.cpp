@@ -2,13 +2,11 @@
 
 #include <algorithm>
 #include <charconv>
-#include <cmath>
 #include <sstream>
 
 #include "core/bounded_json.hpp"
 #include "core/error.hpp"
 #include "core/json_schema.hpp"
-#include "core/text.hpp"
 
 namespace hrisim::http {
 
@@ -53,30 +51,6 @@ nlohmann::json json_object_body(const Request& request) {
   }
   if (!body.is_object()) throw core::Error(core::ErrorCode::bad_request, "the body must be a JSON object", {{"pointer", ""}});
   return body;
-}
-
-void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const char*> known, const std::string& at) {
-  for (const auto& item : body.items()) {
-    const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture one
-    if (std::none_of(known.begin(), known.end(), [&](const char* name) { return key == name; })) {
-      throw core::Error(core::ErrorCode::bad_request, "unknown field '" + key + "' (known: " + core::join(known) + ")", {{"pointer", at + "/" + key}});
-    }
-  }
-}
-
-std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int64_t low, std::int64_t high, std::int64_t fallback,
-                           const std::string& at) {
-  if (!body.contains(key)) return fallback;
-  const nlohmann::json& value = body[key];
-  const bool integral = value.is_number_integer() || (value.is_number_float() && std::floor(value.get<double>()) == value.get<double>() &&
-                                                      std::abs(value.get<double>()) < 9.0e15);
-  const auto number = integral ? (value.is_number_integer() ? value.get<std::int64_t>() : static_cast<std::int64_t>(value.get<double>())) : 0;
-  if (!integral || number < low || number > high) {
-    throw core::Error(core::ErrorCode::bad_request,
-                      std::string(key) + " must be an integer from " + std::to_string(low) + " to " + std::to_string(high),
-                      {{"pointer", at + "/" + std::string(key)}});
-  }
-  return number;
 }
 
 std::string json_or_csv_format(const Request& request) {

@@ -1,6 +1,6 @@
 #pragma once
-// Small pieces every route needs: query values, JSON bodies refused when nested too deep, and typed
-// fields read from a body with errors that name their JSON pointer.
+// Small pieces every route needs: query values, and JSON bodies refused when nested too deep (what
+// their fields may be is the request contract's: request_contract.hpp).
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -19,14 +19,6 @@ std::int64_t integer_query(const Request& request, const std::string& key, std::
 /// The request body as a JSON object: 400 with the line and column of a syntax error, for a body
 /// nested too deep (core::check_json_nesting), or for anything but an object. An empty body is an empty object.
 nlohmann::json json_object_body(const Request& request);
-
-/// 400 naming the first key of `body` that is not among `known` (e.g. a typo in a field name); its
-/// pointer is `at` (where `body` sits in the request) + "/" + key.
-void refuse_unknown_keys(const nlohmann::json& body, std::initializer_list<const char*> known, const std::string& at = "");
-
-/// An integer field in [low, high], or `fallback` when absent; 400 naming at + /key otherwise.
-std::int64_t integer_field(const nlohmann::json& body, const char* key, std::int64_t low, std::int64_t high, std::int64_t fallback,
-                           const std::string& at = "");
 
 /// ?format=: json (the default) or csv; 400 naming the parameter otherwise.
 std::string json_or_csv_format(const Request& request);

@@ -4,6 +4,8 @@
 #include <optional>
 
 #include "core/text.hpp"
+#include "http/request_contract.hpp"
+#include "http/request_helpers.hpp"
 
 namespace hrisim::http {
 namespace {
@@ -63,7 +65,13 @@ Response Response::spread_over(std::vector<std::function<Response()>> parts, std
 }
 
 void Router::add(std::string method, std::string pattern, Handler handler) {
-  routes_.push_back({std::move(method), split_path(pattern), std::move(handler)});
+  const core::JsonSchema* body = nullptr;
+  if (contract_ != nullptr) {
+    const RequestContract::Operation* operation = contract_->operation(method, pattern);
+    if (operation == nullptr) throw core::Error(core::ErrorCode::internal, method + " " + pattern + " is not described in api/openapi.yaml");
+    body = operation->body;
+  }
+  routes_.push_back({std::move(method), split_path(pattern), std::move(handler), body});
 }
 
 void Router::add_websocket(std::string pattern, WebSocketFactory factory) {
@@ -100,6 +108,10 @@ Response Router::dispatch(Request request) const {
       if (!params) continue;
       if (route.method == request.method || (route.method == "GET" && request.method == "HEAD")) {
         request.path_params = std::move(*params);
+        if (route.body != nullptr) {
+          request.checked_body = json_object_body(request);
+          check_against(*route.body, request.checked_body);
+        }
         return route.handler(request);
       }
       allowed += (allowed.empty() ? "" : ", ") + route.method;

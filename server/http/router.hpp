@@ -3,6 +3,7 @@
 // Free of Beast so that handlers and their tests compile without it.
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "core/caller.hpp"
 #include "core/error.hpp"
+#include "core/json_schema.hpp"
 
 namespace hrisim::http {
 
@@ -27,6 +29,9 @@ struct Request {
   std::map<std::string, std::string> headers;      ///< names in lower case
   std::map<std::string, std::string> path_params;  ///< values of {name} segments of the matched pattern
   std::string body;
+  /// The body as JSON, checked against the route's schema in the request contract before the handler
+  /// runs (RequestContract, Router::follow); null on a route without one.
+  nlohmann::json checked_body;
 };
 
 struct Response {
@@ -89,8 +94,15 @@ class WebSocketPeer {
 /// Makes the peer for an upgrade request (throws core::Error to refuse it: 404, 401, …).
 using WebSocketFactory = std::function<std::shared_ptr<WebSocketPeer>(const Request&)>;
 
+class RequestContract;
+
 class Router {
  public:
+  /// Routes added from now on are the operations of `contract`: each must be described there (else
+  /// core::Error(internal), at start-up), and a route whose operation takes a JSON body gets it
+  /// checked, every error at once with its pointer, into Request::checked_body before its handler runs.
+  void follow(const RequestContract& contract) { contract_ = &contract; }
+
   /// Registers a handler; pattern segments written {name} match any one segment and land in path_params.
   void add(std::string method, std::string pattern, Handler handler);
   /// Runs before every request: a response from it is the answer (e.g. 401), nothing lets the request
@@ -114,6 +126,7 @@ class Router {
     std::string method;
     std::vector<std::string> segments;
     Handler handler;
+    const core::JsonSchema* body = nullptr;  ///< the contract's schema of its JSON body, if it takes one
   };
   std::vector<Route> routes_;
   struct WebSocketRoute {
@@ -123,7 +136,25 @@ class Router {
   std::vector<WebSocketRoute> websockets_;
   Handler fallback_;
   std::function<std::optional<Response>(Request&)> guard_;
+  const RequestContract* contract_ = nullptr;
 };
+
+/// A route answered by a named member function of `Service` (what a group of routes shares: the
+/// registry, the store), so each handler can be found by name and called alone.
+template <typename Service>
+struct NamedRoute {
+  const char* method;
+  const char* pattern;
+  Response (Service::*handle)(const Request&) const;
+};
+
+/// Registers every route of `table`, each answered by its member function of `service`.
+template <typename Service, std::size_t N>
+void add_routes(Router& router, std::shared_ptr<const Service> service, const NamedRoute<Service> (&table)[N]) {
+  for (const NamedRoute<Service>& route : table) {
+    router.add(route.method, route.pattern, [service, handle = route.handle](const Request& request) { return ((*service).*handle)(request); });
+  }
+}
 
 /// Runs a response's deferred work (and any work it hands on, a spread's parts one after another) until
 /// the answer is there, on the calling thread: a core::Error becomes its JSON error, a JSON type error

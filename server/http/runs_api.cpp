@@ -36,17 +36,6 @@ constexpr std::size_t kMaxComparedRuns = 10;
 class Problems {
  public:
   void add(const std::string& pointer, const std::string& message) { list_.push_back({{"pointer", pointer}, {"message", message}}); }
-  /// A field's value from `read`, or `fallback` with the problem noted when it throws a bad request.
-  template <typename Read>
-  auto checked(Read read, decltype(read()) fallback) {
-    try {
-      return read();
-    } catch (const core::Error& e) {
-      if (e.code() != core::ErrorCode::bad_request) throw;
-      add(e.details().value("pointer", ""), e.what());
-      return fallback;
-    }
-  }
   json& list() { return list_; }
 
  private:
@@ -59,72 +48,30 @@ struct RunLabels {
   std::string notes;
 };
 
-/// The name, tags and notes the body gives (the others kept as `labels` has them), problems noted.
+/// The name, tags and notes the body gives (the others kept as `labels` has them), problems noted:
+/// the contract has checked their types and counts; their sizes are in bytes (runs::label_problems).
 void read_labels(const json& body, RunLabels& labels, Problems& problems) {
-  std::set<std::string> wrong_type;
-  const auto text = [&](const char* key, std::string& into) {
-    if (!body.contains(key)) return;
-    if (body[key].is_string()) {
-      into = body[key].get<std::string>();
-    } else {
-      problems.add(std::string("/") + key, std::string(key) + " must be text");
-      wrong_type.insert(std::string("/") + key);
-    }
-  };
-  text("name", labels.name);
-  text("notes", labels.notes);
-  if (body.contains("tags")) {
-    const json& tags = body["tags"];
-    if (!tags.is_array() || !std::all_of(tags.begin(), tags.end(), [](const json& tag) { return tag.is_string(); })) {
-      problems.add("/tags", "tags must be a list of at most " + std::to_string(runs::kMaxRunTags) + " words");
-      wrong_type.insert("/tags");
-    } else {
-      labels.tags = tags.get<std::vector<std::string>>();
-    }
-  }
-  for (const json& problem : runs::label_problems(labels.name, labels.tags, labels.notes)) {
-    const std::string pointer = problem["pointer"];
-    if (!wrong_type.contains(pointer.substr(0, pointer.find('/', 1)))) problems.add(pointer, problem["message"]);
-  }
+  labels.name = body.value("name", labels.name);
+  labels.notes = body.value("notes", labels.notes);
+  labels.tags = body.value("tags", labels.tags);
+  for (const json& problem : runs::label_problems(labels.name, labels.tags, labels.notes)) problems.add(problem["pointer"], problem["message"]);
 }
 
+/// The seeds a run request lists, or `count` of them from `first_seed`.
 std::vector<std::uint64_t> seeds_of(const json& body, Problems& problems) {
+  if (body.contains("seeds")) return body["seeds"].get<std::vector<std::uint64_t>>();
+  const std::int64_t count = body["count"], first = body.value("first_seed", std::int64_t{0});
+  if (first > kMaxSeed - count + 1) {
+    problems.add("/first_seed", "first_seed + count - 1 must be at most " + std::to_string(kMaxSeed));
+    return {};
+  }
   std::vector<std::uint64_t> seeds;
-  if (body.contains("seeds") == body.contains("count")) {
-    problems.add("/seeds", "give either seeds (a list) or count (with an optional first_seed)");
-    return seeds;
-  }
-  if (body.contains("seeds")) {
-    if (body.contains("first_seed")) problems.add("/first_seed", "first_seed goes with count, not with a list of seeds");
-    if (!body["seeds"].is_array()) {
-      problems.add("/seeds", "seeds must be a list of integers");
-      return seeds;
-    }
-    for (std::size_t i = 0; i < body["seeds"].size(); ++i) {
-      const json& seed = body["seeds"][i];
-      if (!seed.is_number_integer() || seed.get<std::int64_t>() < 0 || seed.get<std::int64_t>() > kMaxSeed) {
-        problems.add("/seeds/" + std::to_string(i), "a seed is an integer from 0 to " + std::to_string(kMaxSeed));
-        continue;
-      }
-      seeds.push_back(seed.get<std::uint64_t>());
-    }
-    return seeds;
-  }
-  // A wrong count or first seed stands as one seed from 0, so that nothing else is reported of it.
-  const auto count = problems.checked([&] { return integer_field(body, "count", 1, static_cast<std::int64_t>(runs::kMaxSeedsPerRun), 1); },
-                                      std::int64_t{1});
-  const auto first = problems.checked([&] { return integer_field(body, "first_seed", 0, kMaxSeed - count + 1, 0); }, std::int64_t{0});
   for (std::int64_t i = 0; i < count; ++i) seeds.push_back(static_cast<std::uint64_t>(first + i));
   return seeds;
 }
 
 /// The run the body asks for, every problem of its fields in `problems` (the scenario must be there).
 runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue, const Caller& caller, Problems& problems) {
-  refuse_unknown_keys(body, {"scenario", "seeds", "count", "first_seed", "controller", "max_time", "gates", "requests", "baseline_without_robot",
-                             "name", "tags", "notes"});
-  if (!body.contains("scenario") || !body["scenario"].is_string()) {
-    throw core::Error(core::ErrorCode::bad_request, "scenario: the id of a scenario is required", {{"pointer", "/scenario"}});
-  }
   const std::string id = body["scenario"];
   const auto entry = catalogue.find(id, caller);
   if (!entry || !entry->source.model) {
@@ -137,43 +84,18 @@ runs::RunRequest run_request(const json& body, ScenarioCatalogue& catalogue, con
   request.scenario_sha256 = entry->content_sha256();
   request.seeds = seeds_of(body, problems);
   if (body.contains("controller") && !body["controller"].is_null()) request.controller = body["controller"];
-  if (body.contains("baseline_without_robot")) {
-    if (body["baseline_without_robot"].is_boolean()) {
-      request.baseline_without_robot = body["baseline_without_robot"];
-    } else {
-      problems.add("/baseline_without_robot", "baseline_without_robot must be true or false");
+  request.baseline_without_robot = body.value("baseline_without_robot", false);
+  if (body.contains("max_time")) request.max_time = body["max_time"].get<double>();
+  request.gates = body.value("gates", std::vector<std::string>{});
+  const json requests = body.value("requests", json::array());
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    // "task" is the routine's former name, still accepted for one version.
+    const json& item = requests[i];
+    if (item.contains("routine") == item.contains("task")) {
+      problems.add("/requests/" + std::to_string(i), "a request is {\"time\": seconds >= 0, \"routine\": name}");
+      continue;
     }
-  }
-  if (body.contains("max_time")) {
-    if (body["max_time"].is_number() && body["max_time"].get<double>() > 0.0 && std::isfinite(body["max_time"].get<double>())) {
-      request.max_time = body["max_time"].get<double>();
-    } else {
-      problems.add("/max_time", "max_time must be a number of seconds > 0");
-    }
-  }
-  if (body.contains("gates")) {
-    if (!body["gates"].is_array()) problems.add("/gates", "gates must be a list of expressions such as \"collisions.max == 0\"");
-    for (std::size_t i = 0; body["gates"].is_array() && i < body["gates"].size(); ++i) {
-      if (body["gates"][i].is_string()) {
-        request.gates.push_back(body["gates"][i]);
-      } else {
-        problems.add("/gates/" + std::to_string(i), "a gate is a string such as \"collisions.max == 0\"");
-      }
-    }
-  }
-  if (body.contains("requests")) {
-    if (!body["requests"].is_array()) problems.add("/requests", "requests must be a list of {time, routine}");
-    for (std::size_t i = 0; body["requests"].is_array() && i < body["requests"].size(); ++i) {
-      const json& item = body["requests"][i];
-      // "task" is the routine's former name, still accepted for one version.
-      const char* routine = item.is_object() && item.contains("task") ? "task" : "routine";
-      if (!item.is_object() || !item.contains("time") || !item["time"].is_number() || !(item["time"].get<double>() >= 0.0) ||
-          !item.contains(routine) || !item[routine].is_string() || item.size() != 2) {
-        problems.add("/requests/" + std::to_string(i), "a request is {\"time\": seconds >= 0, \"routine\": name}");
-        continue;
-      }
-      request.requests.emplace_back(item["time"].get<double>(), item[routine].get<std::string>());
-    }
+    request.requests.emplace_back(item["time"].get<double>(), item.value("routine", item.value("task", "")));
   }
   return request;
 }
@@ -311,174 +233,211 @@ void check_imported_config(ScenarioCatalogue& catalogue, const storage::Scenario
   });
 }
 
+/// The runs routes over REST, each a named handler (kRunRoutes). Bodies reach them checked against
+/// api/openapi.yaml (Router::follow).
+class RunRoutes {
+ public:
+  RunRoutes(std::shared_ptr<ScenarioCatalogue> catalogue, storage::Store* store, runs::Executor* executor)
+      : catalogue_(std::move(catalogue)), store_(store), executor_(executor) {}
+
+  Response metrics(const Request& request) const;
+  Response submit(const Request& request) const;
+  Response list(const Request& request) const;
+  Response label(const Request& request) const;
+  Response compare(const Request& request) const;
+  Response report(const Request& request) const;
+  Response cancel(const Request& request) const;
+  Response episodes(const Request& request) const;
+  Response import_runs(const Request& request) const;
+  Response junit(const Request& request) const;
+
+ private:
+  std::shared_ptr<ScenarioCatalogue> catalogue_;
+  storage::Store* store_;
+  runs::Executor* executor_;
+};
+
+constexpr NamedRoute<RunRoutes> kRunRoutes[] = {
+    {"GET", "/api/v1/metrics", &RunRoutes::metrics},
+    {"POST", "/api/v1/runs", &RunRoutes::submit},
+    {"GET", "/api/v1/runs", &RunRoutes::list},
+    {"PATCH", "/api/v1/runs/{id}", &RunRoutes::label},
+    {"GET", "/api/v1/runs/compare", &RunRoutes::compare},
+    {"GET", "/api/v1/runs/{id}", &RunRoutes::report},
+    {"POST", "/api/v1/runs/{id}/cancel", &RunRoutes::cancel},
+    {"GET", "/api/v1/runs/{id}/episodes", &RunRoutes::episodes},
+    {"POST", "/api/v1/runs/import", &RunRoutes::import_runs},
+    {"GET", "/api/v1/runs/{id}/junit", &RunRoutes::junit},
+};
+
+Response RunRoutes::metrics(const Request&) const {
+  json items = json::array();
+  for (const metrics::Definition& d : metrics::definitions()) {
+    items.push_back({{"key", d.key},
+                     {"unit", d.unit},
+                     {"category", d.category},
+                     {"better", metrics::to_string(d.better)},
+                     {"description", d.description},
+                     {"convention", d.convention}});
+  }
+  json series = json::array();
+  for (const metrics::SeriesDefinition& d : metrics::series_definitions()) {
+    series.push_back({{"name", d.name}, {"unit", d.unit}, {"description", d.description}});
+  }
+  return Response::json(200, {{"items", items}, {"series", series}});
+}
+
+Response RunRoutes::submit(const Request& request) const {
+  const json& body = request.checked_body;
+  Problems problems;
+  const runs::RunRequest asked = run_request(body, *catalogue_, request.caller, problems);
+  RunLabels labels;
+  read_labels(body, labels, problems);
+  runs::RunSpec spec = runs::make_run_spec(asked, problems.list());
+  spec.owner = request.caller.owner;
+  spec.name = labels.name;
+  spec.tags = labels.tags;
+  spec.notes = labels.notes;
+  spec.scenario_id = stored_scenario_id(*store_, asked.scenario_id, *catalogue_->find(asked.scenario_id), asked.scenario_sha256);
+  const storage::RunRecord run = executor_->submit(std::move(spec));
+  Response response = Response::json(201, report_of(*store_, *executor_, find_run(*store_, run.id, request.caller)));
+  response.headers.emplace_back("Location", "/api/v1/runs/" + run.id);
+  return response;
+}
+
+Response RunRoutes::list(const Request& request) const {
+  const storage::RunQuery query = run_query(request, *store_);
+  if (query.sort || !query.filters.empty()) summarize_ended_runs(*store_, *executor_);
+  std::vector<std::pair<std::string, std::string>> columns;
+  for (const std::string& name : list_parameter(request, "metrics")) columns.push_back(metric_statistic(name, "metrics"));
+  json items = json::array();
+  const auto page = store_->runs(query);
+  for (const storage::RunRecord& run : page) {
+    const json report = report_of(*store_, *executor_, run);
+    json item{{"id", report["id"]},
+              {"name", report["name"]},
+              {"tags", report["tags"]},
+              {"scenario", report["scenario"]},
+              {"controller", report["controller"]},
+              {"status", report["status"]},
+              {"created_at", report["created_at"]},
+              {"finished_at", report["finished_at"]},
+              {"progress", report["progress"]},
+              {"success_rate", report["rates"]["success_rate"]},
+              {"verdict", {{"passed", report["verdict"]["passed"]},
+                           {"complete", report["verdict"]["complete"]},
+                           {"reasons", report["verdict"]["reasons"]}}}};
+    json values = json::object();
+    for (const auto& [metric, statistic] : columns) values[metric + "." + statistic] = report["aggregates"][metric][statistic];
+    item["metrics"] = std::move(values);
+    items.push_back(std::move(item));
+  }
+  json reply{{"items", items}};
+  const bool full = static_cast<int>(page.size()) == query.limit;
+  reply["next_cursor"] = !full ? json() : query.sort ? json("@" + std::to_string(query.offset + query.limit)) : json(page.back().id);
+  return Response::json(200, reply);
+}
+
+Response RunRoutes::label(const Request& request) const {
+  const storage::RunRecord run = find_run(*store_, request.path_params.at("id"), request.caller);
+  RunLabels labels{run.name, run.tags, run.notes};
+  Problems problems;
+  read_labels(request.checked_body, labels, problems);
+  runs::throw_if_problems(problems.list());
+  store_->set_run_labels(run.id, labels.name, labels.tags, labels.notes);
+  return Response::json(200, report_of(*store_, *executor_, find_run(*store_, run.id, request.caller)));
+}
+
+Response RunRoutes::compare(const Request& request) const {
+  if (query_value(request.query, "runs")) {
+    const std::vector<std::string> ids = list_parameter(request, "runs");
+    if (ids.size() < 2 || ids.size() > kMaxComparedRuns) {
+      throw core::Error(core::ErrorCode::bad_request, "runs: from 2 to " + std::to_string(kMaxComparedRuns) + " run ids, comma-separated, the baseline first",
+                        {{"parameter", "runs"}});
+    }
+    const std::string correction = query_value(request.query, "correction").value_or("holm");
+    if (correction != "holm" && correction != "none") {
+      throw core::Error(core::ErrorCode::bad_request, "correction: holm or none", {{"parameter", "correction"}});
+    }
+    std::vector<storage::RunRecord> records;
+    std::vector<std::vector<storage::EpisodeRecord>> episodes;
+    for (const std::string& id : ids) {
+      if (std::any_of(records.begin(), records.end(), [&](const storage::RunRecord& run) { return run.id == id; })) {
+        throw core::Error(core::ErrorCode::bad_request, "runs: run '" + id + "' is named twice", {{"parameter", "runs"}});
+      }
+      records.push_back(find_run(*store_, id, request.caller));
+      episodes.push_back(store_->episodes_of_run(id));
+    }
+    std::vector<runs::RunWithEpisodes> compared;
+    for (std::size_t i = 0; i < records.size(); ++i) compared.push_back({&records[i], &episodes[i]});
+    return Response::json(200, runs::compare_many_runs(compared, correction == "holm"));
+  }
+  const auto a = query_value(request.query, "a"), b = query_value(request.query, "b");
+  if (!a || a->empty() || !b || b->empty()) {
+    throw core::Error(core::ErrorCode::bad_request, "give the two runs as ?a=ID&b=ID", {{"parameter", a && !a->empty() ? "b" : "a"}});
+  }
+  const storage::RunRecord run_a = find_run(*store_, *a, request.caller), run_b = find_run(*store_, *b, request.caller);
+  return Response::json(200, runs::compare_runs(run_a, store_->episodes_of_run(run_a.id), run_b, store_->episodes_of_run(run_b.id)));
+}
+
+Response RunRoutes::report(const Request& request) const {
+  return Response::json(200, report_of(*store_, *executor_, find_run(*store_, request.path_params.at("id"), request.caller)));
+}
+
+Response RunRoutes::cancel(const Request& request) const {
+  const storage::RunRecord run = find_run(*store_, request.path_params.at("id"), request.caller);
+  if (!executor_->cancel(run.id)) {
+    throw core::Error(core::ErrorCode::conflict, "run '" + run.id + "' is " + run.status + " and cannot be cancelled",
+                      {{"id", run.id}, {"status", run.status}});
+  }
+  return Response::json(202, report_of(*store_, *executor_, find_run(*store_, run.id, request.caller)));
+}
+
+Response RunRoutes::episodes(const Request& request) const {
+  const std::string format = json_or_csv_format(request);
+  const storage::RunRecord run = find_run(*store_, request.path_params.at("id"), request.caller);
+  const std::vector<storage::EpisodeRecord> episodes = store_->episodes_of_run(run.id);
+  if (format == "csv") return download(episodes_csv(episodes), kCsvContentType, run.id + "-episodes.csv");
+  json items = json::array();
+  for (const storage::EpisodeRecord& episode : episodes) items.push_back(episode_json(episode));
+  return Response::json(200, {{"items", items}});
+}
+
+Response RunRoutes::import_runs(const Request& request) const {
+  // Checking, copying and merging the database: work for the pool.
+  return Response::later([catalogue = catalogue_, store = store_, body = request.body, owner = request.caller.owner] {
+    storage::ForeignDatabase source = storage::ForeignDatabase::from_bytes(body, "the uploaded database");
+    json runs = json::array();
+    std::set<std::string> compiled;  // the configurations checked already, each compiled once
+    const runs::RunCheck as_asked = [&catalogue, &compiled](const storage::ScenarioRecord& scenario, const storage::RunRecord& run) {
+      const json& config = run.config;
+      std::string configuration = scenario.sha256;
+      for (const char* key : {"effective_controller", "controller", "max_time", "requests"}) configuration += '\0' + config.value(key, json()).dump();
+      if (compiled.contains(configuration)) return;
+      if (compiled.size() == kMaxImportedConfigurations) {
+        throw core::Error(core::ErrorCode::bad_request, "more than " + std::to_string(kMaxImportedConfigurations) +
+                                                            " distinct run configurations (scenario, controller, max_time, requests) in one import: "
+                                                            "import the database in parts, or with hrisim serve --import");
+      }
+      check_imported_config(*catalogue, scenario, run);
+      compiled.insert(std::move(configuration));
+    };
+    for (const runs::MergedRun& merged : runs::merge_database(*store, source, "this server's", owner, as_asked)) {
+      runs.push_back({{"id", merged.id}, {"source_id", merged.source_id}, {"added", merged.added}, {"present", merged.present}});
+    }
+    return Response::json(200, {{"runs", runs}});
+  });
+}
+
+Response RunRoutes::junit(const Request& request) const {
+  const json report = report_of(*store_, *executor_, find_run(*store_, request.path_params.at("id"), request.caller));
+  return Response{200, "application/xml", runs::junit_xml(report), {}, {}};
+}
+
 }  // namespace
 
 void add_run_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, storage::Store* store, runs::Executor* executor) {
-  router.add("GET", "/api/v1/metrics", [](const Request&) {
-    json items = json::array();
-    for (const metrics::Definition& d : metrics::definitions()) {
-      items.push_back({{"key", d.key},
-                       {"unit", d.unit},
-                       {"category", d.category},
-                       {"better", metrics::to_string(d.better)},
-                       {"description", d.description},
-                       {"convention", d.convention}});
-    }
-    json series = json::array();
-    for (const metrics::SeriesDefinition& d : metrics::series_definitions()) {
-      series.push_back({{"name", d.name}, {"unit", d.unit}, {"description", d.description}});
-    }
-    return Response::json(200, {{"items", items}, {"series", series}});
-  });
-
-  router.add("POST", "/api/v1/runs", [catalogue, store, executor](const Request& request) {
-    const json body = json_object_body(request);
-    Problems problems;
-    const runs::RunRequest asked = run_request(body, *catalogue, request.caller, problems);
-    RunLabels labels;
-    read_labels(body, labels, problems);
-    runs::RunSpec spec = runs::make_run_spec(asked, problems.list());
-    spec.owner = request.caller.owner;
-    spec.name = labels.name;
-    spec.tags = labels.tags;
-    spec.notes = labels.notes;
-    spec.scenario_id = stored_scenario_id(*store, asked.scenario_id, *catalogue->find(asked.scenario_id), asked.scenario_sha256);
-    const storage::RunRecord run = executor->submit(std::move(spec));
-    Response response = Response::json(201, report_of(*store, *executor, find_run(*store, run.id, request.caller)));
-    response.headers.emplace_back("Location", "/api/v1/runs/" + run.id);
-    return response;
-  });
-
-  router.add("GET", "/api/v1/runs", [store, executor](const Request& request) {
-    const storage::RunQuery query = run_query(request, *store);
-    if (query.sort || !query.filters.empty()) summarize_ended_runs(*store, *executor);
-    std::vector<std::pair<std::string, std::string>> columns;
-    for (const std::string& name : list_parameter(request, "metrics")) columns.push_back(metric_statistic(name, "metrics"));
-    json items = json::array();
-    const auto page = store->runs(query);
-    for (const storage::RunRecord& run : page) {
-      const json report = report_of(*store, *executor, run);
-      json item{{"id", report["id"]},
-                {"name", report["name"]},
-                {"tags", report["tags"]},
-                {"scenario", report["scenario"]},
-                {"controller", report["controller"]},
-                {"status", report["status"]},
-                {"created_at", report["created_at"]},
-                {"finished_at", report["finished_at"]},
-                {"progress", report["progress"]},
-                {"success_rate", report["rates"]["success_rate"]},
-                {"verdict", {{"passed", report["verdict"]["passed"]},
-                             {"complete", report["verdict"]["complete"]},
-                             {"reasons", report["verdict"]["reasons"]}}}};
-      json values = json::object();
-      for (const auto& [metric, statistic] : columns) values[metric + "." + statistic] = report["aggregates"][metric][statistic];
-      item["metrics"] = std::move(values);
-      items.push_back(std::move(item));
-    }
-    json reply{{"items", items}};
-    const bool full = static_cast<int>(page.size()) == query.limit;
-    reply["next_cursor"] = !full ? json() : query.sort ? json("@" + std::to_string(query.offset + query.limit)) : json(page.back().id);
-    return Response::json(200, reply);
-  });
-
-  router.add("PATCH", "/api/v1/runs/{id}", [store, executor](const Request& request) {
-    const storage::RunRecord run = find_run(*store, request.path_params.at("id"), request.caller);
-    const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"name", "tags", "notes"});
-    RunLabels labels{run.name, run.tags, run.notes};
-    Problems problems;
-    read_labels(body, labels, problems);
-    runs::throw_if_problems(problems.list());
-    store->set_run_labels(run.id, labels.name, labels.tags, labels.notes);
-    return Response::json(200, report_of(*store, *executor, find_run(*store, run.id, request.caller)));
-  });
-
-  router.add("GET", "/api/v1/runs/compare", [store](const Request& request) {
-    if (query_value(request.query, "runs")) {
-      const std::vector<std::string> ids = list_parameter(request, "runs");
-      if (ids.size() < 2 || ids.size() > kMaxComparedRuns) {
-        throw core::Error(core::ErrorCode::bad_request, "runs: from 2 to " + std::to_string(kMaxComparedRuns) + " run ids, comma-separated, the baseline first",
-                          {{"parameter", "runs"}});
-      }
-      const std::string correction = query_value(request.query, "correction").value_or("holm");
-      if (correction != "holm" && correction != "none") {
-        throw core::Error(core::ErrorCode::bad_request, "correction: holm or none", {{"parameter", "correction"}});
-      }
-      std::vector<storage::RunRecord> records;
-      std::vector<std::vector<storage::EpisodeRecord>> episodes;
-      for (const std::string& id : ids) {
-        if (std::any_of(records.begin(), records.end(), [&](const storage::RunRecord& run) { return run.id == id; })) {
-          throw core::Error(core::ErrorCode::bad_request, "runs: run '" + id + "' is named twice", {{"parameter", "runs"}});
-        }
-        records.push_back(find_run(*store, id, request.caller));
-        episodes.push_back(store->episodes_of_run(id));
-      }
-      std::vector<runs::RunWithEpisodes> compared;
-      for (std::size_t i = 0; i < records.size(); ++i) compared.push_back({&records[i], &episodes[i]});
-      return Response::json(200, runs::compare_many_runs(compared, correction == "holm"));
-    }
-    const auto a = query_value(request.query, "a"), b = query_value(request.query, "b");
-    if (!a || a->empty() || !b || b->empty()) {
-      throw core::Error(core::ErrorCode::bad_request, "give the two runs as ?a=ID&b=ID", {{"parameter", a && !a->empty() ? "b" : "a"}});
-    }
-    const storage::RunRecord run_a = find_run(*store, *a, request.caller), run_b = find_run(*store, *b, request.caller);
-    return Response::json(200, runs::compare_runs(run_a, store->episodes_of_run(run_a.id), run_b, store->episodes_of_run(run_b.id)));
-  });
-
-  router.add("GET", "/api/v1/runs/{id}", [store, executor](const Request& request) {
-    return Response::json(200, report_of(*store, *executor, find_run(*store, request.path_params.at("id"), request.caller)));
-  });
-
-  router.add("POST", "/api/v1/runs/{id}/cancel", [store, executor](const Request& request) {
-    const storage::RunRecord run = find_run(*store, request.path_params.at("id"), request.caller);
-    if (!executor->cancel(run.id)) {
-      throw core::Error(core::ErrorCode::conflict, "run '" + run.id + "' is " + run.status + " and cannot be cancelled",
-                        {{"id", run.id}, {"status", run.status}});
-    }
-    return Response::json(202, report_of(*store, *executor, find_run(*store, run.id, request.caller)));
-  });
-
-  router.add("GET", "/api/v1/runs/{id}/episodes", [store](const Request& request) {
-    const std::string format = json_or_csv_format(request);
-    const storage::RunRecord run = find_run(*store, request.path_params.at("id"), request.caller);
-    const std::vector<storage::EpisodeRecord> episodes = store->episodes_of_run(run.id);
-    if (format == "csv") return download(episodes_csv(episodes), kCsvContentType, run.id + "-episodes.csv");
-    json items = json::array();
-    for (const storage::EpisodeRecord& episode : episodes) items.push_back(episode_json(episode));
-    return Response::json(200, {{"items", items}});
-  });
-
-  router.add("POST", "/api/v1/runs/import", [catalogue, store](const Request& request) {
-    // Checking, copying and merging the database: work for the pool.
-    return Response::later([catalogue, store, body = request.body, owner = request.caller.owner] {
-      storage::ForeignDatabase source = storage::ForeignDatabase::from_bytes(body, "the uploaded database");
-      json runs = json::array();
-      std::set<std::string> compiled;  // the configurations checked already, each compiled once
-      const runs::RunCheck as_asked = [&catalogue, &compiled](const storage::ScenarioRecord& scenario, const storage::RunRecord& run) {
-        const json& config = run.config;
-        std::string configuration = scenario.sha256;
-        for (const char* key : {"effective_controller", "controller", "max_time", "requests"}) configuration += '\0' + config.value(key, json()).dump();
-        if (compiled.contains(configuration)) return;
-        if (compiled.size() == kMaxImportedConfigurations) {
-          throw core::Error(core::ErrorCode::bad_request, "more than " + std::to_string(kMaxImportedConfigurations) +
-                                                              " distinct run configurations (scenario, controller, max_time, requests) in one import: "
-                                                              "import the database in parts, or with hrisim serve --import");
-        }
-        check_imported_config(*catalogue, scenario, run);
-        compiled.insert(std::move(configuration));
-      };
-      for (const runs::MergedRun& merged : runs::merge_database(*store, source, "this server's", owner, as_asked)) {
-        runs.push_back({{"id", merged.id}, {"source_id", merged.source_id}, {"added", merged.added}, {"present", merged.present}});
-      }
-      return Response::json(200, {{"runs", runs}});
-    });
-  });
-
-  router.add("GET", "/api/v1/runs/{id}/junit", [store, executor](const Request& request) {
-    const json report = report_of(*store, *executor, find_run(*store, request.path_params.at("id"), request.caller));
-    return Response{200, "application/xml", runs::junit_xml(report), {}, {}};
-  });
+  add_routes(router, std::make_shared<const RunRoutes>(std::move(catalogue), store, executor), kRunRoutes);
 }
 
 }  // namespace hrisim::http

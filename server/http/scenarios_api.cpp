@@ -104,99 +104,127 @@ json issues(const std::vector<scenario::SourceIssue>& list) {
   return result;
 }
 
+/// The scenarios routes over REST, each a named handler (kScenarioRoutes). Everything that may compile
+/// a scenario (an upload not in the cache, a new one) runs on the worker pool: compiling a large map
+/// or crowd must not hold an I/O thread.
+class ScenarioRoutes {
+ public:
+  explicit ScenarioRoutes(std::shared_ptr<ScenarioCatalogue> catalogue) : catalogue_(std::move(catalogue)) {}
+
+  Response list(const Request& request) const;
+  Response document(const Request& request) const;
+  Response world(const Request& request) const;
+  Response thumbnail(const Request& request) const;
+  Response validate(const Request& request) const;
+  Response upload(const Request& request) const;
+  Response remove(const Request& request) const;
+
+ private:
+  std::shared_ptr<ScenarioCatalogue> catalogue_;
+};
+
+constexpr NamedRoute<ScenarioRoutes> kScenarioRoutes[] = {
+    {"GET", "/api/v1/scenarios", &ScenarioRoutes::list},
+    {"GET", "/api/v1/scenarios/{id}", &ScenarioRoutes::document},
+    {"GET", "/api/v1/scenarios/{id}/world", &ScenarioRoutes::world},
+    {"GET", "/api/v1/scenarios/{id}/thumbnail", &ScenarioRoutes::thumbnail},
+    {"POST", "/api/v1/scenarios/validate", &ScenarioRoutes::validate},
+    {"POST", "/api/v1/scenarios", &ScenarioRoutes::upload},
+    {"DELETE", "/api/v1/scenarios/{id}", &ScenarioRoutes::remove},
+};
+
+Response ScenarioRoutes::list(const Request& request) const {
+  const int limit = static_cast<int>(integer_query(request, "limit", 1, kMaxPageSize, kDefaultPageSize));
+  const std::string cursor = query_value(request.query, "cursor").value_or("");
+  return Response::later([catalogue = catalogue_, limit, cursor, caller = request.caller] {
+    const auto ids = catalogue->page(cursor, limit + 1, caller);
+    json items = json::array();
+    for (std::size_t i = 0; i < ids.size() && static_cast<int>(i) < limit; ++i) {
+      if (json summary = catalogue->summary(ids[i]); !summary.is_null()) items.push_back(std::move(summary));
+    }
+    json page{{"items", items}, {"next_cursor", nullptr}};
+    if (static_cast<int>(ids.size()) > limit) page["next_cursor"] = ids[static_cast<std::size_t>(limit) - 1];
+    return Response::json(200, page);
+  });
+}
+
+Response ScenarioRoutes::document(const Request& request) const {
+  return Response::later([catalogue = catalogue_, id = request.path_params.at("id"), caller = request.caller] {
+    const auto entry = catalogue->find(id, caller);
+    if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
+    return Response::json(200, entry->source.document);
+  });
+}
+
+Response ScenarioRoutes::world(const Request& request) const {
+  return Response::later([catalogue = catalogue_, id = request.path_params.at("id"), caller = request.caller] {
+    const auto entry = catalogue->find(id, caller);
+    if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
+    if (!entry->source.model) throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' does not load", {{"id", id}});
+    nlohmann::json world = scenario::world_geometry(*entry->source.model);
+    world["id"] = id;
+    return Response::json(200, world);
+  });
+}
+
+Response ScenarioRoutes::thumbnail(const Request& request) const {
+  const std::string& id = request.path_params.at("id");
+  const auto entry = catalogue_->find(id, request.caller);
+  if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
+  if (!entry->source.model) throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' does not load", {{"id", id}});
+  // A size given alone keeps the default's 4:3.
+  const auto asked_width = static_cast<int>(integer_query(request, "width", 16, kMaxThumbnailSize, 0));
+  const auto asked_height = static_cast<int>(integer_query(request, "height", 16, kMaxThumbnailSize, 0));
+  const int width = asked_width ? asked_width : asked_height ? std::clamp(asked_height * kThumbnailWidth / kThumbnailHeight, 16, kMaxThumbnailSize) : kThumbnailWidth;
+  const int height = asked_height ? asked_height : asked_width ? std::clamp(asked_width * kThumbnailHeight / kThumbnailWidth, 16, kMaxThumbnailSize) : kThumbnailHeight;
+  // The scenario at its start (seed 0) from above, drawn on the worker pool.
+  return Response::later([model = entry->source.model, width, height] {
+    const sim::Session session(model, 0);
+    const sim::CameraInfo camera = sim::camera_of(session, "overview", width, height);
+    Response image{200, "image/png", render::encode_png(render::render_on_this_thread(sim::scene_for(session, camera), camera.camera).colour), {}, {}};
+    image.headers.emplace_back("Cache-Control", "max-age=3600");
+    return image;
+  });
+}
+
+Response ScenarioRoutes::validate(const Request& request) const {
+  return Response::later([catalogue = catalogue_, request] {
+    const auto compiled = catalogue->check(upload_of(request));
+    json reply{{"valid", compiled.errors.empty()},
+               {"format", scenario::to_string(compiled.format)},
+               {"errors", issues(compiled.errors)},
+               {"warnings", issues(compiled.warnings)}};
+    if (compiled.model) reply["summary"] = scenario::summarize(*compiled.model);
+    return Response::json(200, reply);
+  });
+}
+
+Response ScenarioRoutes::upload(const Request& request) const {
+  return Response::later([catalogue = catalogue_, request] {
+    scenario::CompiledSource compiled;
+    const auto added = catalogue->add(upload_of(request), request.caller.owner, compiled);
+    if (added.id.empty()) {
+      throw core::Error(core::ErrorCode::bad_request, "the scenario is not valid: nothing was stored",
+                        {{"format", scenario::to_string(compiled.format)}, {"errors", issues(compiled.errors)}});
+    }
+    const json warnings = issues(compiled.warnings);
+    // The same content again: the upload it duplicates, 200 rather than 201.
+    Response response = Response::json(added.existed ? 200 : 201,
+                                       {{"summary", catalogue->summary(added.id)}, {"warnings", warnings}, {"existed", added.existed}});
+    response.headers.emplace_back("Location", "/api/v1/scenarios/" + added.id);
+    return response;
+  });
+}
+
+Response ScenarioRoutes::remove(const Request& request) const {
+  const std::string& id = request.path_params.at("id");
+  return Response::json(200, {{"id", id}, {"outcome", catalogue_->remove(id, request.caller) ? "deleted" : "unlisted"}});
+}
+
 }  // namespace
 
 void add_scenario_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue) {
-
-  // Everything that may compile a scenario (an upload not in the cache, a new one) runs on the worker
-  // pool: compiling a large map or crowd must not hold an I/O thread.
-  router.add("GET", "/api/v1/scenarios", [catalogue](const Request& request) {
-    const int limit = static_cast<int>(integer_query(request, "limit", 1, kMaxPageSize, kDefaultPageSize));
-    const std::string cursor = query_value(request.query, "cursor").value_or("");
-    return Response::later([catalogue, limit, cursor, caller = request.caller] {
-      const auto ids = catalogue->page(cursor, limit + 1, caller);
-      json items = json::array();
-      for (std::size_t i = 0; i < ids.size() && static_cast<int>(i) < limit; ++i) {
-        if (json summary = catalogue->summary(ids[i]); !summary.is_null()) items.push_back(std::move(summary));
-      }
-      json page{{"items", items}, {"next_cursor", nullptr}};
-      if (static_cast<int>(ids.size()) > limit) page["next_cursor"] = ids[static_cast<std::size_t>(limit) - 1];
-      return Response::json(200, page);
-    });
-  });
-
-  router.add("GET", "/api/v1/scenarios/{id}", [catalogue](const Request& request) {
-    return Response::later([catalogue, id = request.path_params.at("id"), caller = request.caller] {
-      const auto entry = catalogue->find(id, caller);
-      if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
-      return Response::json(200, entry->source.document);
-    });
-  });
-
-  router.add("GET", "/api/v1/scenarios/{id}/world", [catalogue](const Request& request) {
-    return Response::later([catalogue, id = request.path_params.at("id"), caller = request.caller] {
-      const auto entry = catalogue->find(id, caller);
-      if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
-      if (!entry->source.model) throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' does not load", {{"id", id}});
-      nlohmann::json world = scenario::world_geometry(*entry->source.model);
-      world["id"] = id;
-      return Response::json(200, world);
-    });
-  });
-
-  router.add("GET", "/api/v1/scenarios/{id}/thumbnail", [catalogue](const Request& request) {
-    const std::string& id = request.path_params.at("id");
-    const auto entry = catalogue->find(id, request.caller);
-    if (!entry) throw core::Error(core::ErrorCode::not_found, "no scenario '" + id + "'", {{"id", id}});
-    if (!entry->source.model) throw core::Error(core::ErrorCode::conflict, "scenario '" + id + "' does not load", {{"id", id}});
-    // A size given alone keeps the default's 4:3.
-    const auto asked_width = static_cast<int>(integer_query(request, "width", 16, kMaxThumbnailSize, 0));
-    const auto asked_height = static_cast<int>(integer_query(request, "height", 16, kMaxThumbnailSize, 0));
-    const int width = asked_width ? asked_width : asked_height ? std::clamp(asked_height * kThumbnailWidth / kThumbnailHeight, 16, kMaxThumbnailSize) : kThumbnailWidth;
-    const int height = asked_height ? asked_height : asked_width ? std::clamp(asked_width * kThumbnailHeight / kThumbnailWidth, 16, kMaxThumbnailSize) : kThumbnailHeight;
-    // The scenario at its start (seed 0) from above, drawn on the worker pool.
-    return Response::later([model = entry->source.model, width, height] {
-      const sim::Session session(model, 0);
-      const sim::CameraInfo camera = sim::camera_of(session, "overview", width, height);
-      Response image{200, "image/png", render::encode_png(render::render_on_this_thread(sim::scene_for(session, camera), camera.camera).colour), {}, {}};
-      image.headers.emplace_back("Cache-Control", "max-age=3600");
-      return image;
-    });
-  });
-
-  router.add("POST", "/api/v1/scenarios/validate", [catalogue](const Request& request) {
-    return Response::later([catalogue, request] {
-      const auto compiled = catalogue->check(upload_of(request));
-      json reply{{"valid", compiled.errors.empty()},
-                 {"format", scenario::to_string(compiled.format)},
-                 {"errors", issues(compiled.errors)},
-                 {"warnings", issues(compiled.warnings)}};
-      if (compiled.model) reply["summary"] = scenario::summarize(*compiled.model);
-      return Response::json(200, reply);
-    });
-  });
-
-  router.add("POST", "/api/v1/scenarios", [catalogue](const Request& request) {
-    return Response::later([catalogue, request] {
-      scenario::CompiledSource compiled;
-      const auto added = catalogue->add(upload_of(request), request.caller.owner, compiled);
-      if (added.id.empty()) {
-        throw core::Error(core::ErrorCode::bad_request, "the scenario is not valid: nothing was stored",
-                          {{"format", scenario::to_string(compiled.format)}, {"errors", issues(compiled.errors)}});
-      }
-      const json warnings = issues(compiled.warnings);
-      // The same content again: the upload it duplicates, 200 rather than 201.
-      Response response = Response::json(added.existed ? 200 : 201,
-                                         {{"summary", catalogue->summary(added.id)}, {"warnings", warnings}, {"existed", added.existed}});
-      response.headers.emplace_back("Location", "/api/v1/scenarios/" + added.id);
-      return response;
-    });
-  });
-
-  router.add("DELETE", "/api/v1/scenarios/{id}", [catalogue](const Request& request) {
-    const std::string& id = request.path_params.at("id");
-    return Response::json(200, {{"id", id}, {"outcome", catalogue->remove(id, request.caller) ? "deleted" : "unlisted"}});
-  });
+  add_routes(router, std::make_shared<const ScenarioRoutes>(std::move(catalogue)), kScenarioRoutes);
 }
 
 }  // namespace hrisim::http

@@ -15,21 +15,10 @@ namespace hrisim::http {
 
 using nlohmann::json;
 
-/// A number field of a command; 400 naming it otherwise.
-static double number_of(const json& object, const char* key, const std::string& at) {
-  if (!object.is_object() || !object.contains(key) || !object[key].is_number() || !std::isfinite(object[key].get<double>())) {
-    throw core::Error(core::ErrorCode::bad_request, std::string(key) + " must be a number", {{"pointer", at + "/" + key}});
-  }
-  return object[key].get<double>();
-}
-
-/// Checks one command against the session and returns the input that gives it (nothing is changed yet).
+/// Checks one command (of the form api/openapi.yaml's Command, as the request contract checked it)
+/// against the session and returns the input that gives it (nothing is changed yet).
 static episode::Input checked_command(const sim::Session& session, const json& command, const std::string& at) {
-  if (!command.is_object()) throw core::Error(core::ErrorCode::bad_request, "a command is an object", {{"pointer", at}});
-  const bool human = command.contains("human"), robot = command.contains("robot");
-  if (human == robot || !command[human ? "human" : "robot"].is_string()) {
-    throw core::Error(core::ErrorCode::bad_request, "a command names a \"human\" or a \"robot\"", {{"pointer", at}});
-  }
+  const bool human = command.contains("human");
   const std::string who = command[human ? "human" : "robot"];
   sim::AgentId id;
   try {
@@ -40,20 +29,15 @@ static episode::Input checked_command(const sim::Session& session, const json& c
   const int agent = session.index_of(id);
   const auto& def = session.model().agents[agent];
   if (human) {
-    refuse_unknown_keys(command, {"human", "command"});
-    if (!command.contains("command") || !command["command"].is_string()) {
-      throw core::Error(core::ErrorCode::bad_request, "command: the text of a command is required", {{"pointer", at + "/command"}});
-    }
     const std::string text = command["command"];
     const scenario::Action action = scenario::parse_human_command(session.model(), agent, text);  // throws when it is wrong
     return episode::inputs::HumanCommand{agent, action, text};
   }
-  refuse_unknown_keys(command, {"robot", "velocity", "joints", "gripper", "request"});
   if (def.kind != scenario::AgentKind::robot) throw core::Error(core::ErrorCode::bad_request, "'" + who + "' is not a robot", {{"pointer", at + "/robot"}});
   const sim::RobotRuntime* runtime = session.robot_runtime(id);
   if (command.contains("velocity")) {
     const json& velocity = command["velocity"];
-    const double linear = number_of(velocity, "linear", at + "/velocity"), angular = number_of(velocity, "angular", at + "/velocity");
+    const double linear = velocity["linear"].get<double>(), angular = velocity["angular"].get<double>();
     if (!runtime || !def.robot_model->drive) {
       throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no drive to take a velocity", {{"pointer", at + "/velocity"}});
     }
@@ -62,9 +46,6 @@ static episode::Input checked_command(const sim::Session& session, const json& c
   if (command.contains("joints")) {
     const json& joints = command["joints"];
     if (!runtime) throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no joints", {{"pointer", at + "/joints"}});
-    if (!joints.is_object() || !joints.contains("group") || !joints["group"].is_string()) {
-      throw core::Error(core::ErrorCode::bad_request, "joints: a group name is required", {{"pointer", at + "/joints/group"}});
-    }
     const std::string group = joints["group"];
     const auto found = def.robot_model->groups.find(group);
     if (found == def.robot_model->groups.end()) {
@@ -73,8 +54,7 @@ static episode::Input checked_command(const sim::Session& session, const json& c
     }
     const bool velocities = joints.contains("velocities");
     const json& values = joints[velocities ? "velocities" : "positions"];
-    if (!values.is_array() || values.size() != found->second.size() ||
-        !std::all_of(values.begin(), values.end(), [](const json& v) { return v.is_number() && std::isfinite(v.get<double>()); })) {
+    if (values.size() != found->second.size()) {
       throw core::Error(core::ErrorCode::bad_request,
                         std::string(velocities ? "velocities" : "positions") + ": " + std::to_string(found->second.size()) + " numbers for group '" + group + "'",
                         {{"pointer", at + "/joints/" + (velocities ? "velocities" : "positions")}});
@@ -84,9 +64,6 @@ static episode::Input checked_command(const sim::Session& session, const json& c
   }
   if (command.contains("gripper")) {
     const json& gripper = command["gripper"];
-    if (!gripper.is_string() || (gripper != "open" && gripper != "close")) {
-      throw core::Error(core::ErrorCode::bad_request, "gripper: \"open\" or \"close\"", {{"pointer", at + "/gripper"}});
-    }
     if (!runtime || !def.robot_model->gripper) {
       throw core::Error(core::ErrorCode::bad_request, "robot '" + who + "' has no gripper", {{"pointer", at + "/gripper"}});
     }
@@ -94,31 +71,16 @@ static episode::Input checked_command(const sim::Session& session, const json& c
     return episode::inputs::RobotGripper{agent, close};
   }
   if (command.contains("request")) {
-    const int routine = command["request"].is_string() ? session.model().find_routine(command["request"]) : -1;
+    const int routine = session.model().find_routine(command["request"]);
     if (routine < 0) throw core::Error(core::ErrorCode::bad_request, "request: no routine by that name", {{"pointer", at + "/request"}});
     return episode::inputs::RobotRequest{agent, routine};
   }
   throw core::Error(core::ErrorCode::bad_request, "a robot command gives velocity, joints, gripper or request", {{"pointer", at}});
 }
 
-/// An action given at JSON pointer `at`: a list of numbers, or null for none.
-std::optional<std::vector<double>> action_at(const json& action, const std::string& at) {
+std::optional<std::vector<double>> action_of(const json& action) {
   if (action.is_null()) return std::nullopt;
-  if (!action.is_array()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", at}});
-  std::vector<double> values;
-  for (std::size_t i = 0; i < action.size(); ++i) {
-    if (!action[i].is_number()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", at + "/" + std::to_string(i)}});
-    values.push_back(action[i].get<double>());
-  }
-  return values;
-}
-
-/// The optional "action" of a step: a list of numbers.
-std::optional<std::vector<double>> action_of(const json& body) {
-  if (!body.contains("action")) return std::nullopt;
-  const json& action = body["action"];
-  if (action.is_null()) throw core::Error(core::ErrorCode::bad_request, "action: a list of numbers", {{"pointer", "/action"}});
-  return action_at(action, "/action");
+  return action.get<std::vector<double>>();
 }
 
 /// 409 for stepping a session the server steps itself.
@@ -178,26 +140,17 @@ std::string step_session(LiveSession& live, std::int64_t steps, const std::optio
 }
 
 Response step_many(Registry& registry, const Caller& caller, const json& body, std::string_view type) {
-  refuse_unknown_keys(body, {"sessions", "actions", "n"});
-  if (!body.contains("sessions") || !body["sessions"].is_array() || body["sessions"].empty() ||
-      body["sessions"].size() > kMaxSessionsPerStepMany) {
-    throw core::Error(core::ErrorCode::bad_request, "sessions: a list of 1 to " + std::to_string(kMaxSessionsPerStepMany) + " session ids",
-                      {{"pointer", "/sessions"}});
-  }
   const json& ids = body["sessions"];
   const bool with_actions = body.contains("actions");
-  if (with_actions && (!body["actions"].is_array() || body["actions"].size() != ids.size())) {
+  if (with_actions && body["actions"].size() != ids.size()) {
     throw core::Error(core::ErrorCode::bad_request, "actions: one action (a list of numbers, or null) per session", {{"pointer", "/actions"}});
   }
-  const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
+  const std::int64_t steps = body.value("n", std::int64_t{1});
   // Everything is checked before anything is stepped.
   std::vector<std::function<Response()>> parts;
-  std::set<std::string> seen;
   for (std::size_t i = 0; i < ids.size(); ++i) {
     const std::string at = "/sessions/" + std::to_string(i);
-    if (!ids[i].is_string()) throw core::Error(core::ErrorCode::bad_request, "sessions: session ids", {{"pointer", at}});
     const std::string& id = ids[i].get_ref<const std::string&>();
-    if (!seen.insert(id).second) throw core::Error(core::ErrorCode::bad_request, "session " + id + " is listed twice", {{"pointer", at}});
     std::shared_ptr<LiveSession> live;
     try {
       live = registry.find(id, caller);
@@ -207,7 +160,7 @@ Response step_many(Registry& registry, const Caller& caller, const json& body, s
       details["pointer"] = at;
       throw core::Error(e.code(), e.what(), std::move(details));
     }
-    auto action = with_actions ? action_at(body["actions"][i], "/actions/" + std::to_string(i)) : std::nullopt;
+    auto action = with_actions ? action_of(body["actions"][i]) : std::nullopt;
     parts.push_back([live = std::move(live), steps, action = std::move(action)] {
       std::lock_guard lock(live->mutex);
       return Response{200, "application/json", step_session(*live, steps, action), {}, {}};
@@ -240,10 +193,6 @@ json take_snapshot(LiveSession& live) {
 
 /// The snapshot a restore names, checked before the work (the session's lock held).
 static const episode::Episode::Snapshot& snapshot_named(const LiveSession& live, const json& body) {
-  refuse_unknown_keys(body, {"snapshot"});
-  if (!body.contains("snapshot") || !body["snapshot"].is_string()) {
-    throw core::Error(core::ErrorCode::bad_request, "snapshot: the id of a snapshot of this session is required", {{"pointer", "/snapshot"}});
-  }
   const auto found = live.snapshots.find(body["snapshot"].get<std::string>());
   if (found == live.snapshots.end()) {
     throw core::Error(core::ErrorCode::not_found, "session " + live.id + " has no snapshot '" + body["snapshot"].get<std::string>() + "'",
@@ -270,11 +219,14 @@ json go_on_from(LiveSession& live, std::unique_ptr<episode::Episode> episode) {
 json restore_snapshot(LiveSession& live, const json& body) { return go_on_from(live, live.episode->restore(snapshot_named(live, body))); }
 
 json seek_session(LiveSession& live, const json& body) {
-  refuse_unknown_keys(body, {"tick"});
   const std::int64_t now = live.session().state().tick;
   const bool lockstep = live.mode == Mode::lockstep;
-  if (!body.contains("tick")) throw core::Error(core::ErrorCode::bad_request, "tick: the tick to go to is required", {{"pointer", "/tick"}});
-  const std::int64_t tick = integer_field(body, "tick", 0, lockstep ? now + kMaxStepsPerRequest : now, 0);
+  const std::int64_t tick = body["tick"], furthest = lockstep ? now + kMaxStepsPerRequest : now;
+  if (tick > furthest) {
+    throw core::Error(core::ErrorCode::bad_request,
+                      "tick: at most " + std::to_string(furthest) + (lockstep ? " (the present tick and one step request's maximum)" : " (the present tick)"),
+                      {{"pointer", "/tick"}});
+  }
   if (tick <= now) {
     json reply = go_on_from(live, live.episode->rewind(tick));
     reply["resimulated_ticks"] = live.episode->ticks_simulated_again();
@@ -292,14 +244,8 @@ json seek_session(LiveSession& live, const json& body) {
 /// is its JSON pointer prefix): seed 000's uniform pose interface. People and robots stay upright on
 /// the floor; a place off the floor is refused when the input is given.
 episode::Input place(const sim::Session& session, const std::string& name, const json& body, const std::string& at) {
-  if (!body.is_object()) throw core::Error(core::ErrorCode::bad_request, "a pose is an object {x, y, z, roll, pitch, yaw}", {{"pointer", at}});
-  for (const auto& [key, unused] : body.items()) {
-    if (key != "x" && key != "y" && key != "z" && key != "roll" && key != "pitch" && key != "yaw") {
-      throw core::Error(core::ErrorCode::bad_request, "unknown field '" + key + "'", {{"pointer", at + "/" + key}});
-    }
-  }
-  const double x = number_of(body, "x", at), y = number_of(body, "y", at);
-  const auto optional = [&](const char* key) { return body.contains(key) ? number_of(body, key, at) : 0.0; };
+  const double x = body["x"].get<double>(), y = body["y"].get<double>();
+  const auto optional = [&](const char* key) { return body.value(key, 0.0); };
   const double z = optional("z"), roll = optional("roll"), pitch = optional("pitch"), yaw = optional("yaw");
   if (session.model().find_agent(name) >= 0) {
     for (const char* key : {"z", "roll", "pitch"}) {
@@ -357,14 +303,8 @@ struct InputJson {
 json input_json(const scenario::Model& model, const episode::Input& input) { return std::visit(InputJson{model}, input); }
 
 episode::Input input_of(const sim::Session& session, const json& given, const std::string& at) {
-  if (given.is_object() && given.contains("command")) {
-    refuse_unknown_keys(given, {"command"}, at);
-    return checked_command(session, given["command"], at + "/command");
-  }
-  if (given.is_object() && given.contains("place")) {
-    refuse_unknown_keys(given, {"place", "pose"}, at);
-    if (!given["place"].is_string()) throw core::Error(core::ErrorCode::bad_request, "place: the name of an agent or object", {{"pointer", at + "/place"}});
-    if (!given.contains("pose")) throw core::Error(core::ErrorCode::bad_request, "pose: where to place it is required", {{"pointer", at + "/pose"}});
+  if (given.contains("command")) return checked_command(session, given["command"], at + "/command");
+  if (given.contains("place")) {
     try {
       return place(session, given["place"], given["pose"], at + "/pose");
     } catch (const core::Error& e) {

@@ -15,10 +15,8 @@
 
 namespace hrisim::http {
 
-/// The optional "action" of a step: a list of numbers.
-std::optional<std::vector<double>> action_of(const nlohmann::json& body);
-/// An action given at JSON pointer `at`: a list of numbers, or null for none.
-std::optional<std::vector<double>> action_at(const nlohmann::json& action, const std::string& at);
+/// An action as the request contract lets it in: a list of numbers, or null for none.
+std::optional<std::vector<double>> action_of(const nlohmann::json& action);
 /// 409 for stepping a session the server steps itself.
 void check_lockstep(const LiveSession& live);
 /// Gives a list of commands, each checked before any is given.

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "http/frames.hpp"
+#include "http/request_contract.hpp"
 #include "http/request_helpers.hpp"
 #include "http/session_limits.hpp"
 #include "http/session_inputs.hpp"
@@ -20,7 +21,8 @@ namespace {
 using nlohmann::json;
 
 /// A session's WebSocket: each message is answered once, in order, by the handler its type names in
-/// kMessageTypes (the messages and answers are in api/asyncapi.yaml). A wrong message gets
+/// kMessageTypes (the messages and answers are in api/asyncapi.yaml, and each message is checked against
+/// its schema there before its handler reads it). A wrong message gets
 /// {"type": "error", "error": {code, message, details}} and the socket stays open.
 class SessionSocket : public WebSocketPeer {
  public:
@@ -86,9 +88,8 @@ class SessionSocket : public WebSocketPeer {
 
  private:
   Response on_step(const std::shared_ptr<LiveSession>& live, json& body) {
-    refuse_unknown_keys(body, {"n", "action"});
-    const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
-    const auto action = action_of(body);
+    const std::int64_t steps = body.value("n", std::int64_t{1});
+    const auto action = action_of(body.value("action", json()));
     check_lockstep(*live);
     return Response::later([live, steps, action] {
       try {
@@ -103,15 +104,10 @@ class SessionSocket : public WebSocketPeer {
   Response on_step_many(const std::shared_ptr<LiveSession>&, json& body) { return step_many(*registry_, caller_, body, "step_many"); }
 
   Response on_commands(const std::shared_ptr<LiveSession>& live, json& body) {
-    refuse_unknown_keys(body, {"commands"});
-    if (!body.contains("commands") || !body["commands"].is_array()) {
-      throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
-    }
     return answer_locked(live, [commands = body["commands"]](LiveSession& session) { return reply("commands", give_commands(session, commands)); });
   }
 
-  Response on_snapshot(const std::shared_ptr<LiveSession>& live, json& body) {
-    refuse_unknown_keys(body, {});
+  Response on_snapshot(const std::shared_ptr<LiveSession>& live, json&) {
     return answer_locked(live, [](LiveSession& session) { return reply("snapshot", take_snapshot(session)); });
   }
 
@@ -132,73 +128,37 @@ class SessionSocket : public WebSocketPeer {
   }
 
   Response on_sensors(const std::shared_ptr<LiveSession>& live, json& body) {
-    refuse_unknown_keys(body, {"robot"});
-    if (!body.contains("robot") || !body["robot"].is_string()) {
-      throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
-    }
     return answer_locked(live, [robot = body["robot"].get<std::string>()](LiveSession& session) { return reply("sensors", sensors_of(session.session(), robot)); });
   }
 
   Response on_laser(const std::shared_ptr<LiveSession>& live, json& body) {
-    refuse_unknown_keys(body, {"robot", "sensor"});
-    if (!body.contains("robot") || !body["robot"].is_string()) {
-      throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
-    }
-    if (body.contains("sensor") && !body["sensor"].is_string()) {
-      throw core::Error(core::ErrorCode::bad_request, "sensor: a laser's name", {{"pointer", "/sensor"}});
-    }
     return answer_locked(live, [robot = body["robot"].get<std::string>(), sensor = body.value("sensor", "")](LiveSession& session) {
       return Response{200, kBinaryContentType, laser_of(session.session(), robot, sensor), {}, {}};
     });
   }
 
   Response on_audio(const std::shared_ptr<LiveSession>& live, json& body) {
-    refuse_unknown_keys(body, {"robot"});
-    if (!body.contains("robot") || !body["robot"].is_string()) {
-      throw core::Error(core::ErrorCode::bad_request, "robot: a robot's id is required", {{"pointer", "/robot"}});
-    }
     return answer_locked(live, [robot = body["robot"].get<std::string>()](LiveSession& session) {
       return Response{200, kBinaryContentType, audio_of(session.session(), robot), {}, {}};
     });
   }
 
   Response on_camera(const std::shared_ptr<LiveSession>& live, json& body) {
-    refuse_unknown_keys(body, {"camera", "width", "height", "ids"});
-    if (!body.contains("camera") || !body["camera"].is_string()) {
-      throw core::Error(core::ErrorCode::bad_request, "camera: a camera's name is required", {{"pointer", "/camera"}});
-    }
-    const auto width = static_cast<int>(integer_field(body, "width", 16, kMaxFrameSize, 0));
-    const auto height = static_cast<int>(integer_field(body, "height", 16, kMaxFrameSize, 0));
-    if (body.contains("ids") && !body["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/ids"}});
+    const int width = body.value("width", 0), height = body.value("height", 0);
     return answer_locked(live, [camera = body["camera"].get<std::string>(), width, height, ids = body.value("ids", false)](LiveSession& session) {
       return camera_frame(session.session(), camera, width, height, ids);
     });
   }
 
   Response on_scene(const std::shared_ptr<LiveSession>& live, json& body) {
-    refuse_unknown_keys(body, {"all"});
-    if (body.contains("all") && !body["all"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "all: true or false", {{"pointer", "/all"}});
     return answer_locked(live, [all = body.value("all", false)](LiveSession& session) { return scene_frame(session.session(), all); });
   }
 
   Response on_subscribe(const std::shared_ptr<LiveSession>& live, json& body) {
-    refuse_unknown_keys(body, {"rate", "camera"});
-    if (!body.contains("rate") || !body["rate"].is_number() || !(body["rate"].get<double>() >= 0.0) ||
-        body["rate"].get<double>() > kMaxPushRate) {
-      throw core::Error(core::ErrorCode::bad_request, "rate: frames per second from 0 (stop) to " + std::to_string(static_cast<int>(kMaxPushRate)),
-                        {{"pointer", "/rate"}});
-    }
     std::optional<CameraSubscription> camera;
     if (body.contains("camera") && !body["camera"].is_null()) {
       const json& asked = body["camera"];
-      if (!asked.is_object() || !asked.contains("name") || !asked["name"].is_string()) {
-        throw core::Error(core::ErrorCode::bad_request, "camera: {name, width, height, ids}", {{"pointer", "/camera"}});
-      }
-      refuse_unknown_keys(asked, {"name", "width", "height", "ids"}, "/camera");
-      camera = CameraSubscription{asked["name"], static_cast<int>(integer_field(asked, "width", 16, kMaxFrameSize, 0, "/camera")),
-                                  static_cast<int>(integer_field(asked, "height", 16, kMaxFrameSize, 0, "/camera")), false};
-      if (asked.contains("ids") && !asked["ids"].is_boolean()) throw core::Error(core::ErrorCode::bad_request, "ids: true or false", {{"pointer", "/camera/ids"}});
-      camera->ids = asked.value("ids", false);
+      camera = CameraSubscription{asked["name"], asked.value("width", 0), asked.value("height", 0), asked.value("ids", false)};
       // An unknown camera is refused now, unless the session is busy (then the first push drops it).
       if (std::unique_lock lock(live->mutex, std::try_to_lock); lock) sim::camera_of(live->session(), camera->name, camera->width, camera->height);
     }
@@ -210,8 +170,7 @@ class SessionSocket : public WebSocketPeer {
   }
 
   Response on_state(const std::shared_ptr<LiveSession>& live, json& body) {
-    refuse_unknown_keys(body, {"events_since"});
-    const auto since = integer_field(body, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
+    const std::int64_t since = body.value("events_since", std::int64_t{0});
     return answer_locked(live, [since](LiveSession& session) { return reply("state", state_of(session, since)); });
   }
 
@@ -281,9 +240,7 @@ Response SessionSocket::on_message(const std::string& text) {
     Request message;
     message.body = text;
     json body = json_object_body(message);
-    if (body.contains("type") && !body["type"].is_string()) throw core::Error(core::ErrorCode::bad_request, "type: a string", {{"pointer", "/type"}});
-    const std::string type = body.value("type", "");
-    body.erase("type");
+    const std::string type = body.contains("type") && body["type"].is_string() ? body["type"].get<std::string>() : "";
     const auto live = registry_->find(id_, caller_);
     const auto found = std::find_if(kMessageTypes.begin(), kMessageTypes.end(), [&](const MessageType& known) { return known.name == type; });
     if (found == kMessageTypes.end()) {
@@ -294,6 +251,10 @@ Response SessionSocket::on_message(const std::string& text) {
     if (caller_.read_only && found->changes_session) {
       throw core::Error(core::ErrorCode::forbidden, "this socket's token may only read", {{"pointer", "/type"}});
     }
+    const core::JsonSchema* schema = RequestContract::embedded().message(type);
+    if (schema == nullptr) throw core::Error(core::ErrorCode::internal, "message " + type + " is not described in api/asyncapi.yaml");
+    check_against(*schema, body);
+    body.erase("type");
     return (this->*found->handle)(live, body);
   } catch (const core::Error& e) {
     return failure(e);

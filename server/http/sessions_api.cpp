@@ -78,354 +78,365 @@ NewSession replay_of(storage::Store& store, ScenarioCatalogue& catalogue, const 
   return replay;
 }
 
-void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, std::shared_ptr<TicketBook> tickets,
-                        storage::Store* store) {
-  auto registry = std::make_shared<Registry>(limits);
+namespace {
 
-  router.add("POST", "/api/v1/sessions", [catalogue, registry, store](const Request& request) {
-    const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"scenario", "episode", "snapshot", "seed", "mode", "realtime_factor", "controller", "unwatched_grace"});
-    if (body.contains("snapshot")) {
-      for (const char* key : {"scenario", "episode", "seed", "controller"}) {
-        if (body.contains(key)) {
-          throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": a session started from a snapshot takes the snapshot's own",
-                            {{"pointer", std::string("/") + key}});
-        }
-      }
-      read_snapshot_origin(body["snapshot"], "/snapshot");  // a malformed file is refused before any work
-    } else if (body.contains("episode")) {
-      for (const char* key : {"scenario", "seed", "controller"}) {
-        if (body.contains(key)) {
-          throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": a replay of an episode takes the episode's own",
-                            {{"pointer", std::string("/") + key}});
-        }
-      }
-      if (!body["episode"].is_string()) throw core::Error(core::ErrorCode::bad_request, "episode: the id of a stored episode", {{"pointer", "/episode"}});
-    } else if (!body.contains("scenario") || !body["scenario"].is_string()) {
-      throw core::Error(core::ErrorCode::bad_request, "scenario: the id of a scenario is required", {{"pointer", "/scenario"}});
+/// The live-session routes over REST, each a named handler (kSessionRoutes). Bodies reach them checked
+/// against api/openapi.yaml (Router::follow): what is read here without a check the contract guarantees.
+class SessionRoutes {
+ public:
+  SessionRoutes(std::shared_ptr<ScenarioCatalogue> catalogue, std::shared_ptr<Registry> registry, std::shared_ptr<TicketBook> tickets,
+                storage::Store* store)
+      : catalogue_(std::move(catalogue)), registry_(std::move(registry)), tickets_(std::move(tickets)), store_(store) {}
+
+  const std::shared_ptr<Registry>& registry() const { return registry_; }
+
+  Response create(const Request& request) const;
+  Response list(const Request& request) const;
+  Response ws_ticket(const Request& request) const;
+  Response status(const Request& request) const;
+  Response remove(const Request& request) const;
+  Response take_snapshot(const Request& request) const;
+  Response list_snapshots(const Request& request) const;
+  Response download_snapshot(const Request& request) const;
+  Response delete_snapshot(const Request& request) const;
+  Response inputs(const Request& request) const;
+  Response restore(const Request& request) const { return simulate_again(request, restore_snapshot); }
+  Response seek(const Request& request) const { return simulate_again(request, seek_session); }
+  Response scene(const Request& request) const;
+  Response state(const Request& request) const;
+  Response sensors(const Request& request) const;
+  Response audio(const Request& request) const;
+  Response poses(const Request& request) const;
+  Response place_one(const Request& request) const;
+  Response reset(const Request& request) const;
+  Response commands(const Request& request) const;
+  Response step_many(const Request& request) const;
+  Response step(const Request& request) const;
+  Response metrics(const Request& request) const;
+  Response frame(const Request& request) const;
+  Response cameras(const Request& request) const;
+  Response action_space(const Request& request) const;
+  Response observation_space(const Request& request) const;
+
+ private:
+  std::shared_ptr<LiveSession> session_of(const Request& request) const { return registry_->find(request.path_params.at("id"), request.caller); }
+  /// A restore or a seek: simulating again is work for the pool, one of an owner's at a time.
+  Response simulate_again(const Request& request, json (*go)(LiveSession&, const json&)) const;
+  Response from_snapshot_file(const Request& request, Mode mode, double factor, std::optional<std::chrono::seconds> unwatched_grace) const;
+
+  std::shared_ptr<ScenarioCatalogue> catalogue_;
+  std::shared_ptr<Registry> registry_;
+  std::shared_ptr<TicketBook> tickets_;
+  storage::Store* store_;
+};
+
+constexpr NamedRoute<SessionRoutes> kSessionRoutes[] = {
+    {"POST", "/api/v1/sessions", &SessionRoutes::create},
+    {"GET", "/api/v1/sessions", &SessionRoutes::list},
+    {"POST", "/api/v1/sessions/step", &SessionRoutes::step_many},
+    {"GET", "/api/v1/sessions/{id}", &SessionRoutes::status},
+    {"DELETE", "/api/v1/sessions/{id}", &SessionRoutes::remove},
+    {"POST", "/api/v1/sessions/{id}/ws-ticket", &SessionRoutes::ws_ticket},
+    {"POST", "/api/v1/sessions/{id}/snapshots", &SessionRoutes::take_snapshot},
+    {"GET", "/api/v1/sessions/{id}/snapshots", &SessionRoutes::list_snapshots},
+    {"GET", "/api/v1/sessions/{id}/snapshots/{snapshot}", &SessionRoutes::download_snapshot},
+    {"DELETE", "/api/v1/sessions/{id}/snapshots/{snapshot}", &SessionRoutes::delete_snapshot},
+    {"GET", "/api/v1/sessions/{id}/inputs", &SessionRoutes::inputs},
+    {"POST", "/api/v1/sessions/{id}/restore", &SessionRoutes::restore},
+    {"POST", "/api/v1/sessions/{id}/seek", &SessionRoutes::seek},
+    {"GET", "/api/v1/sessions/{id}/scene", &SessionRoutes::scene},
+    {"GET", "/api/v1/sessions/{id}/state", &SessionRoutes::state},
+    {"GET", "/api/v1/sessions/{id}/robots/{robot}/sensors", &SessionRoutes::sensors},
+    {"GET", "/api/v1/sessions/{id}/robots/{robot}/audio", &SessionRoutes::audio},
+    {"GET", "/api/v1/sessions/{id}/poses", &SessionRoutes::poses},
+    {"PUT", "/api/v1/sessions/{id}/poses/{name}", &SessionRoutes::place_one},
+    {"POST", "/api/v1/sessions/{id}/reset", &SessionRoutes::reset},
+    {"POST", "/api/v1/sessions/{id}/commands", &SessionRoutes::commands},
+    {"POST", "/api/v1/sessions/{id}/step", &SessionRoutes::step},
+    {"GET", "/api/v1/sessions/{id}/metrics", &SessionRoutes::metrics},
+    {"GET", "/api/v1/sessions/{id}/frames/{camera}", &SessionRoutes::frame},
+    {"GET", "/api/v1/sessions/{id}/cameras", &SessionRoutes::cameras},
+    {"GET", "/api/v1/sessions/{id}/action_space", &SessionRoutes::action_space},
+    {"GET", "/api/v1/sessions/{id}/observation_space", &SessionRoutes::observation_space},
+};
+
+Response SessionRoutes::create(const Request& request) const {
+  const json& body = request.checked_body;
+  const Mode mode = parse_mode(body.value("mode", "lockstep")).value();  // the contract takes the two modes only
+  const double factor = body.value("realtime_factor", 1.0);
+  std::optional<std::chrono::seconds> unwatched_grace;
+  if (body.contains("unwatched_grace") && !body["unwatched_grace"].is_null()) unwatched_grace = std::chrono::seconds(body["unwatched_grace"].get<std::int64_t>());
+  if (body.contains("snapshot")) return from_snapshot_file(request, mode, factor, unwatched_grace);
+  // Compiling an upload and building the session's world (physics, sensors) are work for the pool.
+  return Response::later([catalogue = catalogue_, registry = registry_, store = store_, body, mode, factor, unwatched_grace, caller = request.caller] {
+    if (body.contains("episode")) {
+      NewSession replay = replay_of(*store, *catalogue, body["episode"], caller);
+      replay.mode = mode;
+      replay.realtime_factor = factor;
+      replay.unwatched_grace = unwatched_grace;
+      return created(*registry, std::move(replay));
     }
-    const std::string scenario = body.value("scenario", "");
-    const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, 0);
-    const std::optional<Mode> asked_mode =
-        !body.contains("mode") ? Mode::lockstep : body["mode"].is_string() ? parse_mode(body["mode"].get<std::string>()) : std::nullopt;
-    if (!asked_mode) throw core::Error(core::ErrorCode::bad_request, "mode: lockstep or realtime", {{"pointer", "/mode"}});
-    const Mode mode = *asked_mode;
-    double factor = 1.0;
-    if (body.contains("realtime_factor")) {
-      const json& value = body["realtime_factor"];
-      if (mode != Mode::realtime || !value.is_number() || !(value.get<double>() > 0.0) || value.get<double>() > kMaxRealtimeFactor) {
-        throw core::Error(core::ErrorCode::bad_request,
-                          "realtime_factor: for a realtime session, simulated seconds per second, above 0 and at most " +
-                              std::to_string(static_cast<int>(kMaxRealtimeFactor)),
-                          {{"pointer", "/realtime_factor"}});
-      }
-      factor = value.get<double>();
+    const std::string scenario = body["scenario"];
+    const auto entry = catalogue->find(scenario, caller);
+    if (!entry || !entry->source.model) {
+      throw core::Error(core::ErrorCode::not_found, "no scenario '" + scenario + "'", {{"pointer", "/scenario"}, {"id", scenario}});
     }
-    std::optional<std::chrono::seconds> unwatched_grace;
-    if (body.contains("unwatched_grace") && !body["unwatched_grace"].is_null()) {
-      unwatched_grace = std::chrono::seconds(integer_field(body, "unwatched_grace", 1, kMaxUnwatchedGrace.count(), 0));
+    std::shared_ptr<const scenario::Model> model = entry->source.model;
+    std::optional<json> controller;
+    if (body.contains("controller") && !body["controller"].is_null()) {
+      json errors = json::array();
+      controller = runs::effective_controller(entry->source.document, body["controller"]);
+      model = runs::with_controller(entry->source.document, *controller, catalogue->options(*entry).load, errors).model;
+      runs::throw_if_problems(errors);
     }
-    if (body.contains("snapshot")) {
-      return simulation_for(*registry, request.caller, [catalogue, registry, body, mode, factor, unwatched_grace, caller = request.caller] {
-        NewSession settings;
-        settings.mode = mode;
-        settings.realtime_factor = factor;
-        settings.unwatched_grace = unwatched_grace;
-        try {
-          const auto live = start_from_snapshot(*registry, *catalogue, caller, body["snapshot"], std::move(settings));
-          std::lock_guard lock(live->mutex);
-          Response response = Response::json(201, status_of(*live));
-          response.headers.emplace_back("Location", "/api/v1/sessions/" + live->id);
-          return response;
-        } catch (const core::Error& error) {
-          if (error.code() != core::ErrorCode::unavailable) throw;
-          return refused(error);
-        }
-      });
+    const std::int64_t seed = body.value("seed", std::int64_t{0});
+    return created(*registry, {scenario, model, seed, mode, factor, controller, caller.owner, unwatched_grace, "", std::nullopt, {}, entry->content_sha256()});
+  });
+}
+
+Response SessionRoutes::from_snapshot_file(const Request& request, Mode mode, double factor, std::optional<std::chrono::seconds> unwatched_grace) const {
+  read_snapshot_origin(request.checked_body["snapshot"], "/snapshot");  // a file of another version is refused before any work
+  return simulation_for(*registry_, request.caller, [catalogue = catalogue_, registry = registry_, file = request.checked_body["snapshot"], mode, factor,
+                                                     unwatched_grace, caller = request.caller] {
+    NewSession settings;
+    settings.mode = mode;
+    settings.realtime_factor = factor;
+    settings.unwatched_grace = unwatched_grace;
+    try {
+      const auto live = start_from_snapshot(*registry, *catalogue, caller, file, std::move(settings));
+      std::lock_guard lock(live->mutex);
+      Response response = Response::json(201, status_of(*live));
+      response.headers.emplace_back("Location", "/api/v1/sessions/" + live->id);
+      return response;
+    } catch (const core::Error& error) {
+      if (error.code() != core::ErrorCode::unavailable) throw;
+      return refused(error);
     }
-    // Compiling an upload and building the session's world (physics, sensors) are work for the pool.
-    return Response::later([catalogue, registry, store, body, scenario, seed, mode, factor, unwatched_grace, caller = request.caller] {
-      if (body.contains("episode")) {
-        NewSession replay = replay_of(*store, *catalogue, body["episode"], caller);
-        replay.mode = mode;
-        replay.realtime_factor = factor;
-        replay.unwatched_grace = unwatched_grace;
-        return created(*registry, std::move(replay));
-      }
-      const auto entry = catalogue->find(scenario, caller);
-      if (!entry || !entry->source.model) {
-        throw core::Error(core::ErrorCode::not_found, "no scenario '" + scenario + "'", {{"pointer", "/scenario"}, {"id", scenario}});
-      }
-      std::shared_ptr<const scenario::Model> model = entry->source.model;
-      std::optional<json> controller;
-      if (body.contains("controller") && !body["controller"].is_null()) {
-        json errors = json::array();
-        controller = runs::effective_controller(entry->source.document, body["controller"]);
-        model = runs::with_controller(entry->source.document, *controller, catalogue->options(*entry).load, errors).model;
-        runs::throw_if_problems(errors);
-      }
-      return created(*registry, {scenario, model, seed, mode, factor, controller, caller.owner, unwatched_grace, "", std::nullopt, {}, entry->content_sha256()});
-    });
   });
+}
 
-  router.add("GET", "/api/v1/sessions", [registry](const Request& request) {
-    // Each session's lock is taken: on the pool, where waiting behind a long step holds no I/O thread.
-    return Response::later([registry, caller = request.caller] {
-      json items = json::array();
-      const auto now = Clock::now();
-      for (const auto& live : registry->all(caller)) {
-        std::lock_guard lock(live->mutex);
-        json item = status_of(*live);
-        item["unused_for"] = std::chrono::duration<double>(now - live->last_used.load()).count();
-        items.push_back(std::move(item));
-      }
-      return Response::json(200, {{"items", items}});
-    });
+Response SessionRoutes::list(const Request& request) const {
+  // Each session's lock is taken: on the pool, where waiting behind a long step holds no I/O thread.
+  return Response::later([registry = registry_, caller = request.caller] {
+    json items = json::array();
+    const auto now = Clock::now();
+    for (const auto& live : registry->all(caller)) {
+      std::lock_guard lock(live->mutex);
+      json item = status_of(*live);
+      item["unused_for"] = std::chrono::duration<double>(now - live->last_used.load()).count();
+      items.push_back(std::move(item));
+    }
+    return Response::json(200, {{"items", items}});
   });
+}
 
-  router.add_websocket("/api/v1/sessions/{id}/ws", [registry](const Request& request) -> std::shared_ptr<WebSocketPeer> {
-    // 404 for an unknown session, before the upgrade; the Origin was checked by the guard.
-    return open_session_socket(registry, registry->find(request.path_params.at("id"), request.caller), request.caller);
+Response SessionRoutes::ws_ticket(const Request& request) const {
+  const std::string& id = request.path_params.at("id");
+  registry_->find(id, request.caller);
+  const std::string ticket = tickets_->issue(id, request.caller);
+  return Response::json(201, {{"ticket", ticket}, {"expires_in", kTicketLifetime.count()}, {"url", "/api/v1/sessions/" + id + "/ws?ticket=" + ticket}});
+}
+
+Response SessionRoutes::status(const Request& request) const {
+  return locked(session_of(request), [](LiveSession& live) { return Response::json(200, status_of(live)); });
+}
+
+Response SessionRoutes::remove(const Request& request) const {
+  registry_->remove(request.path_params.at("id"), request.caller);
+  return Response{204, "application/json", "", {}, {}};
+}
+
+Response SessionRoutes::take_snapshot(const Request& request) const {
+  return locked(session_of(request), [](LiveSession& session) { return Response::json(201, http::take_snapshot(session)); });
+}
+
+Response SessionRoutes::list_snapshots(const Request& request) const {
+  return locked(session_of(request), [](LiveSession& session) {
+    json items = json::array();
+    for (const auto& [id, snapshot] : session.snapshots) items.push_back(snapshot_json(id, snapshot));
+    return Response::json(200, {{"items", items}, {"max_snapshots", kMaxSnapshots}});
   });
+}
 
-  router.add("POST", "/api/v1/sessions/{id}/ws-ticket", [registry, tickets](const Request& request) {
-    const std::string& id = request.path_params.at("id");
-    registry->find(id, request.caller);
-    const std::string ticket = tickets->issue(id, request.caller);
-    return Response::json(201, {{"ticket", ticket},
-                                {"expires_in", kTicketLifetime.count()},
-                                {"url", "/api/v1/sessions/" + id + "/ws?ticket=" + ticket}});
+Response SessionRoutes::download_snapshot(const Request& request) const {
+  return locked(session_of(request), [name = request.path_params.at("snapshot")](LiveSession& session) {
+    const auto found = session.snapshots.find(name);
+    if (found == session.snapshots.end()) throw core::Error(core::ErrorCode::not_found, "session " + session.id + " has no snapshot '" + name + "'");
+    return download(core::json_text(snapshot_file(session, name, found->second)), "application/json",
+                    session.scenario + "-" + session.id + "-" + name + ".json");
   });
+}
 
-  router.add("GET", "/api/v1/sessions/{id}", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](LiveSession& live) { return Response::json(200, status_of(live)); });
-  });
-
-  router.add("DELETE", "/api/v1/sessions/{id}", [registry](const Request& request) {
-    registry->remove(request.path_params.at("id"), request.caller);
+Response SessionRoutes::delete_snapshot(const Request& request) const {
+  return locked(session_of(request), [name = request.path_params.at("snapshot")](LiveSession& session) {
+    if (session.snapshots.erase(name) == 0) throw core::Error(core::ErrorCode::not_found, "session " + session.id + " has no snapshot '" + name + "'");
     return Response{204, "application/json", "", {}, {}};
   });
+}
 
-  router.add("POST", "/api/v1/sessions/{id}/snapshots", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    refuse_unknown_keys(json_object_body(request), {});
-    return locked(live, [](LiveSession& session) { return Response::json(201, take_snapshot(session)); });
+Response SessionRoutes::inputs(const Request& request) const {
+  return locked(session_of(request), [](LiveSession& session) {
+    return Response::json(200, {{"tick", session.session().state().tick}, {"items", input_log_json(session.session().model(), session.episode->input_log())}});
   });
+}
 
-  router.add("GET", "/api/v1/sessions/{id}/snapshots", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    return locked(live, [](LiveSession& session) {
-      json items = json::array();
-      for (const auto& [id, snapshot] : session.snapshots) items.push_back(snapshot_json(id, snapshot));
-      return Response::json(200, {{"items", items}, {"max_snapshots", kMaxSnapshots}});
-    });
+Response SessionRoutes::simulate_again(const Request& request, json (*go)(LiveSession&, const json&)) const {
+  return simulation_for(*registry_, request.caller, [live = session_of(request), body = request.checked_body, go] {
+    std::lock_guard lock(live->mutex);
+    return Response::json(200, go(*live, body));
   });
+}
 
-  router.add("GET", "/api/v1/sessions/{id}/snapshots/{snapshot}", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    return locked(live, [name = request.path_params.at("snapshot")](LiveSession& session) {
-      const auto found = session.snapshots.find(name);
-      if (found == session.snapshots.end()) throw core::Error(core::ErrorCode::not_found, "session " + session.id + " has no snapshot '" + name + "'");
-      return download(core::json_text(snapshot_file(session, name, found->second)), "application/json",
-                      session.scenario + "-" + session.id + "-" + name + ".json");
-    });
+Response SessionRoutes::scene(const Request& request) const {
+  const auto all = query_value(request.query, "all").value_or("false");
+  if (all != "true" && all != "false") throw core::Error(core::ErrorCode::bad_request, "all: true or false", {{"parameter", "all"}});
+  return locked(session_of(request), [all = all == "true"](LiveSession& live) { return scene_frame(live.session(), all); });
+}
+
+Response SessionRoutes::state(const Request& request) const {
+  const auto live = session_of(request);
+  const auto since = integer_query(request, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
+  return locked(live, [since](LiveSession& session) { return Response::json(200, state_of(session, since)); });
+}
+
+Response SessionRoutes::sensors(const Request& request) const {
+  return locked(session_of(request), [robot = request.path_params.at("robot")](LiveSession& live) { return Response::json(200, sensors_of(live.session(), robot)); });
+}
+
+Response SessionRoutes::audio(const Request& request) const {
+  return locked(session_of(request), [robot = request.path_params.at("robot")](LiveSession& live) {
+    return Response{200, kBinaryContentType, audio_of(live.session(), robot), {}, {}};
   });
+}
 
-  router.add("GET", "/api/v1/sessions/{id}/inputs", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    return locked(live, [](LiveSession& session) {
-      return Response::json(200, {{"tick", session.session().state().tick}, {"items", input_log_json(session.session().model(), session.episode->input_log())}});
-    });
+Response SessionRoutes::poses(const Request& request) const {
+  return locked(session_of(request), [](LiveSession& live) { return Response::json(200, poses_of(live.session())); });
+}
+
+Response SessionRoutes::place_one(const Request& request) const {
+  return locked(session_of(request), [body = request.checked_body, name = request.path_params.at("name")](LiveSession& session) {
+    session.episode->give(place(session.session(), name, body, ""));
+    return Response::json(200, poses_of(session.session()));
   });
+}
 
-  router.add("DELETE", "/api/v1/sessions/{id}/snapshots/{snapshot}", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    return locked(live, [name = request.path_params.at("snapshot")](LiveSession& session) {
-      if (session.snapshots.erase(name) == 0) throw core::Error(core::ErrorCode::not_found, "session " + session.id + " has no snapshot '" + name + "'");
-      return Response{204, "application/json", "", {}, {}};
-    });
-  });
-
-  // Restoring a snapshot and seeking simulate again: work for the pool, one of an owner's at a time.
-  using GoTo = json (*)(LiveSession&, const json&);
-  for (const auto& route : {std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/restore", restore_snapshot},
-                            std::pair<const char*, GoTo>{"/api/v1/sessions/{id}/seek", seek_session}}) {
-    const GoTo go = route.second;  // a plain variable: lambdas may not capture structured bindings in C++20
-    router.add("POST", route.first, [registry, go](const Request& request) {
-      const auto live = registry->find(request.path_params.at("id"), request.caller);
-      const json body = json_object_body(request);
-      return simulation_for(*registry, request.caller, [live, body, go] {
-        std::lock_guard lock(live->mutex);
-        return Response::json(200, go(*live, body));
-      });
+Response SessionRoutes::reset(const Request& request) const {
+  const auto live = session_of(request);
+  const json& body = request.checked_body;
+  const json options = body.value("options", json::object());
+  if (options.contains("snapshot")) {
+    // Back to a moment kept in a file (its own seed, nothing placed anew): simulated again on the pool.
+    return simulation_for(*registry_, request.caller, [live, snapshot = options["snapshot"]] {
+      std::lock_guard lock(live->mutex);
+      return Response::json(200, reset_to_snapshot(*live, snapshot, "/options/snapshot"));
     });
   }
-
-  router.add("GET", "/api/v1/sessions/{id}/scene", [registry](const Request& request) {
-    const auto all = query_value(request.query, "all").value_or("false");
-    if (all != "true" && all != "false") throw core::Error(core::ErrorCode::bad_request, "all: true or false", {{"parameter", "all"}});
-    return locked(registry->find(request.path_params.at("id"), request.caller), [all = all == "true"](LiveSession& live) { return scene_frame(live.session(), all); });
+  // A fresh session is built: work for the pool.
+  return Response::later([live, seed_given = body.value("seed", json()), poses = options.value("poses", json::object())] {
+    std::lock_guard lock(live->mutex);
+    const std::int64_t seed = seed_given.is_null() ? live->seed : seed_given.get<std::int64_t>();
+    // A fresh episode of the same scenario: everything starts again from tick 0, then the poses given
+    // are set (all or none: a bad one leaves the old session as it was).
+    std::unique_ptr<episode::Episode> fresh = live->new_episode(live->session().shared_model(), seed);
+    for (const auto& [name, pose] : poses.items()) fresh->give(place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name)));
+    live->seed = seed;
+    ++live->generation;
+    live->episode = std::move(fresh);
+    live->snapshots.clear();
+    live->events_reported = 0;
+    live->realtime_origin = Clock::now();
+    live->realtime_origin_tick = 0;
+    // Gymnasium's reset: the first observation and info, with the session's status.
+    json reply = status_of(*live);
+    add_observation(*live, reply);
+    return Response::json(200, reply);
   });
+}
 
-  router.add("GET", "/api/v1/sessions/{id}/state", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    const auto since = integer_query(request, "events_since", 0, std::numeric_limits<std::int64_t>::max(), 0);
-    return locked(live, [since](LiveSession& session) { return Response::json(200, state_of(session, since)); });
+Response SessionRoutes::commands(const Request& request) const {
+  return locked(session_of(request), [commands = request.checked_body["commands"]](LiveSession& session) {
+    return Response::json(200, give_commands(session, commands));
   });
+}
 
-  router.add("GET", "/api/v1/sessions/{id}/robots/{robot}/sensors", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [robot = request.path_params.at("robot")](LiveSession& live) {
-      return Response::json(200, sensors_of(live.session(), robot));
-    });
+Response SessionRoutes::step_many(const Request& request) const { return http::step_many(*registry_, request.caller, request.checked_body); }
+
+Response SessionRoutes::step(const Request& request) const {
+  const auto live = session_of(request);
+  const json& body = request.checked_body;
+  const std::int64_t steps = body.value("n", std::int64_t{1});
+  const auto action = action_of(body.value("action", json()));
+  check_lockstep(*live);
+  // Stepping may take long: on the worker pool, never on an I/O thread.
+  return Response::later([live, steps, action] {
+    std::lock_guard lock(live->mutex);
+    return Response{200, "application/json", step_session(*live, steps, action), {}, {}};
   });
+}
 
-  router.add("GET", "/api/v1/sessions/{id}/robots/{robot}/audio", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [robot = request.path_params.at("robot")](LiveSession& live) {
-      return Response{200, kBinaryContentType, audio_of(live.session(), robot), {}, {}};
-    });
-  });
-
-  router.add("GET", "/api/v1/sessions/{id}/poses", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](LiveSession& live) { return Response::json(200, poses_of(live.session())); });
-  });
-
-  router.add("PUT", "/api/v1/sessions/{id}/poses/{name}", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    return locked(live, [body = json_object_body(request), name = request.path_params.at("name")](LiveSession& session) {
-      session.episode->give(place(session.session(), name, body, ""));
-      return Response::json(200, poses_of(session.session()));
-    });
-  });
-
-  router.add("POST", "/api/v1/sessions/{id}/reset", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"seed", "options"});
-    const json options = body.value("options", json::object());
-    if (!options.is_object()) throw core::Error(core::ErrorCode::bad_request, "options: an object", {{"pointer", "/options"}});
-    refuse_unknown_keys(options, {"poses", "snapshot"}, "/options");
-    if (options.contains("snapshot")) {
-      // Back to a moment kept in a file: its own seed, nothing placed anew; simulated again on the pool.
-      for (const char* key : {"seed", "poses"}) {
-        if (body.contains(key) || options.contains(key)) {
-          throw core::Error(core::ErrorCode::bad_request, std::string(key) + ": a snapshot brings its own",
-                            {{"pointer", body.contains(key) ? std::string("/") + key : std::string("/options/") + key}});
-        }
-      }
-      return simulation_for(*registry, request.caller, [live, snapshot = options["snapshot"]] {
-        std::lock_guard lock(live->mutex);
-        return Response::json(200, reset_to_snapshot(*live, snapshot, "/options/snapshot"));
-      });
+Response SessionRoutes::metrics(const Request& request) const {
+  // Computed from every step so far, on the worker pool: a long session has many.
+  return Response::later([live = session_of(request)] {
+    std::lock_guard lock(live->mutex);
+    json metrics = json::object(), null_reasons = json::object();
+    for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(live->episode->recording(live->session().state().finished ? "" : "running"))) {
+      metrics[metric.key] = metric.value ? json(*metric.value) : json();
+      if (!metric.value) null_reasons[metric.key] = metric.null_reason;
     }
-    const json poses = options.value("poses", json::object());
-    if (!poses.is_object()) throw core::Error(core::ErrorCode::bad_request, "options.poses: {name: pose}", {{"pointer", "/options/poses"}});
-    // A fresh session is built: work for the pool.
-    return Response::later([live, body, poses] {
-      std::lock_guard lock(live->mutex);
-      const std::int64_t seed = integer_field(body, "seed", 0, kMaxSeed, live->seed);
-      // A fresh episode of the same scenario: everything starts again from tick 0, then the poses given
-      // are set (all or none: a bad one leaves the old session as it was).
-      std::unique_ptr<episode::Episode> fresh = live->new_episode(live->session().shared_model(), seed);
-      for (const auto& [name, pose] : poses.items()) {
-        fresh->give(place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name)));
-      }
-      live->seed = seed;
-      ++live->generation;
-      live->episode = std::move(fresh);
-      live->snapshots.clear();
-      live->events_reported = 0;
-      live->realtime_origin = Clock::now();
-      live->realtime_origin_tick = 0;
-      // Gymnasium's reset: the first observation and info, with the session's status.
-      json reply = status_of(*live);
-      add_observation(*live, reply);
-      return Response::json(200, reply);
-    });
+    return Response::json(200, {{"id", live->id},
+                                {"tick", live->session().state().tick},
+                                {"recorded_until_tick", live->episode->recorder()->recorded_until()},
+                                {"recording_stopped", live->episode->recorder()->stopped().empty() ? json() : json(live->episode->recorder()->stopped())},
+                                {"time", live->session().time()},
+                                {"metrics", metrics},
+                                {"null_reasons", null_reasons}});
   });
+}
 
-  router.add("POST", "/api/v1/sessions/{id}/commands", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"commands"});
-    if (!body.contains("commands") || !body["commands"].is_array()) {
-      throw core::Error(core::ErrorCode::bad_request, "commands: a list of commands is required", {{"pointer", "/commands"}});
-    }
-    return locked(live, [commands = body["commands"]](LiveSession& session) { return Response::json(200, give_commands(session, commands)); });
-  });
-
-  router.add("POST", "/api/v1/sessions/step", [registry](const Request& request) {
-    return step_many(*registry, request.caller, json_object_body(request));
-  });
-
-  router.add("POST", "/api/v1/sessions/{id}/step", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    const json body = json_object_body(request);
-    refuse_unknown_keys(body, {"n", "action"});
-    const auto steps = integer_field(body, "n", 1, kMaxStepsPerRequest, 1);
-    const auto action = action_of(body);
-    check_lockstep(*live);
-    // Stepping may take long: on the worker pool, never on an I/O thread.
-    return Response::later([live, steps, action] {
-      std::lock_guard lock(live->mutex);
-      return Response{200, "application/json", step_session(*live, steps, action), {}, {}};
-    });
-  });
-
-  router.add("GET", "/api/v1/sessions/{id}/metrics", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    // Computed from every step so far, on the worker pool: a long session has many.
-    return Response::later([live] {
-      std::lock_guard lock(live->mutex);
-      json metrics = json::object(), null_reasons = json::object();
-      for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(live->episode->recording(live->session().state().finished ? "" : "running"))) {
-        metrics[metric.key] = metric.value ? json(*metric.value) : json();
-        if (!metric.value) null_reasons[metric.key] = metric.null_reason;
-      }
-      return Response::json(200, {{"id", live->id},
-                                  {"tick", live->session().state().tick},
-                                  {"recorded_until_tick", live->episode->recorder()->recorded_until()},
-                                  {"recording_stopped", live->episode->recorder()->stopped().empty() ? json() : json(live->episode->recorder()->stopped())},
-                                  {"time", live->session().time()},
-                                  {"metrics", metrics},
-                                  {"null_reasons", null_reasons}});
-    });
-  });
-
-  router.add("GET", "/api/v1/sessions/{id}/frames/{camera}", [registry](const Request& request) {
-    const auto live = registry->find(request.path_params.at("id"), request.caller);
-    const FrameRequest asked = frame_request(request);
-    // The scene is copied under the session's lock; drawing happens after, on the worker pool.
-    return locked(live, [asked, name = request.path_params.at("camera")](LiveSession& session) {
-      const sim::CameraInfo info = sim::camera_of(session.session(), name, asked.width, asked.height);
-      return Response::later([scene = sim::scene_for(session.session(), info), camera = info.camera, asked] {
-        return encode_frame(render::render_on_this_thread(scene, camera), asked);
-      });
-    });
-  });
-
-  router.add("GET", "/api/v1/sessions/{id}/cameras", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](LiveSession& live) {
-      json cameras = json::array();
-      for (const sim::CameraInfo& info : sim::cameras_of(live.session())) cameras.push_back(camera_json(info));
-      return Response::json(200, {{"id", live.id}, {"tick", live.session().state().tick}, {"cameras", cameras},
-                                  {"segmentation", segmentation_legend(live.session())}});
-    });
-  });
-
-  router.add("GET", "/api/v1/sessions/{id}/action_space", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](LiveSession& live) {
-      if (!live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act");
-      return Response::json(200, space_json(live.environment()->action_space()));
-    });
-  });
-
-  router.add("GET", "/api/v1/sessions/{id}/observation_space", [registry](const Request& request) {
-    return locked(registry->find(request.path_params.at("id"), request.caller), [](LiveSession& live) {
-      if (!live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot to observe");
-      return Response::json(200, space_json(live.environment()->observation_space(), live.environment()->image()));
+Response SessionRoutes::frame(const Request& request) const {
+  const auto live = session_of(request);
+  const FrameRequest asked = frame_request(request);
+  // The scene is copied under the session's lock; drawing happens after, on the worker pool.
+  return locked(live, [asked, name = request.path_params.at("camera")](LiveSession& session) {
+    const sim::CameraInfo info = sim::camera_of(session.session(), name, asked.width, asked.height);
+    return Response::later([scene = sim::scene_for(session.session(), info), camera = info.camera, asked] {
+      return encode_frame(render::render_on_this_thread(scene, camera), asked);
     });
   });
 }
 
-}  // namespace hrisim::http
+Response SessionRoutes::cameras(const Request& request) const {
+  return locked(session_of(request), [](LiveSession& live) {
+    json cameras = json::array();
+    for (const sim::CameraInfo& info : sim::cameras_of(live.session())) cameras.push_back(camera_json(info));
+    return Response::json(200, {{"id", live.id}, {"tick", live.session().state().tick}, {"cameras", cameras}, {"segmentation", segmentation_legend(live.session())}});
+  });
+}
 
+Response SessionRoutes::action_space(const Request& request) const {
+  return locked(session_of(request), [](LiveSession& live) {
+    if (!live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot that can act");
+    return Response::json(200, space_json(live.environment()->action_space()));
+  });
+}
+
+Response SessionRoutes::observation_space(const Request& request) const {
+  return locked(session_of(request), [](LiveSession& live) {
+    if (!live.environment()) throw core::Error(core::ErrorCode::conflict, "this session has no robot to observe");
+    return Response::json(200, space_json(live.environment()->observation_space(), live.environment()->image()));
+  });
+}
+
+}  // namespace
+
+void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catalogue, SessionLimits limits, std::shared_ptr<TicketBook> tickets,
+                        storage::Store* store) {
+  const auto routes = std::make_shared<const SessionRoutes>(std::move(catalogue), std::make_shared<Registry>(limits), std::move(tickets), store);
+  add_routes(router, routes, kSessionRoutes);
+  router.add_websocket("/api/v1/sessions/{id}/ws", [registry = routes->registry()](const Request& request) -> std::shared_ptr<WebSocketPeer> {
+    // 404 for an unknown session, before the upgrade; the Origin was checked by the guard.
+    return open_session_socket(registry, registry->find(request.path_params.at("id"), request.caller), request.caller);
+  });
+}
+
+}  // namespace hrisim::http

@@ -18,24 +18,6 @@ namespace {
 
 [[noreturn]] void malformed(const std::string& at, const std::string& what) { throw core::Error(core::ErrorCode::bad_request, what, {{"pointer", at}}); }
 
-const json& member(const json& file, const char* key, const std::string& at) {
-  if (!file.contains(key)) malformed(at + "/" + key, std::string(key) + " is required in a snapshot file");
-  return file[key];
-}
-
-std::string text_member(const json& file, const char* key, const std::string& at) {
-  const json& value = member(file, key, at);
-  if (!value.is_string()) malformed(at + "/" + key, std::string(key) + ": a string");
-  return value.get<std::string>();
-}
-
-/// A state hash as the API writes it: 16 hexadecimal digits.
-std::uint64_t hash_of(const json& value, const std::string& at) {
-  const std::string text = value.is_string() ? value.get<std::string>() : "";
-  if (text.size() != 16 || text.find_first_not_of("0123456789abcdef") != std::string::npos) malformed(at, "state_hash: 16 hexadecimal digits");
-  return std::stoull(text, nullptr, 16);
-}
-
 }  // namespace
 
 json input_log_json(const scenario::Model& model, const std::vector<Entry>& log) {
@@ -76,15 +58,7 @@ json snapshot_file(const LiveSession& live, const std::string& id, const episode
 }
 
 SnapshotOrigin read_snapshot_origin(const json& file, const std::string& at) {
-  if (!file.is_object()) malformed(at, "a snapshot file is an object (GET /api/v1/sessions/{id}/snapshots/{snapshot} gives one)");
-  refuse_unknown_keys(file, {"hrisim_snapshot", "hrisim", "snapshot", "session", "scenario", "scenario_sha256", "seed", "controller", "time_limit",
-                             "requests", "tick", "state_hash", "inputs"},
-                      at);
-  const json& format = member(file, "hrisim_snapshot", at);
-  if (format != kSnapshotFileFormat) malformed(at + "/hrisim_snapshot", "hrisim_snapshot: this server reads snapshot files of format " + std::to_string(kSnapshotFileFormat));
-  const json& build = member(file, "hrisim", at);
-  const std::string version = build.is_object() && build.contains("version") && build["version"].is_string() ? build["version"].get<std::string>() : "";
-  if (version.empty()) malformed(at + "/hrisim/version", "hrisim.version: the version of hrisim that took the snapshot");
+  const std::string version = file["hrisim"]["version"];
   if (version != core::version()) {
     throw core::Error(core::ErrorCode::conflict,
                       "the snapshot was taken by hrisim " + version + "; this server is hrisim " + core::version() +
@@ -92,68 +66,45 @@ SnapshotOrigin read_snapshot_origin(const json& file, const std::string& at) {
                       {{"pointer", at + "/hrisim/version"}, {"snapshot_version", version}, {"server_version", core::version()}});
   }
   SnapshotOrigin origin;
-  origin.scenario = text_member(file, "scenario", at);
-  origin.scenario_sha256 = text_member(file, "scenario_sha256", at);
-  origin.seed = integer_field(file, "seed", 0, kMaxSeed, 0, at);
-  member(file, "seed", at);
-  if (file.contains("controller")) {
-    if (!file["controller"].is_object()) malformed(at + "/controller", "controller: an object, as the session's");
-    origin.controller = file["controller"];
-  }
-  if (file.contains("time_limit")) {
-    const json& limit = file["time_limit"];
-    if (!limit.is_number() || !(limit.get<double>() > 0.0) || !std::isfinite(limit.get<double>())) malformed(at + "/time_limit", "time_limit: seconds above 0");
-    origin.time_limit = limit.get<double>();
-  }
-  if (file.contains("requests")) {
-    const json& requests = file["requests"];
-    if (!requests.is_array()) malformed(at + "/requests", "requests: a list of {time, routine}");
-    for (std::size_t i = 0; i < requests.size(); ++i) {
-      const std::string here = at + "/requests/" + std::to_string(i);
-      const json& request = requests[i];
-      if (!request.is_object() || !request.contains("time") || !request["time"].is_number() || !std::isfinite(request["time"].get<double>()) ||
-          !request.contains("routine") || !request["routine"].is_string()) {
-        malformed(here, "a request is {time: seconds, routine: name}");
-      }
-      refuse_unknown_keys(request, {"time", "routine"}, here);
-      origin.requests.emplace_back(request["time"].get<double>(), request["routine"].get<std::string>());
-    }
-  }
+  origin.scenario = file["scenario"];
+  origin.scenario_sha256 = file["scenario_sha256"];
+  origin.seed = file["seed"];
+  if (file.contains("controller")) origin.controller = file["controller"];
+  if (file.contains("time_limit")) origin.time_limit = file["time_limit"].get<double>();
+  for (const json& request : file.value("requests", json::array())) origin.requests.emplace_back(request["time"].get<double>(), request["routine"].get<std::string>());
   return origin;
 }
 
 episode::Episode::Snapshot read_snapshot_log(const sim::Session& session, const json& file, const std::string& at) {
   episode::Episode::Snapshot snapshot;
-  snapshot.tick = integer_field(file, "tick", 0, std::numeric_limits<std::int64_t>::max(), 0, at);
-  member(file, "tick", at);
-  snapshot.state_hash = hash_of(member(file, "state_hash", at), at + "/state_hash");
-  const json& inputs = member(file, "inputs", at);
-  if (!inputs.is_array() || inputs.size() > kMaxSnapshotInputs) {
-    malformed(at + "/inputs", "inputs: a list of at most " + std::to_string(kMaxSnapshotInputs) + " entries, as the file was written");
-  }
+  snapshot.tick = file["tick"];
+  snapshot.state_hash = std::stoull(file["state_hash"].get<std::string>(), nullptr, 16);
+  const json& inputs = file["inputs"];
   std::int64_t last_tick = 0;
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     const std::string here = at + "/inputs/" + std::to_string(i);
     const json& given = inputs[i];
-    if (!given.is_object()) malformed(here, "an input is an object");
     Entry entry;
-    entry.tick = integer_field(given, "tick", last_tick, snapshot.tick, -1, here);
-    if (entry.tick < 0) malformed(here + "/tick", "tick: the tick it was given at is required");
+    entry.tick = given["tick"];
+    if (entry.tick < last_tick || entry.tick > snapshot.tick) {
+      throw core::Error(core::ErrorCode::bad_request,
+                        "tick: an input's tick is from the previous input's (" + std::to_string(last_tick) + ") to the snapshot's (" +
+                            std::to_string(snapshot.tick) + ")",
+                        {{"pointer", here + "/tick"}});
+    }
     last_tick = entry.tick;
-    json rest = given;
-    rest.erase("tick");
-    if (rest.contains("steps")) {
-      refuse_unknown_keys(rest, {"steps", "action"}, here);
+    if (given.contains("steps")) {
       entry.kind = Entry::Kind::step;
-      entry.count = integer_field(rest, "steps", 0, std::numeric_limits<std::int64_t>::max(), 0, here);
-      if (rest.contains("action")) entry.action = action_at(rest["action"], here + "/action");
-    } else if (rest.contains("ticks")) {
-      refuse_unknown_keys(rest, {"ticks"}, here);
+      entry.count = given["steps"];
+      entry.action = action_of(given.value("action", json()));
+    } else if (given.contains("ticks")) {
       entry.kind = Entry::Kind::ticks;
-      entry.count = integer_field(rest, "ticks", 1, std::numeric_limits<std::int64_t>::max(), 0, here);
+      entry.count = given["ticks"];
     } else {
+      json input = given;
+      input.erase("tick");
       entry.kind = Entry::Kind::input;
-      entry.input = input_of(session, rest, here);
+      entry.input = input_of(session, input, here);
     }
     snapshot.log.push_back(std::move(entry));
   }

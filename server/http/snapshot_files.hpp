@@ -17,11 +17,10 @@
 
 namespace hrisim::http {
 
-/// The format of snapshot files this server writes and reads (their `hrisim_snapshot`).
+/// The format of snapshot files this server writes and reads (their `hrisim_snapshot`; api/openapi.yaml's
+/// SnapshotFile, which also bounds an input log to 100,000 entries: the re-simulation it asks for is
+/// bounded by the episode's time limit).
 inline constexpr int kSnapshotFileFormat = 1;
-/// Entries a snapshot file's input log may list at most (each a run of ticks or env steps, a command or
-/// a placement); the re-simulation it asks for is bounded by the episode's time limit.
-inline constexpr std::size_t kMaxSnapshotInputs = 100'000;
 
 /// The episode's input log as JSON: [{"tick", "steps", "action"?} | {"tick", "ticks"} | {"tick", "command"} |
 /// {"tick", "place", "pose"}], each stamped with the tick it was given or began at.
@@ -31,6 +30,8 @@ nlohmann::json input_log_json(const scenario::Model& model, const std::vector<ep
 nlohmann::json snapshot_file(const LiveSession& live, const std::string& id, const episode::Episode::Snapshot& snapshot);
 
 /// What a session started from a snapshot file is made of, read from the file (at JSON pointer `at`).
+/// Every file read here has passed the request contract (api/openapi.yaml's SnapshotFile, a part of
+/// the bodies that carry one); what is checked here is what a schema cannot say.
 struct SnapshotOrigin {
   std::string scenario, scenario_sha256;
   std::optional<nlohmann::json> controller;
@@ -38,10 +39,10 @@ struct SnapshotOrigin {
   std::optional<double> time_limit;
   std::vector<std::pair<double, std::string>> requests;
 };
-/// 400 naming the pointer of what is malformed; 409 for a file of another hrisim version.
+/// 409 for a file of another hrisim version.
 SnapshotOrigin read_snapshot_origin(const nlohmann::json& file, const std::string& at);
-/// The file's moment and input log, read against the session its origin made (400 at the pointer of a
-/// malformed input or one this scenario cannot take).
+/// The file's moment and input log, read against the session its origin made (400 at the pointer of an
+/// input out of tick order or one this scenario cannot take).
 episode::Episode::Snapshot read_snapshot_log(const sim::Session& session, const nlohmann::json& file, const std::string& at);
 /// A new session at the file's moment: made as its origin says (the scenario found as `caller` may see
 /// it; 404 without it, 409 when its content differs), in the mode of `settings`, then driven by the

@@ -196,10 +196,10 @@ TEST_F(RunsApi, BadSubmissionsAreRefusedAndNothingIsStored) {
   const std::vector<Case> cases{
       {{{"scenario", "nowhere"}, {"count", 1}}, 404, "/scenario"},
       {{{"count", 1}}, 400, "/scenario"},
-      {{{"scenario", "queue"}}, 400, "/seeds"},
-      {{{"scenario", "queue"}, {"count", 1}, {"seeds", {1}}}, 400, "/seeds"},
+      {{{"scenario", "queue"}}, 400, ""},
+      {{{"scenario", "queue"}, {"count", 1}, {"seeds", {1}}}, 400, "/count"},
       {{{"scenario", "queue"}, {"seeds", {1, -2}}}, 400, "/seeds/1"},
-      {{{"scenario", "queue"}, {"seeds", {1, 1}}}, 400, "/seeds"},
+      {{{"scenario", "queue"}, {"seeds", {1, 1}}}, 400, "/seeds/1"},
       {{{"scenario", "queue"}, {"count", 0}}, 400, "/count"},
       {{{"scenario", "queue"}, {"seeds", {1}}, {"first_seed", 3}}, 400, "/first_seed"},
       {{{"scenario", "queue"}, {"count", 1}, {"gates", {"collisions.max == 0", "speed.max < 2"}}}, 400, "/gates/1"},

@@ -103,7 +103,13 @@ TEST_F(SessionsApi, BadInputIsRefusedWithItsPlace) {
   };
   EXPECT_EQ(error("POST", "/api/v1/sessions", R"({"scenario": "nowhere"})").first, 404);
   EXPECT_EQ(error("POST", "/api/v1/sessions", R"({"scenario": "nowhere"})").second["details"]["pointer"], "/scenario");
-  EXPECT_EQ(error("POST", "/api/v1/sessions", R"({"seed": 1})").second["details"]["pointer"], "/scenario");
+  const json neither = error("POST", "/api/v1/sessions", R"({"seed": 1})").second;
+  EXPECT_EQ(neither["details"]["pointer"], "") << "the body lacks one of three keys";
+  EXPECT_EQ(neither["message"], "the body: expected one of the forms: scenario | episode | snapshot");
+  // Every error of a body at once, each with its pointer.
+  const json several = error("POST", "/api/v1/sessions", R"({"scenario": "queue", "seed": -1, "mode": "fast", "colour": 1})").second;
+  EXPECT_EQ(several["details"]["errors"].size(), 3u) << several;
+  EXPECT_NE(several["message"].get<std::string>().find("(and 2 more)"), std::string::npos) << several;
   for (const char* seed : {"-1", "1.5", "\"x\"", "9007199254740992", "null"}) {
     const auto [status, body] = error("POST", "/api/v1/sessions", std::string(R"({"scenario": "queue", "seed": )") + seed + "}");
     EXPECT_EQ(status, 400) << seed;

@@ -112,13 +112,13 @@ TEST_F(SnapshotFiles, BadFilesAreRefusedAtTheirPointerAndLeaveNoSession) {
   refused(changed, 409, "/snapshot/hrisim/version", "taken by hrisim 0.0.1");
   changed = file;
   changed["hrisim_snapshot"] = 2;
-  refused(changed, 400, "/snapshot/hrisim_snapshot", "format 1");
+  refused(changed, 400, "/snapshot/hrisim_snapshot", "must be 1");
   changed = file;
   changed["state_hash"] = "00000000000000ff";
   refused(changed, 409, "/snapshot/state_hash", "did not reach the state it names");
   changed = file;
   changed["state_hash"] = "xyz";
-  refused(changed, 400, "/snapshot/state_hash", "16 hexadecimal digits");
+  refused(changed, 400, "/snapshot/state_hash", "must match the pattern ^[0-9a-f]{16}$");
   changed = file;
   changed["inputs"][1]["command"]["robot"] = "nobody";
   refused(changed, 400, "/snapshot/inputs/1/command/robot", "no agent 'nobody'");
@@ -147,11 +147,11 @@ TEST_F(SnapshotFiles, BadFilesAreRefusedAtTheirPointerAndLeaveNoSession) {
   changed = file;
   changed.erase("seed");
   refused(changed, 400, "/snapshot/seed", "seed");
-  refused(json::array(), 400, "/snapshot", "an object");
+  refused(json::array(), 400, "/snapshot", "expected object, got array");
   // What a snapshot brings may not be given alongside.
   const HttpReply both = http(port, "POST", "/api/v1/sessions", json{{"snapshot", file}, {"scenario", "elevator"}}.dump());
   EXPECT_EQ(both.status, 400);
-  EXPECT_EQ(json_of(both)["error"]["details"]["pointer"], "/scenario");
+  EXPECT_EQ(json_of(both)["error"]["details"]["pointer"], "/snapshot") << "the first form, a scenario, takes no snapshot";
   EXPECT_EQ(sessions_on(port), before) << "no session is left behind by a refused file";
 
   // A reset to a snapshot of another scenario (or seed given alongside) leaves the session as it was.

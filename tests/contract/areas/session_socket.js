@@ -366,8 +366,8 @@ describe('session WebSocket', () => {
   it('subscribe: a wrong camera is an error naming it, and subscribes nothing', async () => {
     const other = await api.openSocket(session.id);
     try {
-      const cases = [[{ name: 'ceiling' }, 'not_found'], ['robot.head_rgbd', 'bad_request', '/camera'], [{}, 'bad_request', '/camera'],
-        [{ name: 5 }, 'bad_request', '/camera'], [[], 'bad_request', '/camera'],
+      const cases = [[{ name: 'ceiling' }, 'not_found'], ['robot.head_rgbd', 'bad_request', '/camera'], [{}, 'bad_request', '/camera/name'],
+        [{ name: 5 }, 'bad_request', '/camera/name'], [[], 'bad_request', '/camera'],
         [{ name: 'overview', width: 15 }, 'bad_request', '/camera/width'], [{ name: 'overview', width: 2049 }, 'bad_request', '/camera/width'],
         [{ name: 'overview', width: 64.5 }, 'bad_request', '/camera/width'], [{ name: 'overview', height: '48' }, 'bad_request', '/camera/height'],
         [{ name: 'overview', ids: 1 }, 'bad_request', '/camera/ids'], [{ name: 'overview', colour: 'red' }, 'bad_request', '/camera/colour']];

@@ -125,7 +125,7 @@ describe('sessions', () => {
     assert.equal(unknown.status, 404);
     assert.equal(unknown.json.error.details.pointer, '/scenario');
     const cases = [[{ scenario: 'elevator', seed: -1 }, '/seed'], [{ scenario: 'elevator', seed: 1.5 }, '/seed'],
-      [{ scenario: 'elevator', colour: 'red' }, '/colour'], [{}, '/scenario'],
+      [{ scenario: 'elevator', colour: 'red' }, '/colour'], [{}, ''],
       [{ scenario: 'elevator', mode: 'fast' }, '/mode'], [{ scenario: 'elevator', mode: 1 }, '/mode'],
       [{ scenario: 'elevator', realtime_factor: 2 }, '/realtime_factor'],
       [{ scenario: 'elevator', mode: 'lockstep', realtime_factor: 2 }, '/realtime_factor'],

@@ -493,7 +493,7 @@ describe('runs', () => {
       await page.fill('#video-width', '5');
       await page.click('.video-form button[type=submit]');
       await page.waitForSelector('#video-error [role=alert]', WAIT);
-      assert.match(await page.textContent('#video-error'), /width must be an integer from 16 to 1920/);
+      assert.match(await page.textContent('#video-error'), /\/width: must be at least 16 \(got 5\)/);
       assert.equal(await page.getAttribute('#video-width', 'aria-invalid'), 'true');
       assert.equal(await page.evaluate(() => document.activeElement.id), 'video-width');
       assert.deepEqual(videoRequests, [`POST /api/v1/episodes/${state.episode}/videos`]);
