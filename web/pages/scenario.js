@@ -122,7 +122,7 @@ function routinesSection(doc) {
   }
   if ((doc.async ?? []).length) {
     parts.push(h('p', {}, h('strong', {}, 'Answers to robot requests: '),
-      'the closest idle human within 3 m of the robot runs ', doc.async.map(routineOf).join(', '), '.'));
+      'the closest idle human within 3 m of the robot performs ', doc.async.map(routineOf).join(', '), '.'));
   }
   if ((doc.requests ?? []).length) {
     parts.push(h('p', {}, h('strong', {}, 'Scripted robot requests: '),
