@@ -9,8 +9,8 @@
 #include "app/command_line.hpp"
 #include "core/error.hpp"
 #include "runs/spec.hpp"
-#include "scenario/former_keys.hpp"
 #include "runs/video.hpp"
+#include "scenario/former_keys.hpp"
 #include "storage/store.hpp"
 
 namespace hrisim::app {
