@@ -55,7 +55,7 @@ def describe_action(action):
     kind = next(k for k in action if k not in ("agent", "group"))
     arg = action[kind]
     if isinstance(arg, dict):
-        keys = [k for k in ("location", "social_space", "agent", "task", "topic", "duration") if k in arg]
+        keys = [k for k in ("location", "social_space", "agent", "routine", "topic", "duration") if k in arg]
         if keys:
             return f"{kind} {keys[0]}:{arg[keys[0]]}"
         if "pose" in arg:

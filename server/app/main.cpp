@@ -39,6 +39,8 @@ constexpr const char* kUsage =
     "            hrisim merge SHARD.db... --into RESULTS.db [--junit FILE.xml]\n"
     "  import    convert IMHuS or Pedsim XML to the native JSON on stdout:\n"
     "            hrisim import [--from imhus|pedsim|hunav] [--dialect pedsim_ros|libpedsim] FILE [--scenario NAME] [--map FILE]\n"
+    "            or rename the former keys of a hrisim scenario (on stdout, or into the file):\n"
+    "            hrisim import --upgrade FILE [--in-place]\n"
     "  render    replay a stored episode to a video:\n"
     "            hrisim render EPISODE --out FILE.mp4|.webm|.avi [--db FILE] [--camera overview|follow|ROBOT.SENSOR]\n"
     "                          [--fps 25] [--width W] [--height H]\n"

@@ -3,12 +3,14 @@
 #include <charconv>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include "app/cli.hpp"
 #include "app/command_line.hpp"
 #include "core/error.hpp"
 #include "runs/spec.hpp"
 #include "runs/video.hpp"
+#include "scenario/former_keys.hpp"
 #include "storage/store.hpp"
 
 namespace hrisim::app {
@@ -100,9 +102,77 @@ int render_command(const std::vector<std::string>& args) {
   return 0;
 }
 
+namespace {
+
+/// hrisim import --upgrade FILE [--in-place]: the former keys of a scenario renamed, every other byte kept.
+int upgrade_command(const ParsedArgs& parsed) {
+  const std::string& file = parsed.file;
+  const bool in_place = parsed.flags.contains("--in-place");
+  const auto text = read_text(file);
+  if (!text) {
+    std::fprintf(stderr, "%s: cannot read the file\n", file.c_str());
+    return 1;
+  }
+  if (file_format(file, *text, {}) != scenario::SourceFormat::json) {
+    usage_error(file + " is not hrisim's JSON: --upgrade renames the former keys of a hrisim scenario (import this file without it)");
+  }
+  nlohmann::json document;
+  try {
+    document = scenario::parse_scenario_json(*text);
+  } catch (const core::Error& e) {
+    std::fprintf(stderr, "%s: %s\n", file.c_str(), e.what());
+    return 1;
+  }
+  if (!document.is_object()) {
+    std::fprintf(stderr, "%s: not a scenario: a scenario is a JSON object\n", file.c_str());
+    return 1;
+  }
+  const std::vector<scenario::FormerKey> former = scenario::find_former_keys(document);
+  std::vector<core::ValidationError> both;
+  for (const scenario::FormerKey& key : former) {
+    if (key.current_too) both.push_back(scenario::former_key_issue(key));
+  }
+  if (!both.empty()) {
+    print_errors(file, both);
+    std::fprintf(stderr, "%s: not upgraded: the file has a key under both its names\n", file.c_str());
+    return 1;
+  }
+  if (former.empty()) {
+    std::fprintf(stderr, "%s: already uses the current keys: nothing to upgrade\n", file.c_str());
+    if (!in_place) std::fwrite(text->data(), 1, text->size(), stdout);  // a pipe still gets the scenario
+    return 0;
+  }
+  const std::string upgraded = scenario::rename_former_keys(*text, former);
+  for (const scenario::FormerKey& key : former) {
+    std::fprintf(stderr, "%s: %s: '%s' renamed '%s'\n", file.c_str(), key.pointer().c_str(), key.former.c_str(), key.current.c_str());
+  }
+  if (!in_place) {
+    std::fwrite(upgraded.data(), 1, upgraded.size(), stdout);
+    return 0;
+  }
+  // Written through the file itself, so that its permissions and links stay as they were.
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out << upgraded;
+  out.close();
+  if (!out) {
+    std::fprintf(stderr, "%s: cannot write the file\n", file.c_str());
+    return 1;
+  }
+  std::fprintf(stderr, "%s: upgraded in place (%zu key%s renamed)\n", file.c_str(), former.size(), former.size() == 1 ? "" : "s");
+  return 0;
+}
+
+}  // namespace
+
 int import_command(const std::vector<std::string>& args) {
-  const ParsedArgs parsed = parse_args(args, {"--from", "--dialect", "--scenario", "--map"}, {},
-                                       "usage: hrisim import [--from imhus|pedsim|hunav] [--dialect pedsim_ros|libpedsim] FILE [--scenario NAME] [--map FILE]");
+  const ParsedArgs parsed = parse_args(args, {"--from", "--dialect", "--scenario", "--map"}, {"--upgrade", "--in-place"},
+                                       "usage: hrisim import [--from imhus|pedsim|hunav] [--dialect pedsim_ros|libpedsim] FILE [--scenario NAME] [--map FILE]\n"
+                                       "       hrisim import --upgrade FILE [--in-place]");
+  if (parsed.flags.contains("--upgrade")) {
+    if (!parsed.values.empty()) usage_error("--upgrade renames the former keys of a hrisim scenario: it takes no " + parsed.values.begin()->first);
+    return upgrade_command(parsed);
+  }
+  if (parsed.flags.contains("--in-place")) usage_error("--in-place belongs with --upgrade: an import is written to stdout");
   const std::string& file = parsed.file;
   const SourceOptions source = source_options(parsed);
   const auto text = read_text(file);

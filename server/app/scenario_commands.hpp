@@ -1,6 +1,6 @@
 #pragma once
 // `hrisim validate`, `import` and `render`: checking a scenario file, converting another simulator's
-// file, and replaying a stored episode to a video.
+// file (or upgrading an older hrisim one), and replaying a stored episode to a video.
 #include <string>
 #include <vector>
 
@@ -11,6 +11,9 @@ int validate_command(const std::vector<std::string>& args);
 
 /// hrisim import [--from imhus|pedsim] FILE [--scenario NAME] [--map FILE]: the native JSON on stdout,
 /// warnings and errors (with XML lines) on stderr; exit 1 when the file cannot be imported.
+/// hrisim import --upgrade FILE [--in-place]: a hrisim scenario with its keys' former names renamed
+/// (former_keys.hpp), on stdout or into the file, each key renamed said on stderr; exit 1 for a file
+/// that is not JSON or has a key under both its names.
 int import_command(const std::vector<std::string>& args);
 
 /// hrisim render EPISODE --out FILE.mp4|.webm|.avi [--db FILE] [--camera overview] [--fps 25] [--width W] [--height H]

@@ -402,17 +402,17 @@ class HunavImporter {
     return {{"bounds", {{"min", {extent_low_.x() - margin.x(), extent_low_.y() - margin.y()}}, {"max", {extent_high_.x() + margin.x(), extent_high_.y() + margin.y()}}}}};
   }
 
-  /// An agent's goals as a compound task; its name.
-  std::string goals_task(const Agent& agent) {
-    const std::string task = agent.name + "_goals";
+  /// An agent's goals as a routine; its name.
+  std::string goals_routine(const Agent& agent) {
+    const std::string routine = agent.name + "_goals";
     ordered_json gotos = ordered_json::array();
     for (const Point& goal : agent.goals) {
       // At least the default radius: hunav_loader reads a missing goal_radius as 0.
-      result_.origins.push_back({"/tasks/" + core::pointer_token(task) + "/" + std::to_string(gotos.size()), goal.line});
+      result_.origins.push_back({"/routines/" + core::pointer_token(routine) + "/" + std::to_string(gotos.size()), goal.line});
       gotos.push_back({{"goto", {{"pose", {{"x", goal.p.x()}, {"y", goal.p.y()}}}, {"radius", std::max(agent.goal_radius, kDefaultGoalRadius)}}}});
     }
-    tasks_[task] = gotos;
-    return task;
+    routines_[routine] = gotos;
+    return routine;
   }
 
   void write() {
@@ -458,7 +458,7 @@ class HunavImporter {
       if (agent->goals.empty()) continue;
       result_.origins.push_back({"/steps/0/actions/" + std::to_string(actions.size()), agent->line});
       ordered_json action = in_group ? ordered_json{{"group", group_name}} : ordered_json{{"agent", agent->name}};
-      action["task"] = goals_task(*agent);
+      action["routine"] = goals_routine(*agent);
       if (agent->cyclic) action["repeat"] = true;
       actions.push_back(action);
     }
@@ -475,7 +475,7 @@ class HunavImporter {
     out["humans"] = humans;
     out["robots"] = ordered_json::array();
     if (!groups.empty()) out["groups"] = groups;
-    if (!tasks_.empty()) out["tasks"] = tasks_;
+    if (!routines_.empty()) out["routines"] = routines_;
     out["steps"] = ordered_json::array();
     if (!actions.empty()) out["steps"].push_back({{"name", "walk"}, {"actions", actions}});
   }
@@ -486,7 +486,7 @@ class HunavImporter {
   std::vector<Agent> agents_;
   core::Vec2 extent_low_{std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
   core::Vec2 extent_high_ = -extent_low_;
-  ordered_json tasks_ = ordered_json::object();
+  ordered_json routines_ = ordered_json::object();
 };
 
 }  // namespace

@@ -232,7 +232,7 @@ class ImhusImporter {
             continue;
           }
           if (const auto task = reader_.text(response, "taskID")) {
-            if (require_task(response, *task)) async_.push_back({{"task", *task}});
+            if (require_task(response, *task)) async_.push_back({{"routine", *task}});
           }
         }
         continue;
@@ -286,7 +286,7 @@ class ImhusImporter {
     }
     if (const char* task = action->Attribute("taskID"); task && !kPrimitiveActions.contains(tag) && tag != "request_action") {
       if (!require_task(action, task)) return std::nullopt;
-      native["task"] = task;
+      native["routine"] = task;
     } else if (tag == "goto_action") {
       if (!read_goto(action, native)) return std::nullopt;
     } else if (tag == "wait_action") {
@@ -311,7 +311,7 @@ class ImhusImporter {
         reader_.fail(action, "only a robot makes requests");
         return std::nullopt;
       }
-      native["request"] = {{"task", *task}};
+      native["request"] = {{"routine", *task}};
     } else if (tag == "lookat_action") {
       if (const auto angle = reader_.optional_number(action, "angle")) {
         native["look_at"] = {{"angle", *angle}};
@@ -472,7 +472,7 @@ class ImhusImporter {
       list.push_back({{"id", id}, {"start", start}});
     }
     if (!groups_.empty()) out["groups"] = groups_;
-    out["tasks"] = tasks_;
+    out["routines"] = tasks_;  // IMHuS's compound tasks are hrisim's routines
     out["steps"] = steps_;
     out["async"] = async_;
     // Each action's line, now that it has its place (a robot choreography's steps join the scenario's).
@@ -483,7 +483,7 @@ class ImhusImporter {
         actions[a].erase(kLineKey);
       }
     };
-    for (auto& [task, actions] : out["tasks"].items()) take_lines(actions, "/tasks/" + core::pointer_token(task));
+    for (auto& [task, actions] : out["routines"].items()) take_lines(actions, "/routines/" + core::pointer_token(task));
     for (std::size_t s = 0; s < out["steps"].size(); ++s) take_lines(out["steps"][s]["actions"], "/steps/" + std::to_string(s) + "/actions");
   }
 

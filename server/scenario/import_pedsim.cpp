@@ -322,14 +322,14 @@ class PedsimImporter {
     return route;
   }
 
-  /// The route as a compound task its people walk over and over (Pedsim's agents cycle through their
+  /// The route as a routine its people walk over and over (Pedsim's agents cycle through their
   /// waypoints until the simulation stops); its name.
-  std::string route_task(const XMLElement* cluster, const Route& route) {
-    const std::string task = "route_" + std::to_string(tasks_.size() + 1);
+  std::string route_routine(const XMLElement* cluster, const Route& route) {
+    const std::string routine = "route_" + std::to_string(routines_.size() + 1);
     ordered_json gotos = ordered_json::array();
     for (const auto& [waypoint, line] : route) {
       const auto& [goal, radius] = goals_[waypoint];
-      result_.origins.push_back({"/tasks/" + task + "/" + std::to_string(gotos.size()), line});
+      result_.origins.push_back({"/routines/" + routine + "/" + std::to_string(gotos.size()), line});
       // A queue's id, given by addqueue or addwaypoint alike, has its people wait in line there.
       if (queue_directions_.contains(waypoint)) {
         gotos.push_back({{"queue", waypoint}});
@@ -337,14 +337,14 @@ class PedsimImporter {
         gotos.push_back({{"goto", {{"pose", {{"x", goal.x()}, {"y", goal.y()}}}, {"radius", radius}}}});
       }
       if (sinks_.contains(waypoint)) {  // whoever reaches a sink leaves: the rest of the route is never walked
-        result_.origins.push_back({"/tasks/" + task + "/" + std::to_string(gotos.size()), line});
+        result_.origins.push_back({"/routines/" + routine + "/" + std::to_string(gotos.size()), line});
         gotos.push_back({{"leave", ordered_json::object()}});
         break;
       }
     }
-    tasks_[task] = gotos;
-    result_.origins.push_back({"/tasks/" + task, cluster->GetLineNum()});
-    return task;
+    routines_[routine] = gotos;
+    result_.origins.push_back({"/routines/" + routine, cluster->GetLineNum()});
+    return routine;
   }
 
   /// A cluster's people, placed in its area, and their route; false once the people limit is passed.
@@ -374,10 +374,10 @@ class PedsimImporter {
     if (robot && !route.empty()) {
       reader_.warn(cluster, "the robot agent's route is not walked: a robot is driven by its controller or a client (give it one)");
     }
-    const std::string task = !robot && !route.empty() && n > 0 ? route_task(cluster, route) : "";
+    const std::string routine = !robot && !route.empty() && n > 0 ? route_routine(cluster, route) : "";
     const Area area{*x, *y, dx, dy};
-    for (int i = 0; i < static_cast<int>(n); ++i) add_person(cluster, area, kind, task, 0.0);
-    if (std::string(cluster->Name()) == "source" && n > 0) sources_.push_back({cluster, area, static_cast<int>(n), task});
+    for (int i = 0; i < static_cast<int>(n); ++i) add_person(cluster, area, kind, routine, 0.0);
+    if (std::string(cluster->Name()) == "source" && n > 0) sources_.push_back({cluster, area, static_cast<int>(n), routine});
     return true;
   }
 
@@ -388,7 +388,7 @@ class PedsimImporter {
 
   /// A person of a cluster, drawn in its area (again when too close to a wall: Pedsim's clusters often
   /// overlap them), walking the cluster's route from `enters_at` on.
-  void add_person(const XMLElement* cluster, const Area& area, const std::string& kind, const std::string& task, double enters_at) {
+  void add_person(const XMLElement* cluster, const Area& area, const std::string& kind, const std::string& routine, double enters_at) {
     const bool robot = kind == "robot";
     const std::string id = (robot ? "robot_" : "agent_") + std::to_string(people_++);
     core::Vec2 start(area.x, area.y);
@@ -407,9 +407,9 @@ class PedsimImporter {
     agent["avoidance"] = "social_force";
     if (enters_at > 0.0) agent["enters_at"] = enters_at;
     list.push_back(agent);
-    if (task.empty()) return;
+    if (routine.empty()) return;
     result_.origins.push_back({"/steps/0/actions/" + std::to_string(actions_.size()), cluster->GetLineNum()});
-    actions_.push_back({{"agent", id}, {"task", task}, {"repeat", true}});
+    actions_.push_back({{"agent", id}, {"routine", routine}, {"repeat", true}});
   }
 
   /// pedsim_ros's sources add their n people again every kSpawnPeriod for as long as the simulation
@@ -425,7 +425,7 @@ class PedsimImporter {
                                          " rounds fit in the people a scenario may hold (--max-people)");
       }
       for (int round = 1; round <= std::min(rounds, room); ++round) {
-        for (int i = 0; i < source.n; ++i) add_person(source.element, source.area, "adult", source.task, round * kSpawnPeriod);
+        for (int i = 0; i < source.n; ++i) add_person(source.element, source.area, "adult", source.routine, round * kSpawnPeriod);
       }
     }
   }
@@ -455,7 +455,7 @@ class PedsimImporter {
     }
     out["humans"] = humans_;
     out["robots"] = robots_;
-    if (!tasks_.empty()) out["tasks"] = tasks_;
+    if (!routines_.empty()) out["routines"] = routines_;
     out["steps"] = ordered_json::array();
     if (!actions_.empty()) out["steps"].push_back({{"name", "walk"}, {"actions", actions_}});
   }
@@ -471,12 +471,12 @@ class PedsimImporter {
   std::map<std::string, double> queue_directions_;
   std::set<std::string> sinks_;
   ordered_json attractions_ = ordered_json::object();  ///< waypoints whose walkers leave the scene on reaching them (b="2")
-  /// A source's cluster, its area and people per round, and their route's task.
+  /// A source's cluster, its area and people per round, and their route's routine.
   struct Source {
     const XMLElement* element;
     Area area;
     int n;
-    std::string task;
+    std::string routine;
   };
   std::vector<Source> sources_;  ///< per queue (a waypoint too): the way its line faces, rad
   std::vector<const XMLElement*> clusters_;
@@ -488,7 +488,7 @@ class PedsimImporter {
   int people_ = 0;
   ordered_json humans_ = ordered_json::array(), robots_ = ordered_json::array();
   ordered_json actions_ = ordered_json::array();
-  ordered_json tasks_ = ordered_json::object();
+  ordered_json routines_ = ordered_json::object();
 };
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "core/text.hpp"
 #include "humans/motion.hpp"
 #include "core/files.hpp"
+#include "scenario/former_keys.hpp"
 #include "scenario/load_context.hpp"
 #include "scenario/load_warnings.hpp"
 #include "scenario/read_actions.hpp"
@@ -86,12 +87,12 @@ class Loader {
     read_agents(*model);
     model->heard = std::any_of(model->agents.begin(), model->agents.end(), [](const AgentDef& agent) { return agent.microphones.has_value(); });
     read_objects(*model);
-    collect_task_names(*model);
+    collect_routine_names(*model);
     read_groups(*model);
     read_routines(*model);
     read_steps(*model);
     read_async(*model);
-    check_task_cycles(*model);
+    check_routine_cycles(*model);
     if (errors_.empty()) check_repeats(*model);
     read_task(*model);
     try {
@@ -506,8 +507,8 @@ class Loader {
     }
   }
 
-  void collect_task_names(Model& model) {
-    for (const auto& [name, unused] : member(doc_, "tasks").items()) {
+  void collect_routine_names(Model& model) {
+    for (const auto& [name, unused] : member(doc_, "routines").items()) {
       context_.names.routines[name] = static_cast<int>(model.routines.size());
       model.routines.push_back({name, {}});
     }
@@ -529,7 +530,7 @@ class Loader {
         }
       }
     };
-    for (const auto& [name, actions] : member(doc_, "tasks").items()) {
+    for (const auto& [name, actions] : member(doc_, "routines").items()) {
       for (const json& action : actions) collect(action);
     }
     for (const json& step : doc_.at("steps")) {
@@ -539,10 +540,10 @@ class Loader {
 
   void read_routines(Model& model) {
     loading::ActionReader reader(context_, model);
-    for (const auto& [name, actions] : member(doc_, "tasks").items()) {
+    for (const auto& [name, actions] : member(doc_, "routines").items()) {
       Routine& routine = model.routines[static_cast<std::size_t>(context_.names.routines[name])];
       for (std::size_t i = 0; i < actions.size(); ++i) {
-        routine.actions.push_back(reader.read(actions[i], "/tasks/" + core::pointer_token(name) + "/" + std::to_string(i), true));
+        routine.actions.push_back(reader.read(actions[i], "/routines/" + core::pointer_token(name) + "/" + std::to_string(i), true));
       }
     }
   }
@@ -672,10 +673,10 @@ class Loader {
     const json& async = member(doc_, "async");
     std::set<int> handled;
     for (std::size_t i = 0; i < async.size(); ++i) {
-      const int task = context_.resolve(context_.names.routines, async[i]["task"], "/async/" + std::to_string(i) + "/task", "task");
-      if (task >= 0) {
-        model.async_routines.push_back(task);
-        handled.insert(task);
+      const int routine = context_.resolve(context_.names.routines, async[i]["routine"], "/async/" + std::to_string(i) + "/routine", "routine");
+      if (routine >= 0) {
+        model.async_routines.push_back(routine);
+        handled.insert(routine);
       }
     }
     const json& requests = member(doc_, "requests");
@@ -683,9 +684,9 @@ class Loader {
       const std::string pointer = "/requests/" + std::to_string(i);
       Request request;
       request.time = requests[i]["time"];
-      request.routine = context_.resolve(context_.names.routines, requests[i]["task"], pointer + "/task", "task");
+      request.routine = context_.resolve(context_.names.routines, requests[i]["routine"], pointer + "/routine", "routine");
       if (request.routine >= 0 && !handled.contains(request.routine)) {
-        context_.error(pointer + "/task", "no entry of 'async' answers task '" + requests[i]["task"].get<std::string>() + "'");
+        context_.error(pointer + "/routine", "no entry of 'async' answers routine '" + requests[i]["routine"].get<std::string>() + "'");
       }
       if (requests[i].contains("robot")) {
         const std::string robot = requests[i]["robot"];
@@ -711,32 +712,32 @@ class Loader {
                      [](const Request& a, const Request& b) { return a.time < b.time; });
   }
 
-  void check_task_cycles(const Model& model) {
-    // Depth-first search over task → task calls; a task on the current path reached again is a cycle.
+  void check_routine_cycles(const Model& model) {
+    // Depth-first search over routine → routine calls; a routine on the current path reached again is a cycle.
     std::vector<int> state(model.routines.size(), 0);  // 0 unseen, 1 on path, 2 done
-    std::function<bool(int)> visit = [&](int task) {
-      if (state[task] == 1) return true;
-      if (state[task] == 2) return false;
-      state[task] = 1;
-      for (const Action& action : model.routines[task].actions) {
+    std::function<bool(int)> visit = [&](int routine) {
+      if (state[routine] == 1) return true;
+      if (state[routine] == 2) return false;
+      state[routine] = 1;
+      for (const Action& action : model.routines[routine].actions) {
         if (action.kind == Action::Kind::run_routine && action.target >= 0 && visit(action.target)) {
-          context_.error(action.pointer + "/task", "task '" + model.routines[task].name + "' calls itself through '" +
-                                              model.routines[action.target].name + "'");
-          state[task] = 2;
+          context_.error(action.pointer + "/routine", "routine '" + model.routines[routine].name + "' calls itself through '" +
+                                                 model.routines[action.target].name + "'");
+          state[routine] = 2;
           return false;
         }
       }
-      state[task] = 2;
+      state[routine] = 2;
       return false;
     };
     for (std::size_t t = 0; t < model.routines.size(); ++t) visit(static_cast<int>(t));
   }
 
-  /// A task repeated forever must take time each round, or the person would run it without end in one tick.
+  /// A routine repeated forever must take time each round, or the person would run it without end in one tick.
   void check_repeats(const Model& model) {
-    std::function<bool(int, std::set<int>&)> takes_time = [&](int task, std::set<int>& seen) {
-      if (task < 0 || !seen.insert(task).second) return false;
-      for (const Action& action : model.routines[task].actions) {
+    std::function<bool(int, std::set<int>&)> takes_time = [&](int routine, std::set<int>& seen) {
+      if (routine < 0 || !seen.insert(routine).second) return false;
+      for (const Action& action : model.routines[routine].actions) {
         using K = Action::Kind;
         switch (action.kind) {
           case K::wait_duration:
@@ -758,7 +759,7 @@ class Loader {
     const auto check = [&](const Action& action) {
       std::set<int> seen;
       if (action.kind == Action::Kind::run_routine && action.repeat && action.target >= 0 && !takes_time(action.target, seen)) {
-        context_.error(action.pointer + "/repeat", "task '" + model.routines[action.target].name +
+        context_.error(action.pointer + "/repeat", "routine '" + model.routines[action.target].name +
                                                        "' repeats forever without an action that takes time (a goto, a wait, a motion, …)");
       }
     };
@@ -869,9 +870,21 @@ double social_force_standoff(const humans::SocialForceParams& params, double rad
 LoadResult load_scenario(const json& document, const LoadOptions& options) {
   LoadResult result;
   result.errors = scenario_schema().validate(document);
+  const std::vector<FormerKey> former = find_former_keys(document);
+  for (const FormerKey& key : former) (key.current_too ? result.errors : result.warnings).push_back(former_key_issue(key));
   if (!result.errors.empty()) return result;  // meaning is checked on well-formed documents only
-  Loader loader(document, options, result.errors, result.warnings);
+  if (former.empty()) {
+    Loader loader(document, options, result.errors, result.warnings);
+    result.model = loader.load();
+    return result;
+  }
+  // Former keys are read as the current ones, and what reading finds is said where the document has it.
+  const json current = with_current_keys(document, former);
+  const std::size_t warned = result.warnings.size();
+  Loader loader(current, options, result.errors, result.warnings);
   result.model = loader.load();
+  for (core::ValidationError& error : result.errors) error.pointer = pointer_as_written(error.pointer, former);
+  for (std::size_t i = warned; i < result.warnings.size(); ++i) result.warnings[i].pointer = pointer_as_written(result.warnings[i].pointer, former);
   return result;
 }
 
@@ -884,20 +897,29 @@ void check_episode_ticks(double time_limit, double dt, std::int64_t max_ticks, c
   throw core::Error(core::ErrorCode::bad_request, message.str(), {{"max_episode_ticks", max_ticks}});
 }
 
-LoadResult load_scenario_text(std::string_view text, const LoadOptions& options) {
+json parse_scenario_json(std::string_view text) {
   try {
-    return load_scenario(json::parse(text), options);
+    return json::parse(text);
   } catch (const json::parse_error& e) {
     // nlohmann's byte count is 1-based: the offending character is at offset byte - 1.
     const auto [line, column] = core::line_and_column(text, e.byte > 0 ? e.byte - 1 : 0);
     const std::string message = e.what();
     const std::size_t reason = message.find(": ", message.find("syntax error"));
-    return {nullptr, {{"", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
-                               (reason == std::string::npos ? "" : ": " + message.substr(reason + 2))}},
-            {}};
+    throw core::Error(core::ErrorCode::bad_request, "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
+                                                        (reason == std::string::npos ? "" : ": " + message.substr(reason + 2)));
   } catch (const json::out_of_range&) {
-    return {nullptr, {{"", "invalid JSON: a number is too large for a double"}}, {}};
+    throw core::Error(core::ErrorCode::bad_request, "invalid JSON: a number is too large for a double");
   }
+}
+
+LoadResult load_scenario_text(std::string_view text, const LoadOptions& options) {
+  json document;
+  try {
+    document = parse_scenario_json(text);
+  } catch (const core::Error& e) {
+    return {nullptr, {{"", e.what()}}, {}};
+  }
+  return load_scenario(document, options);
 }
 
 LoadResult load_scenario_file(const std::filesystem::path& file, LoadOptions options) {

@@ -1,7 +1,7 @@
 #pragma once
 // Reading the native JSON scenario format (api/scenario.schema.json): structural checks against the
-// schema, then meaning — every reference resolves, nobody starts inside a wall, compound tasks do not
-// call themselves. All errors are collected, each with the JSON pointer of the value at fault.
+// schema, then meaning — every reference resolves, nobody starts inside a wall, routines do not call
+// themselves. All errors are collected, each with the JSON pointer of the value at fault.
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -55,7 +55,12 @@ void check_episode_ticks(double time_limit, double dt, std::int64_t max_ticks, c
 /// The scenario JSON Schema shipped with this binary.
 const core::JsonSchema& scenario_schema();
 
+/// A document with the former names of keys (former_keys.hpp) loads as with the current ones, with a
+/// warning at each; every pointer said is one into the document as written.
 LoadResult load_scenario(const nlohmann::json& document, const LoadOptions& options);
+/// The JSON of a scenario's text; throws core::Error(bad_request) for a syntax error, at its line and
+/// column ("invalid JSON at line 3, column 13: …").
+nlohmann::json parse_scenario_json(std::string_view text);
 /// Parses text first; a syntax error is reported with its line and column.
 LoadResult load_scenario_text(std::string_view text, const LoadOptions& options);
 /// Reads a file; map paths resolve against its folder, then `options.map_search_path`.

@@ -1,7 +1,7 @@
 #pragma once
 // A scenario compiled once into an immutable model that every session of it shares: the map with its
 // grid, distance field and planner, named locations and social spaces, the agents' definitions, the
-// compound tasks, the steps and the asynchronous responses (IMHuS semantics, DESIGN.md §1).
+// routines, the steps and the asynchronous responses (IMHuS semantics, DESIGN.md §1).
 #include <map>
 #include <memory>
 #include <optional>
@@ -254,7 +254,7 @@ struct Action {
   int agent = -1;   ///< acting agent in steps; -1 in routines (the invoker acts) and group actions
   int group = -1;   ///< acting group in steps (goto only), or -1
   std::vector<int> members;  ///< form_group: the new members
-  int target = -1;  ///< index of the location, social space, agent or task
+  int target = -1;  ///< index of the location, social space, agent or routine
   Pose2 pose;
   double radius = kDefaultGoalRadius;
   double value = 0.0;
@@ -262,10 +262,10 @@ struct Action {
   std::string message;
   std::string motion;   ///< play_motion: the primitive's name
   bool repeat = false;  ///< run_routine: over and over until the episode ends (a Pedsim route, HuNavSim's cyclic goals)
-  std::string pointer;  ///< where it stands in the scenario (JSON pointer), for events and errors
+  std::string pointer;  ///< where it stands in the scenario (JSON pointer, with the current keys), for events and errors
 };
 
-/// An IMHuS compound task (the scenario file's "tasks"): actions an agent runs in order.
+/// A routine, IMHuS's compound task (the scenario file's "routines"): actions an agent performs in order.
 struct Routine {
   std::string name;
   std::vector<Action> actions;
@@ -392,7 +392,7 @@ struct Model {
   std::vector<AgentDef> agents;  ///< humans then robots, each in file order
   std::vector<MovableObject> objects;
   std::vector<Group> groups;     ///< declared groups (members at the start) and groups formed later (empty)
-  std::vector<Routine> routines;  ///< IMHuS compound tasks (the file's "tasks")
+  std::vector<Routine> routines;  ///< IMHuS compound tasks (the file's "routines")
   std::vector<Step> steps;
   std::vector<int> async_routines;  ///< routines humans run when a robot requests them
   std::vector<Request> requests;  ///< scripted robot requests, by time

@@ -10,8 +10,8 @@ namespace hrisim::scenario::loading {
 namespace {
 
 /// What a group (a pair too) can be given: the whole group walks a goto in formation; every member
-/// does the others, and runs a compound task's actions likewise, its gotos in formation.
-constexpr const char* kGroupActions[] = {"goto", "task", "wait", "look_at", "turn", "motion", "say"};
+/// does the others, and performs a routine's actions likewise, its gotos in formation.
+constexpr const char* kGroupActions[] = {"goto", "routine", "wait", "look_at", "turn", "motion", "say"};
 
 }  // namespace
 
@@ -25,11 +25,11 @@ Action ActionReader::read(const json& entry, const std::string& pointer, bool in
   } else if (entry.contains("agent") || entry.contains("group")) {
     const char* key = entry.contains("agent") ? "agent" : "group";
     if (in_routine) {
-      context_.error(pointer + "/" + key, "actions of a compound task do not name an agent or group: whoever runs the task acts");
+      context_.error(pointer + "/" + key, "actions of a routine do not name an agent or group: whoever performs the routine acts");
     } else if (entry.contains("agent")) {
       action.agent = context_.resolve(context_.names.agents, entry["agent"], pointer + "/agent", "agent");
     } else if (!std::any_of(std::begin(kGroupActions), std::end(kGroupActions), [&](const char* kind) { return entry.contains(kind); })) {
-      context_.error(pointer + "/group", "a group can be given goto, task, wait, look_at, turn, motion or say");
+      context_.error(pointer + "/group", "a group can be given goto, routine, wait, look_at, turn, motion or say");
     } else {
       action.group = context_.resolve(context_.names.groups, entry["group"], pointer + "/group", "group");
     }
@@ -105,7 +105,7 @@ Action ActionReader::read(const json& entry, const std::string& pointer, bool in
     action.radius = attitude.value("distance", harass ? kHarassDistance : kStopAndLookDistance);
   } else if (entry.contains("request")) {
     action.kind = Action::Kind::request;
-    action.target = context_.resolve(context_.names.routines, entry["request"]["task"], pointer + "/request/task", "task");
+    action.target = context_.resolve(context_.names.routines, entry["request"]["routine"], pointer + "/request/routine", "routine");
     if (action.agent >= 0 && !context_.names.robots.contains(model_.agents[action.agent].id)) {
       context_.error(pointer + "/agent", "only a robot makes requests");
     }
@@ -136,7 +136,7 @@ Action ActionReader::read(const json& entry, const std::string& pointer, bool in
     require_human(action, "queues");
   } else {
     action.kind = Action::Kind::run_routine;
-    action.target = context_.resolve(context_.names.routines, entry["task"], pointer + "/task", "task");
+    action.target = context_.resolve(context_.names.routines, entry["routine"], pointer + "/routine", "routine");
     action.repeat = entry.value("repeat", false);
   }
   if (action.agent >= 0) {
@@ -183,7 +183,7 @@ void ActionReader::read_say(const json& say, const std::string& pointer, Action&
   if (action.agent >= 0 && model_.agents[action.agent].kind != AgentKind::human) context_.error(pointer, "only a human speaks");
 }
 
-/// The radius of the person acting, as far as the action tells (a compound task's: the default).
+/// The radius of the person acting, as far as the action tells (a routine's: the default).
 double ActionReader::acting_radius(const Action& action) const {
   return action.agent >= 0 ? model_.agents[action.agent].radius : kDefaultAgentRadius;
 }

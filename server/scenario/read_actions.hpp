@@ -1,6 +1,6 @@
 #pragma once
-// Reading the actions of a native scenario's steps and compound tasks: goto, wait, look_at, turn,
-// publish, task, groups' changes, attitudes, requests, motions, speech, seats and carrying — every
+// Reading the actions of a native scenario's steps and routines: goto, wait, look_at, turn, publish,
+// routine, groups' changes, attitudes, requests, motions, speech, seats and carrying — every
 // reference resolved against the names declared and the model's world, each error at its pointer.
 #include <optional>
 #include <string>
@@ -13,7 +13,7 @@ class ActionReader {
  public:
   /// `model` has its world, places, agents, objects, groups and clips, and its routines named.
   ActionReader(Context& context, const Model& model);
-  /// The action at `pointer`; in a compound task (`in_routine`) it names no agent or group.
+  /// The action at `pointer`; in a routine (`in_routine`) it names no agent or group.
   Action read(const json& entry, const std::string& pointer, bool in_routine);
 
  private:

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "storage/store.hpp"
@@ -84,6 +85,7 @@ TEST(CliImport, ImhusToNativeJsonOnStdout) {
   const auto scenario = nlohmann::json::parse(result.output);
   EXPECT_EQ(scenario["name"], "meeting");
   EXPECT_EQ(scenario["steps"].size(), 3u);
+  EXPECT_TRUE(scenario.contains("routines") && !scenario.contains("tasks")) << "IMHuS's compound tasks are routines";
   // The output is a valid native scenario.
   TempDir dir;
   std::ofstream(dir / "meeting.json") << result.output;
@@ -134,6 +136,106 @@ TEST(CliImport, AHuNavSimFileIsReadAndItsFaultsSaidAtTheirLines) {
   const CommandResult map = run_command(kHrisim + " validate " + (dir / "map.yaml").string());
   EXPECT_EQ(map.exit_status, 1);
   EXPECT_NE(map.output.find("this is a ROS map YAML: give it with --map"), std::string::npos) << map.output;
+}
+
+std::string file_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// A bundled scenario's text written with the routine's former keys, as before they were renamed.
+std::string with_former_keys(const std::string& scenario) {
+  std::string text = file_text(kScenarios + "/" + scenario + ".json");
+  for (const auto& [current, former] : {std::pair<std::string, std::string>{"\"routines\":", "\"tasks\":"}, {"\"routine\": \"", "\"task\": \""}}) {
+    for (std::size_t at = text.find(current); at != std::string::npos; at = text.find(current, at)) text.replace(at, current.size(), former);
+  }
+  return text;
+}
+
+/// What a command wrote on stdout, and on stderr apart.
+struct SplitResult {
+  int exit_status;
+  std::string out, err;
+};
+
+SplitResult run_split(const std::string& command) {
+  TempDir dir;
+  const CommandResult result = run_command("(" + command + " 2>" + (dir / "stderr").string() + ")", false);
+  return {result.exit_status, result.output, file_text(dir / "stderr")};
+}
+
+TEST(CliImport, UpgradeRenamesTheFormerKeysAndNothingElse) {
+  TempDir dir;
+  const std::string old_queue = (dir / "queue.json").string();
+  std::ofstream(old_queue) << with_former_keys("queue");
+  const CommandResult warned = run_command(kHrisim + " validate " + old_queue);
+  EXPECT_EQ(warned.exit_status, 0) << warned.output;
+  EXPECT_NE(warned.output.find("queue.json: /tasks: warning: 'tasks' is the former name of 'routines' and will stop being read in the next version; "
+                               "run `hrisim import --upgrade FILE`"), std::string::npos) << warned.output;
+  EXPECT_NE(warned.output.find("queue.json: /requests/0/task: warning: 'task' is the former name of 'routine'"), std::string::npos) << warned.output;
+
+  const SplitResult upgraded = run_split(kHrisim + " import --upgrade " + old_queue);
+  EXPECT_EQ(upgraded.exit_status, 0) << upgraded.err;
+  EXPECT_EQ(upgraded.out, file_text(kScenarios + "/queue.json")) << "byte for byte the bundled file";
+  EXPECT_EQ(upgraded.err, old_queue + ": /tasks: 'tasks' renamed 'routines'\n" + old_queue + ": /steps/1/actions/0/task: 'task' renamed 'routine'\n" +
+                              old_queue + ": /steps/2/actions/0/task: 'task' renamed 'routine'\n" + old_queue + ": /async/0/task: 'task' renamed 'routine'\n" +
+                              old_queue + ": /requests/0/task: 'task' renamed 'routine'\n");
+  EXPECT_EQ(file_text(old_queue), with_former_keys("queue")) << "stdout only: the file is as it was";
+
+  const std::string run = " run " + old_queue + " --seed 3";
+  const std::string before = nlohmann::json::parse(run_command(kHrisim + run, false).output)["state_hash"];
+  const SplitResult in_place = run_split(kHrisim + " import --upgrade --in-place " + old_queue);
+  EXPECT_EQ(in_place.exit_status, 0) << in_place.err;
+  EXPECT_EQ(in_place.out, "");
+  EXPECT_NE(in_place.err.find(old_queue + ": upgraded in place (5 keys renamed)"), std::string::npos) << in_place.err;
+  EXPECT_EQ(file_text(old_queue), file_text(kScenarios + "/queue.json"));
+  const SplitResult valid = run_split(kHrisim + " validate " + old_queue);
+  EXPECT_EQ(valid.exit_status, 0);
+  EXPECT_EQ(valid.err, "") << "no warnings left";
+  EXPECT_EQ(nlohmann::json::parse(run_command(kHrisim + run, false).output)["state_hash"], before) << "the same simulation";
+}
+
+TEST(CliImport, UpgradeOfACurrentFileSaysSo) {
+  TempDir dir;
+  const std::string file = (dir / "elevator.json").string();
+  std::filesystem::copy_file(kScenarios + "/elevator.json", file);
+  const SplitResult result = run_split(kHrisim + " import --upgrade " + file);
+  EXPECT_EQ(result.exit_status, 0);
+  EXPECT_EQ(result.err, file + ": already uses the current keys: nothing to upgrade\n");
+  EXPECT_EQ(result.out, file_text(file)) << "a pipe still gets the scenario";
+  const SplitResult in_place = run_split(kHrisim + " import --upgrade " + file + " --in-place");
+  EXPECT_EQ(in_place.exit_status, 0);
+  EXPECT_EQ(in_place.out, "");
+  EXPECT_EQ(file_text(file), file_text(kScenarios + "/elevator.json"));
+}
+
+TEST(CliImport, UpgradeRefusesWhatItCannotUpgrade) {
+  TempDir dir;
+  const std::string broken = (dir / "broken.json").string();
+  std::ofstream(broken) << "{\n  \"name\": \"x\",\n  \"tasks\": {,\n}";
+  const SplitResult invalid = run_split(kHrisim + " import --upgrade --in-place " + broken);
+  EXPECT_EQ(invalid.exit_status, 1);
+  EXPECT_NE(invalid.err.find("broken.json: invalid JSON at line 3, column 13"), std::string::npos) << invalid.err;
+  EXPECT_EQ(file_text(broken), "{\n  \"name\": \"x\",\n  \"tasks\": {,\n}");
+
+  const std::string both = (dir / "both.json").string();
+  const std::string both_text = R"({"name": "x", "routines": {"a": [{"wait": {"duration": 1}}]}, "tasks": {"a": [{"wait": {"duration": 1}}]}, "steps": []})";
+  std::ofstream(both) << both_text;
+  const SplitResult twice = run_split(kHrisim + " import --upgrade --in-place " + both);
+  EXPECT_EQ(twice.exit_status, 1);
+  EXPECT_NE(twice.err.find("both.json: /tasks: 'tasks' is the former name of 'routines', which is given here too: keep only 'routines'"), std::string::npos)
+      << twice.err;
+  EXPECT_EQ(file_text(both), both_text) << "nothing written";
+
+  std::ofstream(dir / "list.json") << "[1, 2]";
+  EXPECT_EQ(run_command(kHrisim + " import --upgrade " + (dir / "list.json").string()).exit_status, 1);
+  EXPECT_EQ(run_command(kHrisim + " import --upgrade " + (dir / "none.json").string()).exit_status, 1);
+  for (const std::string& args : {"--upgrade " + kFixtures + "/imhus/office.xml", "--upgrade --from imhus " + both, "--in-place " + both}) {
+    const CommandResult result = run_command(kHrisim + " import " + args);
+    EXPECT_EQ(result.exit_status, 2) << args << "\n" << result.output;
+  }
 }
 
 TEST(CliImport, RunAcceptsXmlDirectly) {

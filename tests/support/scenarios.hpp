@@ -26,6 +26,34 @@ inline nlohmann::json room_scenario(const nlohmann::json& extra) {
   return scenario;
 }
 
+/// `document` as a scenario written before routines had their name: "tasks", and "task" wherever a
+/// routine is named (the former keys, still read with a warning at each).
+inline nlohmann::json with_former_keys(nlohmann::json document) {
+  const auto rename = [](nlohmann::json& object, const char* current, const char* former) {
+    if (!object.is_object() || !object.contains(current)) return;
+    object[former] = std::move(object[current]);
+    object.erase(current);
+  };
+  const auto in_actions = [&](nlohmann::json& actions) {
+    for (nlohmann::json& action : actions) {
+      rename(action, "routine", "task");
+      if (action.contains("request")) rename(action["request"], "routine", "task");
+    }
+  };
+  rename(document, "routines", "tasks");
+  if (document.contains("tasks")) {
+    for (auto& [name, actions] : document["tasks"].items()) in_actions(actions);
+  }
+  if (document.contains("steps")) {
+    for (nlohmann::json& step : document["steps"]) in_actions(step["actions"]);
+  }
+  for (const char* section : {"async", "requests"}) {
+    if (!document.contains(section)) continue;
+    for (nlohmann::json& entry : document[section]) rename(entry, "routine", "task");
+  }
+  return document;
+}
+
 /// Loads a scenario that must be valid (maps may be anywhere: these are the tests' own files).
 inline std::shared_ptr<const scenario::Model> load_valid(const nlohmann::json& document) {
   scenario::LoadOptions options;

@@ -5,6 +5,7 @@ import { api } from '../lib/api.js';
 import { h, loading, errorPage, showError, formatNumber, pageTitle } from '../lib/ui.js';
 import { MapView, palette } from '../lib/map2d.js';
 import { taskSummary } from '../lib/tasks.js';
+import { routinesOf, routineOf } from '../lib/routines.js';
 
 /** Scenarios uploaded from the catalogue in this page's life, with their warnings and whether they existed, shown once on arrival. */
 export const recentUploads = new Map();
@@ -43,8 +44,9 @@ function actionText(action) {
       return a.by !== undefined ? `turn by ${number(a.by, 'rad')}` : `turn to ${number(a.to, 'rad')}`;
     case 'publish':
       return `publish “${a.message}” on ${a.topic}`;
-    case 'task':
-      return `task ${a}`;
+    case 'routine':
+    case 'task':  // the former name
+      return `routine ${a}`;
     case 'form_group':
       return `form group ${a.group} (${(a.members ?? []).join(', ')})`;
     case 'dismantle_group':
@@ -54,7 +56,7 @@ function actionText(action) {
     case 'stop_and_look':
       return `stop and look at ${a.robot} for ${number(a.duration, 's')}${a.distance ? ` within ${number(a.distance, 'm')}` : ''}`;
     case 'request':
-      return `request ${a.task}`;
+      return `request ${routineOf(a)}`;
     case 'motion':
       return `motion ${a.name}${a.duration !== undefined ? ` ${number(a.duration, 's')}` : ''}`;
     default:
@@ -63,12 +65,13 @@ function actionText(action) {
   return `${kind} ${JSON.stringify(a)}`;
 }
 
-function actionItem(action, tasks) {
+function actionItem(action, routines) {
   const kind = actionKind(action);
   const item = h('li', { class: `sc-action sc-action-${kind}` }, actionText(action));
-  // A compound task is spelled out under its name, so a row reads as the agent's whole part.
-  if (kind === 'task' && Array.isArray(tasks[action.task])) {
-    item.append(h('ol', { class: 'sc-task-actions' }, tasks[action.task].map((inner) => h('li', { class: `sc-action sc-action-${actionKind(inner)}` }, actionText(inner)))));
+  // A routine is spelled out under its name, so a row reads as the agent's whole part.
+  const routine = routines[routineOf(action)];
+  if ((kind === 'routine' || kind === 'task') && Array.isArray(routine)) {
+    item.append(h('ol', { class: 'sc-routine-actions' }, routine.map((inner) => h('li', { class: `sc-action sc-action-${actionKind(inner)}` }, actionText(inner)))));
   }
   return item;
 }
@@ -76,7 +79,7 @@ function actionItem(action, tasks) {
 /** The choreography as a table: a row per agent (and group), a column per step, the actions in order in each cell. */
 function timeline(doc, world) {
   const steps = doc.steps ?? [];
-  const tasks = doc.tasks ?? {};
+  const routines = routinesOf(doc);
   const rows = world.agents.map((agent) => ({ key: `agent:${agent.id}`, label: agent.id, kind: agent.kind }));
   const known = new Set(rows.map((row) => row.key));
   const addRow = (key, label, kind) => {
@@ -101,29 +104,29 @@ function timeline(doc, world) {
         h('span', { class: 'muted sc-agent-kind' }, row.kind === 'group' ? ` group of ${members(row.label).join(', ') || '?'}` : row.kind === 'unknown' ? ' not in the scenario' : ` ${row.kind}`)),
       steps.map((step) => {
         const mine = (step.actions ?? []).filter((action) => (row.kind === 'group' ? action.group === row.label && !action.agent : action.agent === row.label));
-        return h('td', { class: mine.length ? '' : 'idle' }, mine.length ? h('ol', { class: 'sc-actions' }, mine.map((action) => actionItem(action, tasks))) : '');
+        return h('td', { class: mine.length ? '' : 'idle' }, mine.length ? h('ol', { class: 'sc-actions' }, mine.map((action) => actionItem(action, routines))) : '');
       })))));
   return [h('p', { class: 'muted sc-timeline-note', id: 'sc-timeline-note' },
     'Steps run in order, left to right; in a step every agent starts at once and runs its own actions top to bottom.'),
   h('div', { class: 'sc-timeline-scroll', tabindex: 0, role: 'region', 'aria-label': 'Choreography timeline' }, table)];
 }
 
-function tasksSection(doc) {
+function routinesSection(doc) {
   const parts = [];
-  const tasks = Object.entries(doc.tasks ?? {});
-  if (tasks.length) {
-    parts.push(h('h3', {}, 'Compound tasks'), h('table', { class: 'sc-compound-tasks' },
-      h('thead', {}, h('tr', {}, h('th', { scope: 'col' }, 'Task'), h('th', { scope: 'col' }, 'Actions, in order'))),
-      h('tbody', {}, tasks.map(([name, actions]) => h('tr', {}, h('th', { scope: 'row' }, name),
+  const routines = Object.entries(routinesOf(doc));
+  if (routines.length) {
+    parts.push(h('h3', {}, 'Routines'), h('table', { class: 'sc-routines' },
+      h('thead', {}, h('tr', {}, h('th', { scope: 'col' }, 'Routine'), h('th', { scope: 'col' }, 'Actions, in order'))),
+      h('tbody', {}, routines.map(([name, actions]) => h('tr', {}, h('th', { scope: 'row' }, name),
         h('td', {}, h('ol', { class: 'sc-actions inline' }, actions.map((action) => h('li', { class: `sc-action sc-action-${actionKind(action)}` }, actionText(action))))))))));
   }
   if ((doc.async ?? []).length) {
     parts.push(h('p', {}, h('strong', {}, 'Answers to robot requests: '),
-      'the closest idle human within 3 m of the robot runs ', doc.async.map((entry) => entry.task).join(', '), '.'));
+      'the closest idle human within 3 m of the robot performs ', doc.async.map(routineOf).join(', '), '.'));
   }
   if ((doc.requests ?? []).length) {
     parts.push(h('p', {}, h('strong', {}, 'Scripted robot requests: '),
-      doc.requests.map((request) => `${request.task} at ${number(request.time, 's')}${request.robot ? ` by ${request.robot}` : ''}`).join('; '), '.'));
+      doc.requests.map((request) => `${routineOf(request)} at ${number(request.time, 's')}${request.robot ? ` by ${request.robot}` : ''}`).join('; '), '.'));
   }
   return parts;
 }
@@ -348,5 +351,5 @@ export async function render(root, params) {
   }
 
   root.append(h('section', { 'aria-labelledby': 'timeline-heading' }, h('h2', { id: 'timeline-heading' }, 'Choreography'),
-    timeline(doc, world), tasksSection(doc)));
+    timeline(doc, world), routinesSection(doc)));
 }

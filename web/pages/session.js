@@ -7,6 +7,7 @@
 // what the driver hears. This page lays them out and owns the session's head and its end.
 import { h, loading, errorPage, formatNumber, pageTitle } from '../lib/ui.js';
 import { showInAddress } from '../lib/hashquery.js';
+import { routinesOf, routineOf } from '../lib/routines.js';
 import { loadSession } from '../session/driver.js';
 import { errorText, showMessage } from '../session/messages.js';
 import { toolbar } from '../session/toolbar.js';
@@ -47,9 +48,9 @@ export async function render(root, { id }, query) {
   const humans = world.agents.filter((agent) => agent.kind === 'human');
   const robot = world.agents.find((agent) => agent.kind === 'robot') ?? null;  // the robot under test
   const steps = scenario.steps ?? [];
-  const answered = new Set((scenario.async ?? []).map((entry) => entry.task));
-  // Routines (the file's "tasks") a human answers first: the others are dropped at once.
-  const routines = Object.keys(scenario.tasks ?? {}).sort((a, b) => Number(answered.has(b)) - Number(answered.has(a)));
+  const answered = new Set((scenario.async ?? []).map(routineOf));
+  // Routines a human answers first: the others are dropped at once.
+  const routines = Object.keys(routinesOf(scenario)).sort((a, b) => Number(answered.has(b)) - Number(answered.has(a)));
   const canDrive = Boolean(robot && robot.model && actionSpace && actionSpace.shape?.[0] === 2);
 
   // ---- Layout ----

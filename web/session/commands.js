@@ -64,5 +64,5 @@ export function robotRequestPanel(driver, { robot, routines, answered }) {
   });
 
   return h('section', { class: 'panel', 'aria-label': 'Robot request' }, h('h2', {}, `Request from ${robot.id}`), form,
-    h('p', { class: 'muted session-note' }, 'The closest idle human within 3 m runs the task the scenario answers it with; with nobody, it is retried every 5 s and dropped after 30 s.'));
+    h('p', { class: 'muted session-note' }, 'The closest idle human within 3 m performs the routine, when the scenario\'s async answers it; with nobody, it is retried every 5 s and dropped after 30 s.'));
 }

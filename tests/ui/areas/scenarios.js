@@ -136,7 +136,7 @@ describe('scenarios', () => {
       assert.deepEqual(steps, ['1. gather', '2. ride_up', '3. swap', '4. ride_down', '5. afterwards', '6. ride_back']);
       const eliSwap = await tab.page.textContent('tr[data-agent=eli] td:nth-of-type(3)');
       assert.match(eliSwap, /wait 4 s.*goto cabin/);
-      assert.match(await tab.page.textContent('tr[data-agent=ada] td:nth-of-type(1)'), /task call_up.*goto button_floor1/);
+      assert.match(await tab.page.textContent('tr[data-agent=ada] td:nth-of-type(1)'), /routine call_up.*goto button_floor1/);
       assert.equal(await tab.page.getAttribute('a:has-text("Run in batch")', 'href'), '#/runs?scenario=elevator');
       // Queues and buttons of both floors sit close together: their labels make room for each other.
       assert.deepEqual(await overlappingLabels(tab.page), []);

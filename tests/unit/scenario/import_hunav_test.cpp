@@ -87,10 +87,10 @@ TEST(ImportHunav, LobbyFixtureBecomesPeopleWithTheirBehavioursGoalsAndGroup) {
   EXPECT_GT(erin["distance"].get<double>(), 0.0);
   EXPECT_EQ(import_hunav(read(kLobbyAgents), with_map(kLobbyMap)).scenario, imported.scenario) << "random draws are the same every import";
   EXPECT_EQ(scenario["groups"], json::parse(R"({"group_1": {"members": ["carol", "dave"]}})"));
-  EXPECT_EQ(scenario["tasks"]["alice_goals"][0]["goto"], json::parse(R"({"pose": {"x": 2.2, "y": -1.0}, "radius": 0.3})"));
-  EXPECT_EQ(scenario["steps"][0]["actions"], json::parse(R"([{"agent": "alice", "task": "alice_goals", "repeat": true},
-                                                              {"agent": "bob", "task": "bob_goals", "repeat": true},
-                                                              {"group": "group_1", "task": "carol_goals"}])"))
+  EXPECT_EQ(scenario["routines"]["alice_goals"][0]["goto"], json::parse(R"({"pose": {"x": 2.2, "y": -1.0}, "radius": 0.3})"));
+  EXPECT_EQ(scenario["steps"][0]["actions"], json::parse(R"([{"agent": "alice", "routine": "alice_goals", "repeat": true},
+                                                              {"agent": "bob", "routine": "bob_goals", "repeat": true},
+                                                              {"group": "group_1", "routine": "carol_goals"}])"))
       << "erin has no goals; the group walks its first member's once";
   ASSERT_TRUE(load_imported(imported, unconfined()));
 }
@@ -198,7 +198,7 @@ TEST(ImportHunav, YamlAliasesThatMultiplyWorkAreRefusedAtTheirLine) {
   const ImportResult small = import_hunav(testing::aliased_goals(10, 100), {});
   ASSERT_TRUE(small.errors.empty()) << small.errors[0].message;
   EXPECT_EQ(small.scenario["humans"].size(), 10u);
-  EXPECT_EQ(small.scenario["tasks"]["a9_goals"].size(), 100u);
+  EXPECT_EQ(small.scenario["routines"]["a9_goals"].size(), 100u);
   // A document whose aliases refer to themselves is bounded too.
   const ImportResult cycle = import_hunav(std::string(kHeader) + "    agents: [a]\n    a: &a {init_pose: {x: 1, y: 1}, more: [*a]}\n", {});
   ASSERT_FALSE(cycle.errors.empty());

@@ -100,16 +100,16 @@ TEST(ImportXml, PartsOfTheScenarioKnowTheirLines) {
   EXPECT_EQ(origin_line(pedsim, "/locations/left"), 8);
   EXPECT_EQ(origin_line(pedsim, "/humans/2/start"), 11) << "the cluster that made the agent";
   EXPECT_EQ(origin_line(pedsim, "/robots/0"), 16);
-  EXPECT_EQ(origin_line(pedsim, "/tasks/route_1/0/goto/pose"), 12) << "the addwaypoint";
-  EXPECT_EQ(origin_line(pedsim, "/tasks/route_1/1"), 12) << "the leave at the sink's addwaypoint";
-  EXPECT_EQ(origin_line(pedsim, "/steps/0/actions/3/task"), 17);
+  EXPECT_EQ(origin_line(pedsim, "/routines/route_1/0/goto/pose"), 12) << "the addwaypoint";
+  EXPECT_EQ(origin_line(pedsim, "/routines/route_1/1"), 12) << "the leave at the sink's addwaypoint";
+  EXPECT_EQ(origin_line(pedsim, "/steps/0/actions/3/routine"), 17);
   EXPECT_EQ(origin_line(pedsim, "/name"), 0);
 
   const ImportResult imhus = import_imhus(read(kFixtures / "imhus/office.xml"), bundled());
   EXPECT_EQ(origin_line(imhus, "/humans/1/start"), 6);
   EXPECT_EQ(origin_line(imhus, "/locations/board"), 16);
   EXPECT_EQ(origin_line(imhus, "/social_spaces/huddle/slots/0"), 22) << "p1, the first taken";
-  EXPECT_EQ(origin_line(imhus, "/tasks/greet/1"), 31);
+  EXPECT_EQ(origin_line(imhus, "/routines/greet/1"), 31);
   int found = 0;
   for (std::size_t s = 0; s < imhus.scenario["steps"].size(); ++s) {
     const auto& actions = imhus.scenario["steps"][s]["actions"];
@@ -460,7 +460,7 @@ TEST(ImportPedsim, PassageFixtureImportsAndRuns) {
   ASSERT_EQ(model->routines.size(), 1u);
   ASSERT_EQ(model->routines[0].actions.size(), 2u) << "to far, then leave: back, after the sink, is never walked";
   EXPECT_EQ(model->routines[0].actions[1].kind, Action::Kind::leave);
-  EXPECT_EQ(origin_line(imported, "/tasks/route_1/1"), 23) << "the leave at the sink's addwaypoint";
+  EXPECT_EQ(origin_line(imported, "/routines/route_1/1"), 23) << "the leave at the sink's addwaypoint";
   const Flow passed = flow(model, 60.0);
   EXPECT_EQ(passed.entered, 6 * 11);
   EXPECT_GE(passed.left, 6 * 5) << "the far end is 12 m on";
@@ -499,8 +499,8 @@ TEST(ImportPedsim, RealFilesHabitsImportAndRun) {
   // The queue is a waiting line (its direction 0°: people face +x, the line runs back towards -x),
   // joined by addqueue and addwaypoint alike.
   EXPECT_EQ(imported.scenario["queues"]["info_desk"], nlohmann::ordered_json::parse(R"({"x": 3.0, "y": 2.0, "theta": 0.0})"));
-  EXPECT_EQ(imported.scenario["tasks"]["route_1"][2], nlohmann::ordered_json::parse(R"({"queue": "info_desk"})"));
-  EXPECT_EQ(imported.scenario["tasks"]["route_2"][0], nlohmann::ordered_json::parse(R"({"queue": "info_desk"})"));
+  EXPECT_EQ(imported.scenario["routines"]["route_1"][2], nlohmann::ordered_json::parse(R"({"queue": "info_desk"})"));
+  EXPECT_EQ(imported.scenario["routines"]["route_2"][0], nlohmann::ordered_json::parse(R"({"queue": "info_desk"})"));
   const auto model = load_imported(imported);
   ASSERT_TRUE(model);
   const auto location = [&](const std::string& name) {

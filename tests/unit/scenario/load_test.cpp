@@ -38,10 +38,10 @@ const json kPeople = json::parse(R"({
   "social_spaces": {"sofa": {"x": 8, "y": 8, "slots": [{"x": 0, "y": 0}, {"x": 0.7, "y": 0}]}},
   "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 3, "y": 2}}],
   "robots": [{"id": "robot", "start": {"x": 2, "y": 8}}],
-  "tasks": {"fetch": [{"goto": {"location": "door"}}, {"wait": {"duration": 1}}]},
-  "steps": [{"name": "go", "actions": [{"agent": "ana", "task": "fetch"}, {"agent": "ben", "goto": {"social_space": "sofa"}}]}],
-  "async": [{"task": "fetch"}],
-  "requests": [{"time": 3, "task": "fetch"}]
+  "routines": {"fetch": [{"goto": {"location": "door"}}, {"wait": {"duration": 1}}]},
+  "steps": [{"name": "go", "actions": [{"agent": "ana", "routine": "fetch"}, {"agent": "ben", "goto": {"social_space": "sofa"}}]}],
+  "async": [{"routine": "fetch"}],
+  "requests": [{"time": 3, "routine": "fetch"}]
 })");
 
 TEST(LoadScenario, CompilesTheModel) {
@@ -129,18 +129,18 @@ TEST(LoadScenario, UnknownReferencesAreNamed) {
     {"agent": "zoe", "wait": {"duration": 1}},
     {"agent": "ana", "goto": {"location": "kitchen"}},
     {"agent": "ana", "goto": {"social_space": "bench"}},
-    {"agent": "ana", "task": "dance"},
+    {"agent": "ana", "routine": "dance"},
     {"agent": "ana", "look_at": {"agent": "nobody"}}
   ])");
-  document["async"] = json::parse(R"([{"task": "sing"}])");
+  document["async"] = json::parse(R"([{"routine": "sing"}])");
   const auto errors = errors_of(document);
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/0/agent", "unknown agent 'zoe' (known: ana, ben, robot)"));
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/goto/location", "unknown location 'kitchen' (known: door)"));
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/2/goto/social_space", "unknown social space 'bench'"));
-  EXPECT_TRUE(has_error(errors, "/steps/0/actions/3/task", "unknown task 'dance'"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/3/routine", "unknown routine 'dance'"));
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/4/look_at/agent", "unknown agent 'nobody'"));
-  EXPECT_TRUE(has_error(errors, "/async/0/task", "unknown task 'sing'"));
-  EXPECT_TRUE(has_error(errors, "/requests/0/task", "no entry of 'async' answers task 'fetch'"));
+  EXPECT_TRUE(has_error(errors, "/async/0/routine", "unknown routine 'sing'"));
+  EXPECT_TRUE(has_error(errors, "/requests/0/routine", "no entry of 'async' answers routine 'fetch'"));
 }
 
 TEST(LoadScenario, PlacesInsideObstaclesOrOutsideTheMap) {
@@ -167,21 +167,21 @@ TEST(LoadScenario, DuplicateIdsAndNames) {
   EXPECT_TRUE(has_error(errors, "/world/obstacles/1/name", "obstacle name 'table' is used twice"));
 }
 
-TEST(LoadScenario, AgentsInStepsButNotInTasks) {
+TEST(LoadScenario, AgentsInStepsButNotInRoutines) {
   json document = room_scenario(kPeople);
-  document["tasks"]["fetch"][0]["agent"] = "ana";
+  document["routines"]["fetch"][0]["agent"] = "ana";
   document["steps"][0]["actions"][1].erase("agent");
   const auto errors = errors_of(document);
-  EXPECT_TRUE(has_error(errors, "/tasks/fetch/0/agent", "do not name an agent"));
+  EXPECT_TRUE(has_error(errors, "/routines/fetch/0/agent", "do not name an agent"));
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/1", "missing required key 'agent'"));
 }
 
-TEST(LoadScenario, TasksMayNotCallThemselves) {
+TEST(LoadScenario, RoutinesMayNotCallThemselves) {
   json document = room_scenario(kPeople);
-  document["tasks"]["a"] = json::parse(R"([{"task": "b"}])");
-  document["tasks"]["b"] = json::parse(R"([{"wait": {"duration": 1}}, {"task": "a"}])");
+  document["routines"]["a"] = json::parse(R"([{"routine": "b"}])");
+  document["routines"]["b"] = json::parse(R"([{"wait": {"duration": 1}}, {"routine": "a"}])");
   const auto errors = errors_of(document);
-  EXPECT_TRUE(has_error(errors, "/tasks/b/1/task", "calls itself")) ;
+  EXPECT_TRUE(has_error(errors, "/routines/b/1/routine", "calls itself")) ;
 }
 
 TEST(LoadScenario, RequestsNeedARobot) {
@@ -293,7 +293,7 @@ TEST(LoadScenario, GroupsAndAttitudesAreChecked) {
   ])");
   const auto errors = errors_of(document);
   EXPECT_TRUE(has_error(errors, "/groups/duo/members/1", "unknown agent 'zoe'"));
-  EXPECT_TRUE(has_error(errors, "/steps/0/actions/0/group", "a group can be given goto, task, wait, look_at, turn, motion or say"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/0/group", "a group can be given goto, routine, wait, look_at, turn, motion or say"));
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/group", "unknown group 'trio' (known: duo, new)"));
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/2", "an agent or a group, not both"));
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/3/harass/robot", "'ben' is not a robot"));
@@ -315,11 +315,11 @@ TEST(LoadScenario, AttitudeDefaults) {
 
 TEST(LoadScenario, OnlyRobotsMakeRequests) {
   json document = room_scenario(kPeople);
-  document["steps"][0]["actions"] = json::parse(R"([{"agent": "ana", "request": {"task": "fetch"}},
-                                                     {"agent": "robot", "request": {"task": "nothing"}}])");
+  document["steps"][0]["actions"] = json::parse(R"([{"agent": "ana", "request": {"routine": "fetch"}},
+                                                     {"agent": "robot", "request": {"routine": "nothing"}}])");
   const auto errors = errors_of(document);
   EXPECT_TRUE(has_error(errors, "/steps/0/actions/0/agent", "only a robot makes requests"));
-  EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/request/task", "unknown task 'nothing'"));
+  EXPECT_TRUE(has_error(errors, "/steps/0/actions/1/request/routine", "unknown routine 'nothing'"));
 }
 
 
@@ -349,9 +349,9 @@ TEST(LoadScenario, WarnsAboutGoalsSocialForceHumansCannotReach) {
 TEST(LoadScenario, WarnsAboutWaitsForMessagesNothingSends) {
   json document = room_scenario(json::parse(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}, {"id": "ben", "start": {"x": 2, "y": 8}}],
-    "tasks": {"signal": [{"publish": {"topic": "bell", "message": "ring"}}]},
+    "routines": {"signal": [{"publish": {"topic": "bell", "message": "ring"}}]},
     "steps": [{"name": "wait", "actions": [{"agent": "ana", "wait": {"topic": "bell", "message": "ring"}},
-                                           {"agent": "ben", "task": "signal"},
+                                           {"agent": "ben", "routine": "signal"},
                                            {"agent": "ben", "wait": {"topic": "bell", "message": "toll"}},
                                            {"agent": "ana", "wait": {"topic": "/elevator/lift_door_state", "message": "open"}}]}]})"));
   const LoadResult result = load_scenario(document, {});

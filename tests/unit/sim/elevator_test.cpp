@@ -115,14 +115,14 @@ TEST(Elevator, ClosedDoorsAreWalls) {
 TEST(Elevator, RidersGoInRideAndLeaveOnTheOtherFloor) {
   episode::Episode session_run(testing::load_valid(elevator_scenario(R"({
     "humans": [{"id": "ann", "start": {"x": 3, "y": 0.5}}],
-    "tasks": {"ride_up": [
+    "routines": {"ride_up": [
       {"publish": {"topic": "/elevator/request", "message": "door1"}},
       {"wait": {"topic": "/elevator/door1_state", "message": "open"}},
       {"goto": {"social_space": "elevator"}},
       {"publish": {"topic": "/elevator/request", "message": "floor2"}},
       {"wait": {"topic": "/elevator/door2_state", "message": "open"}},
       {"goto": {"pose": {"x": -4, "y": 0}}}]},
-    "steps": [{"name": "ride", "actions": [{"agent": "ann", "task": "ride_up"}]}]})")),
+    "steps": [{"name": "ride", "actions": [{"agent": "ann", "routine": "ride_up"}]}]})")),
                   1);
   Session& session = session_run.session();
   session.set_time_limit(80.0);

@@ -90,11 +90,11 @@ TEST(Sitting, ThePersonStandsUpAndStepsOffBeforeWalkingOn) {
 TEST(Sitting, OnePersonPerSeat) {
   const json steps = json::parse(R"([{"name": "both", "actions": [
     {"agent": "p", "sit_on": {"obstacle": "chair"}},
-    {"agent": "q", "task": "sit_a_while"}]}])");
+    {"agent": "q", "routine": "sit_a_while"}]}])");
   json document = furnished(json::array({person("p", 4, 5), person("q", 8, 8)}), steps);
-  document["tasks"] = json::parse(R"({"sit_a_while": [{"wait": {"duration": 1}}, {"sit_on": {"obstacle": "chair"}}]})");
-  document["steps"][0]["actions"][0] = json::parse(R"({"agent": "p", "task": "sit_then_go"})");
-  document["tasks"]["sit_then_go"] = json::parse(R"([{"sit_on": {"obstacle": "chair"}}, {"wait": {"duration": 2}}, {"goto": {"pose": {"x": 2, "y": 8}}}])");
+  document["routines"] = json::parse(R"({"sit_a_while": [{"wait": {"duration": 1}}, {"sit_on": {"obstacle": "chair"}}]})");
+  document["steps"][0]["actions"][0] = json::parse(R"({"agent": "p", "routine": "sit_then_go"})");
+  document["routines"]["sit_then_go"] = json::parse(R"([{"sit_on": {"obstacle": "chair"}}, {"wait": {"duration": 2}}, {"goto": {"pose": {"x": 2, "y": 8}}}])");
   Session session(testing::load_valid(document), 3);
   run_until(session, 50);
   const double q_sat = event_time<events::SatDown>(session, "q");
@@ -206,9 +206,9 @@ TEST(Carrying, ImpossibleReachesAreSkippedWithTheReason) {
 
 TEST(Carrying, ASecondPersonWaitsForTheCup) {
   const json steps = json::parse(R"([{"name": "both", "actions": [
-    {"agent": "p", "task": "take_and_leave"}, {"agent": "q", "task": "take"}]}])");
+    {"agent": "p", "routine": "take_and_leave"}, {"agent": "q", "routine": "take"}]}])");
   json document = furnished(json::array({person("p", 7, 3.5), person("q", 2, 2)}), steps);
-  document["tasks"] = json::parse(R"({"take_and_leave": [{"pick_up": {"object": "cup"}}, {"put_down": {"at": [8.5, 2]}}],
+  document["routines"] = json::parse(R"({"take_and_leave": [{"pick_up": {"object": "cup"}}, {"put_down": {"at": [8.5, 2]}}],
                                       "take": [{"wait": {"duration": 0.5}}, {"pick_up": {"object": "cup"}}]})");
   Session session(testing::load_valid(document), 2);
   run_until(session, 50);

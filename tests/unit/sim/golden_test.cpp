@@ -14,6 +14,7 @@
 #include "episode/episode.hpp"
 #include "scenario/load.hpp"
 #include "sim/session.hpp"
+#include "support/scenarios.hpp"
 
 namespace hrisim::sim {
 namespace {
@@ -27,14 +28,17 @@ const char* const kScenarios[] = {"apartment",          "apartment_search",   "a
                                   "family_day",          "follow_human",        "mirror_gesture",     "pair_walking",             "perpendicular_crossing",
                                   "pick_and_place",      "queue",               "tea_break"};
 
-std::string hash_after_golden_ticks(const std::string& scenario, std::uint64_t seed, episode::Settings settings = {}) {
-  const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/" + scenario + ".json");
-  for (const auto& e : loaded.errors) ADD_FAILURE() << scenario << ": " << e.pointer << ": " << e.message;
+std::string hash_after_golden_ticks(const scenario::LoadResult& loaded, std::uint64_t seed, episode::Settings settings = {}) {
+  for (const auto& e : loaded.errors) ADD_FAILURE() << e.pointer << ": " << e.message;
   if (!loaded.model) return "";
   settings.record = false;
   episode::Episode run(loaded.model, seed, settings);
   for (int tick = 0; tick < kGoldenTicks && !run.over(); ++tick) run.tick();
   return run.session().state_hash_hex();
+}
+
+std::string hash_after_golden_ticks(const std::string& scenario, std::uint64_t seed, episode::Settings settings = {}) {
+  return hash_after_golden_ticks(scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/" + scenario + ".json"), seed, settings);
 }
 
 /// Every golden case: "scenario/seed" (and the elevator's request) → its hash now.
@@ -62,6 +66,27 @@ TEST(Golden, StateHashesAfter600TicksOfEveryBundledScenario) {
     EXPECT_EQ(golden.value(name, ""), hash) << name << ": the trajectory changed. If on purpose, update the hashes: "
                                             << "HRISIM_UPDATE_GOLDEN=1 build/test/tests/sim_test --gtest_filter='Golden.*'";
   }
+}
+
+TEST(Golden, TheRoutinesFormerKeysGiveTheSameHashes) {
+  // The bundled scenarios with routines, written with "tasks" and "task" as before: warned about, and
+  // the very same simulation.
+  std::ifstream file(kGoldenFile);
+  ASSERT_TRUE(file) << "no " << kGoldenFile;
+  const json golden = json::parse(file);
+  const auto former = [](const std::string& scenario) {
+    std::ifstream text(std::string(HRISIM_SOURCE_DIR) + "/scenarios/" + scenario + ".json");
+    const json document = testing::with_former_keys(json::parse(text));
+    EXPECT_FALSE(document.contains("routines")) << scenario;
+    const scenario::LoadResult loaded = scenario::load_scenario(document, {{std::string(HRISIM_SOURCE_DIR) + "/scenarios"}, {}});
+    EXPECT_FALSE(loaded.warnings.empty()) << scenario;
+    return loaded;
+  };
+  for (const char* scenario : {"crossing_navigation", "elevator", "perpendicular_crossing", "queue"}) {
+    EXPECT_EQ(hash_after_golden_ticks(former(scenario), 1), golden.value(std::string(scenario) + "/1", "")) << scenario;
+  }
+  EXPECT_EQ(hash_after_golden_ticks(former("elevator"), 1, {std::nullopt, {{2.0, "call_elevator_floor2"}}, false, {}}),
+            golden.value("elevator/1 with call_elevator_floor2 asked at 2 s", ""));
 }
 
 TEST(StateHash, EveryMemberOfTheStateCounts) {

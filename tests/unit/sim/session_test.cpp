@@ -90,9 +90,9 @@ TEST(Session, SeveralActionsOfOneAgentInAStepRunInOrder) {
 TEST(Session, CompoundTasksRunTheirActionsInOrder) {
   episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
-    "tasks": {"inner": [{"wait": {"duration": 1}}, {"publish": {"topic": "/t", "message": "inner"}}],
-              "outer": [{"task": "inner"}, {"wait": {"duration": 0.5}}, {"publish": {"topic": "/t", "message": "outer"}}]},
-    "steps": [{"name": "s", "actions": [{"agent": "ana", "task": "outer"}]}]})"), 1);
+    "routines": {"inner": [{"wait": {"duration": 1}}, {"publish": {"topic": "/t", "message": "inner"}}],
+              "outer": [{"routine": "inner"}, {"wait": {"duration": 0.5}}, {"publish": {"topic": "/t", "message": "outer"}}]},
+    "steps": [{"name": "s", "actions": [{"agent": "ana", "routine": "outer"}]}]})"), 1);
   Session& session = session_run.session();
   session_run.run();
   const auto published = events_of<sim::events::Publish>(session);
@@ -108,8 +108,8 @@ TEST(Session, ARepeatedTaskRunsOverAndOverUntilTheTimeLimit) {
   episode::Episode session_run(model_of(R"({
     "time_limit": 20,
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
-    "tasks": {"round": [{"wait": {"duration": 1.5}}, {"publish": {"topic": "/lap", "message": "done"}}]},
-    "steps": [{"name": "s", "actions": [{"agent": "ana", "task": "round", "repeat": true}]}]})"), 1);
+    "routines": {"round": [{"wait": {"duration": 1.5}}, {"publish": {"topic": "/lap", "message": "done"}}]},
+    "steps": [{"name": "s", "actions": [{"agent": "ana", "routine": "round", "repeat": true}]}]})"), 1);
   Session& session = session_run.session();
   session_run.run();
   const auto laps = events_of<sim::events::Publish>(session);
@@ -118,16 +118,16 @@ TEST(Session, ARepeatedTaskRunsOverAndOverUntilTheTimeLimit) {
   EXPECT_EQ(session.state().termination, sim::Termination::timeout) << "its step never ends";
 }
 
-TEST(Session, ATaskRepeatedForeverMustTakeTime) {
+TEST(Session, ARoutineRepeatedForeverMustTakeTime) {
   json document = testing::room_scenario(json::parse(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
-    "tasks": {"instant": [{"publish": {"topic": "/t", "message": "x"}}, {"wait": {"duration": 0}}],
-              "outer": [{"task": "instant", "repeat": true}]},
-    "steps": [{"name": "s", "actions": [{"agent": "ana", "task": "instant", "repeat": true}]}]})"));
+    "routines": {"instant": [{"publish": {"topic": "/t", "message": "x"}}, {"wait": {"duration": 0}}],
+              "outer": [{"routine": "instant", "repeat": true}]},
+    "steps": [{"name": "s", "actions": [{"agent": "ana", "routine": "instant", "repeat": true}]}]})"));
   EXPECT_EQ(testing::error_at(document, "/steps/0/actions/0/repeat"),
-            "task 'instant' repeats forever without an action that takes time (a goto, a wait, a motion, …)");
-  EXPECT_EQ(testing::error_at(document, "/tasks/outer/0/repeat"),
-            "task 'instant' repeats forever without an action that takes time (a goto, a wait, a motion, …)");
+            "routine 'instant' repeats forever without an action that takes time (a goto, a wait, a motion, …)");
+  EXPECT_EQ(testing::error_at(document, "/routines/outer/0/repeat"),
+            "routine 'instant' repeats forever without an action that takes time (a goto, a wait, a motion, …)");
 }
 
 TEST(Session, WaitForAMessageSeesTheLatestOne) {
@@ -241,8 +241,8 @@ const char* kRequestScenario = R"({
   "humans": [{"id": "near", "start": {"x": 3, "y": 2}}, {"id": "nearest", "start": {"x": 2.5, "y": 2}},
              {"id": "far", "start": {"x": 8, "y": 8}}],
   "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
-  "tasks": {"press": [{"look_at": {"agent": "robot"}}, {"publish": {"topic": "/button", "message": "pressed"}}]},
-  "async": [{"task": "press"}],
+  "routines": {"press": [{"look_at": {"agent": "robot"}}, {"publish": {"topic": "/button", "message": "pressed"}}]},
+  "async": [{"routine": "press"}],
   "steps": [{"name": "idle", "actions": [{"agent": "far", "wait": {"duration": 40}}]}]})";
 
 TEST(Requests, TheClosestIdleHumanWithinThreeMetresAnswers) {
@@ -262,8 +262,8 @@ TEST(Requests, BusyHumansDoNotAnswerAndTheRequestIsRetriedThenDropped) {
   episode::Episode session_run(model_of(R"({
     "humans": [{"id": "busy", "start": {"x": 3, "y": 2}}, {"id": "far", "start": {"x": 8, "y": 8}}],
     "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
-    "tasks": {"press": [{"publish": {"topic": "/button", "message": "pressed"}}]},
-    "async": [{"task": "press"}],
+    "routines": {"press": [{"publish": {"topic": "/button", "message": "pressed"}}]},
+    "async": [{"routine": "press"}],
     "steps": [{"name": "work", "actions": [{"agent": "busy", "wait": {"duration": 12}}, {"agent": "far", "wait": {"duration": 50}}]}]})"), 1);
   Session& session = session_run.session();
   session.request(session.agent_id("robot"), 0);
@@ -276,8 +276,8 @@ TEST(Requests, BusyHumansDoNotAnswerAndTheRequestIsRetriedThenDropped) {
   episode::Episode nobody_run(model_of(R"({
     "humans": [{"id": "far", "start": {"x": 8, "y": 8}}],
     "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
-    "tasks": {"press": [{"publish": {"topic": "/button", "message": "pressed"}}]},
-    "async": [{"task": "press"}],
+    "routines": {"press": [{"publish": {"topic": "/button", "message": "pressed"}}]},
+    "async": [{"routine": "press"}],
     "steps": [{"name": "s", "actions": [{"agent": "far", "wait": {"duration": 50}}]}]})"), 1);
   Session& nobody = nobody_run.session();
   nobody.request(nobody.agent_id("robot"), 0);
@@ -293,7 +293,7 @@ TEST(Requests, UnknownAsyncTaskIsDroppedAtOnce) {
   episode::Episode session_run(model_of(R"({
     "humans": [{"id": "ana", "start": {"x": 2, "y": 2}}],
     "robots": [{"id": "robot", "start": {"x": 1, "y": 2}}],
-    "tasks": {"dance": [{"wait": {"duration": 1}}]},
+    "routines": {"dance": [{"wait": {"duration": 1}}]},
     "steps": []})"), 1);
   Session& session = session_run.session();
   session.request(session.agent_id("robot"), 0);
@@ -304,7 +304,7 @@ TEST(Requests, UnknownAsyncTaskIsDroppedAtOnce) {
 
 TEST(Requests, ScriptedRequestsFireAtTheirTime) {
   json extra = json::parse(kRequestScenario);
-  extra["requests"] = json::parse(R"([{"time": 2.0, "task": "press"}])");
+  extra["requests"] = json::parse(R"([{"time": 2.0, "routine": "press"}])");
   episode::Episode session_run(testing::load_valid(testing::room_scenario(extra)), 1);
   Session& session = session_run.session();
   session.set_time_limit(5.0);
@@ -396,9 +396,9 @@ TEST(Groups, APairRunsACompoundTaskTogether) {
     "humans": [{"id": "ann", "start": {"x": 1.5, "y": 5, "theta": 0}}, {"id": "bo", "start": {"x": 1.5, "y": 4.3, "theta": 0}},
                {"id": "cy", "start": {"x": 8, "y": 2}}],
     "groups": {"pair": {"members": ["ann", "bo"]}},
-    "tasks": {"visit": [{"goto": {"pose": {"x": 3, "y": 8.5, "theta": 0}}}, {"look_at": {"agent": "cy"}}, {"wait": {"duration": 1}},
+    "routines": {"visit": [{"goto": {"pose": {"x": 3, "y": 8.5, "theta": 0}}}, {"look_at": {"agent": "cy"}}, {"wait": {"duration": 1}},
                         {"goto": {"pose": {"x": 8, "y": 8.5, "theta": 0}}}]},
-    "steps": [{"name": "visit", "actions": [{"group": "pair", "task": "visit"}]},
+    "steps": [{"name": "visit", "actions": [{"group": "pair", "routine": "visit"}]},
               {"name": "greet", "actions": [{"group": "pair", "look_at": {"agent": "cy"}}]}]})"), 1);
   Session& session = session_run.session();
   double farthest_apart = 0.0;
@@ -485,13 +485,13 @@ TEST(RobotChoreography, TheRobotWalksAsksAndWaitsForTheOutcome) {
     "time_limit": 200,
     "humans": [{"id": "ann", "start": {"x": 8, "y": 8}}],
     "robots": [{"id": "robot", "start": {"x": 2, "y": 2}}],
-    "tasks": {"greet": [{"look_at": {"agent": "robot"}}, {"publish": {"topic": "/greeting", "message": "hi"}}]},
-    "async": [{"task": "greet"}],
+    "routines": {"greet": [{"look_at": {"agent": "robot"}}, {"publish": {"topic": "/greeting", "message": "hi"}}]},
+    "async": [{"routine": "greet"}],
     "steps": [
       {"name": "approach", "actions": [{"agent": "robot", "goto": {"pose": {"x": 7, "y": 7}, "radius": 0.5}}]},
-      {"name": "ask", "actions": [{"agent": "robot", "request": {"task": "greet"}}]},
+      {"name": "ask", "actions": [{"agent": "robot", "request": {"routine": "greet"}}]},
       {"name": "far", "actions": [{"agent": "robot", "goto": {"pose": {"x": 2, "y": 2}, "radius": 0.5}}]},
-      {"name": "ask_again", "actions": [{"agent": "robot", "request": {"task": "greet"}}]}]})"), 1);
+      {"name": "ask_again", "actions": [{"agent": "robot", "request": {"routine": "greet"}}]}]})"), 1);
   Session& session = session_run.session();
   session_run.run();
   EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
