@@ -1,6 +1,7 @@
 #include "storage/migrations.hpp"
 
 #include <charconv>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 

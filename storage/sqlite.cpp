@@ -1,5 +1,6 @@
 #include "storage/sqlite.hpp"
 
+#include <nlohmann/json.hpp>
 #include <sqlite3.h>
 
 #include "core/error.hpp"

@@ -1,5 +1,7 @@
 #include "core/error.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace hrisim::core {
 
 std::string_view to_string(ErrorCode code) {
@@ -38,12 +40,22 @@ int http_status(ErrorCode code) {
   return 500;
 }
 
+Error::Error(ErrorCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
+
 Error::Error(ErrorCode code, const std::string& message, nlohmann::json details)
-    : std::runtime_error(message), code_(code), details_(std::move(details)) {}
+    : std::runtime_error(message), code_(code), details_(std::make_shared<const nlohmann::json>(std::move(details))) {}
+
+Error::Error(ErrorCode code, const std::string& message, const std::string& key, const std::string& value)
+    : Error(code, message, nlohmann::json{{key, value}}) {}
+
+const nlohmann::json& Error::details() const {
+  static const nlohmann::json kNone = nlohmann::json::object();
+  return details_ ? *details_ : kNone;
+}
 
 nlohmann::json Error::to_json() const {
   nlohmann::json body{{"code", to_string(code_)}, {"message", what()}};
-  if (!details_.empty()) body["details"] = details_;
+  if (!details().empty()) body["details"] = details();
   return {{"error", std::move(body)}};
 }
 

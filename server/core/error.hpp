@@ -1,7 +1,8 @@
 #pragma once
 // The one error type of hrisim: a machine-readable code, a message for people, and details that
 // locate the problem (a JSON pointer, an XML line, a file path), as in {"error":{code,message,details}}.
-#include <nlohmann/json.hpp>
+#include <memory>
+#include <nlohmann/json_fwd.hpp>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -31,16 +32,22 @@ int http_status(ErrorCode code);
 
 class Error : public std::runtime_error {
  public:
-  Error(ErrorCode code, const std::string& message, nlohmann::json details = nlohmann::json::object());
+  Error(ErrorCode code, const std::string& message);
+  /// With `details`, a JSON object saying where (a pointer, a line, a limit); who gives them includes
+  /// <nlohmann/json.hpp>, the rest of the code only this header's forward declaration.
+  Error(ErrorCode code, const std::string& message, nlohmann::json details);
+  /// With the details {key: value}: what a caller names without JSON at hand (the simulation).
+  Error(ErrorCode code, const std::string& message, const std::string& key, const std::string& value);
 
   ErrorCode code() const { return code_; }
-  const nlohmann::json& details() const { return details_; }
+  /// An empty object when none were given.
+  const nlohmann::json& details() const;
   /// {"error":{"code":..,"message":..,"details":..}}
   nlohmann::json to_json() const;
 
  private:
   ErrorCode code_;
-  nlohmann::json details_;
+  std::shared_ptr<const nlohmann::json> details_;  ///< shared, so that copying a thrown error cannot throw
 };
 
 }  // namespace hrisim::core

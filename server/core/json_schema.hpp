@@ -7,7 +7,7 @@
 // the boolean schemas true and false. Every error is reported, each with the JSON pointer of the
 // offending value.
 #include <memory>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <string_view>
 #include <utility>

@@ -5,6 +5,7 @@
 #include <GL/osmesa.h>
 
 #include <cstring>
+#include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
 

@@ -230,7 +230,7 @@ CameraInfo camera_of(const Session& session, const std::string& name, int width,
     }
     return info;
   }
-  throw core::Error(core::ErrorCode::not_found, "no camera '" + name + "' (" + core::join(names) + ")", {{"camera", name}});
+  throw core::Error(core::ErrorCode::not_found, "no camera '" + name + "' (" + core::join(names) + ")", "camera", name);
 }
 
 }  // namespace hrisim::sim

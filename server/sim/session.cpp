@@ -195,7 +195,7 @@ AgentId Session::agent_id(const std::string& name) const {
   for (const AgentId id : ids_.ids()) {
     if (ids_.at(id) == index) return id;
   }
-  throw core::Error(core::ErrorCode::not_found, "no agent '" + name + "' in this session", {{"agent", name}});
+  throw core::Error(core::ErrorCode::not_found, "no agent '" + name + "' in this session", "agent", name);
 }
 
 AgentId Session::agent_at(int index) const {
@@ -203,7 +203,7 @@ AgentId Session::agent_at(int index) const {
     if (ids_.at(id) == index) return id;
   }
   const std::string name = index >= 0 && index < static_cast<int>(model_->agents.size()) ? model_->agents[index].id : std::to_string(index);
-  throw core::Error(core::ErrorCode::not_found, "no agent '" + name + "' in this session", {{"agent", name}});
+  throw core::Error(core::ErrorCode::not_found, "no agent '" + name + "' in this session", "agent", name);
 }
 
 void Session::remove_agent(AgentId id) {

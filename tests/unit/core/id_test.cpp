@@ -1,6 +1,7 @@
 #include "core/id.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "core/math.hpp"
 

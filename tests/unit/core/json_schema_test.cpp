@@ -1,6 +1,7 @@
 #include "core/json_schema.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <map>
 
