@@ -11,6 +11,9 @@
 
 namespace hrisim::core {
 
+/// 404 for an id whose slot holds no entity of that generation (details: index, generation).
+[[noreturn]] void throw_unknown_id(std::uint32_t index, std::uint32_t generation);
+
 template <class Tag>
 struct Id {
   std::uint32_t index = std::numeric_limits<std::uint32_t>::max();
@@ -91,12 +94,7 @@ class EntityTable {
   };
 
   void check(Key id) const {
-    if (!contains(id)) {
-      throw Error(ErrorCode::not_found,
-                  "stale or unknown entity id (slot " + std::to_string(id.index) + ", generation " +
-                      std::to_string(id.generation) + ")",
-                  {{"index", id.index}, {"generation", id.generation}});
-    }
+    if (!contains(id)) throw_unknown_id(id.index, id.generation);
   }
 
   std::vector<Slot> slots_;

@@ -1,6 +1,7 @@
 #include "humans/behaviour.hpp"
 
 #include <array>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 

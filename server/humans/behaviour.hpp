@@ -3,7 +3,7 @@
 // 2023, robotics-upo/hunav_sim, hunav_agent_manager: the behaviour trees BT<X>Nav.xml and
 // AgentManager's lookAtTheRobot, approximateRobot, avoidRobot and blockRobot). Every number is
 // HuNavSim's default configuration; docs/behaviours.md gives each one's source.
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string_view>
 #include <tuple>

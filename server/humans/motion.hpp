@@ -8,7 +8,7 @@
 // "joints": {"l_shoulder": [rx, ry, rz], …}}]}. Rotations are rotation vectors (axis × angle, rad)
 // in the parent joint's frame; joints a keyframe leaves out are at rest. Times start at 0, increase,
 // and end at the duration.
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <utility>
 #include <vector>

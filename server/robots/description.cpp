@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "core/embedded.hpp"
@@ -239,8 +240,13 @@ LoadedRobot load_robot_description(const json& document) {
   }
   const json sensors = document.value("sensors", json::array());
   for (const json& entry : sensors) {
-    Sensor sensor{entry["name"], entry["type"], entry["link"], read_pose3(entry.value("origin", json::object())), json::object(), {}};
-    if (entry.contains("laser")) sensor.settings = entry["laser"];
+    Sensor sensor{entry["name"], entry["type"], entry["link"], read_pose3(entry.value("origin", json::object())), {}, {}};
+    if (entry.contains("laser")) {
+      const json& laser = entry["laser"];
+      const auto number = [&](const char* key) { return laser.contains(key) ? std::optional<double>(laser[key].get<double>()) : std::nullopt; };
+      sensor.range = {number("field_of_view"), laser.contains("beams") ? std::optional<int>(laser["beams"].get<int>()) : std::nullopt,
+                      number("min_range"), number("max_range"), number("range_noise"), number("rate")};
+    }
     if (entry.contains("camera")) {
       const json& camera = entry["camera"];
       CameraSettings& image = sensor.camera;

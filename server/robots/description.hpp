@@ -11,7 +11,7 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "core/json_schema.hpp"
 #include "core/math.hpp"
@@ -66,12 +66,21 @@ struct CameraSettings {
   double rate = 30.0;             ///< Hz
 };
 
+/// What a laser's or infrared sensor's "laser" settings say (api/robot.schema.json); what is absent
+/// keeps the defaults of the sensor's type (sensors::LaserParams, sensors::infrared_defaults()).
+struct RangeSettings {
+  std::optional<double> field_of_view;  ///< rad
+  std::optional<int> beams;
+  std::optional<double> min_range, max_range, range_noise;  ///< m
+  std::optional<double> rate;  ///< Hz
+};
+
 struct Sensor {
   std::string name;
   std::string type;  ///< laser, rgbd_camera, camera, infrared, microphone, bumper, imu, force_torque
   std::string link;
   Pose3 origin;      ///< sensor frame in the link frame (x forward, z up; cameras look along x)
-  nlohmann::json settings = nlohmann::json::object();  ///< a laser's "laser" settings, read by the sensors module
+  RangeSettings range;    ///< a laser's or infrared sensor's beams
   CameraSettings camera;  ///< a camera's image
 };
 

@@ -1,6 +1,7 @@
 #include "scenario/activity_models.hpp"
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "humans/skeleton.hpp"

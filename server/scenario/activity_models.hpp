@@ -5,7 +5,7 @@
 // body can do next: a person who has fallen gets up before walking, a seated one stands up first.
 // ("Behaviour" is kept for HuNavSim's reactions to a robot: an activity is what someone does.)
 #include <map>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 

@@ -6,7 +6,7 @@
 // again when the stay is over. ("Routine" is kept for IMHuS's compound tasks.)
 #include <array>
 #include <map>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <vector>

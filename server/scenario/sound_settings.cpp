@@ -1,6 +1,7 @@
 #include "scenario/sound_settings.hpp"
 
 #include <map>
+#include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
 #include "core/files.hpp"

@@ -3,7 +3,7 @@
 // robot's `microphones` (its description's array listening, and the direction of arrival's rate).
 #include <filesystem>
 #include <memory>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <utility>
 #include <vector>

@@ -16,14 +16,14 @@ LaserParams infrared_defaults() {
   return params;
 }
 
-LaserParams read_laser_params(const nlohmann::json& settings, LaserParams defaults) {
+LaserParams read_laser_params(const robots::RangeSettings& settings, LaserParams defaults) {
   LaserParams params = defaults;
-  params.field_of_view = settings.value("field_of_view", params.field_of_view);
-  params.beams = settings.value("beams", params.beams);
-  params.min_range = settings.value("min_range", params.min_range);
-  params.max_range = settings.value("max_range", params.max_range);
-  params.range_noise = settings.value("range_noise", params.range_noise);
-  params.rate = settings.value("rate", params.rate);
+  params.field_of_view = settings.field_of_view.value_or(params.field_of_view);
+  params.beams = settings.beams.value_or(params.beams);
+  params.min_range = settings.min_range.value_or(params.min_range);
+  params.max_range = settings.max_range.value_or(params.max_range);
+  params.range_noise = settings.range_noise.value_or(params.range_noise);
+  params.rate = settings.rate.value_or(params.rate);
   return params;
 }
 

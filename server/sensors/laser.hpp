@@ -5,9 +5,8 @@
 #include <span>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "core/random.hpp"
+#include "robots/description.hpp"
 #include "sensors/ray_scene.hpp"
 
 namespace hrisim::sensors {
@@ -29,7 +28,7 @@ struct LaserParams {
 LaserParams infrared_defaults();
 
 /// The defaults overridden by a description's "laser" settings (api/robot.schema.json).
-LaserParams read_laser_params(const nlohmann::json& settings, LaserParams defaults = {});
+LaserParams read_laser_params(const robots::RangeSettings& settings, LaserParams defaults = {});
 
 class Laser {
  public:

@@ -1,6 +1,7 @@
 #include "sensors/odometry.hpp"
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 namespace hrisim::sensors {
 

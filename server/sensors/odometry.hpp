@@ -3,7 +3,7 @@
 // drift — random errors whose variance grows with the distance driven and the angle turned (so they
 // do not depend on the step size), and an optional systematic scale error. Starts at the origin of
 // the odometry frame, as a real robot's does.
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "core/math.hpp"
 #include "core/random.hpp"

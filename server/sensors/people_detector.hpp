@@ -5,7 +5,7 @@
 #include <span>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "core/random.hpp"
 #include "sensors/ray_scene.hpp"

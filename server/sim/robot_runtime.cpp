@@ -25,7 +25,7 @@ RobotRuntime::RobotRuntime(int agent_index, const scenario::AgentDef& def, doubl
     if (mount.type == "force_torque") force_torque_sensors.push_back({&mount, def.robot_model->links_from(mount.link), {mount.name, -1, {}, {}}});
     if (mount.type != "laser" && mount.type != "infrared") continue;
     const sensors::LaserParams params =
-        sensors::read_laser_params(mount.settings, mount.type == "laser" ? sensors::LaserParams{} : sensors::infrared_defaults());
+        sensors::read_laser_params(mount.range, mount.type == "laser" ? sensors::LaserParams{} : sensors::infrared_defaults());
     LaserReading reading;
     reading.sensor = mount.name;
     reading.angle_min = params.start_angle();

@@ -3,6 +3,7 @@
 #include "humans/skeleton.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
 #include "humans/motion.hpp"
