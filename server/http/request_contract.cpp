@@ -1,5 +1,7 @@
 #include "http/request_contract.hpp"
 
+#include <cctype>
+
 #include "core/embedded.hpp"
 #include "core/error.hpp"
 
