@@ -165,7 +165,7 @@ class PedsimImporter {
       return;
     }
     if (walls_.empty()) reader_.warn(root, "no <obstacle>: the map is open ground around the waypoints and agents");
-    choose_resolution(root);
+    if (!choose_resolution(root)) return;
     place_goals();
     for (const XMLElement* cluster : clusters_) {
       if (!read_cluster(cluster)) break;
@@ -230,8 +230,9 @@ class PedsimImporter {
     }
   }
 
-  /// The finest grid resolution whose grid fits the budget; a warning when it is not the default.
-  void choose_resolution(const XMLElement* root) {
+  /// The finest grid resolution whose grid fits the budget; a warning when it is not the default, an
+  /// error (false) when none fits.
+  bool choose_resolution(const XMLElement* root) {
     low_ = extent_.low - core::Vec2(kBoundsMargin, kBoundsMargin);
     high_ = extent_.high + core::Vec2(kBoundsMargin, kBoundsMargin);
     const core::Vec2 size = high_ - low_;
@@ -241,11 +242,17 @@ class PedsimImporter {
       resolution_ = candidate;
       if (cells_at(candidate) <= budget) break;
     }
-    if (resolution_ == kImportResolutions[0]) return;
+    if (!(cells_at(resolution_) <= budget)) {
+      reader_.fail(root, "the scene spans " + core::number_text(size.x()) + " x " + core::number_text(size.y()) + " m: more than a grid of " +
+                             core::number_text(budget) + " cells of " + core::number_text(resolution_) + " m holds");
+      return false;
+    }
+    if (resolution_ == kImportResolutions[0]) return true;
     reader_.warn(root, "the scene spans " + core::number_text(std::round(size.x())) + " x " + core::number_text(std::round(size.y())) +
                            " m: its grid gets " + core::number_text(resolution_) + " m cells (at " + core::number_text(kImportResolutions[0]) +
                            " m it would have " + core::number_text(cells_at(kImportResolutions[0])) + "); passages narrower than about " +
                            core::number_text(2 * resolution_ + 0.6) + " m may close");
+    return true;
   }
 
   /// Each waypoint's goal: the free point of its disc nearest the centre (a centre on a wall's line is
