@@ -83,6 +83,7 @@ void warn_about_unpublished_waits(const Model& model, Errors& warnings) {
   for (const Step& step : model.steps) std::for_each(step.actions.begin(), step.actions.end(), publishes);
   for (const Elevator& elevator : model.elevators) {
     for (const int door : elevator.doors) {
+      if (door < 0 || door >= static_cast<int>(model.doors.size())) continue;  // an unknown door, an error already
       for (const char* phase : {"closed", "opening", "open", "closing"}) send(elevator.topic + "/" + model.doors[door].name + "_state", phase);
     }
   }
