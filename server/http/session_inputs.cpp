@@ -1,11 +1,8 @@
 #include "http/session_inputs.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <set>
 
 #include "core/error.hpp"
-#include "core/json_schema.hpp"
 #include "http/request_helpers.hpp"
 #include "http/session_limits.hpp"
 #include "http/session_views.hpp"

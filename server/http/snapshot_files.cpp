@@ -1,6 +1,5 @@
 #include "http/snapshot_files.hpp"
 
-#include <cmath>
 
 #include "core/build_info.hpp"
 #include "core/error.hpp"
