@@ -32,7 +32,7 @@ namespace {
 json activity_name(const sim::Session& session, int agent) {
   const sim::AgentState& self = session.state().agents[agent];
   const scenario::ActivityModel* living = sim::activity_model_of(session.model(), session.state(), agent);
-  return living && self.activity >= 0 ? json(living->activities[self.activity].name) : json();
+  return living && self.living.activity.valid() ? json(living->activities[self.living.activity.value].name) : json();
 }
 
 /// The scenario clock's time of day and day, when the scenario keeps one.
@@ -98,9 +98,9 @@ json status_of(const LiveSession& live) {
 /// The waypoints an agent still has to pass, from where it is: [[x, y], …]; empty when it stands.
 static json path_ahead(const sim::AgentState& agent) {
   json points = json::array();
-  if (!agent.navigating) return points;
+  if (!agent.navigation.under_way) return points;
   points.push_back({agent.position.x(), agent.position.y()});
-  for (std::size_t w = agent.path_index; w < agent.path.size(); ++w) points.push_back({agent.path[w].x(), agent.path[w].y()});
+  for (std::size_t w = agent.navigation.path_index; w < agent.navigation.path.size(); ++w) points.push_back({agent.navigation.path[w].x(), agent.navigation.path[w].y()});
   return points;
 }
 
@@ -121,15 +121,15 @@ json state_of(const LiveSession& live, std::int64_t events_since_tick) {
                       {"vy", agent.velocity.y()},
                       {"busy", !agent.program.empty()},
                       {"path", path_ahead(agent)},
-                      {"motion", agent.motion ? json(agent.motion->name()) : json()},
+                      {"motion", agent.animation.motion ? json(agent.animation.motion->name()) : json()},
                       {"activity", activity_name(session, static_cast<int>(i))},
-                      {"room", agent.room >= 0 ? json(session.model().rooms[agent.room].name) : json()},
-                      {"behaviour", def.kind == scenario::AgentKind::human ? json(humans::behaviour_name(agent.behaviour.type)) : json()},
-                      {"reacting_to", agent.reacting_to >= 0 ? json(session.model().agents[agent.reacting_to].id) : json()},
-                      {"seat", sim::held_by_seat(agent) ? json(session.model().seats[agent.seat].name) : json()},
-                      {"carrying", agent.carried_object >= 0 ? json(session.model().objects[agent.carried_object].name) : json()},
-                      {"queue", agent.queue >= 0 ? json{{"name", session.model().queues[agent.queue].name},
-                                                        {"place", agent.queue_place >= 0 ? json(agent.queue_place) : json()}}
+                      {"room", agent.living.room.valid() ? json(session.model().rooms[agent.living.room.value].name) : json()},
+                      {"behaviour", def.kind == scenario::AgentKind::human ? json(humans::behaviour_name(agent.reaction.behaviour.type)) : json()},
+                      {"reacting_to", agent.reaction.reacting_to.valid() ? json(session.model().agents[agent.reaction.reacting_to.value].id) : json()},
+                      {"seat", sim::held_by_seat(agent) ? json(session.model().seats[agent.seating.seat.value].name) : json()},
+                      {"carrying", agent.carrying.object.valid() ? json(session.model().objects[agent.carrying.object.value].name) : json()},
+                      {"queue", agent.queueing.queue.valid() ? json{{"name", session.model().queues[agent.queueing.queue.value].name},
+                                                        {"place", agent.queueing.place >= 0 ? json(agent.queueing.place) : json()}}
                                                  : json()}});
   }
   json requests = json::array();

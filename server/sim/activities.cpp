@@ -41,7 +41,7 @@ scenario::Action action_for(const scenario::ActivityModel& model, const Activity
       std::vector<int> free;
       for (const int location : activity.locations) {
         const bool held = std::any_of(state.agents.begin(), state.agents.end(), [&](const AgentState& other) {
-          return &other != &state.agents[agent] && other.reserved_location == location;
+          return &other != &state.agents[agent] && other.reservation.location.value == location;
         });
         if (!held) free.push_back(location);
       }
@@ -70,20 +70,20 @@ scenario::Action action_for(const scenario::ActivityModel& model, const Activity
 void begin_activity(const scenario::Model& model, State& state, int agent, const scenario::ActivityModel& living) {
   const scenario::AgentDef& def = model.agents[agent];
   AgentState& self = state.agents[agent];
-  self.activity = self.activity < 0 ? living.start : draw_next(living.transitions_for(def.type)[self.activity], self.activity_random);
-  const Activity& activity = living.activities[self.activity];
-  self.activity_action = action_for(living, activity, state, agent, self.activity_random);
+  self.living.activity = ActivityIndex(!self.living.activity.valid() ? living.start : draw_next(living.transitions_for(def.type)[self.living.activity.value], self.living.activity_random));
+  const Activity& activity = living.activities[self.living.activity.value];
+  self.living.activity_action = action_for(living, activity, state, agent, self.living.activity_random);
   self.program.push_back({kActivityAction, agent, -1});
   events::ActivityStarted started{activity.name, living.name, std::nullopt, std::nullopt};
-  if (self.activity_action.kind == Kind::go_to_location) started.location = model.locations[self.activity_action.target].name;
-  if (activity.kind == Activity::Kind::walk && self.activity_action.kind == Kind::wait_duration) started.waiting = "every place is taken";
+  if (self.living.activity_action.kind == Kind::go_to_location) started.location = model.locations[self.living.activity_action.target].name;
+  if (activity.kind == Activity::Kind::walk && self.living.activity_action.kind == Kind::wait_duration) started.waiting = "every place is taken";
   emit(model, state, def.id, std::move(started));
 }
 
 /// Gives the person one action of their own (the activity's slot in the program).
 void push_own_action(State& state, int agent, scenario::Action action) {
   action.agent = agent;
-  state.agents[agent].activity_action = std::move(action);
+  state.agents[agent].living.activity_action = std::move(action);
   state.agents[agent].program.push_back({kActivityAction, agent, -1});
 }
 
@@ -95,13 +95,13 @@ double clock_seconds(const scenario::Model& model, const State& state) {
 /// A stay whose time is up ends a pause or a walk under way at once; a motion plays to its end.
 void end_stay_if_due(State& state, int agent) {
   AgentState& self = state.agents[agent];
-  if (self.room < 0 || state.tick < self.stay_until_tick || self.program.empty()) return;
+  if (!self.living.room.valid() || state.tick < self.living.stay_until_tick || self.program.empty()) return;
   const PendingAction& front = self.program.front();
-  if (front.routine != kActivityAction || self.activity_action.kind == Kind::play_motion) return;
-  if (self.activity_action.kind == Kind::go_to_location) {
-    self.navigating = false;
-    self.path.clear();
-    self.in_room = false;
+  if (front.routine != kActivityAction || self.living.activity_action.kind == Kind::play_motion) return;
+  if (self.living.activity_action.kind == Kind::go_to_location) {
+    self.navigation.under_way = false;
+    self.navigation.path.clear();
+    self.living.in_room = false;
   }
   self.program.pop_front();
   self.action_started = false;
@@ -112,14 +112,14 @@ void begin_stay(const scenario::Model& model, State& state, int agent, const sce
   AgentState& self = state.agents[agent];
   const double now = clock_seconds(model, state);
   const int hour = static_cast<int>(scenario::time_of_day(session_clock(model, state), static_cast<double>(state.tick) * model.dt) / scenario::kSecondsPerHour);
-  const int room = draw_next(schedule.presence[static_cast<std::size_t>(hour)], self.activity_random);
+  const int room = draw_next(schedule.presence[static_cast<std::size_t>(hour)], self.living.activity_random);
   const double hour_ends = (std::floor(now / scenario::kSecondsPerHour) + 1.0) * scenario::kSecondsPerHour;
-  const double ends = std::min(now + self.activity_random.uniform(schedule.min_stay, schedule.max_stay), hour_ends);
-  self.stay_until_tick = state.tick + std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil((ends - now) / (model.clock->speed * model.dt))));
-  if (room != self.room) {
-    self.room = room;
-    self.in_room = false;
-    self.activity = -1;
+  const double ends = std::min(now + self.living.activity_random.uniform(schedule.min_stay, schedule.max_stay), hour_ends);
+  self.living.stay_until_tick = state.tick + std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil((ends - now) / (model.clock->speed * model.dt))));
+  if (room != self.living.room.value) {
+    self.living.room = RoomIndex(room);
+    self.living.in_room = false;
+    self.living.activity = {};
   }
   emit(model, state, model.agents[agent].id,
        events::StayStarted{model.rooms[room].name, scenario::format_time_of_day(std::fmod(now, scenario::kSecondsPerDay)),
@@ -139,16 +139,16 @@ void set_off(const scenario::Model& model, State& state, int agent) {
     push_own_action(state, agent, std::move(action));
     return;
   }
-  const scenario::Room& room = model.rooms[self.room];
+  const scenario::Room& room = model.rooms[self.living.room.value];
   for (const int spot : room.spots) {
     const bool held = std::any_of(state.agents.begin(), state.agents.end(), [&](const AgentState& other) {
-      return &other != &self && other.reserved_location == spot;
+      return &other != &self && other.reservation.location.value == spot;
     });
     if (held) continue;
     action.kind = Kind::go_to_location;
     action.target = spot;
     action.pointer = "daily schedule: to " + room.name;
-    self.in_room = true;
+    self.living.in_room = true;
     push_own_action(state, agent, std::move(action));
     return;
   }
@@ -163,28 +163,28 @@ void follow_schedule(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
   end_stay_if_due(state, agent);
   if (!self.program.empty()) return;
-  if (self.room < 0 || state.tick >= self.stay_until_tick) begin_stay(model, state, agent, schedule);
-  if (!self.in_room) {
+  if (!self.living.room.valid() || state.tick >= self.living.stay_until_tick) begin_stay(model, state, agent, schedule);
+  if (!self.living.in_room) {
     set_off(model, state, agent);
     return;
   }
-  const int living = schedule.activities[static_cast<std::size_t>(self.room)];
+  const int living = schedule.activities[static_cast<std::size_t>(self.living.room.value)];
   if (living >= 0) {
     begin_activity(model, state, agent, model.activity_models[living]);
     return;
   }
   scenario::Action stand;  // a room without a model: stand there until the stay is over
   stand.kind = Kind::wait_duration;
-  stand.value = static_cast<double>(self.stay_until_tick - state.tick) * model.dt;
-  stand.pointer = "daily schedule: in " + model.rooms[self.room].name;
+  stand.value = static_cast<double>(self.living.stay_until_tick - state.tick) * model.dt;
+  stand.pointer = "daily schedule: in " + model.rooms[self.living.room.value].name;
   push_own_action(state, agent, std::move(stand));
 }
 
 }  // namespace
 
 scenario::Posture posture_of(const AgentState& self) {
-  if (!self.motion || self.motion_released_tick >= 0) return scenario::Posture::standing;
-  return scenario::posture_at(*self.motion, self.motion->duration());
+  if (!self.animation.motion || self.animation.motion_released_tick >= 0) return scenario::Posture::standing;
+  return scenario::posture_at(*self.animation.motion, self.animation.motion->duration());
 }
 
 scenario::Clock session_clock(const scenario::Model& model, const State& state) {
@@ -202,8 +202,8 @@ const scenario::ActivityModel* activity_model_of(const scenario::Model& model, c
   const scenario::AgentDef& def = model.agents[agent];
   if (def.activity_model >= 0) return &model.activity_models[def.activity_model];
   const AgentState& self = state.agents[agent];
-  if (def.daily_schedule < 0 || self.room < 0) return nullptr;
-  const int living = model.daily_schedules[def.daily_schedule].activities[static_cast<std::size_t>(self.room)];
+  if (def.daily_schedule < 0 || !self.living.room.valid()) return nullptr;
+  const int living = model.daily_schedules[def.daily_schedule].activities[static_cast<std::size_t>(self.living.room.value)];
   return living >= 0 ? &model.activity_models[living] : nullptr;
 }
 

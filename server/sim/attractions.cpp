@@ -12,8 +12,8 @@ void draw_people_to_attractions(const scenario::Model& model, State& state) {
   if (model.attractions.empty()) return;
   for (std::size_t a = 0; a < state.agents.size(); ++a) {
     AgentState& self = state.agents[a];
-    if (!self.active || model.agents[a].kind != scenario::AgentKind::human || !self.navigating || self.program.empty()) continue;
-    if (self.program.front().routine == kCommandedAction || self.queue >= 0 || self.seat >= 0 || self.follow_leader >= 0 || self.reacting_to >= 0) continue;
+    if (!self.active || model.agents[a].kind != scenario::AgentKind::human || !self.navigation.under_way || self.program.empty()) continue;
+    if (self.program.front().routine == kCommandedAction || self.queueing.queue.valid() || self.seating.seat.valid() || self.attitude.follow_leader.valid() || self.reaction.reacting_to.valid()) continue;
     const scenario::Attraction* nearest = nullptr;
     double distance = std::numeric_limits<double>::infinity();
     for (const scenario::Attraction& attraction : model.attractions) {

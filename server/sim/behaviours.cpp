@@ -22,9 +22,9 @@ int robot_in_view(const scenario::Model& model, const State& state, int agent) {
   for (std::size_t r = 0; r < state.agents.size(); ++r) {
     const AgentState& robot = state.agents[r];
     if (model.agents[r].kind != scenario::AgentKind::robot || !robot.active) continue;
-    const bool noticed = static_cast<int>(r) == self.reacting_to;
+    const bool noticed = static_cast<int>(r) == self.reaction.reacting_to.value;
     const double distance = (robot.position - self.position).norm();
-    if (distance > self.behaviour.detection_distance + (noticed ? humans::kReactionReleaseMargin : 0.0) || distance >= nearest_distance) continue;
+    if (distance > self.reaction.behaviour.detection_distance + (noticed ? humans::kReactionReleaseMargin : 0.0) || distance >= nearest_distance) continue;
     const double bearing = core::wrap_angle(core::direction_to(self.position, robot.position) - self.heading);
     if ((!noticed && std::abs(bearing) > humans::kBehaviourFieldOfView) || !model.planner.line_of_sight(self.position, robot.position, 0.0)) continue;
     nearest = static_cast<int>(r);
@@ -35,32 +35,32 @@ int robot_in_view(const scenario::Model& model, const State& state, int agent) {
 
 void end_reaction(const scenario::Model& model, State& state, int agent, events::ReactionEnd why) {
   AgentState& self = state.agents[agent];
-  if (self.reacting_to < 0) return;
-  emit(model, state, model.agents[agent].id, events::ReactionEnded{self.behaviour.type, model.agents[self.reacting_to].id, why});
-  self.reacting_to = -1;
+  if (!self.reaction.reacting_to.valid()) return;
+  emit(model, state, model.agents[agent].id, events::ReactionEnded{self.reaction.behaviour.type, model.agents[self.reaction.reacting_to.value].id, why});
+  self.reaction.reacting_to = {};
 }
 
 }  // namespace
 
 Vec2 react_to_robots(const scenario::Model& model, State& state, int agent, const Vec2& preferred, std::optional<double>& watching_heading) {
   AgentState& self = state.agents[agent];
-  const humans::Behaviour& behaviour = self.behaviour;
-  if (behaviour.detection_distance <= 0.0 || self.behaviour_spent) return preferred;
+  const humans::Behaviour& behaviour = self.reaction.behaviour;
+  if (behaviour.detection_distance <= 0.0 || self.reaction.behaviour_spent) return preferred;
   const int robot = robot_in_view(model, state, agent);
   if (robot < 0) {
     end_reaction(model, state, agent, events::ReactionEnd::out_of_view);  // the reaction's clock runs only while the robot is seen
     return preferred;
   }
-  if (self.reacting_to != robot) {
+  if (self.reaction.reacting_to.value != robot) {
     end_reaction(model, state, agent, events::ReactionEnd::another_robot);
-    self.reacting_to = robot;
+    self.reaction.reacting_to = AgentIndex(robot);
     emit(model, state, model.agents[agent].id, events::ReactionStarted{behaviour.type, model.agents[robot].id});
   }
-  self.behaviour_seen += model.dt;
-  if (self.behaviour_seen >= behaviour.duration) {
+  self.reaction.behaviour_seen += model.dt;
+  if (self.reaction.behaviour_seen >= behaviour.duration) {
     end_reaction(model, state, agent, events::ReactionEnd::duration);
-    self.behaviour_seen = 0.0;
-    self.behaviour_spent = behaviour.once;
+    self.reaction.behaviour_seen = 0.0;
+    self.reaction.behaviour_spent = behaviour.once;
     return preferred;
   }
   const AgentState& other = state.agents[robot];

@@ -39,7 +39,7 @@ Eigen::Isometry3d upright(const scenario::MovableObject& object, double yaw, con
 
 bool held_by_someone_else(const State& state, int agent, int object) {
   for (std::size_t a = 0; a < state.agents.size(); ++a) {
-    if (static_cast<int>(a) != agent && state.agents[a].active && state.agents[a].carried_object == object) return true;
+    if (static_cast<int>(a) != agent && state.agents[a].active && state.agents[a].carrying.object.value == object) return true;
   }
   return std::any_of(state.robots.begin(), state.robots.end(), [&](const RobotRuntime& robot) { return robot.held_object == object; });
 }
@@ -50,7 +50,7 @@ void skip(const scenario::Model& model, State& state, int agent, const scenario:
   } else {
     emit(model, state, model.agents[agent].id, events::PutDownSkipped{reason});
   }
-  state.agents[agent].reach_phase = ReachPhase::done;
+  state.agents[agent].carrying.phase = ReachPhase::done;
 }
 
 Vec2 item_position(const State& state, const scenario::Action& action) {
@@ -62,16 +62,16 @@ Vec2 item_position(const State& state, const scenario::Action& action) {
 bool start_reaching(const scenario::Model& model, State& state, int agent, const scenario::Action& action) {
   AgentState& self = state.agents[agent];
   const bool pick = action.kind == Kind::pick_up;
-  if (pick && self.carried_object == action.target) {
+  if (pick && self.carrying.object.value == action.target) {
     skip(model, state, agent, action, "already carrying " + model.objects[action.target].name);
     return true;
   }
   if (pick && held_by_someone_else(state, agent, action.target)) return false;
-  if (pick && self.carried_object >= 0) {
-    skip(model, state, agent, action, "hands full: carrying " + model.objects[self.carried_object].name);
+  if (pick && self.carrying.object.valid()) {
+    skip(model, state, agent, action, "hands full: carrying " + model.objects[self.carrying.object.value].name);
     return true;
   }
-  if (!pick && self.carried_object < 0) {
+  if (!pick && !self.carrying.object.valid()) {
     skip(model, state, agent, action, "carrying nothing");
     return true;
   }
@@ -82,7 +82,7 @@ bool start_reaching(const scenario::Model& model, State& state, int agent, const
     return true;
   }
   release_reservations(state, agent);
-  self.reach_phase = ReachPhase::walking;
+  self.carrying.phase = ReachPhase::walking;
   go_to(model, state, agent, {spot->x(), spot->y(), scenario::reach_heading(*spot, item)}, scenario::kReachSpotRadius, true);
   return true;
 }
@@ -90,45 +90,45 @@ bool start_reaching(const scenario::Model& model, State& state, int agent, const
 void tend_reaching(const scenario::Model& model, State& state, int agent, const scenario::Action& action) {
   AgentState& self = state.agents[agent];
   const bool pick = action.kind == Kind::pick_up;
-  if (pick && self.carried_object != action.target && self.reach_phase != ReachPhase::done &&
+  if (pick && self.carrying.object.value != action.target && self.carrying.phase != ReachPhase::done &&
       (held_by_someone_else(state, agent, action.target) ||
-       (self.reach_phase == ReachPhase::reaching && (item_position(state, action) - self.position).norm() > scenario::kMaxHandReach))) {
+       (self.carrying.phase == ReachPhase::reaching && (item_position(state, action) - self.position).norm() > scenario::kMaxHandReach))) {
     // Taken by someone else, or moved out of reach, before the hand got there: start over.
-    self.navigating = false;
-    self.path.clear();
-    self.reach_phase = ReachPhase::none;
+    self.navigation.under_way = false;
+    self.navigation.path.clear();
+    self.carrying.phase = ReachPhase::none;
     return;
   }
-  if (self.reach_phase == ReachPhase::walking && !self.navigating && !self.target_heading) {
-    self.reach_phase = ReachPhase::reaching;
-    self.motion = humans::builtin_motion("reach");
-    self.motion_tick = state.tick;
-    self.motion_released_tick = -1;
+  if (self.carrying.phase == ReachPhase::walking && !self.navigation.under_way && !self.attitude.target_heading) {
+    self.carrying.phase = ReachPhase::reaching;
+    self.animation.motion = humans::builtin_motion("reach");
+    self.animation.motion_tick = state.tick;
+    self.animation.motion_released_tick = -1;
     return;
   }
-  if (self.reach_phase != ReachPhase::reaching) return;
-  const double played = static_cast<double>(state.tick - self.motion_tick) * model.dt;
+  if (self.carrying.phase != ReachPhase::reaching) return;
+  const double played = static_cast<double>(state.tick - self.animation.motion_tick) * model.dt;
   const std::string& id = model.agents[agent].id;
-  if (played >= kReachGraspTime && pick && self.carried_object != action.target) {
-    self.carried_object = action.target;
+  if (played >= kReachGraspTime && pick && self.carrying.object.value != action.target) {
+    self.carrying.object = ObjectIndex(action.target);
     emit(model, state, id, events::PickedUp{model.objects[action.target].name});
-  } else if (played >= kReachGraspTime && !pick && self.carried_object >= 0) {
-    const scenario::MovableObject& object = model.objects[self.carried_object];
+  } else if (played >= kReachGraspTime && !pick && self.carrying.object.valid()) {
+    const scenario::MovableObject& object = model.objects[self.carrying.object.value];
     const double z = action.value + half_height(object.shape) + kPutDownClearance;
-    state.objects[self.carried_object] = ObjectState{upright(object, self.heading, {action.pose.x, action.pose.y, z})};
+    state.objects[self.carrying.object.value] = ObjectState{upright(object, self.heading, {action.pose.x, action.pose.y, z})};
     emit(model, state, id, events::PutDown{object.name, action.pose.x, action.pose.y});
-    self.carried_object = -1;
+    self.carrying.object = {};
   }
-  if (played >= humans::builtin_motion("reach")->duration()) self.reach_phase = ReachPhase::done;
+  if (played >= humans::builtin_motion("reach")->duration()) self.carrying.phase = ReachPhase::done;
 }
 
-bool reaching_done(const State& state, int agent) { return state.agents[agent].reach_phase == ReachPhase::done; }
+bool reaching_done(const State& state, int agent) { return state.agents[agent].carrying.phase == ReachPhase::done; }
 
 Eigen::Isometry3d carried_pose(const scenario::Model& model, const State& state, const HumanBodies& bodies, int agent) {
   const humans::Capsule& forearm = bodies.of(model, state, agent)[static_cast<int>(humans::BodyPart::r_forearm)];
   const Eigen::Vector3d along = (forearm.to - forearm.from).normalized();
   const AgentState& self = state.agents[agent];
-  return upright(model.objects[self.carried_object], self.heading, forearm.to + along * kGripOffset);
+  return upright(model.objects[self.carrying.object.value], self.heading, forearm.to + along * kGripOffset);
 }
 
 }  // namespace hrisim::sim

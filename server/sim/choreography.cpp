@@ -40,9 +40,9 @@ bool slot_free(const scenario::Model& model, const State& state, int space, int 
   for (std::size_t other = 0; other < state.agents.size(); ++other) {
     const AgentState& a = state.agents[other];
     if (static_cast<int>(other) == agent || !a.active) continue;
-    if (a.reserved_space == space) {
+    if (a.reservation.space.value == space) {
       // Someone holding another slot of this space stands for that slot, even when pushed near this one.
-      if (a.reserved_slot == slot) return false;
+      if (a.reservation.slot.value == slot) return false;
       continue;
     }
     if ((a.position - position).norm() < 2.0 * model.agents[other].radius) return false;
@@ -56,9 +56,9 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
   const bool to_a_place = action.kind == Kind::go_to_location || action.kind == Kind::go_to_pose;
   if (pending.group >= 0 && pending.role > 0 && to_a_place && !state.groups[pending.group].empty()) {
     release_reservations(state, agent);
-    self.hold.reset();
-    self.follow_leader = state.groups[pending.group].front();
-    self.formation_offset = formation_offset(pending.role, pending.group_size);
+    self.navigation.hold.reset();
+    self.attitude.follow_leader = AgentIndex(state.groups[pending.group].front());
+    self.attitude.formation_offset = formation_offset(pending.role, pending.group_size);
     return true;
   }
   switch (action.kind) {
@@ -66,10 +66,10 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       // The location itself holds one person; a spot at an offset from it is not the location.
       const bool at_location = action.pose == Pose2{};
       for (std::size_t other = 0; other < state.agents.size() && at_location; ++other) {
-        if (static_cast<int>(other) != agent && state.agents[other].reserved_location == action.target) return false;
+        if (static_cast<int>(other) != agent && state.agents[other].reservation.location.value == action.target) return false;
       }
       release_reservations(state, agent);
-      if (at_location) self.reserved_location = action.target;
+      if (at_location) self.reservation.location = LocationIndex(action.target);
       const scenario::Location& location = model.locations[action.target];
       go_to(model, state, agent, core::compose(location.pose, action.pose), location.radius, true);
       return true;
@@ -79,8 +79,8 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       for (std::size_t slot = 0; slot < slots.size(); ++slot) {
         if (!slot_free(model, state, action.target, static_cast<int>(slot), agent)) continue;
         release_reservations(state, agent);
-        self.reserved_space = action.target;
-        self.reserved_slot = static_cast<int>(slot);
+        self.reservation.space = SpaceIndex(action.target);
+        self.reservation.slot = SlotIndex(static_cast<int>(slot));
         go_to(model, state, agent, slots[slot], scenario::kDefaultGoalRadius, true);
         return true;
       }
@@ -95,22 +95,22 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       return true;
     case Kind::look_at_angle:
     case Kind::turn_to:
-      self.target_heading = core::wrap_angle(action.value);
+      self.attitude.target_heading = core::wrap_angle(action.value);
       return true;
     case Kind::turn_by:
-      self.target_heading = core::wrap_angle(self.heading + action.value);
+      self.attitude.target_heading = core::wrap_angle(self.heading + action.value);
       return true;
     case Kind::look_at_location:
-      self.target_heading = core::direction_to(self.position, model.locations[action.target].pose.position());
+      self.attitude.target_heading = core::direction_to(self.position, model.locations[action.target].pose.position());
       return true;
     case Kind::look_at_object: {
       const Vec2 object = action.target >= 0 ? Vec2(state.objects[action.target].pose.translation().head<2>()) : action.pose.position();
-      self.target_heading = core::direction_to(self.position, object);
+      self.attitude.target_heading = core::direction_to(self.position, object);
       return true;
     }
     case Kind::look_at_agent:
-      self.look_at_agent = action.target;
-      self.target_heading = core::direction_to(self.position, state.agents[action.target].position);
+      self.attitude.look_at_agent = AgentIndex(action.target);
+      self.attitude.target_heading = core::direction_to(self.position, state.agents[action.target].position);
       return true;
     case Kind::publish:
       state.topics[action.topic] = action.message;
@@ -127,15 +127,15 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
       return true;
     case Kind::harass:
       release_reservations(state, agent);
-      self.hold.reset();
-      self.harass_robot = action.target;
-      self.harass_distance = action.radius;
+      self.navigation.hold.reset();
+      self.attitude.harass_robot = AgentIndex(action.target);
+      self.attitude.harass_distance = action.radius;
       self.wait_until_tick = state.tick + ticks(model, action.value);
       return true;
     case Kind::stop_and_look:
-      self.watched_robot = action.target;
-      self.watch_distance = action.radius;
-      self.watch_until_tick = state.tick + ticks(model, action.value);
+      self.attitude.watched_robot = AgentIndex(action.target);
+      self.attitude.watch_distance = action.radius;
+      self.attitude.watch_until_tick = state.tick + ticks(model, action.value);
       return true;
     case Kind::request: {
       const std::int64_t id = state.next_request_id;
@@ -155,25 +155,25 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
         self.wait_until_tick = state.tick;  // already up (off a seat too: see leaves_seat)
         return true;
       }
-      self.motion = humans::builtin_motion(action.motion);
-      self.motion_tick = state.tick;
-      self.motion_released_tick = -1;
+      self.animation.motion = humans::builtin_motion(action.motion);
+      self.animation.motion_tick = state.tick;
+      self.animation.motion_released_tick = -1;
       return true;
     case Kind::set_behaviour:
-      self.behaviour = humans::default_behaviour(static_cast<humans::BehaviourType>(action.target));
-      self.behaviour_seen = 0.0;
-      self.behaviour_spent = false;
-      self.reacting_to = -1;
+      self.reaction.behaviour = humans::default_behaviour(static_cast<humans::BehaviourType>(action.target));
+      self.reaction.behaviour_seen = 0.0;
+      self.reaction.behaviour_spent = false;
+      self.reaction.reacting_to = {};
       return true;
     case Kind::sit_on:
       return start_sitting(model, state, agent, action.target);
     case Kind::join_queue:
       // Back in the line they were drawn away from (a command, a reaction): they keep their place.
-      if (self.queue != action.target) {
+      if (self.queueing.queue.value != action.target) {
         release_reservations(state, agent);
-        self.queue = action.target;
+        self.queueing.queue = QueueIndex(action.target);
       }
-      self.served = false;
+      self.queueing.served = false;
       return true;
     case Kind::pick_up:
     case Kind::put_down:
@@ -188,21 +188,21 @@ bool start_action(const scenario::Model& model, State& state, int agent, const A
 
 bool action_done(const State& state, int agent, const Action& action, const PendingAction& pending) {
   const AgentState& self = state.agents[agent];
-  if (self.follow_leader >= 0) {
+  if (self.attitude.follow_leader.valid()) {
     // Done when the leader has arrived — is past this goto, not merely yet to begin it — and this
     // member stands at its spot beside it.
-    const AgentState& leader = state.agents[self.follow_leader];
+    const AgentState& leader = state.agents[self.attitude.follow_leader.value];
     const bool leader_past = leader.program.empty() || leader.program.front().step != pending.step ||
                              leader.program.front().routine != pending.routine || leader.program.front().index != pending.index ||
                              leader.action_started;
-    const bool leader_arrived = leader_past && !leader.navigating && !leader.target_heading;
+    const bool leader_arrived = leader_past && !leader.navigation.under_way && !leader.attitude.target_heading;
     return leader_arrived && (formation_target(state, agent) - self.position).norm() <= kHoldTolerance;
   }
   switch (action.kind) {
     case Kind::go_to_location:
     case Kind::go_to_social_space:
     case Kind::go_to_pose:
-      return !self.navigating && !self.target_heading;
+      return !self.navigation.under_way && !self.attitude.target_heading;
     case Kind::wait_duration:
       return state.tick >= self.wait_until_tick;
     case Kind::wait_message: {
@@ -215,7 +215,7 @@ bool action_done(const State& state, int agent, const Action& action, const Pend
     case Kind::look_at_object:
     case Kind::turn_by:
     case Kind::turn_to:
-      return !self.target_heading;
+      return !self.attitude.target_heading;
     case Kind::harass:
     case Kind::play_motion:
     case Kind::say:
@@ -223,7 +223,7 @@ bool action_done(const State& state, int agent, const Action& action, const Pend
     case Kind::sit_on:
       return sitting_done(state, agent, action.target);
     case Kind::join_queue:
-      return self.served;
+      return self.queueing.served;
     case Kind::leave:
       return true;
     case Kind::pick_up:
@@ -246,14 +246,14 @@ void finish_action(State& state, int agent) {
   AgentState& self = state.agents[agent];
   self.program.pop_front();
   self.action_started = false;
-  self.look_at_agent = -1;
-  self.harass_robot = -1;
-  self.reach_phase = ReachPhase::none;
-  self.served = false;
-  if (self.follow_leader >= 0) {
-    self.hold = self.position;
-    self.target_heading = state.agents[self.follow_leader].heading;
-    self.follow_leader = -1;
+  self.attitude.look_at_agent = {};
+  self.attitude.harass_robot = {};
+  self.carrying.phase = ReachPhase::none;
+  self.queueing.served = false;
+  if (self.attitude.follow_leader.valid()) {
+    self.navigation.hold = self.position;
+    self.attitude.target_heading = state.agents[self.attitude.follow_leader.value].heading;
+    self.attitude.follow_leader = {};
   }
   if (self.program.empty()) self.answering_request = false;
 }
@@ -298,10 +298,10 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
       if (!start_action(model, state, agent, action, pending)) return;
       self.action_started = true;
     }
-    if (action.kind == Kind::join_queue && !self.served) tend_queueing(model, state, agent);
+    if (action.kind == Kind::join_queue && !self.queueing.served) tend_queueing(model, state, agent);
     if (action.kind == Kind::pick_up || action.kind == Kind::put_down) {
       tend_reaching(model, state, agent, action);
-      if (self.reach_phase == ReachPhase::none) {
+      if (self.carrying.phase == ReachPhase::none) {
         self.action_started = false;
         return;
       }
@@ -319,16 +319,16 @@ void advance_agent(const scenario::Model& model, State& state, int agent) {
 
 const Action& action_of(const scenario::Model& model, const State& state, const PendingAction& pending) {
   if (pending.routine == kCommandedAction) return state.commanded[pending.index];
-  if (pending.routine == kActivityAction) return state.agents[pending.index].activity_action;
+  if (pending.routine == kActivityAction) return state.agents[pending.index].living.activity_action;
   return pending.routine >= 0 ? model.routines[pending.routine].actions[pending.index] : model.steps[pending.step].actions[pending.index];
 }
 
 void release_reservations(State& state, int agent) {
   AgentState& self = state.agents[agent];
   leave_queue(state, agent);
-  self.reserved_location = -1;
-  self.reserved_space = -1;
-  self.reserved_slot = -1;
+  self.reservation.location = {};
+  self.reservation.space = {};
+  self.reservation.slot = {};
 }
 
 void leave_scene(const scenario::Model& model, State& state, int agent, EventData event) {
@@ -337,7 +337,7 @@ void leave_scene(const scenario::Model& model, State& state, int agent, EventDat
   self.left = true;
   self.program.clear();
   self.action_started = false;
-  self.navigating = false;
+  self.navigation.under_way = false;
   self.velocity = Vec2::Zero();
   release_reservations(state, agent);
   for (auto& members : state.groups) std::erase(members, agent);
@@ -423,7 +423,7 @@ bool robot_on_its_way(const State& state) {
   if (anyone_searching(state)) return true;
   return std::any_of(state.robots.begin(), state.robots.end(), [&state](const RobotRuntime& runtime) {
     const AgentState& self = state.agents[runtime.agent];
-    return runtime.controller.goal && self.active && self.navigating && self.goal == runtime.controller.goal->position();
+    return runtime.controller.goal && self.active && self.navigation.under_way && self.navigation.goal == runtime.controller.goal->position();
   });
 }
 
@@ -463,15 +463,15 @@ void interrupt(State& state, int human, std::span<const Action> actions) {
     self.program.push_front({kCommandedAction, static_cast<int>(state.commanded.size()) - 1, -1});
   }
   self.action_started = false;
-  self.navigating = false;
-  self.path.clear();
+  self.navigation.under_way = false;
+  self.navigation.path.clear();
 }
 
 void startle(const scenario::Model& model, State& state, int human, int robot) {
   AgentState& self = state.agents[human];
   if (!self.active || model.agents[human].kind != AgentKind::human) return;
-  if (self.startled_tick >= 0 && state.tick - self.startled_tick < ticks(model, kStartleRefractory)) return;
-  self.startled_tick = state.tick;
+  if (self.reaction.startled_tick >= 0 && state.tick - self.reaction.startled_tick < ticks(model, kStartleRefractory)) return;
+  self.reaction.startled_tick = state.tick;
   const Vec2 robot_at = state.agents[robot].position;
   const auto reaction = [&](Kind kind, const char* what) {
     Action action;
@@ -481,7 +481,7 @@ void startle(const scenario::Model& model, State& state, int human, int robot) {
     return action;
   };
   std::vector<Action> actions;
-  const bool may_step_back = !self.rooted && self.reserved_space < 0;  // no room to in a cabin or a queue
+  const bool may_step_back = !self.rooted && !self.reservation.space.valid();  // no room to in a cabin or a queue
   const Vec2 from_robot = self.position - robot_at;
   const Vec2 away = from_robot.norm() > 1e-9 ? Vec2(from_robot.normalized()) : Vec2(-core::heading_vector(self.heading));
   for (const double back : {kStartleStepBack, 0.5 * kStartleStepBack}) {

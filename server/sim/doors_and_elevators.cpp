@@ -32,13 +32,13 @@ bool someone_in_doorway(const scenario::Model& model, const State& state, int do
 bool rider_on_the_way(const scenario::Model& model, const scenario::Elevator& elevator, const State& state, int door) {
   const scenario::Door& doorway = model.doors[door];
   return std::any_of(state.agents.begin(), state.agents.end(), [&](const AgentState& agent) {
-    if (!agent.active || !agent.navigating) return false;
-    if (std::find(elevator.social_spaces.begin(), elevator.social_spaces.end(), agent.reserved_space) != elevator.social_spaces.end()) return true;
+    if (!agent.active || !agent.navigation.under_way) return false;
+    if (std::find(elevator.social_spaces.begin(), elevator.social_spaces.end(), agent.reservation.space.value) != elevator.social_spaces.end()) return true;
     // Leaving: the next legs of the path go through the doorway.
     Vec2 from = agent.position;
-    for (std::size_t k = agent.path_index; k < agent.path.size() && k < agent.path_index + 3; ++k) {
-      if (core::segments_cross(from, agent.path[k], doorway.from, doorway.to)) return true;
-      from = agent.path[k];
+    for (std::size_t k = agent.navigation.path_index; k < agent.navigation.path.size() && k < agent.navigation.path_index + 3; ++k) {
+      if (core::segments_cross(from, agent.navigation.path[k], doorway.from, doorway.to)) return true;
+      from = agent.navigation.path[k];
     }
     return false;
   });
@@ -108,9 +108,9 @@ void update_elevator(const scenario::Model& model, State& state, int index) {
         cabin.phase = Phase::idle;
         set_door(model, state, door, DoorPhase::closed);
         for (AgentState& agent : state.agents) {
-          if (std::find(elevator.social_spaces.begin(), elevator.social_spaces.end(), agent.reserved_space) != elevator.social_spaces.end()) {
-            agent.reserved_space = -1;
-            agent.reserved_slot = -1;
+          if (std::find(elevator.social_spaces.begin(), elevator.social_spaces.end(), agent.reservation.space.value) != elevator.social_spaces.end()) {
+            agent.reservation.space = {};
+            agent.reservation.slot = {};
           }
         }
       }

@@ -8,14 +8,14 @@ humans::Activity activity_of(const scenario::Model& model, const State& state, i
   const AgentState& self = state.agents[agent];
   humans::Activity activity;
   activity.time = time_of(model, state);
-  activity.gait_distance = self.gait_distance;
+  activity.gait_distance = self.animation.gait_distance;
   activity.speed = self.velocity.norm();
-  activity.turn_rate = self.turn_rate;
-  activity.motion = self.motion;
-  if (self.motion) {
-    const std::int64_t until = self.motion_released_tick >= 0 ? self.motion_released_tick : state.tick;
-    activity.motion_time = static_cast<double>(until - self.motion_tick) * model.dt;
-    if (self.motion_released_tick >= 0) activity.since_release = static_cast<double>(state.tick - self.motion_released_tick) * model.dt;
+  activity.turn_rate = self.animation.turn_rate;
+  activity.motion = self.animation.motion;
+  if (self.animation.motion) {
+    const std::int64_t until = self.animation.motion_released_tick >= 0 ? self.animation.motion_released_tick : state.tick;
+    activity.motion_time = static_cast<double>(until - self.animation.motion_tick) * model.dt;
+    if (self.animation.motion_released_tick >= 0) activity.since_release = static_cast<double>(state.tick - self.animation.motion_released_tick) * model.dt;
   }
   return activity;
 }

@@ -204,14 +204,14 @@ void hand_over_carried(const scenario::Model& model, State& state, PhysicsBodies
   std::vector<bool> carried(physics.objects.size(), false);
   for (std::size_t a = 0; a < state.agents.size(); ++a) {
     AgentState& person = state.agents[a];
-    if (person.carried_object < 0) continue;
+    if (!person.carrying.object.valid()) continue;
     if (!person.active) {
-      state.objects[person.carried_object] = ObjectState{carried_pose(model, state, bodies, static_cast<int>(a))};
-      emit(model, state, model.agents[a].id, events::Dropped{model.objects[person.carried_object].name});
-      person.carried_object = -1;
+      state.objects[person.carrying.object.value] = ObjectState{carried_pose(model, state, bodies, static_cast<int>(a))};
+      emit(model, state, model.agents[a].id, events::Dropped{model.objects[person.carrying.object.value].name});
+      person.carrying.object = {};
       continue;
     }
-    carried[person.carried_object] = true;
+    carried[person.carrying.object.value] = true;
   }
   for (std::size_t o = 0; o < physics.objects.size(); ++o) {
     if (carried[o] == physics.carried[o]) continue;
@@ -225,7 +225,7 @@ void hand_over_carried(const scenario::Model& model, State& state, PhysicsBodies
 void place_carried(const scenario::Model& model, State& state, const HumanBodies& bodies) {
   for (std::size_t a = 0; a < state.agents.size(); ++a) {
     const AgentState& person = state.agents[a];
-    if (person.carried_object >= 0) state.objects[person.carried_object] = ObjectState{carried_pose(model, state, bodies, static_cast<int>(a))};
+    if (person.carrying.object.valid()) state.objects[person.carrying.object.value] = ObjectState{carried_pose(model, state, bodies, static_cast<int>(a))};
   }
 }
 
@@ -334,9 +334,9 @@ PhysicsBodies build_physics_again(const scenario::Model& model, const State& sta
     hold_in(world, hand_of(runtime, physics.robot_links[r]), physics.objects[runtime.held_object]);
   }
   for (const AgentState& person : state.agents) {
-    if (person.carried_object < 0 || !person.active) continue;
-    physics.carried[person.carried_object] = true;
-    world.set_enabled(physics.objects[person.carried_object], false);
+    if (!person.carrying.object.valid() || !person.active) continue;
+    physics.carried[person.carrying.object.value] = true;
+    world.set_enabled(physics.objects[person.carrying.object.value], false);
   }
   return physics;
 }

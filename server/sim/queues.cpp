@@ -18,18 +18,18 @@ double service_time(core::Random& random, double mean) {
 
 void tend_queueing(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
-  const scenario::Queue& queue = model.queues[self.queue];
-  std::vector<int>& line = state.queues[self.queue].line;
-  if (self.queue_place < 0) {
+  const scenario::Queue& queue = model.queues[self.queueing.queue.value];
+  std::vector<int>& line = state.queues[self.queueing.queue.value].line;
+  if (self.queueing.place < 0) {
     const Pose2 end = queue.place(static_cast<int>(line.size()));
     if ((self.position - end.position()).norm() <= scenario::kQueueJoinDistance) {
       line.push_back(agent);
       emit(model, state, model.agents[agent].id, events::QueueJoined{queue.name, static_cast<std::int64_t>(line.size()) - 1});
     }
   }
-  if (const auto found = std::find(line.begin(), line.end(), agent); found != line.end()) self.queue_place = static_cast<int>(found - line.begin());
-  const Pose2 target = queue.place(self.queue_place >= 0 ? self.queue_place : static_cast<int>(line.size()));
-  const bool heading_there = self.navigating && (self.goal - target.position()).norm() < 1e-6;
+  if (const auto found = std::find(line.begin(), line.end(), agent); found != line.end()) self.queueing.place = static_cast<int>(found - line.begin());
+  const Pose2 target = queue.place(self.queueing.place >= 0 ? self.queueing.place : static_cast<int>(line.size()));
+  const bool heading_there = self.navigation.under_way && (self.navigation.goal - target.position()).norm() < 1e-6;
   if (!heading_there && (self.position - target.position()).norm() > scenario::kDefaultGoalRadius) {
     go_to(model, state, agent, target, scenario::kDefaultGoalRadius, true);
   }
@@ -49,21 +49,21 @@ void serve_queues(const scenario::Model& model, State& state) {
     if (state.tick < line.served_until_tick) continue;
     line.line.erase(line.line.begin());
     line.served_until_tick = -1;
-    person.served = true;
-    person.queue = -1;
-    person.queue_place = -1;
+    person.queueing.served = true;
+    person.queueing.queue = {};
+    person.queueing.place = -1;
     emit(model, state, model.agents[head].id, events::Served{queue.name});
   }
 }
 
 void leave_queue(State& state, int agent) {
   AgentState& self = state.agents[agent];
-  if (self.queue < 0) return;
-  QueueState& queue = state.queues[self.queue];
+  if (!self.queueing.queue.valid()) return;
+  QueueState& queue = state.queues[self.queueing.queue.value];
   if (!queue.line.empty() && queue.line.front() == agent) queue.served_until_tick = -1;
   std::erase(queue.line, agent);
-  self.queue = -1;
-  self.queue_place = -1;
+  self.queueing.queue = {};
+  self.queueing.place = -1;
 }
 
 }  // namespace hrisim::sim

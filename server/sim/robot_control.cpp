@@ -27,7 +27,7 @@ robots::Twist follow_path(const scenario::Model& model, const State& state, cons
   }
   const robots::Surroundings around{people, [&model, &state](const Vec2& p, double range) { return nearest_obstacle(model, state, p, range); },
                                     model.grid.resolution() / 2.0,
-                                    self.reserved_space >= 0 ? robots::kRobotPlaceClearance : robots::kRobotPersonalSpace};
+                                    self.reservation.space.valid() ? robots::kRobotPlaceClearance : robots::kRobotPersonalSpace};
   const robots::RobotMotion motion{pose, runtime.robot.twist(), model.agents[runtime.agent].radius, runtime.robot.description().drive->params};
   switch (runtime.controller.kind) {
     case Kind::social: {
@@ -57,11 +57,11 @@ void decide_robots(const scenario::Model& model, State& state) {
       command = *searching;
     } else if (runtime.controller.kind == Kind::teleop) {
       // Under external control: its commands drive the robot, even along a choreography's goto.
-    } else if (self.navigating && !self.path.empty()) {
-      command = follow_path(model, state, runtime, std::vector<Vec2>(self.path.begin() + static_cast<std::ptrdiff_t>(self.path_index), self.path.end()));
-    } else if (self.target_heading) {
+    } else if (self.navigation.under_way && !self.navigation.path.empty()) {
+      command = follow_path(model, state, runtime, std::vector<Vec2>(self.navigation.path.begin() + static_cast<std::ptrdiff_t>(self.navigation.path_index), self.navigation.path.end()));
+    } else if (self.attitude.target_heading) {
       // Turning on the spot to a goal's heading or to look at something.
-      command = {0.0, robots::kHeadingGain * core::wrap_angle(*self.target_heading - pose.theta)};
+      command = {0.0, robots::kHeadingGain * core::wrap_angle(*self.attitude.target_heading - pose.theta)};
     } else {
       command = {};
     }
@@ -74,7 +74,7 @@ void move_robots(const scenario::Model& model, State& state, PhysicsBodies& phys
     RobotRuntime& runtime = state.robots[r];
     AgentState& self = state.agents[runtime.agent];
     if (!self.active) continue;
-    const bool was_navigating = self.navigating;
+    const bool was_navigating = self.navigation.under_way;
     const robots::Configuration before = runtime.robot.configuration();
     runtime.robot.step(runtime.motor_random);
     const double share = free_share(physics, r, runtime.robot, before);
@@ -84,9 +84,9 @@ void move_robots(const scenario::Model& model, State& state, PhysicsBodies& phys
     self.position = pose.position();
     self.heading = pose.theta;
     self.velocity = core::heading_vector(pose.theta) * runtime.robot.twist().linear;
-    if (self.target_heading && std::abs(core::wrap_angle(*self.target_heading - pose.theta)) <= kHeadingTolerance) self.target_heading.reset();
-    if (was_navigating && runtime.controller.goal && (self.goal - self.position).norm() <= self.goal_radius &&
-        (*runtime.controller.goal).position() == self.goal) {
+    if (self.attitude.target_heading && std::abs(core::wrap_angle(*self.attitude.target_heading - pose.theta)) <= kHeadingTolerance) self.attitude.target_heading.reset();
+    if (was_navigating && runtime.controller.goal && (self.navigation.goal - self.position).norm() <= self.navigation.goal_radius &&
+        (*runtime.controller.goal).position() == self.navigation.goal) {
       emit(model, state, model.agents[runtime.agent].id, events::RobotGoalReached{self.position.x(), self.position.y()});
     }
   }

@@ -67,17 +67,17 @@ std::optional<robots::Twist> search_command(const scenario::Model& model, State&
     search.looked_into[static_cast<std::size_t>(search.room)] = 1;
     search.room = -1;
   }
-  if (search.room >= 0 && self.navigating) {
+  if (search.room >= 0 && self.navigation.under_way) {
     const double distance = (model.locations[model.rooms[search.room].lookout].pose.position() - self.position).norm();
     if (distance < search.closest - kSearchProgress) {
       search.closest = distance;
       search.closer_tick = state.tick;
     } else if (static_cast<double>(state.tick - search.closer_tick) * model.dt > kSearchPatience) {
-      self.navigating = false;  // no nearer: look around from here
-      self.path.clear();
+      self.navigation.under_way = false;  // no nearer: look around from here
+      self.navigation.path.clear();
     }
   }
-  if (search.room >= 0 && !self.navigating) {  // at the lookout (or no way there): look around
+  if (search.room >= 0 && !self.navigation.under_way) {  // at the lookout (or no way there): look around
     search.scanning = true;
     search.turned = 0.0;
     search.last_heading = self.heading;
@@ -104,10 +104,10 @@ void notice_people_found(const scenario::Model& model, State& state) {
                                    [person](const sensors::Detection& detection) { return detection.agent == person && detection.face_visible; });
     if (seen == runtime.people.people.end()) continue;
     runtime.search.found = true;
-    state.agents[runtime.agent].navigating = false;
+    state.agents[runtime.agent].navigation.under_way = false;
     const AgentState& found = state.agents[person];
     emit(model, state, model.agents[runtime.agent].id,
-         events::PersonFound{model.agents[person].id, found.room >= 0 ? std::optional(model.rooms[found.room].name) : std::nullopt, seen->range});
+         events::PersonFound{model.agents[person].id, found.living.room.valid() ? std::optional(model.rooms[found.living.room.value].name) : std::nullopt, seen->range});
     if (!state.finished) {
       state.finished = true;
       state.termination = Termination::goal;

@@ -50,9 +50,9 @@ State initial_state(const scenario::Model& model, std::uint64_t seed) {
     } else {
       agent.preferred_speed = def.preferred_speed.value_or(kScriptedRobotSpeed);
     }
-    agent.behaviour = def.behaviour;
+    agent.reaction.behaviour = def.behaviour;
     agent.active = def.enters_at <= 0.0;
-    if (def.activity_model >= 0 || def.daily_schedule >= 0) agent.activity_random = state.random.stream("humans.activities." + def.id);
+    if (def.activity_model >= 0 || def.daily_schedule >= 0) agent.living.activity_random = state.random.stream("humans.activities." + def.id);
     state.agents.push_back(std::move(agent));
     if (def.robot_model) state.robots.emplace_back(static_cast<int>(state.agents.size() - 1), def, model.dt, state.random);
   }
@@ -280,12 +280,12 @@ void Session::place_agent(AgentId id, const Pose2& pose) {
   state.position = at;
   state.heading = core::wrap_angle(pose.theta);
   state.velocity = Vec2::Zero();
-  state.target_heading.reset();
-  if (state.navigating) {
-    state.path.clear();  // planned again from here on the next step
-    state.replan_at_tick = -1;
+  state.attitude.target_heading.reset();
+  if (state.navigation.under_way) {
+    state.navigation.path.clear();  // planned again from here on the next step
+    state.navigation.replan_at_tick = -1;
   } else {
-    state.hold = at;
+    state.navigation.hold = at;
   }
   if (const int runtime = runtime_of_agent_[agent]; runtime >= 0) state_.robots[runtime].robot.set_pose({at.x(), at.y(), state.heading});
   emit(*model_, state_, model_->agents[agent].id, events::AgentPlaced{at.x(), at.y(), state.heading});

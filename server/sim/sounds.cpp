@@ -75,8 +75,8 @@ void make_sounds(const scenario::Model& model, State& state, std::size_t first_e
     AgentState& person = state.agents[a];
     if (!person.active || model.agents[a].kind != scenario::AgentKind::human) continue;
     falls.clear();
-    const double steps_before = person.step_phase;
-    sensors::footfalls(person.step_phase, person.velocity.norm(), now, model.dt, falls);
+    const double steps_before = person.animation.step_phase;
+    sensors::footfalls(person.animation.step_phase, person.velocity.norm(), now, model.dt, falls);
     for (std::size_t k = 0; k < falls.size(); ++k) {
       const auto step = static_cast<std::int64_t>(std::floor(steps_before)) + static_cast<std::int64_t>(k);
       add_sound(state, SoundSource::footstep(seed_of(model.agents[a].id, step), falls[k]), at_height(person.position, 0.0));

@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/index.hpp"
 #include "core/math.hpp"
 #include "core/random.hpp"
 #include "humans/motion.hpp"
@@ -51,20 +52,20 @@ enum class SeatPhase { none, approaching, stepping_in, sitting, seated, standing
 /// Where a person is in a pick_up or put_down: walking to a spot within reach, reaching, done.
 enum class ReachPhase { none, walking, reaching, done };
 
-struct AgentState {
-  bool active = true;  ///< in the scene: false before a human's enters_at and once they have left
-  bool left = false;   ///< left the scene (a leave action, or removed): never back, whatever enters_at says
-  Vec2 position = Vec2::Zero();
-  Vec2 velocity = Vec2::Zero();
-  double heading = 0.0;
-  double preferred_speed = 0.0;
-  bool rooted = false;  ///< stands its ground: never moves, whoever comes (others still avoid it)
+/// Indices into the model's lists (Model::agents, seats, objects, …) that the state refers to.
+using AgentIndex = core::Index<struct AgentList>;
+using LocationIndex = core::Index<struct LocationList>;
+using SpaceIndex = core::Index<struct SocialSpaceList>;
+using SlotIndex = core::Index<struct SlotList>;  ///< a slot of a location
+using QueueIndex = core::Index<struct QueueList>;
+using ActivityIndex = core::Index<struct ActivityList>;  ///< an activity of the person's activity model
+using RoomIndex = core::Index<struct RoomList>;          ///< a room of the person's daily schedule
+using SeatIndex = core::Index<struct SeatList>;
+using ObjectIndex = core::Index<struct ObjectList>;  ///< a movable object
 
-  std::deque<PendingAction> program;  ///< front is running (when started) or next
-  bool action_started = false;
-  std::int64_t wait_until_tick = 0;
-
-  bool navigating = false;
+/// Walking to a goal: the goal, the path planned to it and the leg under way, and the progress made.
+struct Navigation {
+  bool under_way = false;  ///< walking to `goal`: false once there (or never sent)
   Vec2 goal = Vec2::Zero();
   double goal_radius = 0.0;
   std::optional<double> goal_heading;
@@ -78,68 +79,150 @@ struct AgentState {
   double nearest_to_goal = 0.0;
   std::int64_t progress_tick = 0;
   bool stuck_reported = false;
-
   std::optional<Vec2> hold;  ///< where the agent arrived last; it steps back there when pushed away
 
-  int follow_leader = -1;       ///< walking in formation behind or beside this agent
-  Vec2 formation_offset = Vec2::Zero();  ///< own spot in the leader's frame (x ahead, y left)
-  int harass_robot = -1;        ///< standing in this robot's way
+  auto fields() const {
+    return std::tie(under_way, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, nearest_to_goal,
+                    progress_tick, stuck_reported, hold);
+  }
+};
+
+/// How the agent stands towards others: whom it follows, blocks, watches or faces.
+struct Attitude {
+  AgentIndex follow_leader;               ///< walking in formation behind or beside this agent
+  Vec2 formation_offset = Vec2::Zero();   ///< own spot in the leader's frame (x ahead, y left)
+  AgentIndex harass_robot;                ///< standing in this robot's way
   double harass_distance = 0.0;
-  std::int64_t awaited_request = 0;  ///< a robot's request action waits until this request is resolved
-  int watched_robot = -1;       ///< stop-and-look attitude: stops and faces this robot when it is near
+  AgentIndex watched_robot;               ///< stop-and-look: stops and faces this robot when it is near
   double watch_distance = 0.0;
   std::int64_t watch_until_tick = 0;
-  std::optional<double> target_heading;  ///< turning in place towards this
-  int look_at_agent = -1;                ///< keeps facing this agent while the action runs
+  std::optional<double> target_heading;   ///< turning in place towards this
+  AgentIndex look_at_agent;               ///< keeps facing this agent while the action runs
 
-  int reserved_location = -1;
-  int reserved_space = -1;
-  int reserved_slot = -1;
-  int queue = -1;        ///< the waiting line (Model::queues) the person's join_queue is for; -1 for none
-  int queue_place = -1;  ///< place in that line (0: at its head); -1 until they have joined it
-  bool served = false;   ///< served at the head of a line: the join_queue action is done
-  bool answering_request = false;
+  auto fields() const {
+    return std::tie(follow_leader, formation_offset, harass_robot, harass_distance, watched_robot, watch_distance, watch_until_tick,
+                    target_heading, look_at_agent);
+  }
+};
 
-  Vec2 commanded_velocity = Vec2::Zero();  ///< robots without a model: from the controller
-  // Humans' bodies (humans::Activity): the gait advanced by the distance walked, the turn rate, and
-  // the motion primitive played, if any.
-  double gait_distance = 0.0;  ///< m, within one walk cycle
-  double turn_rate = 0.0;      ///< rad/s in the last step
+/// The spot a person holds: a location's slot, or a place in a social space.
+struct Reservation {
+  LocationIndex location;
+  SpaceIndex space;
+  SlotIndex slot;  ///< of `location` or `space`
+
+  auto fields() const { return std::tie(location, space, slot); }
+};
+
+/// Standing in a waiting line (Model::queues) for a join_queue.
+struct Queueing {
+  QueueIndex queue;      ///< the line the join_queue is for
+  int place = -1;        ///< place in that line (0: at its head); -1 until they have joined it
+  bool served = false;   ///< served at the head of the line: the join_queue action is done
+
+  auto fields() const { return std::tie(queue, place, served); }
+};
+
+/// Reacting to robots and to the crowd: being touched, giving up personal space, and HuNavSim's
+/// behaviours (the behaviour, how long a robot has been in view during the reaction under way,
+/// whether a once-only reaction is spent, and the robot reacted to).
+struct Reaction {
   std::int64_t startled_tick = -1;  ///< when a robot last touched this person, -1 before
   /// Share (0…1) of their personal-space margins a person keeps: it falls while others hold them up
   /// and comes back once they walk freely (squeezing past in a narrow place).
   double personal_space = 1.0;
-  // Reacting to robots (HuNavSim's behaviours): the behaviour, how long a robot has been in view
-  // during the reaction under way, whether a once-only reaction is spent, and the robot reacted to.
   humans::Behaviour behaviour;
   double behaviour_seen = 0.0;
   bool behaviour_spent = false;
-  int reacting_to = -1;
-  // Living by an activity model: the activity under way (-1 before the first) and what it asks for.
-  int activity = -1;
+  AgentIndex reacting_to;
+
+  auto fields() const { return std::tie(startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to); }
+};
+
+/// Living by an activity model (the activity under way and what it asks for, drawn from the person's
+/// own stream, so that nobody else's choices change theirs) or by a daily schedule (the room of the
+/// stay under way, whether the person has set off to it, and the tick the stay ends).
+struct Living {
+  ActivityIndex activity;  ///< none before the first
   scenario::Action activity_action;
-  core::Random activity_random;  ///< the person's own stream, so that nobody else's choices change theirs
-  // Living by a daily schedule: the room of the stay under way (-1 before the first), whether the
-  // person has set off to it (a spot reserved), and the tick the stay ends.
-  int room = -1;
-  bool in_room = false;
+  core::Random activity_random;
+  RoomIndex room;          ///< none before the first stay
+  bool in_room = false;    ///< set off to the room (a spot reserved)
   std::int64_t stay_until_tick = -1;
+
+  auto fields() const { return std::tie(activity, activity_action, activity_random, room, in_room, stay_until_tick); }
+};
+
+/// The body's animation (humans::Activity): the gait advanced by the distance walked, the turn rate,
+/// the motion primitive played, and the steps walked for footfalls.
+struct Animation {
+  double gait_distance = 0.0;  ///< m, within one walk cycle
+  double turn_rate = 0.0;      ///< rad/s in the last step
   const humans::MotionClip* motion = nullptr;  ///< a shipped primitive (its pose held once it ends)
   std::int64_t motion_tick = 0;                ///< when it started
   std::int64_t motion_released_tick = -1;      ///< when the person walked off (it blends out), -1 before
   double step_phase = 0.0;  ///< steps walked, for their footfalls (sensors::footfalls), when a robot listens
-  // Sitting: the seat walked to, sat on or being left (-1: none), how far along, and the free spot in
-  // front of it the person came from and steps back to.
-  int seat = -1;
-  SeatPhase seat_phase = SeatPhase::none;
-  Vec2 seat_front = Vec2::Zero();
-  // Carrying: the movable object in the right hand (-1: none), and how far along a pick_up or
-  // put_down under way is.
-  int carried_object = -1;
-  ReachPhase reach_phase = ReachPhase::none;
+
+  auto fields() const { return std::tie(gait_distance, turn_rate, motion, motion_tick, motion_released_tick, step_phase); }
+};
+
+/// Sitting: the seat walked to, sat on or being left, how far along, and the free spot in front of it
+/// the person came from and steps back to.
+struct Seating {
+  SeatIndex seat;
+  SeatPhase phase = SeatPhase::none;
+  Vec2 front = Vec2::Zero();
+
+  auto fields() const { return std::tie(seat, phase, front); }
+};
+
+/// Carrying: the movable object in the right hand, and how far along a pick_up or put_down under way is.
+struct Carrying {
+  ObjectIndex object;
+  ReachPhase phase = ReachPhase::none;
+
+  auto fields() const { return std::tie(object, phase); }
+};
+
+struct AgentState {
+  bool active = true;  ///< in the scene: false before a human's enters_at and once they have left
+  bool left = false;   ///< left the scene (a leave action, or removed): never back, whatever enters_at says
+  Vec2 position = Vec2::Zero();
+  Vec2 velocity = Vec2::Zero();
+  double heading = 0.0;
+  double preferred_speed = 0.0;
+  bool rooted = false;  ///< stands its ground: never moves, whoever comes (others still avoid it)
+  Vec2 commanded_velocity = Vec2::Zero();  ///< robots without a model: from the controller
+
+  std::deque<PendingAction> program;  ///< front is running (when started) or next
+  bool action_started = false;
+  std::int64_t wait_until_tick = 0;
+  std::int64_t awaited_request = 0;  ///< a robot's request action waits until this request is resolved
+  bool answering_request = false;
+
+  Navigation navigation;
+  Attitude attitude;
+  Reservation reservation;
+  Queueing queueing;
+  Reaction reaction;
+  Living living;
+  Animation animation;
+  Seating seating;
+  Carrying carrying;
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(active, left, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick, navigating, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, nearest_to_goal, progress_tick, stuck_reported, hold, follow_leader, formation_offset, harass_robot, harass_distance, awaited_request, watched_robot, watch_distance, watch_until_tick, target_heading, look_at_agent, reserved_location, reserved_space, reserved_slot, queue, queue_place, served, answering_request, commanded_velocity, gait_distance, turn_rate, startled_tick, personal_space, behaviour, behaviour_seen, behaviour_spent, reacting_to, activity, activity_action, activity_random, room, in_room, stay_until_tick, motion, motion_tick, motion_released_tick, step_phase, seat, seat_phase, seat_front, carried_object, reach_phase); }
+  auto fields() const {
+    return std::tie(active, left, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick,
+                    navigation.under_way, navigation.goal, navigation.goal_radius, navigation.goal_heading, navigation.path,
+                    navigation.path_index, navigation.leg_start, navigation.replan_at_tick, navigation.planned_tick,
+                    navigation.nearest_to_goal, navigation.progress_tick, navigation.stuck_reported, navigation.hold,
+                    attitude.follow_leader, attitude.formation_offset, attitude.harass_robot, attitude.harass_distance, awaited_request,
+                    attitude.watched_robot, attitude.watch_distance, attitude.watch_until_tick, attitude.target_heading,
+                    attitude.look_at_agent, reservation.location, reservation.space, reservation.slot, queueing.queue, queueing.place,
+                    queueing.served, answering_request, commanded_velocity, animation.gait_distance, animation.turn_rate, reaction,
+                    living, animation.motion, animation.motion_tick, animation.motion_released_tick, animation.step_phase, seating,
+                    carrying);
+  }
 };
 
 /// A robot request waiting for an idle human (IMHuS's asynchronous step).

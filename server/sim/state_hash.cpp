@@ -13,7 +13,16 @@ using Hasher = core::StateHasher;
 // Adding a member to a state struct without listing it in its fields() would leave it out of the
 // hash: these sizes make that a compile error (x86-64, libstdc++). List the member, then update the size.
 static_assert(sizeof(PendingAction) == 24, "PendingAction changed: list every member in its fields()");
-static_assert(sizeof(AgentState) == 960, "AgentState changed: list every member in its fields()");
+static_assert(sizeof(Navigation) == 192, "Navigation changed: list every member in its fields()");
+static_assert(sizeof(Attitude) == 96, "Attitude changed: list every member in its fields()");
+static_assert(sizeof(Reservation) == 12, "Reservation changed: list every member in its fields()");
+static_assert(sizeof(Queueing) == 12, "Queueing changed: list every member in its fields()");
+static_assert(sizeof(Reaction) == 88, "Reaction changed: list every member in its fields()");
+static_assert(sizeof(Living) == 288, "Living changed: list every member in its fields()");
+static_assert(sizeof(Animation) == 48, "Animation changed: list every member in its fields()");
+static_assert(sizeof(Seating) == 32, "Seating changed: list every member in its fields()");
+static_assert(sizeof(Carrying) == 8, "Carrying changed: list every member in its fields()");
+static_assert(sizeof(AgentState) == 992, "AgentState changed: list every member in its fields()");
 static_assert(sizeof(OpenRequest) == 48, "OpenRequest changed: list every member in its fields()");
 static_assert(sizeof(ScheduledRequest) == 16, "ScheduledRequest changed: list every member in its fields()");
 static_assert(sizeof(StepRecord) == 16, "StepRecord changed: list every member in its fields()");
@@ -32,6 +41,11 @@ void put(Hasher& hash, int value) { hash.add(value); }
 void put(Hasher& hash, std::int64_t value) { hash.add(value); }
 void put(Hasher& hash, std::uint64_t value) { hash.add(value); }
 void put(Hasher& hash, double value) { hash.add(value); }
+/// As the int it holds: hashes made when indices were ints still hold.
+template <class List>
+void put(Hasher& hash, core::Index<List> index) {
+  hash.add(index.value);
+}
 template <class E>
   requires std::is_enum_v<E>
 void put(Hasher& hash, E value) {

@@ -27,35 +27,35 @@ int group_of(const State& state, int agent) {
 /// Whether an agent is done with its current waypoint (not the last): people within a step of it; a
 /// robot's follower, which rounds corners itself, close to it or already past it along the next leg.
 bool passed_waypoint(const scenario::AgentDef& def, const AgentState& self) {
-  const Vec2& waypoint = self.path[self.path_index];
+  const Vec2& waypoint = self.navigation.path[self.navigation.path_index];
   if (!def.robot_model) return (waypoint - self.position).norm() < kWaypointReached;
-  const Vec2& next = self.path[self.path_index + 1];
+  const Vec2& next = self.navigation.path[self.navigation.path_index + 1];
   return (waypoint - self.position).norm() < kRobotWaypointReached || (self.position - waypoint).dot(next - waypoint) > 0.0;
 }
 
 /// A human's gait, turn rate and motion primitive after it moved this tick and turned by `turned`.
 void advance_body(const scenario::Model& model, const State& state, AgentState& self, double turned) {
   const double speed = self.velocity.norm();
-  self.turn_rate = turned / model.dt;
+  self.animation.turn_rate = turned / model.dt;
   const humans::MotionClip& walk = *humans::builtin_motion("walk");
-  self.gait_distance = std::fmod(self.gait_distance + speed * model.dt + humans::kTurnStepRadius * std::abs(turned), walk.speed() * walk.duration());
-  if (!self.motion) return;
+  self.animation.gait_distance = std::fmod(self.animation.gait_distance + speed * model.dt + humans::kTurnStepRadius * std::abs(turned), walk.speed() * walk.duration());
+  if (!self.animation.motion) return;
   // A primitive played for an action (a motion, a reach, sitting down or standing up) is not left for
   // a push.
-  const bool playing = self.reach_phase == ReachPhase::reaching || held_by_seat(self) ||
+  const bool playing = self.carrying.phase == ReachPhase::reaching || held_by_seat(self) ||
                        (!self.program.empty() && self.action_started && action_of(model, state, self.program.front()).kind == scenario::Action::Kind::play_motion);
-  if (self.motion_released_tick < 0 && !playing && speed > kMotionReleaseSpeed) self.motion_released_tick = state.tick;
-  if (self.motion_released_tick >= 0 && static_cast<double>(state.tick - self.motion_released_tick) * model.dt >= humans::kMotionBlendTime) {
-    self.motion = nullptr;
-    self.motion_released_tick = -1;
+  if (self.animation.motion_released_tick < 0 && !playing && speed > kMotionReleaseSpeed) self.animation.motion_released_tick = state.tick;
+  if (self.animation.motion_released_tick >= 0 && static_cast<double>(state.tick - self.animation.motion_released_tick) * model.dt >= humans::kMotionBlendTime) {
+    self.animation.motion = nullptr;
+    self.animation.motion_released_tick = -1;
   }
 }
 
 /// How far the agent still has to walk: along its planned path, or straight to the goal without one.
 double remaining_walk(const AgentState& self) {
-  if (self.path_index >= self.path.size()) return (self.goal - self.position).norm();
-  double length = (self.path[self.path_index] - self.position).norm();
-  for (std::size_t k = self.path_index + 1; k < self.path.size(); ++k) length += (self.path[k] - self.path[k - 1]).norm();
+  if (self.navigation.path_index >= self.navigation.path.size()) return (self.navigation.goal - self.position).norm();
+  double length = (self.navigation.path[self.navigation.path_index] - self.position).norm();
+  for (std::size_t k = self.navigation.path_index + 1; k < self.navigation.path.size(); ++k) length += (self.navigation.path[k] - self.navigation.path[k - 1]).norm();
   return length;
 }
 
@@ -64,14 +64,14 @@ double remaining_walk(const AgentState& self) {
 void note_progress(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
   const double to_goal = remaining_walk(self);
-  if (to_goal <= self.nearest_to_goal - kStuckProgress) {
-    self.nearest_to_goal = to_goal;
-    self.progress_tick = state.tick;
-    self.stuck_reported = false;
-  } else if (!self.stuck_reported && state.tick - self.progress_tick >= ticks(model, kStuckTime)) {
-    self.stuck_reported = true;
+  if (to_goal <= self.navigation.nearest_to_goal - kStuckProgress) {
+    self.navigation.nearest_to_goal = to_goal;
+    self.navigation.progress_tick = state.tick;
+    self.navigation.stuck_reported = false;
+  } else if (!self.navigation.stuck_reported && state.tick - self.navigation.progress_tick >= ticks(model, kStuckTime)) {
+    self.navigation.stuck_reported = true;
     emit(model, state, model.agents[agent].id,
-         events::Stuck{self.position.x(), self.position.y(), self.goal.x(), self.goal.y(), to_goal, static_cast<double>(state.tick - self.progress_tick) * model.dt});
+         events::Stuck{self.position.x(), self.position.y(), self.navigation.goal.x(), self.navigation.goal.y(), to_goal, static_cast<double>(state.tick - self.navigation.progress_tick) * model.dt});
   }
 }
 
@@ -79,77 +79,77 @@ void note_progress(const scenario::Model& model, State& state, int agent) {
 Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t i, std::optional<double>& watching_heading) {
   AgentState& self = state.agents[i];
   Vec2 preferred = Vec2::Zero();
-  if (self.navigating) {
-    if (self.path.empty() && state.tick >= self.replan_at_tick) plan_path(model, state, static_cast<int>(i));
-    if (!self.path.empty() && self.personal_space <= 0.0 && state.tick - self.planned_tick >= ticks(model, kStuckReplanInterval)) {
+  if (self.navigation.under_way) {
+    if (self.navigation.path.empty() && state.tick >= self.navigation.replan_at_tick) plan_path(model, state, static_cast<int>(i));
+    if (!self.navigation.path.empty() && self.reaction.personal_space <= 0.0 && state.tick - self.navigation.planned_tick >= ticks(model, kStuckReplanInterval)) {
       // Held up for a whole squeeze time (kSqueezeTime): the way round may be elsewhere, e.g. off a door
       // jamb that avoidance pressed the agent against.
       plan_path(model, state, static_cast<int>(i));
-    } else if (!self.path.empty() && state.tick - self.planned_tick >= ticks(model, kReplanInterval)) {
+    } else if (!self.navigation.path.empty() && state.tick - self.navigation.planned_tick >= ticks(model, kReplanInterval)) {
       // Pushed too far off the leg by avoidance: rejoin the path from here without a search when a
       // straight way is free (local avoidance keeps the agent off the walls), else plan again.
-      const Vec2& waypoint = self.path[self.path_index];
-      const Vec2 nearest = core::closest_point_on_segment(self.position, self.leg_start, waypoint);
+      const Vec2& waypoint = self.navigation.path[self.navigation.path_index];
+      const Vec2 nearest = core::closest_point_on_segment(self.position, self.navigation.leg_start, waypoint);
       const bool robot = model.agents[i].robot_model != nullptr;
       if ((nearest - self.position).norm() > (robot ? std::min(model.replan_distance, kRobotRejoinDistance) : model.replan_distance)) {
         // A robot's body would hit a wall its footprint grazes: it rejoins only with its whole radius free.
         const double clearance = (robot ? 1.0 : kRejoinClearance) * model.agents[i].radius;
         const world::Rejoin rejoin =
-            model.planner.rejoin(self.position, self.leg_start, waypoint, clearance, blocked_door_cells(model, state, clearance));
-        self.planned_tick = state.tick;
+            model.planner.rejoin(self.position, self.navigation.leg_start, waypoint, clearance, blocked_door_cells(model, state, clearance));
+        self.navigation.planned_tick = state.tick;
         // A robot's follower counts a corner it is beyond along the next leg as passed, so it would skip
         // the corner it should return to: it plans again instead, as a person far from the corner does.
-        const bool corner_far = (self.leg_start - self.position).norm() > kCornerReturnReach;
+        const bool corner_far = (self.navigation.leg_start - self.position).norm() > kCornerReturnReach;
         if (rejoin == world::Rejoin::replan || (rejoin == world::Rejoin::back_to_corner && (robot || corner_far))) {
           plan_path(model, state, static_cast<int>(i));
         } else {
           if (rejoin == world::Rejoin::back_to_corner) {
-            self.path.insert(self.path.begin() + static_cast<std::ptrdiff_t>(self.path_index), self.leg_start);
+            self.navigation.path.insert(self.navigation.path.begin() + static_cast<std::ptrdiff_t>(self.navigation.path_index), self.navigation.leg_start);
           }
-          self.leg_start = self.position;
+          self.navigation.leg_start = self.position;
         }
       }
     }
-    while (self.path_index + 1 < self.path.size() && passed_waypoint(model.agents[i], self)) {
-      self.leg_start = self.path[self.path_index];
-      ++self.path_index;
+    while (self.navigation.path_index + 1 < self.navigation.path.size() && passed_waypoint(model.agents[i], self)) {
+      self.navigation.leg_start = self.navigation.path[self.navigation.path_index];
+      ++self.navigation.path_index;
     }
-    const double to_goal = (self.goal - self.position).norm();
-    if (to_goal <= self.goal_radius) {
-      self.navigating = false;
-      self.path.clear();
-      self.hold = self.goal;
-      if (self.goal_heading) self.target_heading = core::wrap_angle(*self.goal_heading);
-    } else if (!self.path.empty()) {
-      const Vec2 target = self.path[self.path_index];
-      const bool last = self.path_index + 1 == self.path.size();
+    const double to_goal = (self.navigation.goal - self.position).norm();
+    if (to_goal <= self.navigation.goal_radius) {
+      self.navigation.under_way = false;
+      self.navigation.path.clear();
+      self.navigation.hold = self.navigation.goal;
+      if (self.navigation.goal_heading) self.attitude.target_heading = core::wrap_angle(*self.navigation.goal_heading);
+    } else if (!self.navigation.path.empty()) {
+      const Vec2 target = self.navigation.path[self.navigation.path_index];
+      const bool last = self.navigation.path_index + 1 == self.navigation.path.size();
       const double speed = self.preferred_speed * (last ? std::clamp(to_goal / kArrivalSlowdown, 0.3, 1.0) : 1.0);
       preferred = (target - self.position).normalized() * speed;
     }
   }
-  if (self.follow_leader >= 0) {
+  if (self.attitude.follow_leader.valid()) {
     const Vec2 to_spot = formation_target(state, static_cast<int>(i)) - self.position;
     const double speed = std::min(self.preferred_speed * humans::kMaxSpeedFactor, to_spot.norm() / kArrivalSlowdown * self.preferred_speed);
     preferred = to_spot.norm() > 1e-9 ? Vec2(to_spot.normalized() * speed) : Vec2::Zero();
   }
-  if (self.harass_robot >= 0) {
-    const AgentState& robot = state.agents[self.harass_robot];
-    preferred = into_the_way(self, robot, self.harass_distance, self.preferred_speed);
-    self.target_heading = core::direction_to(self.position, robot.position);
+  if (self.attitude.harass_robot.valid()) {
+    const AgentState& robot = state.agents[self.attitude.harass_robot.value];
+    preferred = into_the_way(self, robot, self.attitude.harass_distance, self.preferred_speed);
+    self.attitude.target_heading = core::direction_to(self.position, robot.position);
   }
-  if (self.watched_robot >= 0 && state.tick < self.watch_until_tick) {
-    const Vec2 robot = state.agents[self.watched_robot].position;
-    if ((robot - self.position).norm() <= self.watch_distance) {
+  if (self.attitude.watched_robot.valid() && state.tick < self.attitude.watch_until_tick) {
+    const Vec2 robot = state.agents[self.attitude.watched_robot.value].position;
+    if ((robot - self.position).norm() <= self.attitude.watch_distance) {
       preferred = Vec2::Zero();
       watching_heading = core::direction_to(self.position, robot);
     }
   }
-  if (!self.navigating && self.hold) {
+  if (!self.navigation.under_way && self.navigation.hold) {
     // Pushed aside while standing (making way in a queue): step back to the spot.
-    const Vec2 back = *self.hold - self.position;
+    const Vec2 back = *self.navigation.hold - self.position;
     if (back.norm() > kHoldTolerance) preferred = back.normalized() * std::min(kHoldSpeed, self.preferred_speed);
   }
-  if (self.look_at_agent >= 0) self.target_heading = core::direction_to(self.position, state.agents[self.look_at_agent].position);
+  if (self.attitude.look_at_agent.valid()) self.attitude.target_heading = core::direction_to(self.position, state.agents[self.attitude.look_at_agent.value].position);
   if (model.agents[i].kind == AgentKind::human) preferred = react_to_robots(model, state, static_cast<int>(i), preferred, watching_heading);
   return preferred;
 }
@@ -193,23 +193,23 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     // A controlled agent keeps its velocity: robots, people held in place (rooted, on a seat, or
     // seated or lying where they are going nowhere: others walk round them), and people stepping onto
     // or off a seat's spot, where the furniture is too close for avoidance.
-    const bool held = self.rooted || held_by_seat(self) || (!self.navigating && self.motion && posture_of(self) != scenario::Posture::standing);
+    const bool held = self.rooted || held_by_seat(self) || (!self.navigation.under_way && self.animation.motion && posture_of(self) != scenario::Posture::standing);
     const std::optional<Vec2> stepping = seat_step_velocity(model, state, static_cast<int>(i));
-    if (stepping) buffers.watching_headings[i] = model.seats[self.seat].pose.theta;  // backing onto the seat, facing its way
+    if (stepping) buffers.watching_headings[i] = model.seats[self.seating.seat.value].pose.theta;  // backing onto the seat, facing its way
     crowd.controlled = def.kind == AgentKind::robot || held || stepping;
     crowd.preferred_velocity = preferred;
-    crowd.personal_space = self.personal_space;
-    crowd.robots_as_obstacles = self.behaviour.type == humans::BehaviourType::impassive;
+    crowd.personal_space = self.reaction.personal_space;
+    crowd.robots_as_obstacles = self.reaction.behaviour.type == humans::BehaviourType::impassive;
     // Members of one group, and people sharing a place (a cabin, a social space's or a waiting line's
     // places), stand as close as it has them.
     crowd.group = group_of(state, static_cast<int>(i));
-    crowd.place = self.queue >= 0 && self.queue_place >= 0 ? static_cast<int>(model.social_spaces.size()) + self.queue : self.reserved_space;
+    crowd.place = self.queueing.queue.valid() && self.queueing.place >= 0 ? static_cast<int>(model.social_spaces.size()) + self.queueing.queue.value : self.reservation.space.value;
     crowd.max_speed = std::max(self.preferred_speed * humans::kMaxSpeedFactor, 1e-3);
     crowd.velocity = !crowd.controlled ? self.velocity
                      : stepping        ? *stepping
                      : held            ? Vec2::Zero()
                      : def.robot_model ? self.velocity  // where its base is taking it
-                     : self.navigating ? preferred
+                     : self.navigation.under_way ? preferred
                                        : self.commanded_velocity;
   }
   const humans::ObstacleQuery obstacles = [&model, &state](const Vec2& p, double range) { return nearest_obstacle(model, state, p, range); };
@@ -225,72 +225,72 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     self.position += self.velocity * model.dt;
     const double wanted = buffers.agents[k].preferred_velocity.norm();
     const bool held_up = wanted > 0.0 && self.velocity.norm() < kHeldUpSpeedShare * wanted;
-    self.personal_space = std::clamp(self.personal_space + (held_up ? -1.0 : 1.0) * model.dt / kSqueezeTime, 0.0, 1.0);
+    self.reaction.personal_space = std::clamp(self.reaction.personal_space + (held_up ? -1.0 : 1.0) * model.dt / kSqueezeTime, 0.0, 1.0);
     const double heading_before = self.heading;
     // A seated body faces the seat's way: a look or a turn asked of a seated person is over at once.
     const bool seated = held_by_seat(self);
-    if (seated) self.target_heading.reset();
-    std::optional<double> desired = seated ? std::nullopt : watching ? watching : self.target_heading;
+    if (seated) self.attitude.target_heading.reset();
+    std::optional<double> desired = seated ? std::nullopt : watching ? watching : self.attitude.target_heading;
     // Walking direction, for every walker every tick: the polynomial (1e-5 rad) spares a libm call.
     if (!desired && !seated && self.velocity.norm() > 0.05) desired = core::polynomial_atan2(self.velocity.y(), self.velocity.x());
     if (desired) {
       const double difference = core::wrap_angle(*desired - self.heading);
       if (std::abs(difference) <= max_turn) {
         self.heading = core::wrap_angle(*desired);
-        if (!watching && self.target_heading && std::abs(difference) <= kHeadingTolerance) self.target_heading.reset();
+        if (!watching && self.attitude.target_heading && std::abs(difference) <= kHeadingTolerance) self.attitude.target_heading.reset();
       } else {
         self.heading = core::wrap_angle(self.heading + std::copysign(max_turn, difference));
       }
     }
     if (model.agents[i].kind == AgentKind::human) {
       advance_body(model, state, self, core::wrap_angle(self.heading - heading_before));
-      if (self.navigating) note_progress(model, state, static_cast<int>(i));
+      if (self.navigation.under_way) note_progress(model, state, static_cast<int>(i));
     }
   }
 }
 
 void go_to(const scenario::Model& model, State& state, int agent, const Pose2& goal, double radius, bool with_heading) {
   AgentState& self = state.agents[agent];
-  self.navigating = true;
-  self.hold.reset();
-  self.goal = goal.position();
-  self.goal_radius = radius;
-  self.goal_heading = with_heading ? std::optional<double>(goal.theta) : std::nullopt;
-  self.target_heading.reset();
-  self.replan_at_tick = -1;
-  self.progress_tick = state.tick;
-  self.stuck_reported = false;
+  self.navigation.under_way = true;
+  self.navigation.hold.reset();
+  self.navigation.goal = goal.position();
+  self.navigation.goal_radius = radius;
+  self.navigation.goal_heading = with_heading ? std::optional<double>(goal.theta) : std::nullopt;
+  self.attitude.target_heading.reset();
+  self.navigation.replan_at_tick = -1;
+  self.navigation.progress_tick = state.tick;
+  self.navigation.stuck_reported = false;
   plan_path(model, state, agent);
-  self.nearest_to_goal = remaining_walk(self);
+  self.navigation.nearest_to_goal = remaining_walk(self);
 }
 
 bool plan_path(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
   const double radius = model.agents[agent].radius;
   const auto plan = [&](double clearance) {
-    return model.planner.plan(self.position, self.goal, clearance, blocked_door_cells(model, state, clearance), state.planning_history);
+    return model.planner.plan(self.position, self.navigation.goal, clearance, blocked_door_cells(model, state, clearance), state.planning_history);
   };
   auto path = model.agents[agent].robot_model ? plan(radius + kRobotPathMargin) : std::nullopt;
   if (!path) path = plan(radius);
-  self.path_index = 0;
-  self.leg_start = self.position;
-  self.planned_tick = state.tick;
+  self.navigation.path_index = 0;
+  self.navigation.leg_start = self.position;
+  self.navigation.planned_tick = state.tick;
   if (path) {
-    self.path = *path;
-    self.replan_at_tick = -1;
+    self.navigation.path = *path;
+    self.navigation.replan_at_tick = -1;
     return true;
   }
-  self.path.clear();
-  if (self.replan_at_tick < 0) emit(model, state, model.agents[agent].id, events::GoalUnreachable{self.goal.x(), self.goal.y()});
-  self.replan_at_tick = state.tick + ticks(model, kReplanRetry);
+  self.navigation.path.clear();
+  if (self.navigation.replan_at_tick < 0) emit(model, state, model.agents[agent].id, events::GoalUnreachable{self.navigation.goal.x(), self.navigation.goal.y()});
+  self.navigation.replan_at_tick = state.tick + ticks(model, kReplanRetry);
   return false;
 }
 
 Vec2 formation_target(const State& state, int agent) {
   const AgentState& self = state.agents[agent];
-  const AgentState& leader = state.agents[self.follow_leader];
+  const AgentState& leader = state.agents[self.attitude.follow_leader.value];
   const double heading = leader.velocity.norm() > 0.05 ? std::atan2(leader.velocity.y(), leader.velocity.x()) : leader.heading;
-  const Pose2 spot = core::compose({leader.position.x(), leader.position.y(), heading}, {self.formation_offset.x(), self.formation_offset.y(), 0.0});
+  const Pose2 spot = core::compose({leader.position.x(), leader.position.y(), heading}, {self.attitude.formation_offset.x(), self.attitude.formation_offset.y(), 0.0});
   return spot.position();
 }
 

@@ -42,10 +42,10 @@ TEST(Animation, AWalkingPersonsPlantedFootDoesNotSlide) {
     session.tick();
     const AgentState& state = session.state().agents[ana];
     walked += state.velocity.norm() * session.model().dt;
-    const double phase = state.gait_distance / stride;
+    const double phase = state.animation.gait_distance / stride;
     const int foot = phase < 0.5 ? 0 : 1;
     const double into_stance = std::fmod(phase, 0.5) / 0.5;
-    const bool steady = state.velocity.norm() >= humans::kFullGaitSpeed && std::abs(state.turn_rate) < 0.1;
+    const bool steady = state.velocity.norm() >= humans::kFullGaitSpeed && std::abs(state.animation.turn_rate) < 0.1;
     if (!steady || into_stance < 0.05 || into_stance > 0.95) {
       stance_foot = -1;  // blending, turning, or the hand-over between feet
       continue;
@@ -76,13 +76,13 @@ TEST(Animation, AMotionPlaysHoldsItsLastPoseAndBlendsOutOnceThePersonWalks) {
   EXPECT_LT(hanging, 0.3) << "the arm hangs at the start";
   while (session.time() < 1.5) session.tick();
   EXPECT_GT(reach(), 0.6) << "pointing to her left";
-  EXPECT_EQ(session.state().agents[ana].motion, humans::builtin_motion("point_left"));
+  EXPECT_EQ(session.state().agents[ana].animation.motion, humans::builtin_motion("point_left"));
   while (session.time() < 2.8) session.tick();
   EXPECT_GT(reach(), 0.6) << "still pointing after the primitive ended, while she stands";
   while (session.time() < 4.5) session.tick();
   EXPECT_GT(session.state().agents[ana].velocity.norm(), 0.5) << "walking";
   EXPECT_LT(reach(), 0.3) << "the arm swings by her side again";
-  EXPECT_EQ(session.state().agents[ana].motion, nullptr);
+  EXPECT_EQ(session.state().agents[ana].animation.motion, nullptr);
 
   // The same by command, and what a command may not say.
   testing::command(session, "ana", "motion wave 1.5");
@@ -90,7 +90,7 @@ TEST(Animation, AMotionPlaysHoldsItsLastPoseAndBlendsOutOnceThePersonWalks) {
   EXPECT_THROW(testing::command(session, "ana", "motion wave -1"), core::Error);
   EXPECT_THROW(testing::command(session, "ana", "motion wave 2 3"), core::Error);
   session.tick();
-  EXPECT_EQ(session.state().agents[ana].motion, humans::builtin_motion("wave"));
+  EXPECT_EQ(session.state().agents[ana].animation.motion, humans::builtin_motion("wave"));
 }
 
 TEST(Animation, AScenarioNamesOnlyShippedMotionsAndOnlyHumansPlayThem) {

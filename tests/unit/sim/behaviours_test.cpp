@@ -135,10 +135,10 @@ TEST(Behaviours, TheRegularOneDoesNotReactAndACommandChangesTheBehaviour) {
   watch.run_until(3.0);
   EXPECT_LT(watch.reaction_started(), 0.0);
   testing::command(watch.session, "p", "behaviour surprised");
-  EXPECT_EQ(watch.person().behaviour.type, humans::BehaviourType::regular) << "a command acts at the next tick";
+  EXPECT_EQ(watch.person().reaction.behaviour.type, humans::BehaviourType::regular) << "a command acts at the next tick";
   watch.run_until(8.0);
-  EXPECT_EQ(watch.person().behaviour.type, humans::BehaviourType::surprised);
-  EXPECT_DOUBLE_EQ(watch.person().behaviour.detection_distance, 4.0);
+  EXPECT_EQ(watch.person().reaction.behaviour.type, humans::BehaviourType::surprised);
+  EXPECT_DOUBLE_EQ(watch.person().reaction.behaviour.detection_distance, 4.0);
   EXPECT_GE(watch.reaction_started(), 3.0);
   EXPECT_THROW(testing::command(watch.session, "p", "behaviour grumpy"), core::Error);
 }

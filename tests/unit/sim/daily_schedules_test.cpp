@@ -59,16 +59,16 @@ TEST(DailySchedules, AWeeksPresenceMatchesTheFamilysTables) {
       const scenario::AgentDef& def = model->agents[person];
       if (def.daily_schedule < 0) continue;
       const AgentState& self = session.state().agents[person];
-      ASSERT_GE(self.room, 0);
+      ASSERT_TRUE(self.living.room.valid());
       const std::vector<double>& row = model->daily_schedules[def.daily_schedule].presence[hour];
       auto& counts = tallies[person].by_row[row];
       counts.resize(row.size());
-      counts[self.room] += 1;
+      counts[self.living.room.value] += 1;
       tallies[person].samples += 1;
       // At a spot of the room of their stay (not yet gone from the last room's, not still on the way).
-      const auto& spots = model->rooms[self.room].spots;
-      const bool reserved_here = std::find(spots.begin(), spots.end(), self.reserved_location) != spots.end();
-      if (reserved_here && (self.position - model->locations[self.reserved_location].pose.position()).norm() < 0.5) tallies[person].at_a_spot += 1;
+      const auto& spots = model->rooms[self.living.room.value].spots;
+      const bool reserved_here = std::find(spots.begin(), spots.end(), self.reservation.location.value) != spots.end();
+      if (reserved_here && (self.position - model->locations[self.reservation.location.value].pose.position()).norm() < 0.5) tallies[person].at_a_spot += 1;
     }
   }
   for (std::size_t person = 0; person < model->agents.size(); ++person) {
@@ -120,12 +120,12 @@ TEST(DailySchedules, StaysEndWithTheirHourAndNobodyWalksOffSeated) {
     }
     for (std::size_t person = 0; person < model->agents.size(); ++person) {
       const AgentState& self = session.state().agents[person];
-      if (self.motion_released_tick >= 0 && released[person] != self.motion_released_tick) {
-        EXPECT_EQ(scenario::posture_at(*self.motion, self.motion->duration()), scenario::Posture::standing)
-            << model->agents[person].id << " walked off '" << self.motion->name() << "' at " << session.time();
-        if (self.motion->name() == "stand_up") stood_up_to_leave += 1;
+      if (self.animation.motion_released_tick >= 0 && released[person] != self.animation.motion_released_tick) {
+        EXPECT_EQ(scenario::posture_at(*self.animation.motion, self.animation.motion->duration()), scenario::Posture::standing)
+            << model->agents[person].id << " walked off '" << self.animation.motion->name() << "' at " << session.time();
+        if (self.animation.motion->name() == "stand_up") stood_up_to_leave += 1;
       }
-      released[person] = self.motion_released_tick;
+      released[person] = self.animation.motion_released_tick;
     }
   }
   EXPECT_GT(stays, 100);

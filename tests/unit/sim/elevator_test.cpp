@@ -129,7 +129,7 @@ TEST(Elevator, RidersGoInRideAndLeaveOnTheOtherFloor) {
   session_run.run();
   EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   EXPECT_LT(session.state().agents[0].position.x(), -3.5) << "ann is on floor 2";
-  EXPECT_EQ(session.state().agents[0].reserved_space, -1) << "the cabin slot was released when the door closed";
+  EXPECT_EQ(session.state().agents[0].reservation.space.value, -1) << "the cabin slot was released when the door closed";
 }
 
 TEST(Elevator, DoorWaitsForARiderOnTheWay) {
@@ -148,7 +148,7 @@ TEST(Elevator, DoorWaitsForARiderOnTheWay) {
   while (!session.state().finished) {
     session_run.tick();
     const AgentState& bo = session.state().agents[1];
-    if (boarded < 0.0 && !bo.navigating && bo.position.x() < 1.0) boarded = session.time();
+    if (boarded < 0.0 && !bo.navigation.under_way && bo.position.x() < 1.0) boarded = session.time();
     for (const Event& event : session.state().events) {
       const auto* door = event.as<events::DoorState>();
       if (closing < 0.0 && door && door->state == DoorPhase::closing) closing = event.time;

@@ -62,7 +62,7 @@ TEST(Sitting, ThePersonReachesTheSeatAndSitsOnIt) {
   while (event_time<events::SatDown>(session, "p") < 0 && session.time() < 30) session.tick();
   ASSERT_GE(event_time<events::SatDown>(session, "p"), 0.0) << "never sat down";
   const AgentState& self = session.state().agents[p];
-  EXPECT_EQ(self.seat_phase, SeatPhase::seated);
+  EXPECT_EQ(self.seating.phase, SeatPhase::seated);
   EXPECT_NEAR((self.position - scenario::seat_spot(seat)).norm(), 0.0, 1e-9);
   EXPECT_NEAR(core::wrap_angle(self.heading - seat.pose.theta), 0.0, 1e-6);
   // The body rests on the seat: the hips over its centre, at sitting height.
@@ -84,7 +84,7 @@ TEST(Sitting, ThePersonStandsUpAndStepsOffBeforeWalkingOn) {
   EXPECT_GE(stood - sat, 3.0 + humans::builtin_motion("stand_up")->duration() - 1e-9) << "rests 3 s, then stands up";
   EXPECT_TRUE(session.state().finished) << "walked to (8, 8) after leaving the seat";
   EXPECT_LT((session.state().agents[p].position - Vec2(8, 8)).norm(), scenario::kDefaultGoalRadius + 0.05);
-  EXPECT_EQ(session.state().agents[p].seat, -1);
+  EXPECT_EQ(session.state().agents[p].seating.seat, sim::SeatIndex());
 }
 
 TEST(Sitting, OnePersonPerSeat) {
@@ -126,7 +126,7 @@ TEST(Sitting, ASeatedPersonDoesNotTurnOnTheSeat) {
   while (session.state().current_step < 2 && session.time() < 30) session.tick();
   ASSERT_EQ(session.state().current_step, 2) << "looking and turning are over at once";
   run_until(session, session.time() + 1);
-  EXPECT_EQ(session.state().agents[p].seat_phase, SeatPhase::seated);
+  EXPECT_EQ(session.state().agents[p].seating.phase, SeatPhase::seated);
   EXPECT_NEAR(core::wrap_angle(session.state().agents[p].heading), 0.0, 1e-6) << "still facing the seat's way";
 }
 
@@ -168,13 +168,13 @@ TEST(Carrying, ThePersonPicksTheCupUpCarriesItInTheHandAndPutsItDown) {
   EXPECT_LT((hand - on_table).norm(), 0.1) << "the hand is at the cup when it takes it: " << hand.transpose() << " vs " << on_table.transpose();
   // Carried: it goes where the hand goes.
   for (int k = 0; k < 120; ++k) session.tick();
-  EXPECT_EQ(session.state().agents[p].carried_object, 0);
+  EXPECT_EQ(session.state().agents[p].carrying.object.value, 0);
   EXPECT_LT((session.state().objects[0].pose.translation() - wrist()).norm(), kGripOffset + 1e-6);
   EXPECT_GT((session.state().objects[0].pose.translation() - on_table).norm(), 0.5) << "it left the table with the person";
   run_until(session, 40);
   ASSERT_GE(event_time<events::PutDown>(session, "p"), 0.0) << "never put the cup down";
   EXPECT_TRUE(session.state().finished);
-  EXPECT_EQ(session.state().agents[p].carried_object, -1);
+  EXPECT_EQ(session.state().agents[p].carrying.object.value, -1);
   const Eigen::Vector3d rests = session.state().objects[0].pose.translation();
   EXPECT_NEAR(rests.x(), 2.5, 0.01);
   EXPECT_NEAR(rests.y(), 8.5, 0.01);
@@ -217,7 +217,7 @@ TEST(Carrying, ASecondPersonWaitsForTheCup) {
   ASSERT_GE(p_put, 0.0);
   ASSERT_GE(q_took, 0.0);
   EXPECT_GT(q_took, p_put);
-  EXPECT_EQ(session.state().agents[session.index_of(session.agent_id("q"))].carried_object, 0);
+  EXPECT_EQ(session.state().agents[session.index_of(session.agent_id("q"))].carrying.object.value, 0);
 }
 
 TEST(Carrying, ObjectsAreCheckedAtLoad) {

@@ -103,9 +103,9 @@ TEST(StateHash, EveryMemberOfTheStateCounts) {
     change(changed);
     EXPECT_NE(state_hash(changed), before) << what;
   };
-  differs("goal", [](State& s) { s.agents[0].goal.x() += 1e-12; });
-  differs("target_heading", [](State& s) { s.agents[0].target_heading = s.agents[0].target_heading.value_or(0.0) + 0.5; });
-  differs("hold", [](State& s) { s.agents[0].hold = Vec2(1, 2); });
+  differs("goal", [](State& s) { s.agents[0].navigation.goal.x() += 1e-12; });
+  differs("target_heading", [](State& s) { s.agents[0].attitude.target_heading = s.agents[0].attitude.target_heading.value_or(0.0) + 0.5; });
+  differs("hold", [](State& s) { s.agents[0].navigation.hold = Vec2(1, 2); });
   differs("an event", [&](State& s) { emit(*loaded.model, s, "y", events::Entered{}); s.events.pop_back(); });
   const auto digest_after = [&](EventData data) {
     State changed = state;

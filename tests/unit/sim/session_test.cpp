@@ -199,8 +199,8 @@ TEST(Session, SocialSpaceSlotsAreTakenInOrder) {
   // cat stands within two radii of slot 2 (6, 8)? No: 2.5 m away, so slots 0 and 1 go to ana and ben.
   EXPECT_LE((session.state().agents[0].position - Vec2(4, 8)).norm(), 0.2 + 1e-9);
   EXPECT_LE((session.state().agents[1].position - Vec2(5, 8)).norm(), 0.2 + 1e-9);
-  EXPECT_EQ(session.state().agents[0].reserved_slot, 0);
-  EXPECT_EQ(session.state().agents[1].reserved_slot, 1);
+  EXPECT_EQ(session.state().agents[0].reservation.slot.value, 0);
+  EXPECT_EQ(session.state().agents[1].reservation.slot.value, 1);
 }
 
 TEST(Session, OccupiedSlotIsSkipped) {
@@ -228,7 +228,7 @@ TEST(Session, ALocationHoldsOnePerson) {
   while (!session.state().finished) {
     session.tick();
     const State& state = session.state();
-    if (state.current_step == 1 && state.agents[0].reserved_location == 0) {
+    if (state.current_step == 1 && state.agents[0].reservation.location.value == 0) {
       ben_closest_while_ana_there = std::min(ben_closest_while_ana_there, (state.agents[1].position - Vec2(5, 8)).norm());
     }
   }
@@ -432,7 +432,7 @@ TEST(Groups, GroupsFormAndDismantleAndTakeSlots) {
   session_run.run();
   EXPECT_EQ(session.state().termination, sim::Termination::scenario_end);
   std::set<int> slots;
-  for (int a = 0; a < 3; ++a) slots.insert(session.state().agents[a].reserved_slot);
+  for (int a = 0; a < 3; ++a) slots.insert(session.state().agents[a].reservation.slot.value);
   EXPECT_EQ(slots, (std::set<int>{0, 1, 2})) << "one slot per member";
   EXPECT_EQ(events_of<sim::events::GroupFormed>(session).size(), 1u);
   EXPECT_EQ(events_of<sim::events::GroupDismantled>(session).size(), 1u);

@@ -22,15 +22,15 @@ TEST(Walking, APersonPushedFarOffTheirLegPlansAgainRatherThanWalkBackToItsStart)
   session.tick();
   State state = session.state();
   AgentState& ana = state.agents[0];
-  ASSERT_TRUE(ana.navigating);
-  ASSERT_EQ(ana.path.size(), 1u) << "a straight leg from the start to the goal";
-  const Vec2 leg_start = ana.leg_start;
+  ASSERT_TRUE(ana.navigation.under_way);
+  ASSERT_EQ(ana.navigation.path.size(), 1u) << "a straight leg from the start to the goal";
+  const Vec2 leg_start = ana.navigation.leg_start;
   ana.position = {2.5, 4.6};  // behind the table (4.4..5.6 x 4.6..5.4) from the goal, the leg's start in sight
   ASSERT_GT((ana.position - leg_start).norm(), kCornerReturnReach);
   state.tick += 60;  // past kReplanInterval since the plan
   WalkingBuffers buffers(*model);
   walk(*model, state, buffers);
-  for (const Vec2& waypoint : ana.path) EXPECT_GT((waypoint - leg_start).norm(), 1.0) << "walks back to where the leg began";
+  for (const Vec2& waypoint : ana.navigation.path) EXPECT_GT((waypoint - leg_start).norm(), 1.0) << "walks back to where the leg began";
   EXPECT_GT(ana.velocity.x(), 0.0) << "heads on towards the goal";
 }
 

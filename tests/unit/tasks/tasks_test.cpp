@@ -386,9 +386,9 @@ TEST(MirrorGesture, TheHumanPointsToASideDrawnFromTheSeedAndFacesTheRobot) {
     const auto& person = run.session.state().agents[model->task->human];
     EXPECT_NEAR((person.position - core::Vec2(2, 0)).norm(), 0.0, 1e-9);
     EXPECT_NEAR(std::abs(core::wrap_angle(person.heading)), std::numbers::pi, 1e-6);
-    ASSERT_NE(person.motion, nullptr);
+    ASSERT_NE(person.animation.motion, nullptr);
     const std::string side = run.environment.info()["human_points"];
-    EXPECT_EQ(person.motion->name(), "point_" + side);
+    EXPECT_EQ(person.animation.motion->name(), "point_" + side);
     sides.insert(side);
   }
   EXPECT_EQ(sides, (std::set<std::string>{"left", "right"}));
