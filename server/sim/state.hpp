@@ -56,7 +56,7 @@ enum class ReachPhase { none, walking, reaching, done };
 using AgentIndex = core::Index<struct AgentList>;
 using LocationIndex = core::Index<struct LocationList>;
 using SpaceIndex = core::Index<struct SocialSpaceList>;
-using SlotIndex = core::Index<struct SlotList>;  ///< a slot of a location
+using SlotIndex = core::Index<struct SlotList>;  ///< a slot of a social space
 using QueueIndex = core::Index<struct QueueList>;
 using ActivityIndex = core::Index<struct ActivityList>;  ///< an activity of the person's activity model
 using RoomIndex = core::Index<struct RoomList>;          ///< a room of the person's daily schedule
@@ -105,11 +105,11 @@ struct Attitude {
   }
 };
 
-/// The spot a person holds: a location's slot, or a place in a social space.
+/// The spot a person holds: a location, or a slot of a social space (a cabin, a group's circle).
 struct Reservation {
   LocationIndex location;
   SpaceIndex space;
-  SlotIndex slot;  ///< of `location` or `space`
+  SlotIndex slot;  ///< of `space`
 
   auto fields() const { return std::tie(location, space, slot); }
 };
@@ -212,16 +212,9 @@ struct AgentState {
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
   auto fields() const {
-    return std::tie(active, left, position, velocity, heading, preferred_speed, rooted, program, action_started, wait_until_tick,
-                    navigation.under_way, navigation.goal, navigation.goal_radius, navigation.goal_heading, navigation.path,
-                    navigation.path_index, navigation.leg_start, navigation.replan_at_tick, navigation.planned_tick,
-                    navigation.nearest_to_goal, navigation.progress_tick, navigation.stuck_reported, navigation.hold,
-                    attitude.follow_leader, attitude.formation_offset, attitude.harass_robot, attitude.harass_distance, awaited_request,
-                    attitude.watched_robot, attitude.watch_distance, attitude.watch_until_tick, attitude.target_heading,
-                    attitude.look_at_agent, reservation.location, reservation.space, reservation.slot, queueing.queue, queueing.place,
-                    queueing.served, answering_request, commanded_velocity, animation.gait_distance, animation.turn_rate, reaction,
-                    living, animation.motion, animation.motion_tick, animation.motion_released_tick, animation.step_phase, seating,
-                    carrying);
+    return std::tie(active, left, position, velocity, heading, preferred_speed, rooted, commanded_velocity, program, action_started,
+                    wait_until_tick, awaited_request, answering_request, navigation, attitude, reservation, queueing, reaction, living,
+                    animation, seating, carrying);
   }
 };
 

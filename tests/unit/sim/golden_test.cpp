@@ -106,6 +106,15 @@ TEST(StateHash, EveryMemberOfTheStateCounts) {
   differs("goal", [](State& s) { s.agents[0].navigation.goal.x() += 1e-12; });
   differs("target_heading", [](State& s) { s.agents[0].attitude.target_heading = s.agents[0].attitude.target_heading.value_or(0.0) + 0.5; });
   differs("hold", [](State& s) { s.agents[0].navigation.hold = Vec2(1, 2); });
+  // A member of each group of an agent's state.
+  differs("formation_offset", [](State& s) { s.agents[0].attitude.formation_offset.y() += 0.1; });
+  differs("a reserved slot", [](State& s) { s.agents[0].reservation.slot = SlotIndex(s.agents[0].reservation.slot.value + 1); });
+  differs("served", [](State& s) { s.agents[0].queueing.served = !s.agents[0].queueing.served; });
+  differs("personal_space", [](State& s) { s.agents[0].reaction.personal_space -= 0.01; });
+  differs("stay_until_tick", [](State& s) { s.agents[0].living.stay_until_tick += 1; });
+  differs("step_phase", [](State& s) { s.agents[0].animation.step_phase += 0.1; });
+  differs("seat_front", [](State& s) { s.agents[0].seating.front.x() += 0.1; });
+  differs("reach phase", [](State& s) { s.agents[0].carrying.phase = ReachPhase::reaching; });
   differs("an event", [&](State& s) { emit(*loaded.model, s, "y", events::Entered{}); s.events.pop_back(); });
   const auto digest_after = [&](EventData data) {
     State changed = state;
