@@ -13,6 +13,7 @@
 #include "http/session_limits.hpp"
 #include "http/session_inputs.hpp"
 #include "http/session_views.hpp"
+#include "live/watcher.hpp"
 #include "sim/camera_scene.hpp"
 
 namespace hrisim::http {
@@ -35,54 +36,34 @@ class SessionSocket : public WebSocketPeer {
   };
   static const std::array<MessageType, 13> kMessageTypes;
 
-  /// Holds no reference to the session: a deleted one is freed, and the socket then closes.
+  /// Watches the session (live::Watcher): a deleted one is freed, and the socket then closes.
   SessionSocket(std::shared_ptr<Registry> registry, const std::shared_ptr<LiveSession>& live, Caller caller)
-      : registry_(std::move(registry)), id_(live->id), clients_(live->clients), caller_(std::move(caller)) {
-    ++*clients_;
-  }
-  ~SessionSocket() override {
-    --*clients_;
-    registry_->find_if_live(id_);  // marks it used: an unwatched grace counts from the close
-  }
+      : registry_(registry), watcher_(std::move(registry), *live), caller_(std::move(caller)) {}
 
-  std::string close_reason() const override { return registry_->contains(id_) ? "" : "session " + id_ + " ended"; }
+  std::string close_reason() const override { return watcher_.session_live() ? "" : "session " + watcher_.session_id() + " ended"; }
 
   Response on_message(const std::string& text) override;
 
   double push_rate() const override { return rate_; }
 
   std::vector<Response> push_frames(std::uint64_t dropped) override {
-    const std::shared_ptr<LiveSession> live = registry_->find_if_live(id_);
-    if (!live) {
-      rate_ = 0.0;  // the session is gone
-      return {};
-    }
-    std::unique_lock lock(live->mutex, std::try_to_lock);
-    if (!lock) return {};  // stepping: the next frame will show it
-    const auto& events = live->session().state().events;
-    const bool reset = live->generation != pushed_generation_;
-    if (reset) {
-      events_pushed_ = 0;
-      pushed_generation_ = live->generation;
-    }
-    const std::int64_t tick = live->session().state().tick;
-    if (!reset && tick == pushed_tick_ && events_pushed_ == events.size()) return {};  // nothing new
-    json frame = state_of(*live, std::numeric_limits<std::int64_t>::max());
-    json fresh = json::array();
-    for (std::size_t e = events_pushed_; e < events.size(); ++e) fresh.push_back(event_json(events[e]));
-    frame["events"] = fresh;
-    frame["dropped_frames"] = dropped;
-    frame["type"] = "state_frame";
-    events_pushed_ = events.size();
-    pushed_tick_ = tick;
-    std::vector<Response> frames{Response::json(200, frame)};
-    if (camera_) {
+    std::vector<Response> frames;
+    const live::Watcher::Outcome outcome = watcher_.show_news([&](const live::Watcher::News& news) {
+      json frame = state_of(news.session, std::numeric_limits<std::int64_t>::max());
+      json fresh = json::array();
+      for (const sim::Event& event : news.events) fresh.push_back(event_json(event));
+      frame["events"] = fresh;
+      frame["dropped_frames"] = dropped;
+      frame["type"] = "state_frame";
+      frames.push_back(Response::json(200, frame));
+      if (!camera_) return;
       try {
-        frames.push_back(camera_frame(live->session(), camera_->name, camera_->width, camera_->height, camera_->ids));
+        frames.push_back(camera_frame(news.session.session(), camera_->name, camera_->width, camera_->height, camera_->ids));
       } catch (const core::Error&) {
         camera_.reset();  // the robot carrying it left the session
       }
-    }
+    });
+    if (outcome == live::Watcher::Outcome::gone) rate_ = 0.0;
     return frames;
   }
 
@@ -203,8 +184,7 @@ class SessionSocket : public WebSocketPeer {
   }
 
   std::shared_ptr<Registry> registry_;
-  std::string id_;
-  std::shared_ptr<std::atomic<int>> clients_;  ///< the session's count of connected clients, shared with it
+  live::Watcher watcher_;
   Caller caller_;
   // Touched on the connection's strand only.
   double rate_ = 0.0;              ///< state frames per second subscribed to
@@ -214,9 +194,6 @@ class SessionSocket : public WebSocketPeer {
     bool ids = false;
   };
   std::optional<CameraSubscription> camera_;  ///< a camera frame follows each state frame
-  std::size_t events_pushed_ = 0;  ///< events before this index were in a frame
-  std::int64_t pushed_tick_ = -1;
-  std::uint64_t pushed_generation_ = 0;  ///< the session's resets when the last frame was pushed
 };
 
 const std::array<SessionSocket::MessageType, 13> SessionSocket::kMessageTypes{{
@@ -241,7 +218,7 @@ Response SessionSocket::on_message(const std::string& text) {
     message.body = text;
     json body = json_object_body(message);
     const std::string type = body.contains("type") && body["type"].is_string() ? body["type"].get<std::string>() : "";
-    const auto live = registry_->find(id_, caller_);
+    const auto live = registry_->find(watcher_.session_id(), caller_);
     const auto found = std::find_if(kMessageTypes.begin(), kMessageTypes.end(), [&](const MessageType& known) { return known.name == type; });
     if (found == kMessageTypes.end()) {
       std::string names;
