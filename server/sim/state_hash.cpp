@@ -22,7 +22,11 @@ static_assert(sizeof(ElevatorState) == 112, "ElevatorState changed: list every m
 static_assert(sizeof(Message) == 64, "Message changed: list every member in its fields()");
 static_assert(sizeof(QueueState) == 72, "QueueState changed: list every member in its fields()");
 static_assert(sizeof(ObjectState) == 176, "ObjectState changed: list every member in its fields()");
-static_assert(sizeof(State) == 608, "State changed: list every member in its fields()");
+static_assert(sizeof(NavigationTaskState) == 80, "NavigationTaskState changed: list every member in its fields()");
+static_assert(sizeof(PickAndPlaceState) == 40, "PickAndPlaceState changed: list every member in its fields()");
+static_assert(sizeof(MirrorGestureState) == 48, "MirrorGestureState changed: list every member in its fields()");
+static_assert(sizeof(TaskState) == 168, "TaskState changed: list every member in its fields()");
+static_assert(sizeof(State) == 776, "State changed: list every member in its fields()");
 
 template <class T>
 concept WithFields = requires(const T& value) { value.fields(); };
