@@ -276,7 +276,7 @@ struct State {
   TaskState task;
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, queues, requests, next_request_id, scheduled, events, events_digest, commanded, random, attraction_random, robots, objects, planning_history, time_limit, clock_start, sounds, speakers, finished, termination); }
+  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, queues, requests, next_request_id, scheduled, events, events_digest, commanded, random, attraction_random, robots, objects, planning_history, time_limit, clock_start, sounds, speakers, finished, termination, task); }
 };
 
 /// Hash of everything in the state, bit for bit.

@@ -1,7 +1,7 @@
 #pragma once
 // The benchmark task's part of the state: what its episode has drawn, counted and measured so far. The
 // task itself (tasks::Task) is configuration only — the model's TaskSettings, its spaces — so a copy
-// of the state (a checkpoint) carries everything the task goes on from.
+// of the state (a checkpoint) carries everything the task goes on from, and the state hash covers it.
 // Plain data: the tasks (server/tasks/) give it its meaning.
 #include <string>
 #include <tuple>
