@@ -6,7 +6,6 @@
 // episode (episode/episode.hpp) runs the ticks; the environment gives actions and measures.
 #include <memory>
 #include <optional>
-#include <utility>
 #include <vector>
 
 #include "tasks/task.hpp"
@@ -14,16 +13,14 @@
 namespace hrisim::tasks {
 
 /// The task's bookkeeping is in the session's state (sim::TaskState), so an environment is its task
-/// alone: an episode's copies (checkpoints, rewinds) share it, each with its own session.
+/// alone: a copy of it shares the task, and goes on with a copy of the session (an episode made from
+/// a checkpoint, whose session copy holds the task's state).
 class Environment {
  public:
   /// Sets the episode up on a fresh session (the human's random place, gesture or walking style,
   /// drawn from the session's seed). Throws core::Error(conflict) when the scenario has no robot that
   /// can act.
   explicit Environment(sim::Session& session);
-  /// The environment of a copy of an episode: its session (a copy of the episode's, task state
-  /// included) goes on with the same task, set up already.
-  explicit Environment(std::shared_ptr<const Task> task) : task_(std::move(task)) {}
 
   const Space& observation_space() const { return task_->observation_space(); }
   const Space& action_space() const { return task_->action_space(); }
