@@ -64,7 +64,7 @@ Episode::Episode(std::shared_ptr<const scenario::Model> model, std::uint64_t see
     // that cannot set its episode up is the caller's error.
     if (scenario.task) throw;
   }
-  if (environment_ && environment_->terminated()) session_->end_by_task();
+  if (environment_ && environment_->terminated(*session_)) session_->end_by_task();
   if (settings.record) recorder_.emplace(*session_, settings.recording);
 }
 
@@ -256,7 +256,7 @@ Episode::Episode(const Episode& from, const Checkpoint& checkpoint)
       settings_(from.settings_),
       last_serial_(from.last_serial_),
       session_(std::make_unique<sim::Session>(from.model_, checkpoint.session, from.session().state().events)),
-      environment_(checkpoint.environment),
+      environment_(from.environment_),  // the same task: its state is in the session copy
       env_steps_(checkpoint.env_steps),
       reward_(checkpoint.reward),
       last_reward_(checkpoint.last_reward),
@@ -270,7 +270,7 @@ void Episode::keep_checkpoint() {
   std::optional<sim::Session::Copy> copy = session_->copy();
   if (!copy) return;  // Bullet's world holds history now: tried again after the next env step (at the latest when it is built again)
   auto checkpoint = std::make_shared<Checkpoint>(
-      Checkpoint{std::move(*copy), environment_, tick, env_steps_, reward_, last_reward_, log_.size() - 1, log_.back().count, 0});
+      Checkpoint{std::move(*copy), tick, env_steps_, reward_, last_reward_, log_.size() - 1, log_.back().count, 0});
   checkpoint->bytes = kCheckpointBytesPerStateByte * sim::state_data_bytes(checkpoint->session.state) + sizeof(Checkpoint);
   fit(std::move(checkpoint));
   next_checkpoint_ = tick + checkpoint_every_;
@@ -326,7 +326,7 @@ double Episode::end_step() {
   add_to(reward_, reward);
   last_reward_ = reward.total;
   ++env_steps_;
-  if (environment_->terminated()) session_->end_by_task();
+  if (environment_->terminated(*session_)) session_->end_by_task();
   return reward.total;
 }
 

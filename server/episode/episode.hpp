@@ -33,8 +33,8 @@
 
 namespace hrisim::episode {
 
-/// A live session's episode keeps a checkpoint (a copy of the session, its environment and its place in
-/// the input log) about this often, simulated seconds: a seek back simulates again at most this much
+/// A live session's episode keeps a checkpoint (a copy of the session, the task's state with it, and its
+/// place in the input log) about this often, simulated seconds: a seek back simulates again at most this much
 /// from the checkpoint before it (the elevator: 600 ticks, ≈ 25 ms) instead of everything from tick 0,
 /// while copying the state that rarely costs well under 1% of stepping (bench/RESULTS.md, seek_bench).
 /// The interval at which a physics world with movable objects is built again from the state, so that
@@ -148,8 +148,7 @@ class Episode {
   /// The episode at a tick between env steps, and where its input log was then: entries before
   /// `log_entry` all given, and the first `log_done` env steps or ticks of that one.
   struct Checkpoint {
-    sim::Session::Copy session;
-    std::optional<tasks::Environment> environment;
+    sim::Session::Copy session;  ///< the task's bookkeeping included (sim::TaskState): the task itself is shared
     std::int64_t tick = 0;
     std::int64_t env_steps = 0;
     tasks::Reward reward;

@@ -78,8 +78,8 @@ void write_status(core::JsonWriter& out, const LiveSession& live) {
   current_step();
   out.key("task");
   if (session.model().task && live.environment()) {
-    out.begin_object().key("name").value(session.model().task->name).key("step_ticks").value(live.environment()->step_ticks());
-    out.key("terminated").value(live.environment()->terminated()).end_object();
+    out.begin_object().key("name").value(session.model().task->name).key("step_ticks").value(live.environment()->step_ticks(session));
+    out.key("terminated").value(live.environment()->terminated(session)).end_object();
   } else {
     out.null();
   }
@@ -279,7 +279,7 @@ void write_observation(core::JsonWriter& out, const LiveSession& live) {
     out.null();
   }
   out.key("info").begin_object().key("tick").value(session.state().tick).key("time").value(session.time());
-  if (live.environment()) out.members(live.environment()->info());
+  if (live.environment()) out.members(live.environment()->info(session));
   out.end_object();
 }
 

@@ -117,6 +117,9 @@ class Session {
   humans::BodyCapsules human_body(int agent) const;
 
   const State& state() const { return state_; }
+  /// The benchmark task's part of the state, for the task (tasks::Task) to keep its bookkeeping in:
+  /// what it drew, counted and measured. Nothing in the session reads it.
+  TaskState& task_state() { return state_.task; }
   const scenario::Model& model() const { return *model_; }
   const std::shared_ptr<const scenario::Model>& shared_model() const { return model_; }
   double time() const { return time_of(*model_, state_); }

@@ -1,7 +1,8 @@
 #pragma once
 // Everything about a running scenario that changes: agents, choreography progress, topics, robot
-// requests, events, robots' runtimes, movable objects, the planner's history. The Model it runs is
-// shared and immutable; the session's engines (the Bullet world, the crowd solver) are set from it.
+// requests, events, robots' runtimes, movable objects, the planner's history, the benchmark task's
+// bookkeeping. The Model it runs is shared and immutable; the session's engines (the Bullet world,
+// the crowd solver) are set from it.
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -19,6 +20,7 @@
 #include "sensors/sound.hpp"
 #include "sim/event_types.hpp"
 #include "sim/robot_runtime.hpp"
+#include "sim/task_state.hpp"
 #include "world/path_planner.hpp"
 
 namespace hrisim::sim {
@@ -345,9 +347,12 @@ struct State {
   std::vector<int> speakers;
   bool finished = false;
   Termination termination = Termination::none;  ///< why it finished
+  /// The benchmark task's bookkeeping (its random stream, what it counted and measured): a copy of the
+  /// state carries it, so the task itself is configuration only.
+  TaskState task;
 
   /// Every member, in order: the state hash (and anything else that must see all of it) walks these.
-  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, queues, requests, next_request_id, scheduled, events, events_digest, commanded, random, attraction_random, robots, objects, planning_history, time_limit, clock_start, sounds, speakers, finished, termination); }
+  auto fields() const { return std::tie(tick, agents, current_step, steps, topics, inbox, groups, doors, elevators, queues, requests, next_request_id, scheduled, events, events_digest, commanded, random, attraction_random, robots, objects, planning_history, time_limit, clock_start, sounds, speakers, finished, termination, task); }
 };
 
 /// Hash of everything in the state, bit for bit.

@@ -2,6 +2,8 @@
 
 #include <cstdio>
 #include <type_traits>
+#include <utility>
+#include <variant>
 
 #include "core/state_hash.hpp"
 
@@ -31,7 +33,11 @@ static_assert(sizeof(ElevatorState) == 112, "ElevatorState changed: list every m
 static_assert(sizeof(Message) == 64, "Message changed: list every member in its fields()");
 static_assert(sizeof(QueueState) == 72, "QueueState changed: list every member in its fields()");
 static_assert(sizeof(ObjectState) == 176, "ObjectState changed: list every member in its fields()");
-static_assert(sizeof(State) == 608, "State changed: list every member in its fields()");
+static_assert(sizeof(NavigationTaskState) == 80, "NavigationTaskState changed: list every member in its fields()");
+static_assert(sizeof(PickAndPlaceState) == 40, "PickAndPlaceState changed: list every member in its fields()");
+static_assert(sizeof(MirrorGestureState) == 48, "MirrorGestureState changed: list every member in its fields()");
+static_assert(sizeof(TaskState) == 168, "TaskState changed: list every member in its fields()");
+static_assert(sizeof(State) == 776, "State changed: list every member in its fields()");
 
 template <class T>
 concept WithFields = requires(const T& value) { value.fields(); };
@@ -72,6 +78,13 @@ void put(Hasher& hash, const world::PlanningHistory& history) { history.hash(has
 void put(Hasher& hash, const std::vector<Event>& events) { hash.add(static_cast<std::uint64_t>(events.size())); }
 /// A command's action (an input, fixed once given).
 void put(Hasher& hash, const scenario::Action& action);
+/// The empty alternative of a variant (no benchmark task's state): its index says it all.
+void put(Hasher&, std::monostate) {}
+
+template <class A, class B>
+void put(Hasher& hash, const std::pair<A, B>& pair);
+template <class... T>
+void put(Hasher& hash, const std::variant<T...>& value);
 
 template <class T>
 void put(Hasher& hash, const std::optional<T>& value);
@@ -106,6 +119,17 @@ void put(Hasher& hash, const std::map<K, V>& values) {
     put(hash, key);
     put(hash, value);
   }
+}
+template <class A, class B>
+void put(Hasher& hash, const std::pair<A, B>& pair) {
+  put(hash, pair.first);
+  put(hash, pair.second);
+}
+/// Which alternative it holds, then that alternative.
+template <class... T>
+void put(Hasher& hash, const std::variant<T...>& value) {
+  hash.add(static_cast<std::uint64_t>(value.index()));
+  std::visit([&hash](const auto& alternative) { put(hash, alternative); }, value);
 }
 template <WithFields T>
 void put(Hasher& hash, const T& value) {

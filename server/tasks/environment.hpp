@@ -12,15 +12,15 @@
 
 namespace hrisim::tasks {
 
+/// The task's bookkeeping is in the session's state (sim::TaskState), so an environment is its task
+/// alone: a copy of it shares the task, and goes on with a copy of the session (an episode made from
+/// a checkpoint, whose session copy holds the task's state).
 class Environment {
  public:
   /// Sets the episode up on a fresh session (the human's random place, gesture or walking style,
   /// drawn from the session's seed). Throws core::Error(conflict) when the scenario has no robot that
   /// can act.
   explicit Environment(sim::Session& session);
-  /// The same environment as it is now (its task's bookkeeping), for a copy of its episode.
-  Environment(const Environment& other) : task_(other.task_->clone()), terminated_(other.terminated_) {}
-  Environment& operator=(const Environment&) = delete;
 
   const Space& observation_space() const { return task_->observation_space(); }
   const Space& action_space() const { return task_->action_space(); }
@@ -31,21 +31,23 @@ class Environment {
   /// Starts an env step: gives `action` (when there is one) and returns the ticks the step lasts (the
   /// task's frame skip). Throws core::Error(bad_request) naming the value that is wrong (pointer
   /// "/action/i") for a wrong length or a value that is not finite; values out of bounds are clipped.
-  int begin_step(sim::Session& session, const std::optional<std::vector<double>>& action);
+  int begin_step(sim::Session& session, const std::optional<std::vector<double>>& action) const;
   /// After every tick of a step (e.g. counting the obstacles touched).
-  void after_tick(const sim::Session& session) { task_->after_tick(session); }
-  /// Ends a step once its ticks are done (or the session finished): its reward, and the task's ending.
-  Reward end_step(const sim::Session& session);
+  void after_tick(sim::Session& session) const { task_->after_tick(session); }
+  /// Ends a step once its ticks are done (or the session finished): its reward (its terms kept as the
+  /// last step's), and the task's ending.
+  Reward end_step(sim::Session& session) const;
   /// Ticks a step without a new action lasts: the frame skip (pick_and_place: its last step's).
-  int step_ticks() const { return task_->idle_ticks(); }
+  int step_ticks(const sim::Session& session) const { return task_->idle_ticks(session); }
   /// The task's ending (e.g. the robot reached the human); the time limit truncates instead.
-  bool terminated() const { return terminated_; }
+  bool terminated(const sim::Session& session) const { return session.state().task.terminated; }
   /// The last step's reward terms and measures.
-  nlohmann::json info() const { return task_->info(); }
+  nlohmann::json info(const sim::Session& session) const { return task_->info(session); }
+  /// The task, configuration only: what an episode's copies share.
+  const std::shared_ptr<const Task>& task() const { return task_; }
 
  private:
-  std::unique_ptr<Task> task_;
-  bool terminated_ = false;
+  std::shared_ptr<const Task> task_;
 };
 
 }  // namespace hrisim::tasks

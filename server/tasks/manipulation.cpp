@@ -22,8 +22,7 @@ Eigen::Isometry3d palm_pose(const sim::Session& session, int robot) {
 
 }  // namespace
 
-PickAndPlace::PickAndPlace(const sim::Session& session)
-    : task_(*session.model().task), touches_(task_), ticks_(task_.frame_skip - task_.gripper_frames) {
+PickAndPlace::PickAndPlace(const sim::Session& session) : task_(*session.model().task), touches_(task_) {
   const scenario::AgentDef& robot = session.model().agents[task_.robot];
   const robots::RobotDescription& description = *robot.robot_model;
   const robots::Joint& gripper = description.joints[description.find_joint(description.gripper->joint)];
@@ -54,7 +53,15 @@ Eigen::Vector3d PickAndPlace::grasp_point(const sim::Session& session, int robot
   return palm_pose(session, robot) * (sum / static_cast<double>(fingers.size()));
 }
 
-void PickAndPlace::begin(sim::Session& session) { initial_height_ = session.object_pose(task_.object).translation().z(); }
+void PickAndPlace::begin(sim::Session& session) const {
+  sim::PickAndPlaceState& state = session.task_state().kind_state.emplace<sim::PickAndPlaceState>();
+  state.initial_height = session.object_pose(task_.object).translation().z();
+  state.step_ticks = task_.frame_skip - task_.gripper_frames;  // an arm step's, before any action
+}
+
+int PickAndPlace::idle_ticks(const sim::Session& session) const {
+  return std::get<sim::PickAndPlaceState>(session.state().task.kind_state).step_ticks;
+}
 
 std::vector<double> PickAndPlace::observe(const sim::Session& session) const {
   std::vector<double> observation = arm_positions(session, task_.robot);
@@ -69,35 +76,49 @@ std::vector<double> PickAndPlace::observe(const sim::Session& session) const {
   return observation;
 }
 
-int PickAndPlace::act(sim::Session& session, const std::vector<double>& action) {
+int PickAndPlace::act(sim::Session& session, const std::vector<double>& action) const {
+  int& ticks = std::get<sim::PickAndPlaceState>(session.task_state().kind_state).step_ticks;
   if (action[0] >= 0.0) {
     session.command_robot_gripper(session.agent_at(task_.robot), action[1] >= 0.0);
-    ticks_ = task_.gripper_frames;
+    ticks = task_.gripper_frames;
   } else {
     command_arm(session, task_.robot, action, 2, action_space_);
-    ticks_ = task_.frame_skip - task_.gripper_frames;
+    ticks = task_.frame_skip - task_.gripper_frames;
   }
-  return ticks_;
+  return ticks;
 }
 
-void PickAndPlace::after_tick(const sim::Session& session) { touches_.after_tick(session); }
+void PickAndPlace::after_tick(sim::Session& session) const { touches_.after_tick(session); }
 
-Reward PickAndPlace::reward(const sim::Session& session) {
+Reward PickAndPlace::reward(sim::Session& session) const {
+  sim::PickAndPlaceState& state = std::get<sim::PickAndPlaceState>(session.task_state().kind_state);
   const Eigen::Vector3d object = session.object_pose(task_.object).translation();
-  const double to_object = (grasp_point(session, task_.robot) - object).norm();
-  const double to_target = (object - task_.target).norm();
-  const std::vector<std::string> touched = touches_.take();
-  const double grasp = proximity_reward(to_object, task_.reward_range);
-  const double place = task_.place_weight * proximity_reward(to_target, task_.reward_range);
-  const double lift = lift_reward(object.z(), initial_height_);
+  state.gripper_object_distance = (grasp_point(session, task_.robot) - object).norm();
+  state.object_target_distance = (object - task_.target).norm();
+  state.held = runtime_of(session, task_.robot).held_object == task_.object;
+  const std::vector<std::string>& touched = touches_.end_step(session);
+  const double grasp = proximity_reward(state.gripper_object_distance, task_.reward_range);
+  const double place = task_.place_weight * proximity_reward(state.object_target_distance, task_.reward_range);
+  const double lift = lift_reward(object.z(), state.initial_height);
   const double collisions = obstacle_collision_reward(static_cast<int>(touched.size()), task_.obstacle_penalty);
-  terms_ = {{"gripper_object_distance", to_object}, {"object_target_distance", to_target}, {"gripper_object", grasp}, {"object_target", place},
-            {"lifting", lift}, {"collision_obstacle", collisions}, {"touched", touched},
-            {"held", runtime_of(session, task_.robot).held_object == task_.object}};
   return sum_of({{"gripper_object", grasp}, {"object_target", place}, {"lifting", lift}, {"collision_obstacle", collisions}});
 }
 
-MirrorGesture::MirrorGesture(const sim::Session& session) : task_(*session.model().task), random_(session.state().random.stream("task")) {
+nlohmann::json PickAndPlace::info(const sim::Session& session) const {
+  const sim::TaskState& task = session.state().task;
+  if (task.last_reward_terms.empty()) return nlohmann::json::object();  // no step ended yet
+  const sim::PickAndPlaceState& state = std::get<sim::PickAndPlaceState>(task.kind_state);
+  return {{"gripper_object_distance", state.gripper_object_distance},
+          {"object_target_distance", state.object_target_distance},
+          {"gripper_object", term(task.last_reward_terms, "gripper_object")},
+          {"object_target", term(task.last_reward_terms, "object_target")},
+          {"lifting", term(task.last_reward_terms, "lifting")},
+          {"collision_obstacle", term(task.last_reward_terms, "collision_obstacle")},
+          {"touched", task.touched_last_step},
+          {"held", state.held}};
+}
+
+MirrorGesture::MirrorGesture(const sim::Session& session) : task_(*session.model().task) {
   const scenario::AgentDef& robot = session.model().agents[task_.robot];
   std::vector<double> low, high;
   add_arm_limits(robot, low, high);
@@ -110,20 +131,22 @@ MirrorGesture::MirrorGesture(const sim::Session& session) : task_(*session.model
   image_ = ImageObservation{robot.id + "." + task_.camera, task_.image_width, task_.image_height};
 }
 
-void MirrorGesture::begin(sim::Session& session) {
+void MirrorGesture::begin(sim::Session& session) const {
   const scenario::Model& model = session.model();
   const sim::AgentState& robot = session.state().agents[task_.robot];
   const core::Vec2 at = robot.position + core::heading_vector(robot.heading) * task_.human_distance;
   const sim::AgentId human = session.agent_at(task_.human);
   session.place_agent(human, {at.x(), at.y(), core::wrap_angle(robot.heading + std::numbers::pi)});
   session.set_rooted(human, true);
-  side_ = random_.uniform() < 0.5 ? Side::left : Side::right;
+  sim::MirrorGestureState& state = session.task_state().kind_state.emplace<sim::MirrorGestureState>();
+  state.random = session.state().random.stream("task");
+  state.human_side = state.random.uniform() < 0.5 ? Side::left : Side::right;
   // She holds the gesture's last pose for the rest of the episode.
-  const std::string gesture = std::string("point_") + side_name(side_);
+  const std::string gesture = std::string("point_") + side_name(state.human_side);
   session.command_human(sim::motion_action(task_.human, gesture, task_.max_episode_length * model.dt), "motion " + gesture);
 }
 
-int MirrorGesture::act(sim::Session& session, const std::vector<double>& action) {
+int MirrorGesture::act(sim::Session& session, const std::vector<double>& action) const {
   command_arm(session, task_.robot, action, 0, action_space_);
   return task_.frame_skip;
 }
@@ -135,10 +158,17 @@ Side MirrorGesture::pointing_side(const sim::Session& session, int robot, int hu
   return towards_her_left >= reach ? Side::left : towards_her_left <= -reach ? Side::right : Side::none;
 }
 
-Reward MirrorGesture::reward(const sim::Session& session) {
-  const Side robot = pointing_side(session, task_.robot, task_.human, task_.pointing_reach);
-  terms_ = {{"human_points", side_name(side_)}, {"robot_points", side_name(robot)}};
-  return sum_of({{"mirror", mirror_reward(robot, side_)}});
+Reward MirrorGesture::reward(sim::Session& session) const {
+  sim::MirrorGestureState& state = std::get<sim::MirrorGestureState>(session.task_state().kind_state);
+  state.robot_side = pointing_side(session, task_.robot, task_.human, task_.pointing_reach);
+  return sum_of({{"mirror", mirror_reward(state.robot_side, state.human_side)}});
+}
+
+nlohmann::json MirrorGesture::info(const sim::Session& session) const {
+  const sim::TaskState& task = session.state().task;
+  if (task.last_reward_terms.empty()) return nlohmann::json::object();  // no step ended yet
+  const sim::MirrorGestureState& state = std::get<sim::MirrorGestureState>(task.kind_state);
+  return {{"human_points", side_name(state.human_side)}, {"robot_points", side_name(state.robot_side)}};
 }
 
 }  // namespace hrisim::tasks

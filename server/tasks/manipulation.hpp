@@ -22,24 +22,23 @@
 #include <string>
 #include <vector>
 
-#include "core/random.hpp"
 #include "tasks/rewards.hpp"
 #include "tasks/task.hpp"
 #include "tasks/task_support.hpp"
 
 namespace hrisim::tasks {
 
+/// Its state is sim::PickAndPlaceState.
 class PickAndPlace : public Task {
  public:
   explicit PickAndPlace(const sim::Session& session);
-  std::unique_ptr<Task> clone() const override { return std::make_unique<PickAndPlace>(*this); }
-  void begin(sim::Session& session) override;
+  void begin(sim::Session& session) const override;
   std::vector<double> observe(const sim::Session& session) const override;
-  int act(sim::Session& session, const std::vector<double>& action) override;
-  int idle_ticks() const override { return ticks_; }
-  void after_tick(const sim::Session& session) override;
-  Reward reward(const sim::Session& session) override;
-  nlohmann::json info() const override { return terms_; }
+  int act(sim::Session& session, const std::vector<double>& action) const override;
+  int idle_ticks(const sim::Session& session) const override;
+  void after_tick(sim::Session& session) const override;
+  Reward reward(sim::Session& session) const override;
+  nlohmann::json info(const sim::Session& session) const override;
 
   /// Midway between the gripper's fingers, in the map frame.
   static Eigen::Vector3d grasp_point(const sim::Session& session, int robot);
@@ -47,31 +46,24 @@ class PickAndPlace : public Task {
  private:
   const scenario::TaskSettings& task_;
   TouchCounter touches_;
-  int ticks_;  ///< of the last step
-  double initial_height_ = 0.0;
-  nlohmann::json terms_ = nlohmann::json::object();
 };
 
+/// Its state is sim::MirrorGestureState.
 class MirrorGesture : public Task {
  public:
   explicit MirrorGesture(const sim::Session& session);
-  std::unique_ptr<Task> clone() const override { return std::make_unique<MirrorGesture>(*this); }
-  void begin(sim::Session& session) override;
+  void begin(sim::Session& session) const override;
   std::vector<double> observe(const sim::Session&) const override { return {}; }
-  int act(sim::Session& session, const std::vector<double>& action) override;
-  int idle_ticks() const override { return task_.frame_skip; }
-  Reward reward(const sim::Session& session) override;
-  nlohmann::json info() const override { return terms_; }
+  int act(sim::Session& session, const std::vector<double>& action) const override;
+  int idle_ticks(const sim::Session&) const override { return task_.frame_skip; }
+  Reward reward(sim::Session& session) const override;
+  nlohmann::json info(const sim::Session& session) const override;
 
   /// The side of the human that the robot's hand points to (none when nearer than `reach`).
   static Side pointing_side(const sim::Session& session, int robot, int human, double reach);
-  Side human_side() const { return side_; }
 
  private:
   const scenario::TaskSettings& task_;
-  core::Random random_;
-  Side side_ = Side::none;
-  nlohmann::json terms_ = nlohmann::json::object();
 };
 
 }  // namespace hrisim::tasks

@@ -69,7 +69,7 @@ std::vector<double> DefaultTask::observe(const sim::Session& session) const {
   return observation;
 }
 
-int DefaultTask::act(sim::Session& session, const std::vector<double>& action) {
+int DefaultTask::act(sim::Session& session, const std::vector<double>& action) const {
   if (drive_) {
     drive(session, robot_, action, action_space_);
   } else {
@@ -80,8 +80,7 @@ int DefaultTask::act(sim::Session& session, const std::vector<double>& action) {
   return 1;
 }
 
-NavigationTask::NavigationTask(const sim::Session& session)
-    : task_(*session.model().task), touches_(task_), random_(session.state().random.stream("task")) {
+NavigationTask::NavigationTask(const sim::Session& session) : task_(*session.model().task), touches_(task_) {
   const scenario::Model& model = session.model();
   action_space_ = drive_action_space(model.agents[task_.robot]);
   std::vector<double> low, high;
@@ -91,11 +90,11 @@ NavigationTask::NavigationTask(const sim::Session& session)
   observation_space_ = box(std::move(low), std::move(high));
 }
 
-core::Vec2 NavigationTask::free_place(const sim::Session& session, const core::Vec2& away_from, double clearance) {
+core::Vec2 NavigationTask::free_place(const sim::Session& session, core::Random& random, const core::Vec2& away_from, double clearance) const {
   const scenario::Model& model = session.model();
   const double radius = model.agents[task_.human].radius;
   for (int attempt = 0; attempt < kPlacementTries; ++attempt) {
-    const core::Vec2 at(random_.uniform(task_.spawn_min.x(), task_.spawn_max.x()), random_.uniform(task_.spawn_min.y(), task_.spawn_max.y()));
+    const core::Vec2 at(random.uniform(task_.spawn_min.x(), task_.spawn_max.x()), random.uniform(task_.spawn_min.y(), task_.spawn_max.y()));
     if (!model.grid.in_bounds(model.grid.cell_of(at)) || model.grid.blocked(at)) continue;
     if (model.field.distance(model.grid, at) < radius) continue;
     if ((at - away_from).norm() < clearance) continue;
@@ -104,31 +103,34 @@ core::Vec2 NavigationTask::free_place(const sim::Session& session, const core::V
   throw core::Error(core::ErrorCode::conflict, "task " + task_.name + ": found no free place for the human in the spawn area");
 }
 
-void NavigationTask::begin(sim::Session& session) {
+void NavigationTask::begin(sim::Session& session) const {
   const scenario::Model& model = session.model();
   const sim::AgentState& robot = session.state().agents[task_.robot];
   const sim::AgentId human = session.agent_at(task_.human);
+  // The session's calls below leave the task's state alone: `state` stays valid.
+  sim::NavigationTaskState& state = session.task_state().kind_state.emplace<sim::NavigationTaskState>();
+  state.random = session.state().random.stream("task");
   // The human's disc clear of the robot's footprint.
   const double clearance = model.agents[task_.human].radius + model.agents[task_.robot].robot_model->footprint_radius;
   if (task_.kind == scenario::TaskKind::follow_human) {
     const core::Vec2 ahead = robot.position + core::heading_vector(robot.heading) * std::max(task_.lead_distance, clearance);
     session.place_agent(human, {ahead.x(), ahead.y(), robot.heading});
-    const scenario::WalkingStyle& style = task_.walking_styles[static_cast<std::size_t>(random_.uniform() * task_.walking_styles.size()) %
+    const scenario::WalkingStyle& style = task_.walking_styles[static_cast<std::size_t>(state.random.uniform() * task_.walking_styles.size()) %
                                                                task_.walking_styles.size()];
-    style_ = style.name;
+    state.walking_style = style.name;
     session.set_preferred_speed(human, style.speed);
-    walk_on(session);
+    walk_on(session, state.random);
   } else {
-    const core::Vec2 at = free_place(session, robot.position, clearance);
-    session.place_agent(human, {at.x(), at.y(), random_.uniform(-std::numbers::pi, std::numbers::pi)});
+    const core::Vec2 at = free_place(session, state.random, robot.position, clearance);
+    session.place_agent(human, {at.x(), at.y(), state.random.uniform(-std::numbers::pi, std::numbers::pi)});
     session.set_rooted(human, true);  // she stands idle (an animation), not stepping aside
   }
-  distance_ = distance(session);
+  state.gap = distance(session);
 }
 
-void NavigationTask::walk_on(sim::Session& session) {
+void NavigationTask::walk_on(sim::Session& session, core::Random& random) const {
   const sim::AgentState& person = session.state().agents[task_.human];
-  const core::Vec2 goal = free_place(session, person.position, kFollowMinLeg);
+  const core::Vec2 goal = free_place(session, random, person.position, kFollowMinLeg);
   session.command_human(sim::walk_action(task_.human, goal), "walk " + core::point_text(goal));
 }
 
@@ -149,31 +151,40 @@ std::vector<double> NavigationTask::observe(const sim::Session& session) const {
   return observation;
 }
 
-int NavigationTask::act(sim::Session& session, const std::vector<double>& action) {
+int NavigationTask::act(sim::Session& session, const std::vector<double>& action) const {
   drive(session, task_.robot, action, action_space_);
   return task_.frame_skip;
 }
 
-void NavigationTask::after_tick(const sim::Session& session) { touches_.after_tick(session); }
+void NavigationTask::after_tick(sim::Session& session) const { touches_.after_tick(session); }
 
-Reward NavigationTask::reward(const sim::Session& session) {
-  const double previous = distance_;
-  distance_ = distance(session);
-  touched_ = touches_.take();
-  const Reward reward = sum_of({{"distance", distance_reward(previous, distance_)},
-                                {"collision_human", human_collision_reward(distance_, task_.collision_distance, task_.collision_penalty)},
-                                {"collision_obstacle", obstacle_collision_reward(static_cast<int>(touched_.size()), task_.obstacle_penalty)}});
-  terms_ = {{"distance", distance_},
-            {"distance_reward", reward.terms[0].second},
-            {"collision_human", reward.terms[1].second},
-            {"collision_obstacle", reward.terms[2].second},
-            {"touched", touched_}};
-  if (task_.kind == scenario::TaskKind::follow_human) terms_["walking_style"] = style_;
-  return reward;
+Reward NavigationTask::reward(sim::Session& session) const {
+  sim::NavigationTaskState& state = std::get<sim::NavigationTaskState>(session.task_state().kind_state);
+  const double previous = state.gap;
+  state.gap = distance(session);
+  const std::vector<std::string>& touched = touches_.end_step(session);
+  return sum_of({{"distance", distance_reward(previous, state.gap)},
+                 {"collision_human", human_collision_reward(state.gap, task_.collision_distance, task_.collision_penalty)},
+                 {"collision_obstacle", obstacle_collision_reward(static_cast<int>(touched.size()), task_.obstacle_penalty)}});
 }
 
-void NavigationTask::before_step(sim::Session& session) {
-  if (task_.kind == scenario::TaskKind::follow_human && session.state().agents[task_.human].program.empty()) walk_on(session);
+nlohmann::json NavigationTask::info(const sim::Session& session) const {
+  const sim::TaskState& task = session.state().task;
+  if (task.last_reward_terms.empty()) return nlohmann::json::object();  // no step ended yet
+  const sim::NavigationTaskState& state = std::get<sim::NavigationTaskState>(task.kind_state);
+  nlohmann::json info = {{"distance", state.gap},
+                         {"distance_reward", term(task.last_reward_terms, "distance")},
+                         {"collision_human", term(task.last_reward_terms, "collision_human")},
+                         {"collision_obstacle", term(task.last_reward_terms, "collision_obstacle")},
+                         {"touched", task.touched_last_step}};
+  if (task_.kind == scenario::TaskKind::follow_human) info["walking_style"] = state.walking_style;
+  return info;
+}
+
+void NavigationTask::before_step(sim::Session& session) const {
+  if (task_.kind == scenario::TaskKind::follow_human && session.state().agents[task_.human].program.empty()) {
+    walk_on(session, std::get<sim::NavigationTaskState>(session.task_state().kind_state).random);
+  }
 }
 
 bool NavigationTask::terminated(const sim::Session& session) const {

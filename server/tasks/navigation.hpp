@@ -45,46 +45,39 @@ inline constexpr double kFollowMinLeg = 2.0;
 class DefaultTask : public Task {
  public:
   explicit DefaultTask(const sim::Session& session);
-  std::unique_ptr<Task> clone() const override { return std::make_unique<DefaultTask>(*this); }
   std::vector<double> observe(const sim::Session& session) const override;
-  int act(sim::Session& session, const std::vector<double>& action) override;
-  int idle_ticks() const override { return 1; }
-  Reward reward(const sim::Session&) override { return {}; }
+  int act(sim::Session& session, const std::vector<double>& action) const override;
+  int idle_ticks(const sim::Session&) const override { return 1; }
+  Reward reward(sim::Session&) const override { return {}; }
 
  private:
   int robot_ = -1;  ///< agent index of the robot under test: the scenario's first robot
   bool drive_ = false;
 };
 
-/// approach_human, follow_human and approach_human_apartment.
+/// approach_human, follow_human and approach_human_apartment; their state is sim::NavigationTaskState.
 class NavigationTask : public Task {
  public:
   explicit NavigationTask(const sim::Session& session);
-  std::unique_ptr<Task> clone() const override { return std::make_unique<NavigationTask>(*this); }
-  void begin(sim::Session& session) override;
+  void begin(sim::Session& session) const override;
   std::vector<double> observe(const sim::Session& session) const override;
-  int act(sim::Session& session, const std::vector<double>& action) override;
-  void before_step(sim::Session& session) override;
-  int idle_ticks() const override { return task_.frame_skip; }
-  void after_tick(const sim::Session& session) override;
-  Reward reward(const sim::Session& session) override;
+  int act(sim::Session& session, const std::vector<double>& action) const override;
+  void before_step(sim::Session& session) const override;
+  int idle_ticks(const sim::Session&) const override { return task_.frame_skip; }
+  void after_tick(sim::Session& session) const override;
+  Reward reward(sim::Session& session) const override;
   bool terminated(const sim::Session& session) const override;
-  nlohmann::json info() const override { return terms_; }
+  nlohmann::json info(const sim::Session& session) const override;
 
  private:
   double distance(const sim::Session& session) const;
   /// A uniform random free place of the spawn area, at least `clearance` from `away_from`.
-  core::Vec2 free_place(const sim::Session& session, const core::Vec2& away_from, double clearance);
+  core::Vec2 free_place(const sim::Session& session, core::Random& random, const core::Vec2& away_from, double clearance) const;
   /// follow_human: the human walks to the next random place.
-  void walk_on(sim::Session& session);
+  void walk_on(sim::Session& session, core::Random& random) const;
 
   const scenario::TaskSettings& task_;
   TouchCounter touches_;
-  core::Random random_;
-  double distance_ = 0.0;  ///< the footprints' gap after the last step
-  std::vector<std::string> touched_;
-  std::string style_;
-  nlohmann::json terms_ = nlohmann::json::object();
 };
 
 }  // namespace hrisim::tasks

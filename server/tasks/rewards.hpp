@@ -3,6 +3,8 @@
 // ones it uses, and the tests check each against values worked out by hand.
 #include <algorithm>
 
+#include "sim/task_state.hpp"
+
 namespace hrisim::tasks {
 
 /// §4.4.1.6: previous minus current robot–human distance (positive when the robot came closer).
@@ -22,8 +24,8 @@ inline double proximity_reward(double distance, double range) { return 1.0 - std
 /// §4.4.4.4: how far the object is above where it started, m (negative below).
 inline double lift_reward(double height, double initial_height) { return height - initial_height; }
 
-/// Which side something points to, seen from above.
-enum class Side { none, left, right };
+/// Which side something points to, seen from above (kept in the task's state, hence sim's).
+using Side = sim::PointingSide;
 
 /// §4.4.5.5: 1 when the robot points to the side the human points to, else 0.
 inline double mirror_reward(Side robot, Side human) { return robot != Side::none && robot == human ? 1.0 : 0.0; }

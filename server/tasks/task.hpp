@@ -39,37 +39,41 @@ struct Reward {
   std::vector<std::pair<std::string, double>> terms;
 };
 
+/// A task is configuration only (the model's TaskSettings, its spaces): what its episode draws, counts
+/// and measures is the session's (sim::TaskState, Session::task_state()), so one task serves an episode
+/// and every copy of it.
 class Task {
  public:
   virtual ~Task() = default;
-  /// A copy of this task as it is now, for a copy of its episode (a checkpoint); it refers to the same
-  /// model.
-  virtual std::unique_ptr<Task> clone() const = 0;
 
   const Space& observation_space() const { return observation_space_; }
   const Space& action_space() const { return action_space_; }
   /// Set when the observation is a camera image; observe() is then empty.
   const std::optional<ImageObservation>& image() const { return image_; }
 
-  /// Sets the episode up on a fresh session at tick 0 (draws from the session's seed only).
-  virtual void begin(sim::Session& session) { (void)session; }
+  /// Sets the episode up on a fresh session at tick 0 (draws from the session's seed only) and its
+  /// part of the state (sim::TaskState::kind_state).
+  virtual void begin(sim::Session& session) const { (void)session; }
   virtual std::vector<double> observe(const sim::Session& session) const = 0;
   /// Gives the action (already checked for length and finiteness); returns the ticks the step lasts.
-  virtual int act(sim::Session& session, const std::vector<double>& action) = 0;
+  virtual int act(sim::Session& session, const std::vector<double>& action) const = 0;
   /// Called before each step's ticks, after its action (e.g. the human walks on).
-  virtual void before_step(sim::Session& session) { (void)session; }
+  virtual void before_step(sim::Session& session) const { (void)session; }
   /// Ticks of a step without a new action.
-  virtual int idle_ticks() const = 0;
+  virtual int idle_ticks(const sim::Session& session) const = 0;
   /// Called after every tick of a step.
-  virtual void after_tick(const sim::Session& session) { (void)session; }
+  virtual void after_tick(sim::Session& session) const { (void)session; }
   /// The step's reward, once its ticks are done; starts the next step's bookkeeping.
-  virtual Reward reward(const sim::Session& session) = 0;
+  virtual Reward reward(sim::Session& session) const = 0;
   virtual bool terminated(const sim::Session& session) const {
     (void)session;
     return false;
   }
-  /// The last step's reward terms and measures, for Gymnasium's info.
-  virtual nlohmann::json info() const { return nlohmann::json::object(); }
+  /// The last step's reward terms and measures, for Gymnasium's info: read from the task's state.
+  virtual nlohmann::json info(const sim::Session& session) const {
+    (void)session;
+    return nlohmann::json::object();
+  }
 
  protected:
   Space observation_space_, action_space_;
@@ -78,6 +82,6 @@ class Task {
 
 /// The task a session's scenario names, or the default navigation task. Throws core::Error(conflict)
 /// when the scenario has no robot that can act.
-std::unique_ptr<Task> make_task(const sim::Session& session);
+std::shared_ptr<const Task> make_task(const sim::Session& session);
 
 }  // namespace hrisim::tasks

@@ -23,6 +23,13 @@ Reward sum_of(std::vector<std::pair<std::string, double>> terms) {
   return reward;
 }
 
+double term(const std::vector<std::pair<std::string, double>>& terms, const std::string& name) {
+  for (const auto& [known, value] : terms) {
+    if (known == name) return value;
+  }
+  return 0.0;
+}
+
 void check_action(const std::vector<double>& action, std::size_t size) {
   if (action.size() != size) {
     throw core::Error(core::ErrorCode::bad_request,
@@ -96,17 +103,22 @@ TouchCounter::TouchCounter(const scenario::TaskSettings& task) : robot_(task.rob
   std::sort(penalised_.begin(), penalised_.end());
 }
 
-void TouchCounter::after_tick(const sim::Session& session) {
+void TouchCounter::after_tick(sim::Session& session) const {
   const scenario::Model& model = session.model();
+  std::vector<std::string>& touched = session.task_state().touched_this_step;
   for (const sim::Contact& contact : runtime_of(session, robot_).contacts) {
     if (contact.agent >= 0) continue;
     const std::string& name = contact.object >= 0 ? model.objects[contact.object].name : contact.part;
     if (!std::binary_search(penalised_.begin(), penalised_.end(), name)) continue;
-    const auto at = std::lower_bound(touched_.begin(), touched_.end(), name);
-    if (at == touched_.end() || *at != name) touched_.insert(at, name);
+    const auto at = std::lower_bound(touched.begin(), touched.end(), name);
+    if (at == touched.end() || *at != name) touched.insert(at, name);
   }
 }
 
-std::vector<std::string> TouchCounter::take() { return std::exchange(touched_, {}); }
+const std::vector<std::string>& TouchCounter::end_step(sim::Session& session) const {
+  sim::TaskState& state = session.task_state();
+  state.touched_last_step = std::exchange(state.touched_this_step, {});
+  return state.touched_last_step;
+}
 
 }  // namespace hrisim::tasks

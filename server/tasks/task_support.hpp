@@ -37,18 +37,22 @@ std::vector<double> arm_positions(const sim::Session& session, int robot);
 /// A reward of these terms, their sum as its total.
 Reward sum_of(std::vector<std::pair<std::string, double>> terms);
 
-/// Counts, over a step's ticks, the penalised obstacles and objects the robot touches.
+/// The value of the reward term named `name` among `terms`; 0 when there is none.
+double term(const std::vector<std::pair<std::string, double>>& terms, const std::string& name);
+
+/// Counts, over a step's ticks, the penalised obstacles and objects the robot touches (in the task's
+/// state: TaskState::touched_this_step).
 class TouchCounter {
  public:
   explicit TouchCounter(const scenario::TaskSettings& task);
-  void after_tick(const sim::Session& session);
-  /// The names touched since the last call, sorted; starts counting afresh.
-  std::vector<std::string> take();
+  void after_tick(sim::Session& session) const;
+  /// Ends the step's count: the names touched during it, sorted, become the last step's
+  /// (TaskState::touched_last_step, returned); the next step counts afresh.
+  const std::vector<std::string>& end_step(sim::Session& session) const;
 
  private:
   int robot_;
   std::vector<std::string> penalised_;  ///< sorted
-  std::vector<std::string> touched_;    ///< sorted, this step
 };
 
 }  // namespace hrisim::tasks

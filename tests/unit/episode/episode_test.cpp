@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -376,6 +377,69 @@ TEST(Checkpoints, OverTheirBudgetEveryOtherGoesAndSeeksStayExact) {
   EXPECT_EQ(back->session().state_hash(), path.hashes[2'999]);
   // 50 intervals in 6 places: thinned to every 16th at most, so at most 16 intervals to simulate again.
   EXPECT_LE(back->ticks_simulated_again(), 16 * 60);
+}
+
+/// Each env step's reward and Gymnasium info along an episode.
+struct Outcomes {
+  std::vector<double> rewards;
+  std::vector<nlohmann::json> infos;
+  void step(Episode& episode, const std::optional<std::vector<double>>& action) {
+    rewards.push_back(episode.step(action));
+    infos.push_back(episode.environment()->info(episode.session()));
+  }
+};
+
+TEST(Checkpoints, ATaskGoesOnFromOneWithTheOriginalsRewardsAndInfo) {
+  // follow_human: the walking style and the person's legs come from the task's random stream, and each
+  // step's distance reward from the gap after the last one — the task's state, which the checkpoint
+  // (a copy of the session) carries, while the task itself is shared.
+  const auto model = kept_going("follow_human", 60.0);
+  const auto action = [](int step) { return std::vector<double>{0.2 * std::sin(0.1 * step), 0.3 * std::cos(0.07 * step)}; };
+  Episode original(model, 4, with_checkpoints(1.0));
+  Outcomes outcomes;
+  for (int step = 0; step < 180; ++step) outcomes.step(original, action(step));
+  ASSERT_FALSE(original.over());
+  // Tick 600 ends the 60th env step, and the physics world was built again from the state there: a
+  // checkpoint's own tick, reached without simulating again.
+  const std::unique_ptr<Episode> back = original.rewind(600);
+  ASSERT_EQ(back->session().state().tick, 600);
+  EXPECT_EQ(back->ticks_simulated_again(), 0) << "the checkpoint's state alone";
+  EXPECT_EQ(back->environment()->task(), original.environment()->task()) << "one task, shared";
+  EXPECT_EQ(back->environment()->info(back->session()), outcomes.infos[59]) << "the last step's measures, walking style included";
+  Outcomes again;
+  for (int step = 60; step < 180; ++step) again.step(*back, action(step));
+  for (std::size_t i = 0; i < again.rewards.size(); ++i) {
+    EXPECT_EQ(again.rewards[i], outcomes.rewards[60 + i]) << "step " << 60 + i;
+    EXPECT_EQ(again.infos[i], outcomes.infos[60 + i]) << "step " << 60 + i;
+  }
+  EXPECT_EQ(back->session().state_hash(), original.session().state_hash());
+}
+
+TEST(Checkpoints, APickAndPlaceStepWithoutAnActionLastsAsLongAsTheLastOneBeforeTheCheckpoint) {
+  // The last step's length (8 ticks for the gripper, 120 for the arm) is the task's state: after 4 arm
+  // steps and 15 gripper steps (tick 600, where the world is built again and a checkpoint taken), a
+  // step without an action lasts 8 ticks, in the original and from the checkpoint alike.
+  const auto model = kept_going("pick_and_place", 20.0);
+  const std::vector<double> arm = {-1, 0, 0.1, -0.2, 0, -0.5, 0, 0};
+  const std::vector<double> gripper = {1, 1, 0, 0, 0, 0, 0, 0};
+  Episode original(model, 2, with_checkpoints(1.0));
+  Outcomes outcomes;
+  for (int step = 0; step < 4; ++step) outcomes.step(original, arm);
+  for (int step = 0; step < 15; ++step) outcomes.step(original, gripper);
+  ASSERT_EQ(original.session().state().tick, 600);
+  ASSERT_GE(original.checkpoints(), 1u);
+  for (int step = 0; step < 3; ++step) outcomes.step(original, std::nullopt);
+  EXPECT_EQ(original.session().state().tick, 624) << "three steps of 8 ticks";
+
+  const std::unique_ptr<Episode> back = original.rewind(600);
+  EXPECT_EQ(back->ticks_simulated_again(), 0) << "the checkpoint's state alone";
+  EXPECT_EQ(back->environment()->step_ticks(back->session()), 8);
+  Outcomes again;
+  for (int step = 0; step < 3; ++step) again.step(*back, std::nullopt);
+  EXPECT_EQ(back->session().state().tick, 624);
+  EXPECT_EQ(again.rewards, std::vector<double>(outcomes.rewards.end() - 3, outcomes.rewards.end()));
+  EXPECT_EQ(again.infos, std::vector<nlohmann::json>(outcomes.infos.end() - 3, outcomes.infos.end()));
+  EXPECT_EQ(back->session().state_hash(), original.session().state_hash());
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <variant>
 #include <nlohmann/json.hpp>
 
 #include "episode/episode.hpp"
@@ -129,6 +130,51 @@ TEST(StateHash, EveryMemberOfTheStateCounts) {
   differs("a laser reading", [](State& s) { s.robots.at(0).lasers.at(0).reading.ranges.at(0) += 1e-9; });
   differs("the time limit", [](State& s) { s.time_limit += 1.0; });
   EXPECT_EQ(state_hash(State(state)), before) << "a copy is the same state";
+}
+
+TEST(StateHash, TheBenchmarkTasksBookkeepingCounts) {
+  // Two states alike but for the task's part differ: a checkpoint that lost the task's gap, random
+  // stream or last reward would not pass for the episode it was taken of.
+  const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/follow_human.json");
+  ASSERT_TRUE(loaded.model);
+  episode::Episode run(loaded.model, 1, {std::nullopt, {}, false, {}});
+  run.step(std::vector<double>{0.2, 0.1}, 5);
+  const State& state = run.session().state();
+  ASSERT_TRUE(std::holds_alternative<NavigationTaskState>(state.task.kind_state));
+  ASSERT_FALSE(state.task.last_reward_terms.empty());
+  const std::uint64_t before = state_hash(state);
+  const auto hash_with = [&](const std::function<void(State&)>& change) {
+    State changed = state;
+    change(changed);
+    return state_hash(changed);
+  };
+  const auto navigation = [](State& s) -> NavigationTaskState& { return std::get<NavigationTaskState>(s.task.kind_state); };
+  EXPECT_NE(hash_with([&](State& s) { navigation(s).gap += 1e-12; }), before) << "the gap";
+  EXPECT_NE(hash_with([&](State& s) { navigation(s).random.next_u64(); }), before) << "the task's random stream";
+  EXPECT_NE(hash_with([&](State& s) { navigation(s).walking_style += "!"; }), before) << "the walking style";
+  EXPECT_NE(hash_with([](State& s) { s.task.touched_this_step.push_back("table"); }), before) << "touched during the step";
+  EXPECT_NE(hash_with([](State& s) { s.task.touched_last_step.push_back("table"); }), before) << "touched during the last step";
+  EXPECT_NE(hash_with([](State& s) { s.task.last_reward_terms.front().second += 1e-12; }), before) << "a reward term";
+  EXPECT_NE(hash_with([](State& s) { s.task.last_reward_terms.front().first += "!"; }), before) << "a reward term's name";
+  EXPECT_NE(hash_with([](State& s) { s.task.terminated = !s.task.terminated; }), before) << "the task's ending";
+  // Another kind of task, or none: the variant's index counts, and so does every member of each kind.
+  const std::uint64_t none = hash_with([](State& s) { s.task.kind_state = std::monostate{}; });
+  const std::uint64_t pick = hash_with([](State& s) { s.task.kind_state = PickAndPlaceState{}; });
+  EXPECT_NE(none, before);
+  EXPECT_NE(pick, none) << "an empty alternative is not a default one";
+  const auto pick_with = [&](const std::function<void(PickAndPlaceState&)>& change) {
+    return hash_with([&](State& s) { change(s.task.kind_state.emplace<PickAndPlaceState>()); });
+  };
+  EXPECT_NE(pick_with([](PickAndPlaceState& p) { p.initial_height = 0.7; }), pick) << "initial_height";
+  EXPECT_NE(pick_with([](PickAndPlaceState& p) { p.step_ticks = 8; }), pick) << "step_ticks";
+  EXPECT_NE(pick_with([](PickAndPlaceState& p) { p.gripper_object_distance = 0.1; }), pick) << "gripper_object_distance";
+  EXPECT_NE(pick_with([](PickAndPlaceState& p) { p.object_target_distance = 0.1; }), pick) << "object_target_distance";
+  EXPECT_NE(pick_with([](PickAndPlaceState& p) { p.held = true; }), pick) << "held";
+  const std::uint64_t mirror = hash_with([](State& s) { s.task.kind_state.emplace<MirrorGestureState>(); });
+  EXPECT_NE(mirror, pick);
+  EXPECT_NE(hash_with([](State& s) { s.task.kind_state.emplace<MirrorGestureState>().human_side = PointingSide::left; }), mirror) << "human_side";
+  EXPECT_NE(hash_with([](State& s) { s.task.kind_state.emplace<MirrorGestureState>().robot_side = PointingSide::left; }), mirror) << "robot_side";
+  EXPECT_NE(hash_with([](State& s) { s.task.kind_state.emplace<MirrorGestureState>().random.next_u64(); }), mirror) << "mirror's random";
 }
 
 }  // namespace

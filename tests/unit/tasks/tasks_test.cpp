@@ -215,7 +215,7 @@ TEST(ApproachHuman, RewardsTheDistanceGainedAndEndsWithin30Centimetres) {
     before = run.distance();
   }
   EXPECT_EQ(run.session.state().tick, 30);
-  EXPECT_FALSE(run.environment.terminated());
+  EXPECT_FALSE(run.environment.terminated(run.session));
   // Put the robot 0.25 m from the human, facing away, and stop: the step gains before − the distance
   // it ends at (the base still coasts a little), and within 0.3 m the episode is done.
   const core::Vec2 near = agents[human].position - to.normalized() * (0.25 + run.bodies());
@@ -223,7 +223,7 @@ TEST(ApproachHuman, RewardsTheDistanceGainedAndEndsWithin30Centimetres) {
   const double reward = run.step(std::vector<double>{0.0, 0.0});
   EXPECT_NEAR(run.distance(), 0.25, 0.03);
   EXPECT_NEAR(reward, before - run.distance(), 1e-12);
-  EXPECT_TRUE(run.environment.terminated());
+  EXPECT_TRUE(run.environment.terminated(run.session));
   EXPECT_EQ(run.step(std::vector<double>{0.2, 0.0}), 0.0) << "nothing happens once terminated";
   EXPECT_EQ(run.session.state().tick, 40);
 }
@@ -237,7 +237,7 @@ TEST(ApproachHuman, ClosestThan10CentimetresCosts20) {
   const double reward = run.step(std::vector<double>{0.0, 0.0});
   EXPECT_LT(run.distance(), 0.1);
   EXPECT_NEAR(reward, before - run.distance() - 20.0, 1e-12);
-  EXPECT_DOUBLE_EQ(run.environment.info()["collision_human"].get<double>(), -20.0);
+  EXPECT_DOUBLE_EQ(run.environment.info(run.session)["collision_human"].get<double>(), -20.0);
 }
 
 TEST(ApproachHuman, RunsOutAfter1536TicksAndRefusesWrongActions) {
@@ -274,15 +274,15 @@ TEST(FollowHuman, TheHumanWalksInAStyleFromTheSetAndTheEpisodeRunsToItsEnd) {
       const double before = run.distance();
       gained = run.step(std::vector<double>{0.0, 0.0});
       // She may pass the standing robot closer than 0.1 m: that step also costs the collision's 20.
-      EXPECT_NEAR(gained, before - run.distance() + run.environment.info()["collision_human"].get<double>(), 1e-12);
+      EXPECT_NEAR(gained, before - run.distance() + run.environment.info(run.session)["collision_human"].get<double>(), 1e-12);
     }
-    const std::string style = run.environment.info()["walking_style"];
+    const std::string style = run.environment.info(run.session)["walking_style"];
     styles.insert(style);
     const double speed = run.session.state().agents[human].preferred_speed;
     EXPECT_TRUE(std::any_of(model->task->walking_styles.begin(), model->task->walking_styles.end(),
                             [&](const scenario::WalkingStyle& s) { return s.name == style && s.speed == speed; }));
     EXPECT_GT((run.session.state().agents[human].position - start).norm(), 0.5) << "she walks";
-    EXPECT_FALSE(run.environment.terminated());
+    EXPECT_FALSE(run.environment.terminated(run.session));
   }
   EXPECT_EQ(styles.size(), 3u) << "every style is drawn over 12 seeds";
 }
@@ -293,7 +293,7 @@ TEST(FollowHuman, NeverTerminatesEvenWhenClose) {
   const core::Vec2 human = run.session.state().agents[model->task->human].position;
   run.session.place_agent(run.id(model->task->robot), {human.x() - 0.2, human.y(), 0});
   run.step(std::vector<double>{0.0, 0.0});
-  EXPECT_FALSE(run.environment.terminated());
+  EXPECT_FALSE(run.environment.terminated(run.session));
 }
 
 TEST(ApproachHumanApartment, EachFurnitureTouchedCostsHalfAPoint) {
@@ -306,7 +306,7 @@ TEST(ApproachHumanApartment, EachFurnitureTouchedCostsHalfAPoint) {
   for (int s = 0; s < 20 && touched.empty(); ++s) {
     before = run.distance();
     reward = run.step(std::vector<double>{0.22, 0.0});
-    touched = run.environment.info()["touched"].get<std::vector<std::string>>();
+    touched = run.environment.info(run.session)["touched"].get<std::vector<std::string>>();
   }
   ASSERT_FALSE(touched.empty()) << "the robot reached the table";
   EXPECT_NE(std::find(touched.begin(), touched.end(), "table"), touched.end());
@@ -338,7 +338,7 @@ TEST(PickAndPlace, RewardIsTheSumOfItsTermsAndStepsLastTheirFrames) {
   TaskRun run(model, 0);
   const double reward = run.step(gripper(false));
   EXPECT_EQ(run.session.state().tick, 8) << "a gripper step: 8 ticks";
-  const json terms = run.environment.info();
+  const json terms = run.environment.info(run.session);
   // At the start the open hand is 16 cm above the cup, and the cup about 1 m from the target.
   EXPECT_NEAR(terms["gripper_object_distance"].get<double>(), 0.16, 0.02);
   EXPECT_NEAR(terms["gripper_object"].get<double>(), 1 - terms["gripper_object_distance"].get<double>() / 0.5, 1e-12);
@@ -348,7 +348,7 @@ TEST(PickAndPlace, RewardIsTheSumOfItsTermsAndStepsLastTheirFrames) {
                           terms["collision_obstacle"].get<double>(), 1e-12);
   run.step(arm(kGrasp));
   EXPECT_EQ(run.session.state().tick, 128) << "an arm step: 120 ticks";
-  EXPECT_LT(run.environment.info()["gripper_object_distance"].get<double>(), 0.03) << "the cup between the fingers";
+  EXPECT_LT(run.environment.info(run.session)["gripper_object_distance"].get<double>(), 0.03) << "the cup between the fingers";
   run.step(arm(kGrasp));
   run.step(gripper(true));
   EXPECT_EQ(run.session.state().tick, 256);
@@ -362,12 +362,12 @@ TEST(PickAndPlace, TheScriptedGraspPlacesTheCupWithinTheSeedsEpisode) {
     TaskRun run(model, seed);
     run.step(arm(kGrasp));
     run.step(gripper(true));
-    EXPECT_TRUE(run.environment.info()["held"].get<bool>()) << "closed on the cup in 8 ticks, seed " << seed;
+    EXPECT_TRUE(run.environment.info(run.session)["held"].get<bool>()) << "closed on the cup in 8 ticks, seed " << seed;
     run.step(arm(kOnTarget));
-    EXPECT_TRUE(run.environment.info()["held"].get<bool>()) << "carried without slipping, seed " << seed;
-    EXPECT_GT(run.environment.info()["lifting"].get<double>(), 0.005) << "off the table";
+    EXPECT_TRUE(run.environment.info(run.session)["held"].get<bool>()) << "carried without slipping, seed " << seed;
+    EXPECT_GT(run.environment.info(run.session)["lifting"].get<double>(), 0.005) << "off the table";
     const double reward = run.step(gripper(false));
-    const json terms = run.environment.info();
+    const json terms = run.environment.info(run.session);
     EXPECT_EQ(run.session.state().tick, 256);
     EXPECT_FALSE(terms["held"].get<bool>());
     EXPECT_LT(terms["object_target_distance"].get<double>(), 0.03) << "standing on the target, seed " << seed;
@@ -387,7 +387,7 @@ TEST(MirrorGesture, TheHumanPointsToASideDrawnFromTheSeedAndFacesTheRobot) {
     EXPECT_NEAR((person.position - core::Vec2(2, 0)).norm(), 0.0, 1e-9);
     EXPECT_NEAR(std::abs(core::wrap_angle(person.heading)), std::numbers::pi, 1e-6);
     ASSERT_NE(person.animation.motion, nullptr);
-    const std::string side = run.environment.info()["human_points"];
+    const std::string side = run.environment.info(run.session)["human_points"];
     EXPECT_EQ(person.animation.motion->name(), "point_" + side);
     sides.insert(side);
   }
@@ -403,13 +403,13 @@ TEST(MirrorGesture, ScoresOneWhenTheHandPointsToHerSide) {
     const std::vector<double> robot_left{0.2, -1.5708, 0, 0, 0, 1.5708};
     double reward = 0.0;
     for (int s = 0; s < 12; ++s) reward = run.step(robot_left);
-    const json info = run.environment.info();
+    const json info = run.environment.info(run.session);
     EXPECT_EQ(info["robot_points"], "right");
     EXPECT_EQ(reward, info["human_points"] == "right" ? 1.0 : 0.0);
   }
   TaskRun rest(model, 0);
   EXPECT_EQ(rest.step(std::vector<double>(6, 0.0)), 0.0) << "the arm hanging down points nowhere";
-  EXPECT_EQ(rest.environment.info()["robot_points"], "none");
+  EXPECT_EQ(rest.environment.info(rest.session)["robot_points"], "none");
 }
 
 TEST(MirrorGesture, ObservesTheHeadCameraAsAnImage) {
