@@ -174,6 +174,39 @@ std::optional<Vec2> nearest_obstacle(const scenario::Model& model, const State& 
   return nearest;
 }
 
+namespace {
+
+/// How far `p` is from the nearest obstacle point within `range` (`range` when none is nearer).
+double clearance_at(const scenario::Model& model, const State& state, const Vec2& p, double range) {
+  const std::optional<Vec2> nearest = nearest_obstacle(model, state, p, range);
+  return nearest ? (*nearest - p).norm() : range;
+}
+
+}  // namespace
+
+Vec2 clear_of_obstacles(const scenario::Model& model, const State& state, const Vec2& from, Vec2 to, double radius) {
+  const double keep = clearance_at(model, state, from, radius);
+  for (int pass = 0; pass < kClearancePasses; ++pass) {
+    const std::optional<Vec2> nearest = nearest_obstacle(model, state, to, keep);
+    if (!nearest) break;
+    const Vec2 away = to - *nearest;
+    const double distance = away.norm();
+    if (distance >= keep) break;
+    if (distance == 0.0) return from;
+    to = *nearest + away * (keep / distance);
+  }
+  // A projection puts the centre at `keep` up to rounding: not a reason to stand still.
+  if (clearance_at(model, state, to, keep) < keep - kClearanceRounding) return from;
+  // The map's edge: nobody walks off it (outside, nothing can be planned).
+  const world::OccupancyGrid& grid = model.grid;
+  const Vec2 low = grid.origin(), high = low + Vec2(grid.width(), grid.height()) * grid.resolution();
+  const auto inside = [&](double at, double lower, double upper, double was) {
+    const double margin = std::min(radius, std::min(was - lower, upper - was));
+    return std::clamp(at, lower + margin, std::max(lower + margin, upper - margin));
+  };
+  return {inside(to.x(), low.x(), high.x(), from.x()), inside(to.y(), low.y(), high.y(), from.y())};
+}
+
 void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
   buffers.members.clear();
   for (std::size_t i = 0; i < state.agents.size(); ++i) {
@@ -221,8 +254,11 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     if (model.agents[i].robot_model) continue;  // a robot with a model moves by its own base
     AgentState& self = state.agents[i];
     const std::optional<double>& watching = buffers.watching_headings[i];
-    self.velocity = buffers.velocities[k];
-    self.position += self.velocity * model.dt;
+    const Vec2 to = self.position + buffers.velocities[k] * model.dt;
+    // Walkers the crowd model moved stay out of walls; others (stepping onto a seat, held) are placed.
+    const Vec2 clear = buffers.agents[k].controlled ? to : clear_of_obstacles(model, state, self.position, to, model.agents[i].radius);
+    self.velocity = clear == to ? buffers.velocities[k] : (clear - self.position) / model.dt;
+    self.position = clear;
     const double wanted = buffers.agents[k].preferred_velocity.norm();
     const bool held_up = wanted > 0.0 && self.velocity.norm() < kHeldUpSpeedShare * wanted;
     self.reaction.personal_space = std::clamp(self.reaction.personal_space + (held_up ? -1.0 : 1.0) * model.dt / kSqueezeTime, 0.0, 1.0);

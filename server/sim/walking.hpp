@@ -80,6 +80,20 @@ Vec2 into_the_way(const AgentState& self, const AgentState& robot, double distan
 /// cells, half a cell inside the obstacle.
 std::optional<Vec2> nearest_obstacle(const scenario::Model& model, const State& state, const Vec2& p, double range);
 
+/// Projections a walker's step gets to stand clear of the obstacles round it (each nearest one in
+/// turn: a wall, then the other wall of a corner); a step still not clear after them is not taken.
+inline constexpr int kClearancePasses = 3;
+/// A projected centre is `radius` from the obstacle up to this rounding, m.
+inline constexpr double kClearanceRounding = 1e-9;
+
+/// Where a walker whose crowd model sends it from `from` to `to` ends: the crowd models' obstacle
+/// lines and forces only discourage walking into a wall (pushed hard enough, a social-force walker
+/// crossed a 0.2 m wall), so this is the hard constraint after them. Its centre stays at least
+/// `radius` from the nearest obstacle point (nearest_obstacle) and inside the map by as much — or, for
+/// a walker already closer, no closer than it was. A step into that margin is projected out of it
+/// (sliding along the wall).
+Vec2 clear_of_obstacles(const scenario::Model& model, const State& state, const Vec2& from, Vec2 to, double radius);
+
 /// The tick's walking phase. Robots with a model take part in the crowd but move by their own base.
 void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers);
 

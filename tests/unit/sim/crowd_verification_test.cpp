@@ -1,0 +1,90 @@
+// Crowds as pedestrian dynamics checks them (issue 42): the RiMEA guideline's verification tests that
+// a 2D simulator of people can run, under both locomotion models. The scenarios are the project's
+// own, in scenarios/verification/, so that anyone can run them in the browser or with `hrisim run`.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "episode/episode.hpp"
+#include "scenario/load.hpp"
+#include "sim/walking.hpp"
+#include "support/scenarios.hpp"
+
+namespace hrisim::sim {
+namespace {
+
+using nlohmann::json;
+
+json verification_scenario(const std::string& name, const std::string& avoidance) {
+  std::ifstream file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/verification/" + name + ".json");
+  json document = json::parse(file);
+  for (json& human : document["humans"]) human["avoidance"] = avoidance;
+  return document;
+}
+
+class BothModels : public ::testing::TestWithParam<const char*> {};
+
+// RiMEA test 6: twenty people round a left-hand corner and out. Nobody passes through a wall, and
+// all get out before the time limit.
+TEST_P(BothModels, RimeaTest6NobodyCrossesTheCornersWalls) {
+  const auto model = testing::load_valid(verification_scenario("rimea_06_corner", GetParam()));
+  ASSERT_TRUE(model);
+  episode::Settings settings;
+  settings.record = false;
+  episode::Episode run(model, 1, settings);
+  // Walls are 0.2 m thick and a tick's step is under 3 cm: a walker through one would stand on a
+  // blocked cell at some tick.
+  ASSERT_FALSE(run.over());
+  while (!run.over()) {
+    run.tick();
+    for (std::size_t a = 0; a < model->agents.size(); ++a) {
+      const AgentState& agent = run.session().state().agents[a];
+      ASSERT_TRUE(!agent.active || !model->grid.blocked(agent.position))
+          << model->agents[a].id << " in a wall at " << core::point_text(agent.position) << " at tick " << run.session().state().tick;
+    }
+  }
+  std::string walking;
+  for (std::size_t a = 0; a < model->agents.size(); ++a) {
+    const AgentState& agent = run.session().state().agents[a];
+    if (agent.active) walking += " " + model->agents[a].id + " at " + core::point_text(agent.position);
+  }
+  EXPECT_EQ(run.session().state().termination, Termination::scenario_end) << "everyone is out before the time limit; still in:" << walking;
+}
+
+INSTANTIATE_TEST_SUITE_P(Crowd, BothModels, ::testing::Values("orca", "social_force"));
+
+/// A room without a table, with `humans` in it.
+std::shared_ptr<const scenario::Model> empty_room() {
+  json room = testing::room_scenario(json::parse(R"({"humans": [{"id": "ana", "start": {"x": 5, "y": 5}}]})"));
+  room["world"].erase("obstacles");
+  room["world"]["walls"] = json::array({json{{"from", {0, 0}}, {"to", {10, 0}}}});  // the south wall alone
+  return testing::load_valid(room);
+}
+
+TEST(ClearOfObstacles, AStepIntoAWallSlidesAlongItAndNoStepLeavesTheMap) {
+  const auto model = empty_room();
+  ASSERT_TRUE(model);
+  Session session(model, 1);
+  const State& state = session.state();
+  const double radius = 0.3;
+  // Free space: the step is taken as it is.
+  EXPECT_EQ(clear_of_obstacles(*model, state, {5, 5}, {5.02, 4.98}, radius), Vec2(5.02, 4.98));
+  // Towards the south wall (y = 0), at the radius from it: the part into it goes, the part along it stays.
+  const auto clearance = [&](const Vec2& p) { return (*nearest_obstacle(*model, state, p, 1.0) - p).norm(); };
+  const Vec2 from(5, 0.33);
+  ASSERT_GE(clearance(from), radius);
+  const Vec2 along = clear_of_obstacles(*model, state, from, from + Vec2(0.03, -0.03), radius);
+  EXPECT_NEAR(along.x(), 5.03, 0.005);
+  EXPECT_GE(clearance(along), radius - 1e-9) << "no closer to the wall than the radius";
+  EXPECT_LT(along.y(), from.y()) << "as close as that";
+  // Towards the map's west edge (x = -0.5, no wall there): stopped `radius` inside it.
+  const Vec2 edge = clear_of_obstacles(*model, state, {-0.19, 5}, {-0.25, 5}, radius);
+  EXPECT_NEAR(edge.x(), -0.2, 1e-9);
+  // Already closer to the edge than the radius: no closer.
+  EXPECT_NEAR(clear_of_obstacles(*model, state, {-0.4, 5}, {-0.45, 5.01}, radius).x(), -0.4, 1e-9);
+  EXPECT_NEAR(clear_of_obstacles(*model, state, {-0.4, 5}, {-0.3, 5}, radius).x(), -0.3, 1e-9) << "away from it is free";
+}
+
+}  // namespace
+}  // namespace hrisim::sim
