@@ -252,6 +252,7 @@ void Crowd::compute_velocities(std::span<const CrowdAgent> agents, const Obstacl
   for (std::size_t i = 0; i < agents.size(); ++i) positions_[i] = agents[i].position;
   grid_.rebuild(positions_);
   velocities.resize(agents.size());
+  obstacle_distances_.assign(agents.size(), 0.0);
   add_social_forces(agents);
   const auto part = [&](unsigned k, std::size_t begin, std::size_t end) {
     Scratch& scratch = scratch_[k];
@@ -260,9 +261,9 @@ void Crowd::compute_velocities(std::span<const CrowdAgent> agents, const Obstacl
       if (agent.controlled) {
         velocities[i] = agent.velocity;
       } else if (agent.avoidance == LocalAvoidance::orca) {
-        velocities[i] = orca_velocity(i, agents, obstacles, dt, scratch);
+        velocities[i] = orca_velocity(i, agents, obstacles, dt, scratch, obstacle_distances_[i]);
       } else {
-        velocities[i] = social_force_velocity(i, agents, obstacles, dt, scratch);
+        velocities[i] = social_force_velocity(i, agents, obstacles, dt, scratch, obstacle_distances_[i]);
       }
     }
   };
@@ -280,13 +281,15 @@ void Crowd::set_threads(unsigned threads) {
 }
 
 Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
-                          Scratch& scratch) const {
+                          Scratch& scratch, double& obstacle_distance) const {
   const CrowdAgent& agent = agents[i];
   std::vector<OrcaLine>& lines = scratch.lines;
   lines.clear();
   std::size_t obstacle_lines = 0;
   const double obstacle_range = agent.max_speed * orca_.obstacle_horizon + agent.radius;
-  if (const auto obstacle = obstacles(agent.position, obstacle_range)) {
+  const auto obstacle = obstacles(agent.position, obstacle_range);
+  obstacle_distance = obstacle ? (*obstacle - agent.position).norm() : obstacle_range;
+  if (obstacle) {
     lines.push_back(orca_line(agent.position, agent.velocity, agent.radius, *obstacle, Vec2::Zero(), 0.0,
                               orca_.obstacle_horizon, dt, 1.0));
     obstacle_lines = 1;
@@ -374,13 +377,14 @@ void SocialPairs::resize(std::size_t size) {
 }
 
 Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
-                                  Scratch& scratch) const {
+                                  Scratch& scratch, double& obstacle_distance) const {
   const CrowdAgent& agent = agents[i];
   const SocialForceParams& p = social_force_;
   const Vec2 desired = (agent.preferred_velocity - agent.velocity) / p.relaxation_time;
   const Vec2& social = social_[i];
 
   const auto obstacle = obstacles(agent.position, p.neighbour_distance);
+  obstacle_distance = obstacle ? (*obstacle - agent.position).norm() : p.neighbour_distance;
   const Vec2 obstacle_force = obstacle ? humans::obstacle_force(p, agent.position, agent.radius, *obstacle) : Vec2::Zero();
 
   const Vec2 acceleration = p.desired_factor * desired + p.social_factor * social + p.obstacle_factor * obstacle_force;

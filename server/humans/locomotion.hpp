@@ -113,6 +113,11 @@ class Crowd {
   void compute_velocities(std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
                           std::vector<Vec2>& velocities);
 
+  /// For each agent of the last compute_velocities, how far its position is from the nearest obstacle
+  /// point its model looked for (the query's range when none is nearer; 0 for a controlled agent,
+  /// whose model looks for none). A step shorter than this minus the agent's radius stays clear.
+  const std::vector<double>& obstacle_distances() const { return obstacle_distances_; }
+
   /// Threads, the caller's included, that compute the velocities (1 by default: no helper thread).
   void set_threads(unsigned threads);
 
@@ -130,11 +135,12 @@ class Crowd {
   };
   /// A social-force agent's velocity with the part that would take it into a neighbour's margin removed.
   Vec2 keep_personal_space(std::size_t i, std::span<const CrowdAgent> agents, Vec2 velocity, double dt, Scratch& scratch) const;
-  Vec2 orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt, Scratch& scratch) const;
+  Vec2 orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt, Scratch& scratch,
+                     double& obstacle_distance) const;
   /// The interaction forces of the social force model on every agent that uses it, into social_.
   void add_social_forces(std::span<const CrowdAgent> agents);
   Vec2 social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
-                             Scratch& scratch) const;
+                             Scratch& scratch, double& obstacle_distance) const;
 
   OrcaParams orca_;
   SocialForceParams social_force_;
@@ -142,6 +148,7 @@ class Crowd {
   SpatialGrid grid_;
   std::vector<Vec2> positions_;
   std::vector<Vec2> social_;  ///< per agent this step: the sum of its interaction forces
+  std::vector<double> obstacle_distances_;
   // Scratch of add_social_forces, in the grid's slot order.
   std::vector<Vec2> slot_velocities_;
   std::vector<SocialPairs> social_pairs_;  ///< one per thread: its slots' pairs within range first, then room to spare

@@ -176,6 +176,17 @@ std::optional<Vec2> nearest_obstacle(const scenario::Model& model, const State& 
 
 namespace {
 
+/// `to`, kept inside the map's edge by `radius` (or, for `from` already nearer to it, by as much as
+/// `from` is): outside, nothing can be planned.
+Vec2 within_the_map(const world::OccupancyGrid& grid, const Vec2& from, const Vec2& to, double radius) {
+  const Vec2 low = grid.origin(), high = low + Vec2(grid.width(), grid.height()) * grid.resolution();
+  const auto inside = [&](double at, double lower, double upper, double was) {
+    const double margin = std::min(radius, std::min(was - lower, upper - was));
+    return std::clamp(at, lower + margin, std::max(lower + margin, upper - margin));
+  };
+  return {inside(to.x(), low.x(), high.x(), from.x()), inside(to.y(), low.y(), high.y(), from.y())};
+}
+
 /// How far `p` is from the nearest obstacle point within `range` (`range` when none is nearer).
 double clearance_at(const scenario::Model& model, const State& state, const Vec2& p, double range) {
   const std::optional<Vec2> nearest = nearest_obstacle(model, state, p, range);
@@ -184,27 +195,24 @@ double clearance_at(const scenario::Model& model, const State& state, const Vec2
 
 }  // namespace
 
-Vec2 clear_of_obstacles(const scenario::Model& model, const State& state, const Vec2& from, Vec2 to, double radius) {
-  const double keep = clearance_at(model, state, from, radius);
-  for (int pass = 0; pass < kClearancePasses; ++pass) {
-    const std::optional<Vec2> nearest = nearest_obstacle(model, state, to, keep);
-    if (!nearest) break;
-    const Vec2 away = to - *nearest;
-    const double distance = away.norm();
-    if (distance >= keep) break;
-    if (distance == 0.0) return from;
-    to = *nearest + away * (keep / distance);
+Vec2 clear_of_obstacles(const scenario::Model& model, const State& state, const Vec2& from, Vec2 to, double radius, double clearance) {
+  // Most steps stay farther than `radius` from every obstacle: the clearance they set off with says so.
+  if (clearance - (to - from).norm() < radius) {
+    if (std::optional<Vec2> nearest = nearest_obstacle(model, state, to, radius)) {
+      const double keep = clearance_at(model, state, from, radius);
+      for (int pass = 0; pass < kClearancePasses && nearest; ++pass) {
+        const Vec2 away = to - *nearest;
+        const double distance = away.norm();
+        if (distance >= keep) break;
+        if (distance == 0.0) return from;
+        to = *nearest + away * (keep / distance);
+        nearest = nearest_obstacle(model, state, to, keep);
+      }
+      // A projection puts the centre at `keep` up to rounding: not a reason to stand still.
+      if (nearest && (*nearest - to).norm() < keep - kClearanceRounding) return from;
+    }
   }
-  // A projection puts the centre at `keep` up to rounding: not a reason to stand still.
-  if (clearance_at(model, state, to, keep) < keep - kClearanceRounding) return from;
-  // The map's edge: nobody walks off it (outside, nothing can be planned).
-  const world::OccupancyGrid& grid = model.grid;
-  const Vec2 low = grid.origin(), high = low + Vec2(grid.width(), grid.height()) * grid.resolution();
-  const auto inside = [&](double at, double lower, double upper, double was) {
-    const double margin = std::min(radius, std::min(was - lower, upper - was));
-    return std::clamp(at, lower + margin, std::max(lower + margin, upper - margin));
-  };
-  return {inside(to.x(), low.x(), high.x(), from.x()), inside(to.y(), low.y(), high.y(), from.y())};
+  return within_the_map(model.grid, from, to, radius);
 }
 
 void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
@@ -256,7 +264,9 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     const std::optional<double>& watching = buffers.watching_headings[i];
     const Vec2 to = self.position + buffers.velocities[k] * model.dt;
     // Walkers the crowd model moved stay out of walls; others (stepping onto a seat, held) are placed.
-    const Vec2 clear = buffers.agents[k].controlled ? to : clear_of_obstacles(model, state, self.position, to, model.agents[i].radius);
+    const Vec2 clear = buffers.agents[k].controlled ? to
+                                                    : clear_of_obstacles(model, state, self.position, to, model.agents[i].radius,
+                                                                         buffers.crowd.obstacle_distances()[k]);
     self.velocity = clear == to ? buffers.velocities[k] : (clear - self.position) / model.dt;
     self.position = clear;
     const double wanted = buffers.agents[k].preferred_velocity.norm();

@@ -91,8 +91,10 @@ inline constexpr double kClearanceRounding = 1e-9;
 /// crossed a 0.2 m wall), so this is the hard constraint after them. Its centre stays at least
 /// `radius` from the nearest obstacle point (nearest_obstacle) and inside the map by as much — or, for
 /// a walker already closer, no closer than it was. A step into that margin is projected out of it
-/// (sliding along the wall).
-Vec2 clear_of_obstacles(const scenario::Model& model, const State& state, const Vec2& from, Vec2 to, double radius);
+/// (sliding along the wall). `clearance` is `from`'s distance to the nearest obstacle point, or a
+/// lower bound of it (the crowd model's, humans::Crowd::obstacle_distances): a step shorter than it
+/// minus `radius` needs no query.
+Vec2 clear_of_obstacles(const scenario::Model& model, const State& state, const Vec2& from, Vec2 to, double radius, double clearance);
 
 /// The tick's walking phase. Robots with a model take part in the crowd but move by their own base.
 void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers);

@@ -68,22 +68,27 @@ TEST(ClearOfObstacles, AStepIntoAWallSlidesAlongItAndNoStepLeavesTheMap) {
   Session session(model, 1);
   const State& state = session.state();
   const double radius = 0.3;
+  // Every call says it knows no clearance at `from` (0): each looks for the nearest obstacle.
   // Free space: the step is taken as it is.
-  EXPECT_EQ(clear_of_obstacles(*model, state, {5, 5}, {5.02, 4.98}, radius), Vec2(5.02, 4.98));
+  EXPECT_EQ(clear_of_obstacles(*model, state, {5, 5}, {5.02, 4.98}, radius, 0.0), Vec2(5.02, 4.98));
   // Towards the south wall (y = 0), at the radius from it: the part into it goes, the part along it stays.
   const auto clearance = [&](const Vec2& p) { return (*nearest_obstacle(*model, state, p, 1.0) - p).norm(); };
   const Vec2 from(5, 0.33);
   ASSERT_GE(clearance(from), radius);
-  const Vec2 along = clear_of_obstacles(*model, state, from, from + Vec2(0.03, -0.03), radius);
+  const Vec2 along = clear_of_obstacles(*model, state, from, from + Vec2(0.03, -0.03), radius, 0.0);
   EXPECT_NEAR(along.x(), 5.03, 0.005);
   EXPECT_GE(clearance(along), radius - 1e-9) << "no closer to the wall than the radius";
   EXPECT_LT(along.y(), from.y()) << "as close as that";
   // Towards the map's west edge (x = -0.5, no wall there): stopped `radius` inside it.
-  const Vec2 edge = clear_of_obstacles(*model, state, {-0.19, 5}, {-0.25, 5}, radius);
+  const Vec2 edge = clear_of_obstacles(*model, state, {-0.19, 5}, {-0.25, 5}, radius, 0.0);
   EXPECT_NEAR(edge.x(), -0.2, 1e-9);
   // Already closer to the edge than the radius: no closer.
-  EXPECT_NEAR(clear_of_obstacles(*model, state, {-0.4, 5}, {-0.45, 5.01}, radius).x(), -0.4, 1e-9);
-  EXPECT_NEAR(clear_of_obstacles(*model, state, {-0.4, 5}, {-0.3, 5}, radius).x(), -0.3, 1e-9) << "away from it is free";
+  EXPECT_NEAR(clear_of_obstacles(*model, state, {-0.4, 5}, {-0.45, 5.01}, radius, 0.0).x(), -0.4, 1e-9);
+  EXPECT_NEAR(clear_of_obstacles(*model, state, {-0.4, 5}, {-0.3, 5}, radius, 0.0).x(), -0.3, 1e-9) << "away from it is free";
+  // Given the true clearance at `from` (as the crowd model's query gives it), the same places.
+  for (const Vec2& to : {Vec2(5.03, 0.30), Vec2(5.0, 0.36), Vec2(4.97, 0.33)}) {
+    EXPECT_EQ(clear_of_obstacles(*model, state, from, to, radius, clearance(from)), clear_of_obstacles(*model, state, from, to, radius, 0.0));
+  }
 }
 
 }  // namespace
