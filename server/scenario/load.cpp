@@ -358,10 +358,29 @@ class Loader {
           context_.names.robots.insert(agent.id);
           read_robot_model(model, entry, pointer, agent);
         }
-        context_.check_free(model, agent.start.position(), pointer + "/start", std::string(is_human ? "human" : "robot") + " '" + agent.id + "'");
+        place_start(model, agent, pointer + "/start", std::string(is_human ? "human" : "robot") + " '" + agent.id + "'");
         model.agents.push_back(std::move(agent));
       }
     }
+  }
+
+  /// An agent whose start is on a wall or an obstacle (files made for simulators that push such agents
+  /// out, or whose map has moved) starts at the nearest spot within world::kSnapDistance where its
+  /// body fits, with a warning; farther, or outside the map, that is an error.
+  void place_start(const Model& model, AgentDef& agent, const std::string& pointer, const std::string& what) {
+    const Vec2 at = agent.start.position();
+    const world::CellIndex cell = model.grid.cell_of(at);
+    if (model.grid.in_bounds(cell) && model.grid.blocked(at)) {
+      if (const auto free = model.planner.nearest_traversable(model.grid.index(cell), agent.radius)) {
+        const Vec2 moved = model.grid.center_of(model.grid.cell_at(*free));
+        warnings_.push_back({pointer, what + " at (" + core::point_text(at) + ") is on a wall or an obstacle: moved to (" + core::point_text(moved) +
+                                          "), the nearest spot where their body fits"});
+        agent.start.x = moved.x();
+        agent.start.y = moved.y();
+        return;
+      }
+    }
+    context_.check_free(model, at, pointer, what);
   }
 
   /// The search controller's person and strategy, and what it needs: a people detector, and rooms

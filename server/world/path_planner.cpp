@@ -15,8 +15,6 @@ constexpr float kUnreachable = std::numeric_limits<float>::infinity();
 constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
 constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
 constexpr float kStep[8] = {1.0f, 1.0f, 1.0f, 1.0f, 1.41421356f, 1.41421356f, 1.41421356f, 1.41421356f};
-/// How far from an unusable start or goal the planner looks for a usable cell.
-constexpr double kSnapDistance = 1.0;
 
 /// Blocked cells in order, as traversable()'s binary search needs them.
 std::vector<std::size_t> sorted(std::vector<std::size_t> cells) {

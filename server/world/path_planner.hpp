@@ -65,6 +65,9 @@ enum class Rejoin {
   replan,          ///< neither: plan again
 };
 
+/// How far from an unusable start or goal the planner looks for a usable cell, m.
+inline constexpr double kSnapDistance = 1.0;
+
 class PathPlanner {
  public:
   /// The grid and field must outlive the planner.
@@ -91,6 +94,10 @@ class PathPlanner {
 
   /// Whether a disc of `radius` centred in the cell fits.
   bool traversable(std::size_t cell, double radius, const std::vector<std::size_t>& blocked_cells = {}) const;
+  /// The cell nearest to `cell` (itself, when it is) where a disc of `radius` fits, within
+  /// kSnapDistance: where a start or goal on a wall is taken from.
+  std::optional<std::size_t> nearest_traversable(std::size_t cell, double radius,
+                                                 const std::vector<std::size_t>& blocked_cells = {}) const;
 
  private:
   /// The cost-to-go field of a goal, from the shared memo or computed now.
@@ -100,8 +107,6 @@ class PathPlanner {
                                                  const std::vector<std::size_t>& blocked_cells,
                                                  std::size_t& expanded) const;
   bool diagonal_allowed(CellIndex from, int dx, int dy, double radius, const std::vector<std::size_t>& blocked) const;
-  std::optional<std::size_t> nearest_traversable(std::size_t cell, double radius,
-                                                 const std::vector<std::size_t>& blocked_cells) const;
 
   const OccupancyGrid& grid_;
   const DistanceField& field_;

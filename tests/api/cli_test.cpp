@@ -106,12 +106,16 @@ TEST(CliImport, FormatIsDetectedAndErrorsCarryLines) {
 
 TEST(CliImport, AScenarioThatDoesNotValidateIsAnImportError) {
   TempDir dir;
-  // A lone agent standing on a wall: imported as written, refused when validated.
-  std::ofstream(dir / "on_wall.xml") << "<scenario>\n  <obstacle x1=\"0\" y1=\"0\" x2=\"10\" y2=\"0\"/>\n  <obstacle x1=\"0\" y1=\"0\" x2=\"0\" y2=\"10\"/>\n"
-                                        "  <agent x=\"0\" y=\"4\" n=\"1\"/>\n</scenario>\n";
+  // A lone agent standing on a wall among walls 0.25 m apart, where no body fits within 1 m: imported
+  // as written, refused when validated (one less striped, it would be moved, with a warning).
+  std::ofstream xml(dir / "on_wall.xml");
+  xml << "<scenario>\n";
+  for (int k = 0; k <= 8; ++k) xml << "  <obstacle x1=\"0\" y1=\"" << 3 + 0.25 * k << "\" x2=\"10\" y2=\"" << 3 + 0.25 * k << "\"/>\n";
+  xml << "  <agent x=\"5\" y=\"4\" n=\"1\"/>\n</scenario>\n";
+  xml.close();
   const CommandResult result = run_command(kHrisim + " import " + (dir / "on_wall.xml").string());
   EXPECT_EQ(result.exit_status, 1) << result.output;
-  EXPECT_NE(result.output.find("on_wall.xml:4: /humans/0/start: human 'agent_0' at (0, 4) is inside obstacle"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("on_wall.xml:11: /humans/0/start: human 'agent_0' at (5, 4) is inside obstacle"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("on_wall.xml: the imported scenario does not validate (1 error)"), std::string::npos) << result.output;
 }
 

@@ -145,13 +145,15 @@ TEST(LoadScenario, UnknownReferencesAreNamed) {
 
 TEST(LoadScenario, PlacesInsideObstaclesOrOutsideTheMap) {
   json document = room_scenario(kPeople);
-  document["humans"][0]["start"] = {{"x", 5.1}, {"y", 5.1}};
+  document["world"]["obstacles"].push_back(json::parse(R"({"name": "block", "box": {"x": 2.5, "y": 2.5, "length": 3, "width": 3}})"));
+  document["humans"][0]["start"] = {{"x", 2.5}, {"y", 2.5}};
   document["robots"][0]["start"] = {{"x", 20}, {"y", 2}};
   document["locations"]["door"] = {{"x", 0.0}, {"y", 3.0}};
   document["social_spaces"]["sofa"]["slots"][1] = {{"x", -3.0}, {"y", -3.0}};
   document["steps"][0]["actions"][1] = json::parse(R"({"agent": "ben", "goto": {"pose": {"x": 4.9, "y": 4.9}}})");
   const auto errors = errors_of(document);
-  EXPECT_TRUE(has_error(errors, "/humans/0/start", "human 'ana' at (5.1, 5.1) is inside obstacle \"table\""));
+  EXPECT_TRUE(has_error(errors, "/humans/0/start", "human 'ana' at (2.5, 2.5) is inside obstacle \"block\""))
+      << "1.5 m inside: farther than a start is moved";
   EXPECT_TRUE(has_error(errors, "/robots/0/start", "outside the map"));
   EXPECT_TRUE(has_error(errors, "/locations/door", "inside obstacle \"wall 3\""));
   EXPECT_TRUE(has_error(errors, "/social_spaces/sofa/slots/1", "slot 1 of social space 'sofa'"));
@@ -328,6 +330,22 @@ TEST(LoadScenario, StandoffOfSocialForceHumans) {
   EXPECT_NEAR(social_force_standoff(humans::SocialForceParams{}, 0.3, 1.34), 1.354, 1e-3);
   EXPECT_DOUBLE_EQ(social_force_standoff(humans::SocialForceParams{.obstacle_factor = 1.0}, 0.3, 1.34), 0.3)
       << "a drive stronger than the wall force gets all the way";
+}
+
+// An agent placed on a wall or an obstacle, as files made for simulators that push it out have them,
+// starts at the nearest spot within 1 m where its body fits, and the loader says so.
+TEST(LoadScenario, MovesAStartOnAnObstacleToTheNearestSpotWhereTheBodyFitsAndWarns) {
+  json document = room_scenario(json::parse(R"({"humans": [{"id": "ana", "start": {"x": 5.1, "y": 5.3}}]})"));
+  const LoadResult result = load_scenario(document, {});
+  ASSERT_TRUE(result.model) << (result.errors.empty() ? "" : result.errors[0].message);
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_EQ(result.warnings[0].pointer, "/humans/0/start");
+  EXPECT_NE(result.warnings[0].message.find("human 'ana' at (5.1, 5.3) is on a wall or an obstacle: moved to ("), std::string::npos)
+      << result.warnings[0].message;
+  const Vec2 start = result.model->agents[0].start.position();
+  EXPECT_GT(start.y(), 5.4 + 0.3 - 1e-9) << "north of the table (4.4..5.6 × 4.6..5.4), the nearest side, clear by the radius";
+  EXPECT_LT((start - Vec2(5.1, 5.3)).norm(), 0.5);
+  EXPECT_TRUE(result.model->planner.traversable(result.model->grid.index(result.model->grid.cell_of(start)), result.model->agents[0].radius));
 }
 
 TEST(LoadScenario, WarnsAboutGoalsSocialForceHumansCannotReach) {
