@@ -61,6 +61,7 @@ export class SessionDriver {
   speed = 1;
   playing = false;
   disposed = false;
+  ending = false;  // end() under way: the session is about to be gone
   #socket = null;
   #listeners = new Map();
   #camera = null;
@@ -123,10 +124,12 @@ export class SessionDriver {
   /** Ends the session on the server; rejects (and stays connected) when it refuses. */
   async end() {
     this.pause();
+    this.ending = true;  // panels that poll the session stop asking
     if (this.#socket) this.#socket.closing = true;  // the server closes the socket: that is no error here
     try {
       await api.delete(`/api/v1/sessions/${encodeURIComponent(this.id)}`);
     } catch (error) {
+      this.ending = false;
       if (this.#socket) this.#socket.closing = false;
       throw error;
     }

@@ -38,7 +38,7 @@ export function inputsPanel(driver, sessionId) {
   let fetching = false;
 
   async function refresh() {
-    if (fetching || !list.isConnected) return;
+    if (fetching || !list.isConnected || driver.ending) return;
     fetching = true;
     fetched = Date.now();
     try {
