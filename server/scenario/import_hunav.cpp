@@ -1,6 +1,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -156,6 +157,11 @@ class HunavImporter {
       return;
     }
     world_name_ = parameters["map"] && is_scalar(parameters["map"]) ? parameters["map"].Scalar() : "";
+    // reset(), not =: assigning to a YAML::Node writes into the node it refers to.
+    if (const YAML::Node goals = parameters["global_goals"]) {
+      global_goals_.reset(goals);
+      if (!is_map(goals)) fail(goals, "global_goals must map each goal's name to its point (1: {x: …, y: …})");
+    }
     for (const YAML::Node& name : names) {
       if (!is_scalar(name) || name.Scalar().empty()) {
         fail(name, "an entry of 'agents' must be an agent's name");
@@ -280,9 +286,12 @@ class HunavImporter {
         continue;
       }
       goal_names.push_back(goal.Scalar());
-      if (!block[goal.Scalar()]) {
-        fail(goal, name + ": goal '" + goal.Scalar() + "' has no block (" + goal.Scalar() + ": {x: …, y: …})");
-      } else if (auto p = point(block, goal.Scalar(), name)) {
+      // HuNavSim 1 gives each agent its goals' blocks; HuNavSim 2 names shared ones in global_goals.
+      const YAML::Node& global_goals = global_goals_;  // read through const: indexing a Node may add the key
+      const bool own = static_cast<bool>(block[goal.Scalar()]), shared = is_map(global_goals) && global_goals[goal.Scalar()];
+      if (!own && !shared) {
+        fail(goal, name + ": goal '" + goal.Scalar() + "' has no block (" + goal.Scalar() + ": {x: …, y: …}) here or in global_goals");
+      } else if (auto p = own ? point(block, goal.Scalar(), name) : point(global_goals, goal.Scalar(), "global_goals")) {
         agent.goals.push_back(std::move(*p));
       }
     }
@@ -303,6 +312,17 @@ class HunavImporter {
     agents_.push_back(std::move(agent));
   }
 
+  /// HuNavSim 2 writes a behaviour's type by name ("Regular" … "Threatening"): its number (1 … 6).
+  static std::optional<int> behaviour_named(const std::string& text) {
+    for (int k = 0; k < 6; ++k) {
+      const std::string name = kBehaviours[k];
+      if (text.size() == name.size() && std::equal(text.begin(), text.end(), name.begin(), [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; })) {
+        return k + 1;
+      }
+    }
+    return std::nullopt;
+  }
+
   /// The behaviour as hrisim's scenario writes it: a name for HuNavSim's defaults, an object for a
   /// custom or random configuration (drawn here, once, as hunav_loader draws it at launch).
   ordered_json read_behaviour(const YAML::Node& block, const std::string& owner) {
@@ -310,8 +330,16 @@ class HunavImporter {
     if (!node) return "regular";
     const std::string where = owner + ".behavior";
     const YAML::Node settings = is_map(node) ? node : YAML::Node(YAML::NodeType::Map);
-    const auto type = is_map(node) ? whole(node, "type", where, 1, 1, 6, "1 (regular) … 6 (threatening)")
-                                   : whole(block, "behavior", owner, 1, 1, 6, "1 (regular) … 6 (threatening), or a block with type");
+    const YAML::Node type_node = is_map(node) ? node["type"] : node;
+    const std::optional<int> named = is_scalar(type_node) ? behaviour_named(type_node.Scalar()) : std::nullopt;
+    if (!named && is_scalar(type_node) && std::any_of(type_node.Scalar().begin(), type_node.Scalar().end(), [](unsigned char c) { return std::isalpha(c); })) {
+      fail(type_node, (is_map(node) ? where + ": type" : owner + ": behavior") + " must be 1 (regular) … 6 (threatening) or its name (Regular … Threatening), got '" +
+                          type_node.Scalar() + "'");
+      return nullptr;
+    }
+    const auto type = named                ? named
+                      : is_map(node) ? whole(node, "type", where, 1, 1, 6, "1 (regular) … 6 (threatening), or its name (Regular … Threatening)")
+                                     : whole(block, "behavior", owner, 1, 1, 6, "1 (regular) … 6 (threatening), its name, or a block with type");
     const auto configuration = whole(settings, "configuration", where, kDefault, 0, 3, "0 (default), 1 (custom), 2 (random normal) or 3 (random uniform)");
     if (!type || !configuration) return nullptr;
     const std::string name = kBehaviours[*type - 1];
@@ -483,6 +511,7 @@ class HunavImporter {
   const ImportOptions& options_;
   ImportResult& result_;
   std::string world_name_;
+  YAML::Node global_goals_;  ///< HuNavSim 2's goals shared by name (absent in HuNavSim 1's files)
   std::vector<Agent> agents_;
   core::Vec2 extent_low_{std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
   core::Vec2 extent_high_ = -extent_low_;

@@ -253,5 +253,45 @@ TEST(ImportHunav, AStartOnAWallOfTheMapIsMovedAndSaidAtItsAgentsLine) {
   EXPECT_EQ(origin_line(imported, loaded.warnings[0].pointer), 5);
 }
 
+// HuNavSim 2 names goals once, in global_goals, and behaviours by name.
+TEST(ImportHunav, HunavSim2GlobalGoalsAndNamedBehavioursAreRead) {
+  const ImportResult imported = import_hunav(std::string(kHeader) +
+                                             "    global_goals:\n"
+                                             "      1: {x: 2, y: 1}\n"
+                                             "      2: {x: 2, y: 3}\n"
+                                             "    agents: [a, b]\n"
+                                             "    a: {init_pose: {x: 0, y: 0}, behavior: {type: Scared, configuration: 0}, goals: [1, 2]}\n"
+                                             "    b: {init_pose: {x: 0, y: 2}, behavior: {type: 1}, goals: [2, 3], 3: {x: 4, y: 4}}\n",
+                                             ImportOptions{});
+  ASSERT_TRUE(imported.errors.empty()) << imported.errors[0].line << ": " << imported.errors[0].message;
+  const auto model = load_imported(imported, unconfined());
+  ASSERT_TRUE(model);
+  EXPECT_EQ(model->agents[0].behaviour.type, humans::BehaviourType::scared);
+  EXPECT_EQ(model->agents[1].behaviour.type, humans::BehaviourType::regular);
+  const json scenario = json::parse(imported.scenario.dump());
+  EXPECT_NE(scenario.dump().find("\"x\":2.0,\"y\":1.0"), std::string::npos) << "a's first goal, from global_goals: " << scenario.dump();
+  EXPECT_NE(scenario.dump().find("\"x\":4.0,\"y\":4.0"), std::string::npos) << "b's own goal block still reads";
+  EXPECT_TRUE(has_message(errors_of(std::string(kHeader) + "    global_goals: {1: {x: 1, y: 1}}\n    agents: [a]\n    a: {init_pose: {x: 0, y: 0}, goals: [7]}\n"),
+                          5, "goal '7' has no block (7: {x: …, y: …}) here or in global_goals"));
+  EXPECT_TRUE(has_message(errors_of(std::string(kHeader) + "    agents: [a]\n    a: {init_pose: {x: 0, y: 0}, behavior: {type: Grumpy}}\n"), 4,
+                          "or its name (Regular … Threatening)"));
+}
+
+TEST(ImportHunav, RealHunavSim2OfficeFileRunsWithItsPeopleWalking) {
+  const std::filesystem::path agents = kShared / "external/hunav2/office_agents.yaml", map = kShared / "external/hunav2/office.yaml";
+  if (!std::filesystem::exists(agents)) {
+    GTEST_SKIP() << no_reference_file("hunav2/office_agents.yaml", "ImportHunav.HunavSim2GlobalGoalsAndNamedBehavioursAreRead");
+  }
+  const ImportResult imported = import_hunav(read(agents), with_map(map));
+  ASSERT_TRUE(imported.errors.empty()) << imported.errors[0].line << ": " << imported.errors[0].message;
+  const auto model = load_imported(imported, unconfined());
+  ASSERT_TRUE(model);
+  ASSERT_EQ(model->agents.size(), 8u);
+  const auto walked = distance_per_window(model, 120.0, 30.0);
+  int walking = 0;
+  for (const auto& windows : walked) walking += std::all_of(windows.begin(), windows.end(), [](double metres) { return metres > 10.0; });
+  EXPECT_GE(walking, 8 * 9 / 10) << "at least 90 % walk their routes all along";
+}
+
 }  // namespace
 }  // namespace hrisim::scenario
