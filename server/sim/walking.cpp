@@ -16,6 +16,24 @@ namespace {
 
 using scenario::AgentKind;
 
+/// `to`, kept inside the map's edge by `radius` (or, for `from` already nearer to it, by as much as
+/// `from` is): outside, nothing can be planned.
+Vec2 within_the_map(const world::OccupancyGrid& grid, const Vec2& from, const Vec2& to, double radius) {
+  const Vec2 low = grid.origin(), high = low + Vec2(grid.width(), grid.height()) * grid.resolution();
+  const auto inside = [&](double at, double lower, double upper, double was) {
+    const double margin = std::min(radius, std::min(was - lower, upper - was));
+    return std::clamp(at, lower + margin, std::max(lower + margin, upper - margin));
+  };
+  return {inside(to.x(), low.x(), high.x(), from.x()), inside(to.y(), low.y(), high.y(), from.y())};
+}
+
+/// How far `p` is from the nearest obstacle point within `range` (`range` when none is nearer).
+double clearance_at(const scenario::Model& model, const State& state, const Vec2& p, double range) {
+  const std::optional<Vec2> nearest = nearest_obstacle(model, state, p, range);
+  return nearest ? (*nearest - p).norm() : range;
+}
+
+
 /// The group an agent belongs to now, -1 for none.
 int group_of(const State& state, int agent) {
   for (std::size_t g = 0; g < state.groups.size(); ++g) {
@@ -173,27 +191,6 @@ std::optional<Vec2> nearest_obstacle(const scenario::Model& model, const State& 
   if (!nearest || (*nearest - p).norm() > range) return std::nullopt;
   return nearest;
 }
-
-namespace {
-
-/// `to`, kept inside the map's edge by `radius` (or, for `from` already nearer to it, by as much as
-/// `from` is): outside, nothing can be planned.
-Vec2 within_the_map(const world::OccupancyGrid& grid, const Vec2& from, const Vec2& to, double radius) {
-  const Vec2 low = grid.origin(), high = low + Vec2(grid.width(), grid.height()) * grid.resolution();
-  const auto inside = [&](double at, double lower, double upper, double was) {
-    const double margin = std::min(radius, std::min(was - lower, upper - was));
-    return std::clamp(at, lower + margin, std::max(lower + margin, upper - margin));
-  };
-  return {inside(to.x(), low.x(), high.x(), from.x()), inside(to.y(), low.y(), high.y(), from.y())};
-}
-
-/// How far `p` is from the nearest obstacle point within `range` (`range` when none is nearer).
-double clearance_at(const scenario::Model& model, const State& state, const Vec2& p, double range) {
-  const std::optional<Vec2> nearest = nearest_obstacle(model, state, p, range);
-  return nearest ? (*nearest - p).norm() : range;
-}
-
-}  // namespace
 
 Vec2 clear_of_obstacles(const scenario::Model& model, const State& state, const Vec2& from, Vec2 to, double radius, double clearance) {
   // Most steps stay farther than `radius` from every obstacle: the clearance they set off with says so.
