@@ -33,7 +33,6 @@ double clearance_at(const scenario::Model& model, const State& state, const Vec2
   return nearest ? (*nearest - p).norm() : range;
 }
 
-
 /// The group an agent belongs to now, -1 for none.
 int group_of(const State& state, int agent) {
   for (std::size_t g = 0; g < state.groups.size(); ++g) {
