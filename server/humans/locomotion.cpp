@@ -206,8 +206,23 @@ Vec2 solve_orca(const std::vector<OrcaLine>& lines, std::size_t obstacle_lines, 
   return result;
 }
 
-Crowd::Crowd(OrcaParams orca, SocialForceParams social_force, PersonalSpace personal_space)
-    : orca_(orca), social_force_(social_force), personal_space_(personal_space), grid_(std::max(orca.neighbour_distance, 1.0)), social_pairs_(1), scratch_(1) {}
+CrowdParams crowd_preset(CrowdPreset preset) {
+  CrowdParams params;
+  if (preset == CrowdPreset::calibrated) {
+    params.headway.time_gap = kCalibratedTimeGap;
+    params.personal_space.from_people = 0.0;
+    params.social_force.obstacle_sigma = kCalibratedObstacleSigma;
+    params.social_force.obstacle_factor = kCalibratedObstacleFactor;
+  }
+  if (preset == CrowdPreset::crowdnav) {
+    params.orca = {.neighbour_distance = 10.0, .max_neighbours = 10, .time_horizon = 5.0, .obstacle_horizon = 5.0};
+    params.personal_space = {.from_robots = 0.0, .from_people = 0.0};
+  }
+  return params;
+}
+
+Crowd::Crowd(OrcaParams orca, SocialForceParams social_force, PersonalSpace personal_space, Headway headway)
+    : orca_(orca), social_force_(social_force), personal_space_(personal_space), headway_(headway), grid_(std::max(orca.neighbour_distance, 1.0)), social_pairs_(1), scratch_(1) {}
 
 /// No agent's body is wider than this round its centre, m (bounds the search for neighbours).
 constexpr double kLargestBodyRadius = 1.0;
@@ -260,10 +275,13 @@ void Crowd::compute_velocities(std::span<const CrowdAgent> agents, const Obstacl
       const CrowdAgent& agent = agents[i];
       if (agent.controlled) {
         velocities[i] = agent.velocity;
-      } else if (agent.avoidance == LocalAvoidance::orca) {
-        velocities[i] = orca_velocity(i, agents, obstacles, dt, scratch, obstacle_distances_[i]);
+        continue;
+      }
+      const Vec2 preferred = headway_.time_gap > 0.0 ? within_headway(i, agents, obstacles, scratch) : agent.preferred_velocity;
+      if (agent.avoidance == LocalAvoidance::orca) {
+        velocities[i] = orca_velocity(i, agents, preferred, obstacles, dt, scratch, obstacle_distances_[i]);
       } else {
-        velocities[i] = social_force_velocity(i, agents, obstacles, dt, scratch, obstacle_distances_[i]);
+        velocities[i] = social_force_velocity(i, agents, preferred, obstacles, dt, scratch, obstacle_distances_[i]);
       }
     }
   };
@@ -280,8 +298,53 @@ void Crowd::set_threads(unsigned threads) {
   social_pairs_.resize(std::max(threads, 1u));
 }
 
-Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
-                          Scratch& scratch, double& obstacle_distance) const {
+Vec2 Crowd::within_headway(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, Scratch& scratch) const {
+  const CrowdAgent& agent = agents[i];
+  const double speed = agent.preferred_velocity.norm();
+  if (speed <= 0.0) return agent.preferred_velocity;
+  const double horizon = headway_.horizon;
+  std::vector<std::pair<double, std::uint32_t>>& neighbours = scratch.neighbours;
+  grid_.nearest_within(agent.position, horizon + agent.radius + kLargestBodyRadius, agents.size(), static_cast<std::uint32_t>(i), neighbours);
+  const std::optional<Vec2> obstacle = obstacles(agent.position, horizon + agent.radius);
+  // The nearest obstacle stands for a wall through it, square to the way to it.
+  const Vec2 wall_normal = obstacle ? Vec2((agent.position - *obstacle).normalized()) : Vec2::Zero();
+  const double wall_room = obstacle ? (agent.position - *obstacle).norm() - agent.radius : 0.0;
+  // How far the agent walks along `way` before its body touches someone's where they are now (as the
+  // collision-free speed model measures spacing), or that wall: Moussaïd et al.'s f(α), capped at the
+  // horizon. It both ranks the ways and sets the speed.
+  const auto gap_ahead = [&](const Vec2& way) {
+    double gap = horizon;
+    for (const auto& [squared_distance, j] : neighbours) {
+      const Vec2 offset = agents[j].position - agent.position;
+      const double ahead = offset.dot(way), aside = std::abs(cross(way, offset)), touching = agent.radius + agents[j].radius;
+      if (ahead <= 0.0 || aside >= touching) continue;  // behind, or not in the agent's lane
+      gap = std::min(gap, std::max(ahead - std::sqrt(touching * touching - aside * aside), 0.0));
+    }
+    const double towards_wall = -way.dot(wall_normal);
+    if (towards_wall > 0.0) gap = std::min(gap, std::max(wall_room, 0.0) / towards_wall);
+    return gap;
+  };
+  const double wanted = std::atan2(agent.preferred_velocity.y(), agent.preferred_velocity.x());
+  Vec2 best_way = agent.preferred_velocity / speed;
+  const double straight_gap = gap_ahead(best_way);
+  double best_gap = straight_gap;
+  // Moussaïd et al.'s d(α)²: how far from the destination (at the horizon, the way wanted) walking
+  // f(α) along α leaves the agent; ties keep the way nearer the one wanted.
+  double best_miss = horizon * horizon + straight_gap * straight_gap - 2.0 * horizon * straight_gap;
+  for (int k = 1; k <= kHeadwayWaysEachSide; ++k) {
+    const double turn = headway_.field_of_view * k / kHeadwayWaysEachSide;
+    for (const double side : {1.0, -1.0}) {
+      const Vec2 way = core::heading_vector(wanted + side * turn);
+      const double gap = gap_ahead(way);
+      const double miss = horizon * horizon + gap * gap - 2.0 * horizon * gap * std::cos(turn);
+      if (miss < best_miss) best_way = way, best_gap = gap, best_miss = miss;
+    }
+  }
+  return best_way * std::min(speed, best_gap / headway_.time_gap);
+}
+
+Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const Vec2& preferred, const ObstacleQuery& obstacles,
+                          double dt, Scratch& scratch, double& obstacle_distance) const {
   const CrowdAgent& agent = agents[i];
   std::vector<OrcaLine>& lines = scratch.lines;
   lines.clear();
@@ -303,7 +366,7 @@ Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, con
     lines.push_back(orca_line(agent.position, agent.velocity, agent.radius, other.position, other.velocity,
                               other.radius + margin(agent, other), orca_.time_horizon, dt, other.controlled ? 1.0 : 0.5));
   }
-  return solve_orca(lines, obstacle_lines, agent.max_speed, agent.preferred_velocity);
+  return solve_orca(lines, obstacle_lines, agent.max_speed, preferred);
 }
 
 void Crowd::add_social_forces(std::span<const CrowdAgent> agents) {
@@ -376,11 +439,11 @@ void SocialPairs::resize(std::size_t size) {
   b.resize(size);
 }
 
-Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
-                                  Scratch& scratch, double& obstacle_distance) const {
+Vec2 Crowd::social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const Vec2& preferred,
+                                  const ObstacleQuery& obstacles, double dt, Scratch& scratch, double& obstacle_distance) const {
   const CrowdAgent& agent = agents[i];
   const SocialForceParams& p = social_force_;
-  const Vec2 desired = (agent.preferred_velocity - agent.velocity) / p.relaxation_time;
+  const Vec2 desired = (preferred - agent.velocity) / p.relaxation_time;
   const Vec2& social = social_[i];
 
   const auto obstacle = obstacles(agent.position, p.neighbour_distance);

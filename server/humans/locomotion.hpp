@@ -5,8 +5,10 @@
 // model (Helbing & Molnár 1995 with Moussaïd et al. 2009's interaction term, as in pedsim).
 // Robots are part of the crowd as agents whose velocity comes from their controller: humans always
 // react to them, and under ORCA take full responsibility for avoiding them (robots do not reciprocate).
+#include <algorithm>
 #include <functional>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <vector>
@@ -62,6 +64,60 @@ struct PersonalSpace {
   double from_people = kPersonalSpaceFromPeople;
 };
 
+/// Moussaïd, Helbing & Theraulaz's (2011) two heuristics, which reproduce the fundamental diagram:
+/// - a walker heads, within its field of view, the way that brings it nearest its destination given
+///   how far it could walk that way before touching someone (or something): it overtakes the slow;
+/// - it walks no faster than the gap ahead that way (surface to surface) covered in `time_gap`: the
+///   room needed per person grows with speed, the mechanism of Weidmann's diagram (the collision-free
+///   speed model's V(s) = min(v0, s/T), Tordeux, Chraibi & Seyfried 2016).
+/// A `time_gap` of 0 turns both off (hrisim's HRI default); the `calibrated` preset sets them
+/// (docs/crowd-validation.md).
+struct Headway {
+  double time_gap = 0.0;      ///< s; Moussaïd et al.'s τ is 0.5 s
+  double horizon = 4.0;       ///< m, how far ahead the ways are compared (their d_max, 10 m, is cut for speed)
+  double field_of_view = 5.0 * std::numbers::pi / 12.0;  ///< rad, each side of the way wanted (their φ, 75°)
+};
+/// The ways compared within the field of view, each side of the way wanted.
+inline constexpr int kHeadwayWaysEachSide = 5;
+
+/// The settings of the crowd models, as a scenario's `locomotion` section gives them.
+struct CrowdParams {
+  OrcaParams orca;
+  SocialForceParams social_force;
+  PersonalSpace personal_space;
+  Headway headway;
+};
+
+/// Named sets of crowd settings (`locomotion.preset`; docs/crowd-validation.md):
+/// - hrisim: the defaults above, set for people around robots;
+/// - calibrated: Headway on, no margin between people (the time gap is the room they keep), and the
+///   social force's walls acting as near as Helbing et al.'s: its fundamental diagram follows
+///   Weidmann's and a 1 m bottleneck passes what experiments measured;
+/// - crowdnav: CrowdNav's crowd_sim (ORCA seeing 10 neighbours within 10 m, 5 s horizons, no margins).
+enum class CrowdPreset { hrisim, calibrated, crowdnav };
+/// The calibrated preset's time gap, s. Fitted in docs/crowd-validation.md: the fundamental diagram in
+/// the periodic corridor wants 0.7–1 s, the flow through a 1 m bottleneck 0.7 s or less (a single file
+/// passes at most one person per time gap); Tordeux et al.'s (2016) collision-free model used 1 s.
+inline constexpr double kCalibratedTimeGap = 0.65;
+/// The calibrated social force's wall repulsion: its decay length, m (Helbing, Farkas & Vicsek 2000
+/// use 0.08 m; pedsim's 0.8 m pushes walkers in a 2 m corridor into one file down its middle and
+/// halves a 1 m bottleneck's flow), and its weight (fitted to the bottleneck, pedsim's is 10).
+inline constexpr double kCalibratedObstacleSigma = 0.1;
+inline constexpr double kCalibratedObstacleFactor = 3.0;
+CrowdParams crowd_preset(CrowdPreset preset);
+
+/// A person held up by others (slower than kHeldUpSpeedShare of where they want to go) gives up their
+/// personal-space margins over this long, and takes them back over as long once walking freely, s.
+inline constexpr double kSqueezeTime = 3.0;
+inline constexpr double kHeldUpSpeedShare = 0.3;
+
+/// The share of its margins (CrowdAgent::personal_space) a person keeps after a tick in which it wanted
+/// `wanted_speed` and walked at `speed`: the squeeze.
+inline double squeezed(double share, double wanted_speed, double speed, double dt) {
+  const bool held_up = wanted_speed > 0.0 && speed < kHeldUpSpeedShare * wanted_speed;
+  return std::clamp(share + (held_up ? -1.0 : 1.0) * dt / kSqueezeTime, 0.0, 1.0);
+}
+
 /// Helbing & Molnár's bound on speed relative to the preferred speed.
 inline constexpr double kMaxSpeedFactor = 1.3;
 
@@ -105,7 +161,7 @@ using ObstacleQuery = std::function<std::optional<Vec2>(const Vec2& p, double ra
 
 class Crowd {
  public:
-  Crowd(OrcaParams orca = {}, SocialForceParams social_force = {}, PersonalSpace personal_space = {});
+  Crowd(OrcaParams orca = {}, SocialForceParams social_force = {}, PersonalSpace personal_space = {}, Headway headway = {});
 
   /// New velocities for all agents (controlled agents keep theirs). Each agent's is computed from
   /// this tick's inputs alone, so the agents are shared out over the crowd's threads (set_threads)
@@ -124,6 +180,7 @@ class Crowd {
   const OrcaParams& orca() const { return orca_; }
   const SocialForceParams& social_force() const { return social_force_; }
   const PersonalSpace& personal_space() const { return personal_space_; }
+  const Headway& headway() const { return headway_; }
 
  private:
   /// The margin agent i keeps from agent j this tick (see PersonalSpace).
@@ -133,18 +190,21 @@ class Crowd {
     std::vector<OrcaLine> lines;
     std::vector<std::pair<double, std::uint32_t>> neighbours;
   };
+  /// The agent's preferred velocity turned and slowed as Headway says.
+  Vec2 within_headway(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, Scratch& scratch) const;
   /// A social-force agent's velocity with the part that would take it into a neighbour's margin removed.
   Vec2 keep_personal_space(std::size_t i, std::span<const CrowdAgent> agents, Vec2 velocity, double dt, Scratch& scratch) const;
-  Vec2 orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt, Scratch& scratch,
-                     double& obstacle_distance) const;
+  Vec2 orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, const Vec2& preferred, const ObstacleQuery& obstacles,
+                     double dt, Scratch& scratch, double& obstacle_distance) const;
   /// The interaction forces of the social force model on every agent that uses it, into social_.
   void add_social_forces(std::span<const CrowdAgent> agents);
-  Vec2 social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const ObstacleQuery& obstacles, double dt,
-                             Scratch& scratch, double& obstacle_distance) const;
+  Vec2 social_force_velocity(std::size_t i, std::span<const CrowdAgent> agents, const Vec2& preferred, const ObstacleQuery& obstacles,
+                             double dt, Scratch& scratch, double& obstacle_distance) const;
 
   OrcaParams orca_;
   SocialForceParams social_force_;
   PersonalSpace personal_space_;
+  Headway headway_;
   SpatialGrid grid_;
   std::vector<Vec2> positions_;
   std::vector<Vec2> social_;  ///< per agent this step: the sum of its interaction forces

@@ -235,6 +235,14 @@ class Loader {
     default_avoidance_ = locomotion.value("avoidance", "orca") == "orca" ? humans::LocalAvoidance::orca
                                                                          : humans::LocalAvoidance::social_force;
     model.replan_distance = locomotion.value("replan_distance", kDefaultReplanDistance);
+    const std::string preset = locomotion.value("preset", "hrisim");
+    const humans::CrowdParams base = humans::crowd_preset(preset == "calibrated" ? humans::CrowdPreset::calibrated
+                                                          : preset == "crowdnav" ? humans::CrowdPreset::crowdnav
+                                                                                 : humans::CrowdPreset::hrisim);
+    model.orca = base.orca;
+    model.social_force = base.social_force;
+    model.personal_space = base.personal_space;
+    model.headway = base.headway;
     const json& orca = member(locomotion, "orca");
     model.orca.neighbour_distance = orca.value("neighbour_distance", model.orca.neighbour_distance);
     model.orca.max_neighbours = orca.value("max_neighbours", model.orca.max_neighbours);
@@ -255,6 +263,10 @@ class Loader {
     const json& personal_space = member(locomotion, "personal_space");
     model.personal_space.from_robots = personal_space.value("from_robots", model.personal_space.from_robots);
     model.personal_space.from_people = personal_space.value("from_people", model.personal_space.from_people);
+    const json& headway = member(locomotion, "headway");
+    model.headway.time_gap = headway.value("time_gap", model.headway.time_gap);
+    model.headway.horizon = headway.value("horizon", model.headway.horizon);
+    model.headway.field_of_view = headway.value("field_of_view", model.headway.field_of_view);
   }
 
   void read_places(Model& model) {

@@ -410,6 +410,7 @@ struct Model {
   humans::OrcaParams orca;
   humans::SocialForceParams social_force;
   humans::PersonalSpace personal_space;
+  humans::Headway headway;
   double replan_distance = kDefaultReplanDistance;
 
   int find_agent(const std::string& id) const;

@@ -99,7 +99,7 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
   if (self.navigation.under_way) {
     if (self.navigation.path.empty() && state.tick >= self.navigation.replan_at_tick) plan_path(model, state, static_cast<int>(i));
     if (!self.navigation.path.empty() && self.reaction.personal_space <= 0.0 && state.tick - self.navigation.planned_tick >= ticks(model, kStuckReplanInterval)) {
-      // Held up for a whole squeeze time (kSqueezeTime): the way round may be elsewhere, e.g. off a door
+      // Held up for a whole squeeze time (humans::kSqueezeTime): the way round may be elsewhere, e.g. off a door
       // jamb that avoidance pressed the agent against.
       plan_path(model, state, static_cast<int>(i));
     } else if (!self.navigation.path.empty() && state.tick - self.navigation.planned_tick >= ticks(model, kReplanInterval)) {
@@ -265,9 +265,8 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
                                                                          buffers.crowd.obstacle_distances()[k]);
     self.velocity = clear == to ? buffers.velocities[k] : (clear - self.position) / model.dt;
     self.position = clear;
-    const double wanted = buffers.agents[k].preferred_velocity.norm();
-    const bool held_up = wanted > 0.0 && self.velocity.norm() < kHeldUpSpeedShare * wanted;
-    self.reaction.personal_space = std::clamp(self.reaction.personal_space + (held_up ? -1.0 : 1.0) * model.dt / kSqueezeTime, 0.0, 1.0);
+    self.reaction.personal_space =
+        humans::squeezed(self.reaction.personal_space, buffers.agents[k].preferred_velocity.norm(), self.velocity.norm(), model.dt);
     const double heading_before = self.heading;
     // A seated body faces the seat's way: a look or a turn asked of a seated person is over at once.
     const bool seated = held_by_seat(self);

@@ -44,10 +44,6 @@ inline constexpr double kCornerReturnReach = 1.5;
 /// A robot's planner steers off the leg round people; once this far off it, whether the straight way
 /// on is still free is checked again (at most every kReplanInterval), as its body walls stop, m.
 inline constexpr double kRobotRejoinDistance = 0.1;
-/// A person held up by others (slower than kHeldUpSpeedShare of where they want to go) gives up their
-/// personal-space margins over this long, and takes them back over as long once walking freely, s.
-inline constexpr double kSqueezeTime = 3.0;
-inline constexpr double kHeldUpSpeedShare = 0.3;
 /// Without a path, planning is tried again after this long, s.
 inline constexpr double kReplanRetry = 1.0;
 /// A person walking to a goal who has not come this much closer to it... (m)
@@ -61,7 +57,7 @@ inline constexpr double kMotionReleaseSpeed = 0.2;
 /// The crowd solver and its buffers, kept from tick to tick so that a tick allocates nothing; nothing
 /// in them outlives a tick.
 struct WalkingBuffers {
-  explicit WalkingBuffers(const scenario::Model& model) : crowd(model.orca, model.social_force, model.personal_space) {}
+  explicit WalkingBuffers(const scenario::Model& model) : crowd(model.orca, model.social_force, model.personal_space, model.headway) {}
   humans::Crowd crowd;
   std::vector<humans::CrowdAgent> agents;
   std::vector<std::size_t> members;  ///< agent index of each crowd entry (active agents)

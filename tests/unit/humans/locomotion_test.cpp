@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "core/random.hpp"
 
@@ -218,6 +219,90 @@ TEST(Crowd, ThreadsGiveTheSameVelocitiesAsTheCrowdGrowsAndShrinksPastTheShare) {
     }
     std::copy(agents.begin(), agents.end(), everyone.begin());
   }
+}
+
+}  // namespace
+}  // namespace hrisim::humans
+
+namespace hrisim::humans {
+namespace {
+
+/// One ORCA step of `agents` under the calibrated preset, with ORCA seeing no one and no wall (its
+/// neighbourhood cut to 0.5 m, its obstacle horizon to a millisecond) so that the velocity is what
+/// Headway asks; agent 0's new velocity.
+Vec2 headway_velocity(const std::vector<CrowdAgent>& agents, const ObstacleQuery& obstacles = no_obstacles) {
+  CrowdParams params = crowd_preset(CrowdPreset::calibrated);
+  params.orca.neighbour_distance = 0.5;
+  params.orca.obstacle_horizon = 1e-3;
+  Crowd crowd(params.orca, params.social_force, params.personal_space, params.headway);
+  std::vector<Vec2> velocities;
+  crowd.compute_velocities(agents, obstacles, kDt, velocities);
+  return velocities[0];
+}
+
+CrowdAgent calibrated_walker(Vec2 position, Vec2 velocity = Vec2::Zero()) {
+  CrowdAgent agent = walker(position, LocalAvoidance::orca);
+  agent.velocity = agent.preferred_velocity = velocity;
+  return agent;
+}
+
+TEST(Headway, BlockedEveryWayAWalkerGoesOnStraightAtTheGapOverTheTimeGap) {
+  // People on a half circle of 1 m ahead, every 5°: each way within the field of view (every 15°) meets
+  // one 0.4 m away, surface to surface. None is freer, so the walker keeps its way at 0.4 m / 0.65 s.
+  std::vector<CrowdAgent> agents{calibrated_walker({0, 0}, {kSpeed, 0})};
+  for (int degrees = -90; degrees <= 90; degrees += 5) {
+    agents.push_back(calibrated_walker(core::heading_vector(degrees * std::numbers::pi / 180.0)));
+  }
+  const Vec2 velocity = headway_velocity(agents);
+  EXPECT_NEAR(velocity.y(), 0.0, 1e-9);
+  EXPECT_NEAR(velocity.x(), 0.4 / kCalibratedTimeGap, 1e-9);
+}
+
+TEST(Headway, AWalkerBehindASlowerOneTurnsToTheFreeWayAtItsOwnSpeed) {
+  // Straight on, 0.4 m to the slower walker; 45° aside, nobody within the horizon: Moussaïd et al.'s
+  // rule prefers 45° (the nearest way to the destination), at the walker's own speed.
+  const std::vector<CrowdAgent> agents{calibrated_walker({0, 0}, {kSpeed, 0}), calibrated_walker({1.0, 0}, {0.5, 0})};
+  const Vec2 velocity = headway_velocity(agents);
+  EXPECT_NEAR(velocity.norm(), kSpeed, 1e-9);
+  EXPECT_NEAR(std::abs(std::atan2(velocity.y(), velocity.x())), std::numbers::pi / 4, 1e-9);
+}
+
+TEST(Headway, AWallAheadSlowsAWalkerAsAPersonWouldAndOneAlongsideDoesNot) {
+  // A wall 1 m ahead (its nearest point): 0.7 m to go before the body touches it.
+  const auto wall_ahead = [](const Vec2& p, double range) -> std::optional<Vec2> {
+    const Vec2 point(1.0, p.y());
+    return (point - p).norm() <= range ? std::optional<Vec2>(point) : std::nullopt;
+  };
+  const Vec2 towards = headway_velocity({calibrated_walker({0, 0}, {kSpeed, 0})}, wall_ahead);
+  EXPECT_NEAR(towards.x(), 0.7 / kCalibratedTimeGap, 1e-9);
+  EXPECT_NEAR(towards.y(), 0.0, 1e-9);
+  // Along the same wall, 0.5 m from it: nothing ahead.
+  const Vec2 along = headway_velocity({calibrated_walker({0.5, 0}, {0, kSpeed})}, wall_ahead);
+  EXPECT_NEAR(along.y(), kSpeed, 1e-9);
+  EXPECT_NEAR(along.x(), 0.0, 1e-9);
+}
+
+TEST(Headway, OffByDefaultAndAWalkerAloneKeepsItsVelocity) {
+  EXPECT_EQ(crowd_preset(CrowdPreset::hrisim).headway.time_gap, 0.0);
+  EXPECT_EQ(Crowd().headway().time_gap, 0.0);
+  const Vec2 alone = headway_velocity({calibrated_walker({0, 0}, {1.0, 0.5})});
+  EXPECT_NEAR(alone.x(), 1.0, 1e-9);
+  EXPECT_NEAR(alone.y(), 0.5, 1e-9);
+}
+
+TEST(CrowdPresets, CrowdNavsSettingsAreItsOrcaWithoutMargins) {
+  const CrowdParams crowdnav = crowd_preset(CrowdPreset::crowdnav);
+  EXPECT_EQ(crowdnav.orca.neighbour_distance, 10.0);
+  EXPECT_EQ(crowdnav.orca.max_neighbours, 10);
+  EXPECT_EQ(crowdnav.orca.time_horizon, 5.0);
+  EXPECT_EQ(crowdnav.orca.obstacle_horizon, 5.0);
+  EXPECT_EQ(crowdnav.personal_space.from_people, 0.0);
+  EXPECT_EQ(crowdnav.personal_space.from_robots, 0.0);
+  const CrowdParams calibrated = crowd_preset(CrowdPreset::calibrated);
+  EXPECT_EQ(calibrated.headway.time_gap, kCalibratedTimeGap);
+  EXPECT_EQ(calibrated.personal_space.from_people, 0.0);
+  EXPECT_EQ(calibrated.personal_space.from_robots, kPersonalSpaceFromRobots) << "robots keep their margin";
+  EXPECT_EQ(calibrated.social_force.obstacle_sigma, kCalibratedObstacleSigma);
 }
 
 }  // namespace

@@ -103,6 +103,28 @@ TEST(LoadScenario, LocomotionParametersAreRead) {
   EXPECT_DOUBLE_EQ(model->social_force.social_factor, 2.1) << "unset parameters keep their defaults";
 }
 
+TEST(LoadScenario, ACrowdPresetSetsItsParametersAndTheSectionsKeysOverrideIt) {
+  json document = room_scenario(kPeople);
+  document["locomotion"] = json::parse(R"({"preset": "calibrated", "headway": {"horizon": 3}})");
+  const auto calibrated = testing::load_valid(document);
+  ASSERT_TRUE(calibrated);
+  EXPECT_DOUBLE_EQ(calibrated->headway.time_gap, humans::kCalibratedTimeGap);
+  EXPECT_DOUBLE_EQ(calibrated->headway.horizon, 3.0) << "the section's own key wins";
+  EXPECT_DOUBLE_EQ(calibrated->personal_space.from_people, 0.0);
+  EXPECT_DOUBLE_EQ(calibrated->social_force.obstacle_sigma, humans::kCalibratedObstacleSigma);
+  document["locomotion"] = json::parse(R"({"preset": "crowdnav", "orca": {"time_horizon": 4}})");
+  const auto crowdnav = testing::load_valid(document);
+  ASSERT_TRUE(crowdnav);
+  EXPECT_DOUBLE_EQ(crowdnav->orca.neighbour_distance, 10.0);
+  EXPECT_DOUBLE_EQ(crowdnav->orca.time_horizon, 4.0);
+  EXPECT_DOUBLE_EQ(crowdnav->personal_space.from_robots, 0.0);
+  EXPECT_DOUBLE_EQ(crowdnav->headway.time_gap, 0.0);
+  document["locomotion"] = json::parse(R"({"preset": "weidmann", "headway": {"time_gap": -1}})");
+  const auto errors = errors_of(document);
+  EXPECT_TRUE(has_error(errors, "/locomotion/preset", "")) << "an unknown preset is named at its pointer";
+  EXPECT_TRUE(has_error(errors, "/locomotion/headway/time_gap", ""));
+}
+
 TEST(LoadScenario, InvalidJsonNamesLineAndColumn) {
   const LoadResult result = load_scenario_text("{\n  \"name\": \"x\",\n  \"world\": {,\n}", {});
   ASSERT_EQ(result.errors.size(), 1u);

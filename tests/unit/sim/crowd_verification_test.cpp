@@ -52,19 +52,22 @@ TEST_P(BothModels, RimeaTest6NobodyCrossesTheCornersWalls) {
   EXPECT_EQ(run.session().state().termination, Termination::scenario_end) << "everyone is out before the time limit; still in:" << walking;
 }
 
-INSTANTIATE_TEST_SUITE_P(Crowd, BothModels, ::testing::Values("orca", "social_force"));
-
 /// Runs the episode to its end (or `time_limit`), failing at the first tick anyone stands on a
-/// blocked cell (a wall, or outside the map: the grid counts that as blocked). Returns its ticks.
-std::int64_t run_within_walls(const std::shared_ptr<const scenario::Model>& model, std::optional<double> time_limit = std::nullopt) {
+/// blocked cell (a wall, or outside the map: the grid counts that as blocked). Returns its ticks; the
+/// times at which people left go into `left`, in order, when given.
+std::int64_t run_within_walls(const std::shared_ptr<const scenario::Model>& model, std::optional<double> time_limit = std::nullopt,
+                              std::vector<double>* left = nullptr, std::uint64_t seed = 1) {
   episode::Settings settings;
   settings.record = false;
   settings.time_limit = time_limit;
-  episode::Episode run(model, 1, settings);
+  episode::Episode run(model, seed, settings);
+  std::vector<bool> was_active(model->agents.size(), true);
   while (!run.over()) {
     run.tick();
     for (std::size_t a = 0; a < model->agents.size(); ++a) {
       const AgentState& agent = run.session().state().agents[a];
+      if (left && was_active[a] && !agent.active) left->push_back(static_cast<double>(run.session().state().tick) * model->dt);
+      was_active[a] = agent.active;
       if (agent.active && model->grid.blocked(agent.position)) {
         ADD_FAILURE() << model->agents[a].id << " on a blocked cell at " << core::point_text(agent.position) << " at tick "
                       << run.session().state().tick;
@@ -90,6 +93,35 @@ TEST(Crowd, RimeaTest9WithTwoDoorsTheRoomEmptiesInAboutTwiceTheTimeAndNobodyLeav
   EXPECT_LT(ratio, 2.5);
   run_within_walls(testing::load_valid(verification_scenario("rimea_09_2_doors", "social_force")), 60.0);
 }
+
+/// The literature's band for a 1 m wide bottleneck, people/s: Seyfried et al. 2009 (corridor 4 m
+/// long, ≈1.6–1.9) and Kretz et al. 2006 (a door, ≈1.3–1.5 per metre) as the issue collects them.
+constexpr double kBottleneckFlowLow = 1.3, kBottleneckFlowHigh = 1.9;
+
+/// People per second through a bottleneck: the leavers between the first and last tenth, over the time
+/// they took (the start, when the first arrive, and the end, when the room is empty, are left out).
+double steady_flow(const std::vector<double>& left) {
+  const std::size_t first = left.size() / 10, last = left.size() - 1 - left.size() / 10;
+  return static_cast<double>(last - first) / (left[last] - left[first]);
+}
+
+// The calibrated crowd (locomotion.preset "calibrated") through a 1 m wide, 4 m long corridor out of a
+// room of ninety: every one gets out, nobody through a wall, at a flow within the literature's band.
+// (hrisim's HRI defaults keep 0.3 m from each other and jam there under ORCA.)
+TEST_P(BothModels, ACalibratedCrowdPassesA1mBottleneckAtTheMeasuredFlow) {
+  const auto model = testing::load_valid(verification_scenario("bottleneck_1m", GetParam()));
+  ASSERT_TRUE(model);
+  for (const std::uint64_t seed : {1, 2}) {
+    std::vector<double> left;
+    run_within_walls(model, std::nullopt, &left, seed);
+    ASSERT_EQ(left.size(), model->agents.size()) << "seed " << seed;
+    const double flow = steady_flow(left);
+    EXPECT_GE(flow, kBottleneckFlowLow) << "seed " << seed;
+    EXPECT_LE(flow, kBottleneckFlowHigh) << "seed " << seed;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Crowd, BothModels, ::testing::Values("orca", "social_force"));
 
 /// A room without a table, with `humans` in it.
 std::shared_ptr<const scenario::Model> empty_room() {
