@@ -273,7 +273,7 @@ void Crowd::compute_velocities(std::span<const CrowdAgent> agents, const Obstacl
     Scratch& scratch = scratch_[k];
     for (std::size_t i = begin; i < end; ++i) {
       const CrowdAgent& agent = agents[i];
-      if (agent.controlled) {
+      if (agent.controlled || agent.replayed) {
         velocities[i] = agent.velocity;
         continue;
       }
@@ -364,7 +364,7 @@ Vec2 Crowd::orca_velocity(std::size_t i, std::span<const CrowdAgent> agents, con
   for (const auto& [squared_distance, j] : neighbours) {
     const CrowdAgent& other = agents[j];
     lines.push_back(orca_line(agent.position, agent.velocity, agent.radius, other.position, other.velocity,
-                              other.radius + margin(agent, other), orca_.time_horizon, dt, other.controlled ? 1.0 : 0.5));
+                              other.radius + margin(agent, other), orca_.time_horizon, dt, other.controlled || other.replayed ? 1.0 : 0.5));
   }
   return solve_orca(lines, obstacle_lines, agent.max_speed, preferred);
 }

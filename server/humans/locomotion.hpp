@@ -129,6 +129,7 @@ struct CrowdAgent {
   double max_speed = 1.34 * kMaxSpeedFactor;
   LocalAvoidance avoidance = LocalAvoidance::orca;
   bool controlled = false;  ///< a robot: velocity given, not computed; others treat it as non-reciprocating
+  bool replayed = false;  ///< a recorded person played back: velocity given, not computed; a person to the others, who avoid it alone
   double personal_space = 1.0;  ///< share of the PersonalSpace margins this agent keeps now
   int group = -1;  ///< members of one group keep no margin between them
   int place = -1;  ///< people sharing a place (a cabin, a queue) keep none either, nor from a robot sharing it

@@ -193,6 +193,26 @@ TEST(Crowd, ControlledAgentsKeepTheirVelocity) {
   EXPECT_EQ(velocities[0], robot.velocity);
 }
 
+// A recorded person played back walks on regardless; the simulated one avoids them alone (as from a
+// robot) but keeps the margin it keeps from people (0.30 m), not a robot's (0.45 m).
+TEST(Crowd, APersonGivesWayAloneToAReplayedPersonWithThePeoplesMargin) {
+  const auto closest_to = [](bool robot) {
+    Crowd crowd;
+    CrowdAgent other = walker({-4, 0.0}, LocalAvoidance::orca);
+    (robot ? other.controlled : other.replayed) = true;
+    other.velocity = Vec2(0.8, 0.0);
+    std::vector<CrowdAgent> agents{other, walker({4, 0.05}, LocalAvoidance::orca)};
+    const double closest = simulate(crowd, agents, {{0, 0}, {-4, 0}}, 10.0);
+    EXPECT_NEAR(agents[0].position.y(), 0.0, 1e-12) << "keeps its course";
+    EXPECT_LT((agents[1].position - Vec2(-4, 0)).norm(), 0.2);
+    return closest;
+  };
+  const double from_person = closest_to(false), from_robot = closest_to(true);
+  EXPECT_GE(from_person, 0.6 + kPersonalSpaceFromPeople - 0.02) << "the whole avoidance, the people's margin";
+  EXPECT_LT(from_person, 0.6 + kPersonalSpaceFromRobots - 0.05);
+  EXPECT_GE(from_robot, 0.6 + kPersonalSpaceFromRobots - 0.02);
+}
+
 // Two crowds, one on three threads: 300 people counterflowing, then 200 of them (below kCrowdToShare,
 // so the loops run on the caller), then all 300 again. Their velocities agree bit for bit throughout.
 TEST(Crowd, ThreadsGiveTheSameVelocitiesAsTheCrowdGrowsAndShrinksPastTheShare) {
