@@ -9,6 +9,7 @@
 #include "app/run_commands.hpp"
 #include "runs/merge.hpp"
 #include "app/scenario_commands.hpp"
+#include "app/trajectory_commands.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
 #include "core/memory_budget.hpp"
@@ -44,6 +45,8 @@ constexpr const char* kUsage =
     "  render    replay a stored episode to a video:\n"
     "            hrisim render EPISODE --out FILE.mp4|.webm|.avi [--db FILE] [--camera overview|follow|ROBOT.SENSOR]\n"
     "                          [--fps 25] [--width W] [--height H]\n"
+    "  trajectories  predict recorded pedestrians (ETH/UCY's four columns) by constant velocity, ORCA\n"
+    "            and social force; prints ADE and FDE: hrisim trajectories FILE [--json]\n"
     "  metrics   print the metrics reference (docs/metrics.md) as Markdown\n"
     "  version   print build and library versions as JSON\n"
     "  help      print this text\n";
@@ -122,6 +125,7 @@ int main(int argc, char** argv) {
     if (command == "merge") return hrisim::app::merge_command(args);
     if (command == "import") return hrisim::app::import_command(args);
     if (command == "render") return hrisim::app::render_command(args);
+    if (command == "trajectories") return hrisim::app::trajectories_command(args);
     if (command == "metrics") {
       std::fputs(hrisim::metrics::reference_markdown().c_str(), stdout);
       return 0;

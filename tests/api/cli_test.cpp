@@ -473,6 +473,40 @@ TEST(ReadmeCiJob, PassesWithPassingGatesAndFailsOnAFailingOne) {
   EXPECT_NE(failing.exit_status, 0) << failing.output;
   EXPECT_NE(failing.output.find("episode_length.max < 10"), std::string::npos) << failing.output;
 }
+TEST(Cli, TrajectoriesPrintsEachPredictorsErrorsOnARecordedFile) {
+  const std::string fixture = std::string(HRISIM_SOURCE_DIR) + "/tests/fixtures/trajectories/passing.txt";
+  const CommandResult json = run_command(kHrisim + " trajectories " + fixture + " --json", false);
+  ASSERT_EQ(json.exit_status, 0) << json.output;
+  const auto report = nlohmann::json::parse(json.output);
+  EXPECT_EQ(report["windows"], 7);
+  EXPECT_EQ(report["people"], 4);
+  ASSERT_EQ(report["predictors"].size(), 3u);
+  EXPECT_EQ(report["predictors"][0]["predictor"], "constant_velocity");
+  EXPECT_LT(report["predictors"][0]["ade"].get<double>(), 1e-9);
+  EXPECT_EQ(report["predictors"][1]["predictor"], "orca");
+  EXPECT_GT(report["predictors"][1]["ade"].get<double>(), 0.01);
+  EXPECT_EQ(report["predictors"][2]["by_frame"].size(), 12u);
+
+  const CommandResult table = run_command(kHrisim + " trajectories " + fixture);
+  EXPECT_EQ(table.exit_status, 0) << table.output;
+  EXPECT_NE(table.output.find("7 windows from 4 people"), std::string::npos) << table.output;
+  EXPECT_NE(table.output.find("constant velocity     0.000    0.000"), std::string::npos) << table.output;
+  EXPECT_NE(table.output.find("social force"), std::string::npos) << table.output;
+}
+
+TEST(Cli, TrajectoriesNamesTheLineOfABadRow) {
+  TempDir dir;
+  std::ofstream(dir / "bad.txt") << "0\t1.0\t1.5\t2.0\n10\t1.0\t1.5\n";
+  const CommandResult bad = run_command(kHrisim + " trajectories " + (dir / "bad.txt").string());
+  EXPECT_EQ(bad.exit_status, 1);
+  EXPECT_NE(bad.output.find("bad.txt:2: expected 4 fields (frame, person, x, y), found 3"), std::string::npos) << bad.output;
+  std::ofstream(dir / "short.txt") << "0 1 0 0\n10 1 0.5 0\n";
+  const CommandResult short_walk = run_command(kHrisim + " trajectories " + (dir / "short.txt").string());
+  EXPECT_EQ(short_walk.exit_status, 1);
+  EXPECT_NE(short_walk.output.find("nothing to predict"), std::string::npos) << short_walk.output;
+  EXPECT_EQ(run_command(kHrisim + " trajectories").exit_status, 2);
+}
+
 
 }  // namespace
 }  // namespace hrisim::testing

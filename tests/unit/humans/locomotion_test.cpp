@@ -213,6 +213,29 @@ TEST(Crowd, APersonGivesWayAloneToAReplayedPersonWithThePeoplesMargin) {
   EXPECT_GE(from_robot, 0.6 + kPersonalSpaceFromRobots - 0.02);
 }
 
+// On a collision course, ORCA moves a person's velocity twice as far for a replayed person (full
+// responsibility: it does not react) as for a person who takes their half.
+TEST(Orca, APersonTakesTheWholeAvoidanceOfAReplayedPerson) {
+  const auto change = [](bool replayed) {
+    Crowd crowd;
+    CrowdAgent self = walker({0, 0}, LocalAvoidance::orca);
+    self.velocity = self.preferred_velocity = Vec2(1.0, 0.0);
+    CrowdAgent other = walker({1.8, 0.1}, LocalAvoidance::orca);  // within ORCA's 2 m neighbourhood
+    other.velocity = other.preferred_velocity = Vec2(-1.0, 0.0);
+    other.replayed = replayed;
+    std::vector<CrowdAgent> agents{self, other};
+    std::vector<Vec2> velocities;
+    crowd.compute_velocities(agents, no_obstacles, kDt, velocities);
+    if (replayed) {
+      EXPECT_EQ(velocities[1], other.velocity) << "a replayed person keeps their velocity";
+    }
+    return (velocities[0] - self.velocity).norm();
+  };
+  const double from_person = change(false);
+  EXPECT_GT(from_person, 0.01);
+  EXPECT_NEAR(change(true), 2.0 * from_person, 1e-9);
+}
+
 // Two crowds, one on three threads: 300 people counterflowing, then 200 of them (below kCrowdToShare,
 // so the loops run on the caller), then all 300 again. Their velocities agree bit for bit throughout.
 TEST(Crowd, ThreadsGiveTheSameVelocitiesAsTheCrowdGrowsAndShrinksPastTheShare) {

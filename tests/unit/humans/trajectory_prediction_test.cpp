@@ -133,11 +133,14 @@ TEST(TrajectoryPrediction, TheFixtureFile) {
 }
 
 // The ETH and ZARA01 test sets as Trajectron++ publishes them (reference data in ../shared/external,
-// read in place). Constant velocity's figures are the ones the literature reports for these files:
-// Schöller et al. (2020) measured about 0.4 m ADE / 0.95 m FDE on ZARA01, and ETH is the hardest of
-// the five sets (its frames, renumbered 10 apart, are 0.4 s apart in name only: people appear to walk
-// 2.4 m/s; Social-GAN's linear baseline has 1.33 / 2.94 m there). The crowd models must stay in the
-// range of a prediction (below 1.5 times constant velocity's error): a broken replay or goal would not.
+// read in place), every window. Constant velocity measures 0.43 / 0.95 m (ADE / FDE) on ZARA01, inside
+// the band the literature gives for it (0.3–0.5 / 0.7–1.1 m), and 1.08 / 2.28 m on ETH, the hardest set
+// (its people move 0.98 m between annotations, median, against ZARA01's 0.46: 2.4 m/s at the 0.4 s the
+// set states, a timing Trajectron++'s issue 67 disputes); the band there is the measured value less
+// 25 %, up to Social-GAN's linear baseline on the same file (1.33 / 2.94 m, Gupta et al. 2018, table 1). A window miscounted or an
+// error averaged wrongly leaves the bands. The crowd models are given each person's recorded end: they
+// must end nearer it than constant velocity does, and stay a prediction on the way (below 1.5 times
+// constant velocity's ADE).
 struct RealSet {
   const char* file;
   std::size_t windows;
@@ -150,7 +153,7 @@ TEST(TrajectoryPrediction, TheEthAndZara01TestSets) {
     GTEST_SKIP() << "no ../shared/external/trajectories beside the project: the project's own fixture "
                     "tests/fixtures/trajectories/passing.txt covers these paths (TrajectoryPrediction.TheFixtureFile)";
   }
-  for (const RealSet& set : {RealSet{"biwi_eth.txt", 364, 0.8, 1.33, 1.8, 2.94}, RealSet{"crowds_zara01.txt", 2356, 0.3, 0.5, 0.7, 1.1}}) {
+  for (const RealSet& set : {RealSet{"biwi_eth.txt", 364, 0.81, 1.33, 1.71, 2.94}, RealSet{"crowds_zara01.txt", 2356, 0.3, 0.5, 0.7, 1.1}}) {
     const RecordedTrajectories trajectories = read_file(folder + "/" + set.file);
     const PredictionErrors constant = evaluate_predictor(trajectories, Predictor::constant_velocity, defaults());
     EXPECT_EQ(constant.windows, set.windows) << set.file;
@@ -161,9 +164,8 @@ TEST(TrajectoryPrediction, TheEthAndZara01TestSets) {
     for (const Predictor model : {Predictor::orca, Predictor::social_force}) {
       const PredictionErrors errors = evaluate_predictor(trajectories, model, defaults());
       EXPECT_EQ(errors.windows, set.windows);
-      EXPECT_LT(errors.ade, 1.5 * constant.ade) << set.file << " " << to_string(model) << " FDE " << errors.fde;
-      EXPECT_LT(errors.fde, 1.5 * constant.fde) << set.file << " " << to_string(model);
-      std::printf("%s %s ADE %.3f FDE %.3f (constant velocity %.3f %.3f)\n", set.file, std::string(to_string(model)).c_str(), errors.ade, errors.fde, constant.ade, constant.fde);
+      EXPECT_LT(errors.ade, 1.5 * constant.ade) << set.file << " " << to_string(model);
+      EXPECT_LT(errors.fde, constant.fde) << set.file << " " << to_string(model);
     }
   }
 }
