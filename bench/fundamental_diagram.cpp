@@ -14,9 +14,12 @@ int main(int argc, char** argv) {
   using namespace hrisim::humans;
   const std::string preset = argc > 1 ? argv[1] : "calibrated";
   const int seeds = argc > 2 ? std::atoi(argv[2]) : 3;
-  CrowdParams params = crowd_preset(preset == "hrisim"     ? CrowdPreset::hrisim
-                                          : preset == "crowdnav" ? CrowdPreset::crowdnav
-                                                                 : CrowdPreset::calibrated);
+  const std::optional<CrowdPreset> named = crowd_preset_named(preset);
+  if (!named) {
+    std::fprintf(stderr, "fundamental_diagram: no preset '%s' (hrisim, calibrated, crowdnav)\n", preset.c_str());
+    return 2;
+  }
+  CrowdParams params = crowd_preset(*named);
   if (argc > 3) params.headway.time_gap = std::atof(argv[3]);
   if (argc > 4) params.personal_space.from_people = std::atof(argv[4]);
   if (argc > 5) params.social_force.obstacle_sigma = std::atof(argv[5]);

@@ -24,7 +24,11 @@ const char* table_name(humans::Predictor predictor) {
 }  // namespace
 
 int trajectories_command(const std::vector<std::string>& args) {
-  const ParsedArgs parsed = parse_args(args, {}, {"--json"}, "usage: hrisim trajectories FILE [--json]");
+  const ParsedArgs parsed =
+      parse_args(args, {"--preset"}, {"--json"}, "usage: hrisim trajectories FILE [--preset hrisim|calibrated|crowdnav] [--json]");
+  const std::string preset = parsed.last("--preset").value_or("hrisim");
+  const std::optional<humans::CrowdPreset> named = humans::crowd_preset_named(preset);
+  if (!named) usage_error("--preset: no crowd preset '" + preset + "' (hrisim, calibrated, crowdnav)");
   std::ifstream input(parsed.file, std::ios::binary);
   if (!input) throw core::Error(core::ErrorCode::not_found, "cannot open " + parsed.file);
   humans::RecordedTrajectories trajectories;
@@ -37,6 +41,7 @@ int trajectories_command(const std::vector<std::string>& args) {
 
   // The defaults every hrisim scenario starts from: its step and its people's discs.
   humans::PredictionSettings settings;
+  settings.crowd = humans::crowd_preset(*named);
   settings.dt = scenario::kDefaultDt;
   settings.radius = scenario::kDefaultAgentRadius;
   std::vector<humans::PredictionErrors> results;
@@ -58,6 +63,7 @@ int trajectories_command(const std::vector<std::string>& args) {
                              {"predicted_frames", humans::kPredictedFrames},
                              {"frame_interval", humans::kEthUcyFrameInterval},
                              {"dt", settings.dt},
+                             {"preset", preset},
                              {"predictors", nlohmann::json::array()}};
     for (const humans::PredictionErrors& result : results) {
       report["predictors"].push_back(
@@ -66,9 +72,9 @@ int trajectories_command(const std::vector<std::string>& args) {
     std::printf("%s\n", report.dump(2).c_str());
     return 0;
   }
-  std::printf("%s: %zu windows from %zu people (observe %d annotations = %.1f s, predict %d = %.1f s)\n", parsed.file.c_str(), windows,
+  std::printf("%s: %zu windows from %zu people (observe %d annotations = %.1f s, predict %d = %.1f s), crowd preset %s\n", parsed.file.c_str(), windows,
               trajectories.tracks.size(), humans::kObservedFrames, humans::kObservedFrames * humans::kEthUcyFrameInterval,
-              humans::kPredictedFrames, humans::kPredictedFrames * humans::kEthUcyFrameInterval);
+              humans::kPredictedFrames, humans::kPredictedFrames * humans::kEthUcyFrameInterval, preset.c_str());
   std::printf("%-18s %8s %8s\n", "predictor", "ADE (m)", "FDE (m)");
   for (const humans::PredictionErrors& result : results) std::printf("%-18s %8.3f %8.3f\n", table_name(result.predictor), result.ade, result.fde);
   return 0;

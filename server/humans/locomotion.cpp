@@ -221,6 +221,13 @@ CrowdParams crowd_preset(CrowdPreset preset) {
   return params;
 }
 
+std::optional<CrowdPreset> crowd_preset_named(std::string_view name) {
+  if (name == "hrisim") return CrowdPreset::hrisim;
+  if (name == "calibrated") return CrowdPreset::calibrated;
+  if (name == "crowdnav") return CrowdPreset::crowdnav;
+  return std::nullopt;
+}
+
 Crowd::Crowd(OrcaParams orca, SocialForceParams social_force, PersonalSpace personal_space, Headway headway)
     : orca_(orca), social_force_(social_force), personal_space_(personal_space), headway_(headway), grid_(std::max(orca.neighbour_distance, 1.0)), social_pairs_(1), scratch_(1) {}
 

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "core/math.hpp"
@@ -105,6 +106,8 @@ inline constexpr double kCalibratedTimeGap = 0.65;
 inline constexpr double kCalibratedObstacleSigma = 0.1;
 inline constexpr double kCalibratedObstacleFactor = 3.0;
 CrowdParams crowd_preset(CrowdPreset preset);
+/// The preset of that name (hrisim, calibrated, crowdnav), if there is one.
+std::optional<CrowdPreset> crowd_preset_named(std::string_view name);
 
 /// A person held up by others (slower than kHeldUpSpeedShare of where they want to go) gives up their
 /// personal-space margins over this long, and takes them back over as long once walking freely, s.

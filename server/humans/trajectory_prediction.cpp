@@ -75,7 +75,7 @@ class CrowdPrediction {
       : replay_(replay),
         settings_(settings),
         model_(model),
-        crowd_(settings.orca, settings.social_force, settings.personal_space),
+        crowd_(settings.crowd.orca, settings.crowd.social_force, settings.crowd.personal_space, settings.crowd.headway),
         steps_(static_cast<int>(std::ceil(kEthUcyFrameInterval / settings.dt - 1e-9))),
         step_(kEthUcyFrameInterval / steps_) {}
 

@@ -29,9 +29,7 @@ std::string_view to_string(Predictor predictor);
 
 /// What the crowd models predict with: a calibrated parameter set is evaluated by giving it here.
 struct PredictionSettings {
-  OrcaParams orca;
-  SocialForceParams social_force;
-  PersonalSpace personal_space;
+  CrowdParams crowd;  ///< the crowd models' settings: hrisim's defaults, or a preset's
   double dt = 0.0;                      ///< s, the simulation step; required (hrisim's scenarios default to 1/60)
   double radius = CrowdAgent{}.radius;  ///< m, everyone's disc, hrisim's default person's
 };

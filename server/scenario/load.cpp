@@ -235,10 +235,9 @@ class Loader {
     default_avoidance_ = locomotion.value("avoidance", "orca") == "orca" ? humans::LocalAvoidance::orca
                                                                          : humans::LocalAvoidance::social_force;
     model.replan_distance = locomotion.value("replan_distance", kDefaultReplanDistance);
-    const std::string preset = locomotion.value("preset", "hrisim");
-    const humans::CrowdParams base = humans::crowd_preset(preset == "calibrated" ? humans::CrowdPreset::calibrated
-                                                          : preset == "crowdnav" ? humans::CrowdPreset::crowdnav
-                                                                                 : humans::CrowdPreset::hrisim);
+    // The schema has refused any other name.
+    const humans::CrowdParams base =
+        humans::crowd_preset(humans::crowd_preset_named(locomotion.value("preset", "hrisim")).value_or(humans::CrowdPreset::hrisim));
     model.orca = base.orca;
     model.social_force = base.social_force;
     model.personal_space = base.personal_space;

@@ -96,10 +96,10 @@ TEST(TrajectoryPrediction, PeoplePassingCloseMakeTheCrowdModelsDeviate) {
     EXPECT_GT(errors.ade, 0.02) << to_string(model);
   }
   PredictionSettings no_margin = defaults();
-  no_margin.personal_space = {0.0, 0.0};
+  no_margin.crowd.personal_space = {0.0, 0.0};
   EXPECT_LT(evaluate_predictor(trajectories, Predictor::orca, no_margin).ade, 1e-9);
   EXPECT_GT(evaluate_predictor(trajectories, Predictor::social_force, no_margin).ade, 0.01);
-  no_margin.social_force.social_factor = 0.0;
+  no_margin.crowd.social_force.social_factor = 0.0;
   EXPECT_LT(evaluate_predictor(trajectories, Predictor::social_force, no_margin).ade, 1e-9);
   // Larger discs collide again.
   no_margin.radius = 0.45;
