@@ -237,6 +237,19 @@ struct GoalUnreachable {
     visit("y", y);
   }
 };
+/// An agent whose own spot was unplannable for its clearance (pushed or placed where its body does not
+/// fit) planned from the nearest free cell, and walks there first.
+struct ReplannedFromFreeCell {
+  static constexpr std::string_view kind = "replanned_from_free_cell";
+  double x = 0.0, y = 0.0;            ///< where the agent is, m
+  double free_x = 0.0, free_y = 0.0;  ///< the free cell's centre, m
+  template <class Visit> void visit_fields(Visit&& visit) const {
+    visit("x", x);
+    visit("y", y);
+    visit("free_x", free_x);
+    visit("free_y", free_y);
+  }
+};
 struct Attracted {
   static constexpr std::string_view kind = "attracted";
   std::string attraction;
@@ -414,8 +427,8 @@ using EventData =
                  events::StepFinished, events::GroupEmpty, events::GroupFormed, events::GroupDismantled, events::Publish, events::Command,
                  events::ActivityStarted, events::StayStarted, events::ScenarioFinished, events::Request, events::RequestAccepted,
                  events::RequestDropped, events::QueueJoined, events::Served, events::Entered, events::Left, events::AgentRemoved,
-                 events::AgentPlaced, events::ObjectPlaced, events::Stuck, events::GoalUnreachable, events::Attracted,
-                 events::ReactionStarted, events::ReactionEnded, events::Startled, events::RobotGoalReached, events::SearchRoom,
+                 events::AgentPlaced, events::ObjectPlaced, events::Stuck, events::GoalUnreachable, events::ReplannedFromFreeCell,
+                 events::Attracted, events::ReactionStarted, events::ReactionEnded, events::Startled, events::RobotGoalReached, events::SearchRoom,
                  events::PersonFound, events::ContactStart, events::ContactEnd, events::Grasp, events::Release, events::Slip,
                  events::PickedUp, events::PutDown, events::PickUpSkipped, events::PutDownSkipped, events::Dropped,
                  events::SeatUnreachable, events::SatDown, events::StoodUp, events::TimeLimit, events::TaskEnded>;

@@ -65,6 +65,17 @@ using RoomIndex = core::Index<struct RoomList>;          ///< a room of the pers
 using SeatIndex = core::Index<struct SeatList>;
 using ObjectIndex = core::Index<struct ObjectList>;  ///< a movable object
 
+/// Where an agent's usual planning clearance failed (plan_path): the narrower clearance a person's
+/// path needs through a passage only as wide as their body, and whether their last plan started from
+/// the nearest free cell because their own spot was unplannable. Hashed only when either is set, so a
+/// session that never needed them hashes as it did before they existed (the golden hashes).
+struct PlanningFallback {
+  double body_clearance = 0.0;  ///< the clearance the path was planned with when the radius found none; 0: the radius
+  bool from_free_cell = false;  ///< replanned from the nearest free cell (said once, until a plan starts where the agent stands)
+
+  bool operator==(const PlanningFallback&) const = default;
+};
+
 /// Walking to a goal: the goal, the path planned to it and the leg under way, and the progress made.
 struct Navigation {
   bool under_way = false;  ///< walking to `goal`: false once there (or never sent)
@@ -82,10 +93,11 @@ struct Navigation {
   std::int64_t progress_tick = 0;
   bool stuck_reported = false;
   std::optional<Vec2> hold;  ///< where the agent arrived last; it steps back there when pushed away
+  PlanningFallback fallback;
 
   auto fields() const {
     return std::tie(under_way, goal, goal_radius, goal_heading, path, path_index, leg_start, replan_at_tick, planned_tick, nearest_to_goal,
-                    progress_tick, stuck_reported, hold);
+                    progress_tick, stuck_reported, hold, fallback);
   }
 };
 

@@ -15,7 +15,8 @@ using Hasher = core::StateHasher;
 // Adding a member to a state struct without listing it in its fields() would leave it out of the
 // hash: these sizes make that a compile error (x86-64, libstdc++). List the member, then update the size.
 static_assert(sizeof(PendingAction) == 24, "PendingAction changed: list every member in its fields()");
-static_assert(sizeof(Navigation) == 192, "Navigation changed: list every member in its fields()");
+static_assert(sizeof(PlanningFallback) == 16, "PlanningFallback changed: hash every member in its put()");
+static_assert(sizeof(Navigation) == 208, "Navigation changed: list every member in its fields()");
 static_assert(sizeof(Attitude) == 96, "Attitude changed: list every member in its fields()");
 static_assert(sizeof(Reservation) == 12, "Reservation changed: list every member in its fields()");
 static_assert(sizeof(Queueing) == 12, "Queueing changed: list every member in its fields()");
@@ -24,7 +25,7 @@ static_assert(sizeof(Living) == 288, "Living changed: list every member in its f
 static_assert(sizeof(Animation) == 48, "Animation changed: list every member in its fields()");
 static_assert(sizeof(Seating) == 32, "Seating changed: list every member in its fields()");
 static_assert(sizeof(Carrying) == 8, "Carrying changed: list every member in its fields()");
-static_assert(sizeof(AgentState) == 992, "AgentState changed: list every member in its fields()");
+static_assert(sizeof(AgentState) == 1008, "AgentState changed: list every member in its fields()");
 static_assert(sizeof(OpenRequest) == 48, "OpenRequest changed: list every member in its fields()");
 static_assert(sizeof(ScheduledRequest) == 16, "ScheduledRequest changed: list every member in its fields()");
 static_assert(sizeof(StepRecord) == 16, "StepRecord changed: list every member in its fields()");
@@ -73,6 +74,10 @@ void put(Hasher& hash, const core::Random& random) {
 void put(Hasher& hash, const RobotRuntime& runtime) { runtime.hash(hash); }
 void put(Hasher& hash, const sensors::SoundSource& source) { source.hash(hash); }
 void put(Hasher& hash, const world::PlanningHistory& history) { history.hash(hash); }
+/// Only when set: a session that never needed it hashes as it did before it existed.
+void put(Hasher& hash, const PlanningFallback& fallback) {
+  if (fallback != PlanningFallback{}) hash.add(fallback.body_clearance).add(fallback.from_free_cell);
+}
 /// The events' content is in State::events_digest, kept as they happen: hashing each every time would
 /// cost more the longer a session runs.
 void put(Hasher& hash, const std::vector<Event>& events) { hash.add(static_cast<std::uint64_t>(events.size())); }

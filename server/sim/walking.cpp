@@ -171,6 +171,35 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
   return preferred;
 }
 
+/// After a path was planned with `clearance` (`smallest`: the least the agent ever plans with): an agent
+/// standing where its body does not fit even at `smallest` (pushed or placed into a corner, a closed
+/// door, an obstacle) had its plan started from the nearest free cell. It walks there first and says
+/// so, once until a plan starts where it stands.
+void recover_from_unplannable_spot(const scenario::Model& model, State& state, int agent, double clearance, double smallest,
+                                   const std::vector<std::size_t>& blocked_cells) {
+  AgentState& self = state.agents[agent];
+  PlanningFallback& fallback = self.navigation.fallback;
+  const std::size_t own = model.grid.index(model.grid.cell_of(self.position));  // a path was found: inside the map
+  // A body that fits may still stand in a cell that does not (its centre nearer the wall): not unplannable.
+  const auto unplannable = [&] {
+    if (clearance_at(model, state, self.position, smallest) >= smallest) return false;
+    std::vector<std::size_t> blocked = blocked_door_cells(model, state, smallest);
+    std::sort(blocked.begin(), blocked.end());
+    return !model.planner.traversable(own, smallest, blocked);
+  };
+  if (!unplannable()) {
+    fallback.from_free_cell = false;
+    return;
+  }
+  const std::optional<std::size_t> free = model.planner.nearest_traversable(own, clearance, blocked_cells);
+  if (!free) return;  // not so: the planner started from it
+  const Vec2 centre = model.grid.center_of(model.grid.cell_at(*free));
+  self.navigation.path.insert(self.navigation.path.begin(), centre);
+  if (fallback.from_free_cell) return;
+  fallback.from_free_cell = true;
+  emit(model, state, model.agents[agent].id, events::ReplannedFromFreeCell{self.position.x(), self.position.y(), centre.x(), centre.y()});
+}
+
 }  // namespace
 
 Vec2 into_the_way(const AgentState& self, const AgentState& robot, double distance, double speed) {
@@ -307,22 +336,29 @@ void go_to(const scenario::Model& model, State& state, int agent, const Pose2& g
 
 bool plan_path(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
-  const double radius = model.agents[agent].radius;
-  const auto plan = [&](double clearance) {
-    return model.planner.plan(self.position, self.navigation.goal, clearance, blocked_door_cells(model, state, clearance), state.planning_history);
-  };
-  auto path = model.agents[agent].robot_model ? plan(radius + kRobotPathMargin) : std::nullopt;
-  if (!path) path = plan(radius);
+  const scenario::AgentDef& def = model.agents[agent];
+  std::vector<double> clearances{def.radius};
+  if (def.robot_model) clearances.insert(clearances.begin(), def.radius + kRobotPathMargin);
+  std::optional<std::vector<Vec2>> path;
+  double clearance = 0.0;
+  std::vector<std::size_t> blocked;
+  for (std::size_t k = 0; k < clearances.size() && !path; ++k) {
+    clearance = clearances[k];
+    blocked = blocked_door_cells(model, state, clearance);
+    std::sort(blocked.begin(), blocked.end());
+    path = model.planner.plan(self.position, self.navigation.goal, clearance, blocked, state.planning_history);
+  }
   self.navigation.path_index = 0;
   self.navigation.leg_start = self.position;
   self.navigation.planned_tick = state.tick;
   if (path) {
-    self.navigation.path = *path;
+    self.navigation.path = std::move(*path);
     self.navigation.replan_at_tick = -1;
+    recover_from_unplannable_spot(model, state, agent, clearance, clearances.back(), blocked);
     return true;
   }
   self.navigation.path.clear();
-  if (self.navigation.replan_at_tick < 0) emit(model, state, model.agents[agent].id, events::GoalUnreachable{self.navigation.goal.x(), self.navigation.goal.y()});
+  if (self.navigation.replan_at_tick < 0) emit(model, state, def.id, events::GoalUnreachable{self.navigation.goal.x(), self.navigation.goal.y()});
   self.navigation.replan_at_tick = state.tick + ticks(model, kReplanRetry);
   return false;
 }

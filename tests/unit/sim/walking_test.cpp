@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include "scenario/human_commands.hpp"
 #include "sim/session.hpp"
+#include "support/events.hpp"
 #include "support/scenarios.hpp"
 
 namespace hrisim::sim {
@@ -32,6 +34,41 @@ TEST(Walking, APersonPushedFarOffTheirLegPlansAgainRatherThanWalkBackToItsStart)
   walk(*model, state, buffers);
   for (const Vec2& waypoint : ana.navigation.path) EXPECT_GT((waypoint - leg_start).norm(), 1.0) << "walks back to where the leg began";
   EXPECT_GT(ana.velocity.x(), 0.0) << "heads on towards the goal";
+}
+
+// A person put where their body does not fit (0.1 m from the table, their radius 0.3) plans from the
+// nearest free cell, walks there first and on to the goal, and says so once for as long as they stay
+// there, however often they plan again. Back in the spot after planning from a free one, they say it again.
+TEST(Walking, APersonInAnUnplannableSpotReplansFromTheNearestFreeCellAndSaysSoOncePerStay) {
+  const auto model = testing::load_valid(testing::room_scenario(json::parse(R"({
+    "humans": [{"id": "ana", "start": {"x": 2, "y": 5}}],
+    "steps": [{"name": "walk", "actions": [{"agent": "ana", "goto": {"pose": {"x": 8, "y": 5}}}]}]})")));
+  ASSERT_TRUE(model);
+  Session session(model, 1);
+  const AgentId ana = session.agent_id("ana");
+  const auto recoveries = [&] { return testing::events_of<events::ReplannedFromFreeCell>(session); };
+  session.tick();
+  ASSERT_TRUE(recoveries().empty()) << "planned from where she stands";
+  const Pose2 spot{4.3, 5.0, 0.0};  // the table spans x 4.4 … 5.6
+  for (int placed = 0; placed < 3; ++placed) {  // each placing throws her path away: she plans again
+    session.place_agent(ana, spot);
+    session.tick();
+  }
+  ASSERT_EQ(recoveries().size(), 1u) << "once for the stay";
+  const auto& said = *recoveries()[0]->as<events::ReplannedFromFreeCell>();
+  EXPECT_EQ(Vec2(said.x, said.y), spot.position());
+  const Vec2 free(said.free_x, said.free_y);
+  EXPECT_LT((free - spot.position()).norm(), world::kSnapDistance);
+  EXPECT_GE((*nearest_obstacle(*model, session.state(), free, 1.0) - free).norm(), 0.3) << "her body fits there";
+  EXPECT_EQ(session.state().agents[0].navigation.path.front(), free) << "she walks there first";
+  for (int t = 0; t < 400 && session.state().agents[0].navigation.under_way; ++t) session.tick();
+  EXPECT_FALSE(session.state().agents[0].navigation.under_way) << "she recovered and arrived";
+  EXPECT_EQ(recoveries().size(), 1u);
+  session.command_human(scenario::parse_human_command(*model, 0, "walk 2 5"), "walk 2 5");
+  session.tick();
+  session.place_agent(ana, spot);
+  session.tick();
+  EXPECT_EQ(recoveries().size(), 2u) << "a new stay";
 }
 
 // Two groups of 60 cross the room through each other, half with the social force and half with ORCA:
