@@ -33,6 +33,13 @@ double clearance_at(const scenario::Model& model, const State& state, const Vec2
   return nearest ? (*nearest - p).norm() : range;
 }
 
+/// The disc a walker is to the crowd model and the walls: a person walking a path planned through a
+/// passage only as wide as their body is that body (with their full disc, ORCA's obstacle line and the
+/// hard constraint would hold them out of it) until they plan again; everyone else their radius.
+double walking_radius(const scenario::AgentDef& def, const AgentState& self) {
+  return self.navigation.fallback.body_clearance > 0.0 ? self.navigation.fallback.body_clearance : def.radius;
+}
+
 /// The group an agent belongs to now, -1 for none.
 int group_of(const State& state, int agent) {
   for (std::size_t g = 0; g < state.groups.size(); ++g) {
@@ -171,6 +178,20 @@ Vec2 preferred_velocity(const scenario::Model& model, State& state, std::size_t 
   return preferred;
 }
 
+/// The clearances plan_path tries, in order (see walking.hpp).
+std::vector<double> planning_clearances(const scenario::Model& model, const State& state, int agent) {
+  const scenario::AgentDef& def = model.agents[agent];
+  if (def.robot_model) return {def.radius + kRobotPathMargin, def.radius};
+  const double body = std::min(body_clearance(model.grid), def.radius);
+  if (body == def.radius) return {def.radius};
+  // In a passage their disc does not fit, a plan with their radius would start outside it, maybe on the
+  // side they came from.
+  const AgentState& self = state.agents[agent];
+  const bool in_narrow_passage = self.navigation.fallback.body_clearance > 0.0 && clearance_at(model, state, self.position, def.radius) < def.radius;
+  if (in_narrow_passage) return {body, def.radius};
+  return {def.radius, body};
+}
+
 /// After a path was planned with `clearance` (`smallest`: the least the agent ever plans with): an agent
 /// standing where its body does not fit even at `smallest` (pushed or placed into a corner, a closed
 /// door, an obstacle) had its plan started from the nearest free cell. It walks there first and says
@@ -201,6 +222,8 @@ void recover_from_unplannable_spot(const scenario::Model& model, State& state, i
 }
 
 }  // namespace
+
+double body_clearance(const world::OccupancyGrid& grid) { return std::max(kBodyHalfWidth - grid.resolution(), 0.0); }
 
 Vec2 into_the_way(const AgentState& self, const AgentState& robot, double distance, double speed) {
   const Vec2 to_spot = robot.position + core::heading_vector(robot.heading) * distance - self.position;
@@ -254,7 +277,7 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     const scenario::AgentDef& def = model.agents[i];
     humans::CrowdAgent& crowd = buffers.agents[k];
     crowd.position = self.position;
-    crowd.radius = def.radius;
+    crowd.radius = walking_radius(def, self);
     crowd.avoidance = def.avoidance;
     // A controlled agent keeps its velocity: robots, people held in place (rooted, on a seat, or
     // seated or lying where they are going nowhere: others walk round them), and people stepping onto
@@ -290,7 +313,7 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers) {
     const Vec2 to = self.position + buffers.velocities[k] * model.dt;
     // Walkers the crowd model moved stay out of walls; others (stepping onto a seat, held) are placed.
     const Vec2 clear = buffers.agents[k].controlled ? to
-                                                    : clear_of_obstacles(model, state, self.position, to, model.agents[i].radius,
+                                                    : clear_of_obstacles(model, state, self.position, to, buffers.agents[k].radius,
                                                                          buffers.crowd.obstacle_distances()[k]);
     self.velocity = clear == to ? buffers.velocities[k] : (clear - self.position) / model.dt;
     self.position = clear;
@@ -337,8 +360,7 @@ void go_to(const scenario::Model& model, State& state, int agent, const Pose2& g
 bool plan_path(const scenario::Model& model, State& state, int agent) {
   AgentState& self = state.agents[agent];
   const scenario::AgentDef& def = model.agents[agent];
-  std::vector<double> clearances{def.radius};
-  if (def.robot_model) clearances.insert(clearances.begin(), def.radius + kRobotPathMargin);
+  const std::vector<double> clearances = planning_clearances(model, state, agent);
   std::optional<std::vector<Vec2>> path;
   double clearance = 0.0;
   std::vector<std::size_t> blocked;
@@ -354,7 +376,8 @@ bool plan_path(const scenario::Model& model, State& state, int agent) {
   if (path) {
     self.navigation.path = std::move(*path);
     self.navigation.replan_at_tick = -1;
-    recover_from_unplannable_spot(model, state, agent, clearance, clearances.back(), blocked);
+    self.navigation.fallback.body_clearance = clearance < def.radius && !def.robot_model ? clearance : 0.0;
+    recover_from_unplannable_spot(model, state, agent, clearance, std::min(clearances.front(), clearances.back()), blocked);
     return true;
   }
   self.navigation.path.clear();

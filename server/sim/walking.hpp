@@ -25,6 +25,16 @@ inline constexpr double kRobotWaypointReached = 0.1;
 /// Robots plan their paths this far off walls and furniture beyond their radius, where the way is wide
 /// enough, m: a path follower cuts corners, and walls stop a robot's body.
 inline constexpr double kRobotPathMargin = 0.1;
+/// Half the breadth of an adult's body at the shoulders, m: the clearance a person plans with through
+/// a passage their disc (their radius, which leaves room for swinging limbs) does not fit, and keeps
+/// from walls while walking such a path. Adults' bideltoid shoulder breadth runs from about 0.40 m
+/// (5th percentile, women) to about 0.51 m (95th percentile, men) in DIN 33402-2 and ISO 7250 surveys;
+/// a 0.5 m passage lets nearly everyone through, turning the shoulders a little at most.
+inline constexpr double kBodyHalfWidth = 0.25;
+/// The clearance a person plans and walks with through such a passage on `grid`: kBodyHalfWidth less a
+/// cell, as a wall's blocked cells reach up to a cell into the floor (the planner leaves a door D wide
+/// about D / 2 less a cell each side of its middle); never below 0.
+double body_clearance(const world::OccupancyGrid& grid);
 /// A standing agent pushed further than this from where it arrived steps back, m...
 inline constexpr double kHoldTolerance = 0.3;
 /// ...at this speed, m/s.
@@ -98,7 +108,10 @@ void walk(const scenario::Model& model, State& state, WalkingBuffers& buffers);
 /// Sends an agent to `goal` (within `radius`, then turning to its heading when `with_heading`).
 void go_to(const scenario::Model& model, State& state, int agent, const Pose2& goal, double radius, bool with_heading);
 
-/// Plans the agent's path to its goal around closed doors; false (and a retry later) without one.
+/// Plans the agent's path to its goal around closed doors; false (and a retry later) without one. A
+/// robot plans with its radius and kRobotPathMargin where the way is that wide, else its radius; a
+/// person with their radius, else (a passage only as wide as their body) body_clearance — that first
+/// when they stand in such a passage on a path that needed it.
 bool plan_path(const scenario::Model& model, State& state, int agent);
 
 /// Where a follower in a group walks: its spot in the leader's frame, facing the leader's way.

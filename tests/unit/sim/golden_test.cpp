@@ -15,6 +15,7 @@
 #include "episode/episode.hpp"
 #include "scenario/load.hpp"
 #include "sim/session.hpp"
+#include "sim/walking.hpp"
 #include "support/scenarios.hpp"
 
 namespace hrisim::sim {
@@ -107,7 +108,7 @@ TEST(StateHash, EveryMemberOfTheStateCounts) {
   differs("goal", [](State& s) { s.agents[0].navigation.goal.x() += 1e-12; });
   differs("target_heading", [](State& s) { s.agents[0].attitude.target_heading = s.agents[0].attitude.target_heading.value_or(0.0) + 0.5; });
   differs("hold", [](State& s) { s.agents[0].navigation.hold = Vec2(1, 2); });
-  differs("a body's planning clearance", [](State& s) { s.agents[0].navigation.fallback.body_clearance = 0.25; });
+  differs("a body's planning clearance", [](State& s) { s.agents[0].navigation.fallback.body_clearance = kBodyHalfWidth; });
   differs("planned from a free cell", [](State& s) { s.agents[0].navigation.fallback.from_free_cell = true; });
   // A member of each group of an agent's state.
   differs("formation_offset", [](State& s) { s.agents[0].attitude.formation_offset.y() += 0.1; });

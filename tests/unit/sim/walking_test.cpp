@@ -71,6 +71,51 @@ TEST(Walking, APersonInAnUnplannableSpotReplansFromTheNearestFreeCellAndSaysSoOn
   EXPECT_EQ(recoveries().size(), 2u) << "a new stay";
 }
 
+/// The room split by a wall at x = 5 with a door `door` wide in its middle, and `people` sent from the
+/// west half to the east half (three abreast, in rows 0.8 m apart).
+json room_with_door(double door, int people) {
+  json room = testing::room_scenario(json::parse(R"({"time_limit": 60, "steps": [{"name": "through", "actions": []}]})"));
+  room["world"].erase("obstacles");
+  room["world"]["walls"].push_back({{"from", {5, 0}}, {"to", {5, 5 - door / 2}}});
+  room["world"]["walls"].push_back({{"from", {5, 5 + door / 2}}, {"to", {5, 10}}});
+  for (int i = 0; i < people; ++i) {
+    const std::string id = "p" + std::to_string(i);
+    const double x = 2.0 - 0.8 * (i / 3), y = 4.0 + (i % 3);
+    room["humans"].push_back({{"id", id}, {"start", {{"x", x}, {"y", y}}}});
+    room["steps"][0]["actions"].push_back({{"agent", id}, {"goto", {{"pose", {{"x", 10.0 - x}, {"y", y}}}}}});
+  }
+  return room;
+}
+
+// A door 0.55 m wide, as in users' pedsim_ros and HuNavSim maps: narrower than a person's disc (2 × 0.3
+// m), wider than their body (2 × kBodyHalfWidth). Six people plan through it and walk through one by
+// one, never onto the wall nor nearer to it than their body's clearance. A door narrower than the body
+// stays closed to them.
+TEST(Walking, PeoplePlanThroughADoorNarrowerThanTheirDiscButWiderThanTheirBody) {
+  const auto model = testing::load_valid(room_with_door(0.55, 6));
+  ASSERT_TRUE(model);
+  ASSERT_FALSE(model->planner.plan({2, 5}, {8, 5}, 0.3)) << "the door is narrower than the disc";
+  Session session(model, 1);
+  double nearest_wall = 1.0;
+  for (int t = 0; t < 60 * 60 && session.state().termination == Termination::none; ++t) {
+    session.tick();
+    for (const AgentState& person : session.state().agents) {
+      ASSERT_FALSE(model->grid.blocked(person.position)) << "on the wall at tick " << session.state().tick;
+      nearest_wall = std::min(nearest_wall, (*nearest_obstacle(*model, session.state(), person.position, 1.0) - person.position).norm());
+    }
+  }
+  EXPECT_TRUE(testing::events_of<events::GoalUnreachable>(session).empty());
+  EXPECT_EQ(session.state().termination, Termination::scenario_end) << "everyone got through";
+  EXPECT_GE(nearest_wall, body_clearance(model->grid) - 1e-9) << "the walls keep them off by their body's clearance";
+  EXPECT_LT(nearest_wall, 0.3) << "through a door their disc does not fit";
+
+  const auto narrower = testing::load_valid(room_with_door(0.45, 1));
+  ASSERT_TRUE(narrower);
+  Session blocked(narrower, 1);
+  blocked.tick();
+  EXPECT_EQ(testing::events_of<events::GoalUnreachable>(blocked).size(), 1u) << "a door narrower than the body";
+}
+
 // Two groups of 60 cross the room through each other, half with the social force and half with ORCA:
 // the crowd's velocities on one, two or three threads give the same trajectory bit for bit.
 TEST(Walking, ACrowdOnSeveralThreadsWalksBitForBitAsOnOne) {
