@@ -235,7 +235,8 @@ Crowd::Crowd(OrcaParams orca, SocialForceParams social_force, PersonalSpace pers
 constexpr double kLargestBodyRadius = 1.0;
 
 double Crowd::margin(const CrowdAgent& agent, const CrowdAgent& other) const {
-  const double limbs = std::min(kLimbClearance, personal_space_.from_robots);
+  // Limbs reach beyond the disc whatever margin is asked for: without it, a contact would be a feet's touch.
+  const double limbs = kLimbClearance;
   double wanted = 0.0;
   if (other.controlled) {
     // A robot sharing the place (riding the cabin too) is as close as the place has it.
