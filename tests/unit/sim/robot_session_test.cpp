@@ -407,14 +407,16 @@ namespace hrisim::sim {
 namespace {
 
 /// Closest the robot's centre comes to ana's while driving from (2, 2) to (8, 2) with `controller`,
-/// ana standing on the way at (5, 2).
+/// ana standing her ground at (5, 2.6), just clear of its straight way (the blind follower passes her
+/// 0.6 m from her centre).
 double closest_approach(const std::string& controller) {
   Session session(with_hsr({{"controller", {{"type", controller}, {"goal", {{"pose", {{"x", 8}, {"y", 2}}}}}}}},
-                           // She keeps no margin of her own: the distance is the controller's doing.
-                           {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 5}, {"y", 2}, {"theta", 3.14159}}}}})},
-                            {"locomotion", {{"personal_space", {{"from_robots", 0.0}, {"from_people", 0.0}}}}}}),
+                           {{"humans", json::array({{{"id", "ana"}, {"start", {{"x", 5}, {"y", 2.6}, {"theta", 3.14159}}}}})}}),
                   1);
   const AgentId hsr = session.agent_id("hsr"), ana = session.agent_id("ana");
+  // The distance is the controller's doing: she would keep her limbs' clearance from the robot even
+  // without a personal space.
+  session.set_rooted(ana, true);
   double closest = 1e9;
   for (int i = 0; i < 60 * 40 && events_of<sim::events::RobotGoalReached>(session).empty(); ++i) {
     session.tick();
