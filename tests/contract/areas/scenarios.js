@@ -7,7 +7,7 @@ const { api } = require('../lib/client');
 const { cupOnASideTable, fixture } = require('../lib/fixtures');
 const { decodePng } = require('../lib/images');
 
-const BUNDLED = ['apartment', 'apartment_search', 'approach_human', 'approach_human_apartment', 'conversation_group', 'corridor_navigation', 'corridor_passing', 'crossing_navigation', 'elevator', 'family_day',
+const BUNDLED = ['apartment', 'apartment_search', 'approach_human', 'approach_human_apartment', 'circle_crossing', 'conversation_group', 'corridor_navigation', 'corridor_passing', 'crossing_navigation', 'elevator', 'family_day',
   'follow_human', 'mirror_gesture', 'pair_walking', 'perpendicular_crossing', 'pick_and_place', 'queue', 'tea_break'];
 
 // The overview's background: RGB 0.82, 0.86, 0.9 (× 255, rounded), opaque.

@@ -9,7 +9,7 @@ const { describe, it } = require('node:test');
 const context = require('../lib/context');
 const { newPage, screenshot } = require('../lib/browser');
 
-const BUNDLED = ['apartment', 'apartment_search', 'approach_human', 'approach_human_apartment', 'conversation_group', 'corridor_navigation', 'corridor_passing', 'crossing_navigation', 'elevator', 'family_day',
+const BUNDLED = ['apartment', 'apartment_search', 'approach_human', 'approach_human_apartment', 'circle_crossing', 'conversation_group', 'corridor_navigation', 'corridor_passing', 'crossing_navigation', 'elevator', 'family_day',
   'follow_human', 'mirror_gesture', 'pair_walking', 'perpendicular_crossing', 'pick_and_place', 'queue', 'tea_break'];
 
 // A small valid scenario, pretty-printed so that its errors have lines of their own.
@@ -80,14 +80,14 @@ describe('scenarios', () => {
       await tab.page.fill('#scenario-search', '');
       await tab.page.selectOption('#scenario-robot', 'model');
       assert.deepEqual(await tab.page.$$eval('.sc-scenario-card:not([hidden])', (cards) => cards.map((card) => card.dataset.id)),
-        ['apartment', 'apartment_search', 'approach_human', 'approach_human_apartment', 'corridor_navigation', 'crossing_navigation', 'elevator', 'family_day', 'follow_human',
+        ['apartment', 'apartment_search', 'approach_human', 'approach_human_apartment', 'circle_crossing', 'corridor_navigation', 'crossing_navigation', 'elevator', 'family_day', 'follow_human',
           'mirror_gesture', 'pick_and_place', 'tea_break']);
       await tab.page.selectOption('#scenario-robot', 'no');
       assert.deepEqual(await tab.page.$$eval('.sc-scenario-card:not([hidden])', (cards) => cards.map((card) => card.dataset.id)), ['perpendicular_crossing']);
       await tab.page.selectOption('#scenario-robot', '');
       await tab.page.fill('#scenario-min-humans', '5');
       await tab.page.fill('#scenario-max-humans', '5');
-      assert.deepEqual(await tab.page.$$eval('.sc-scenario-card:not([hidden])', (cards) => cards.map((card) => card.dataset.id)), ['queue']);
+      assert.deepEqual(await tab.page.$$eval('.sc-scenario-card:not([hidden])', (cards) => cards.map((card) => card.dataset.id)), ['circle_crossing', 'queue']);
       await tab.page.fill('#scenario-min-humans', '7');
       await tab.page.fill('#scenario-max-humans', '');
       assert.equal(await tab.page.isVisible('text=No scenario matches these filters.'), true);

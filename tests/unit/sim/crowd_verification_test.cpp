@@ -105,6 +105,20 @@ double steady_flow(const std::vector<double>& left) {
   return static_cast<double>(last - first) / (left[last] - left[first]);
 }
 
+// RiMEA test 1: one person walks 40 m of a 2 m corridor at 1.33 m/s, in 26–34 s as RiMEA asks, under
+// hrisim's defaults and the calibrated preset (alone, the headway never slows them).
+TEST_P(BothModels, RimeaTest1APersonKeepsTheirSpeedDownACorridor) {
+  json document = verification_scenario("rimea_01_corridor", GetParam());
+  for (const char* preset : {"hrisim", "calibrated"}) {
+    document["locomotion"]["preset"] = preset;
+    std::vector<double> left;
+    run_within_walls(testing::load_valid(document), std::nullopt, &left);
+    ASSERT_EQ(left.size(), 1u) << preset;
+    EXPECT_GE(left.front(), 26.0) << preset;
+    EXPECT_LE(left.front(), 34.0) << preset;
+  }
+}
+
 // The calibrated crowd (locomotion.preset "calibrated") through a 1 m wide, 4 m long corridor out of a
 // room of ninety: every one gets out, nobody through a wall, at a flow within the literature's band.
 // (hrisim's HRI defaults keep 0.3 m from each other and jam there under ORCA.)
