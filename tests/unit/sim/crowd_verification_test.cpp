@@ -119,6 +119,59 @@ TEST_P(BothModels, RimeaTest1APersonKeepsTheirSpeedDownACorridor) {
   }
 }
 
+// RiMEA test 7, as far as hrisim goes: people walk at the speeds assigned to them (0.7–1.6 m/s, the
+// span of RiMEA's table of speeds by age), 40 m in 40/v s within 5 %, under both presets.
+TEST_P(BothModels, RimeaTest7EveryoneWalksAtTheSpeedAssigned) {
+  json document = verification_scenario("rimea_07_speeds", GetParam());
+  for (const char* preset : {"hrisim", "calibrated"}) {
+    document["locomotion"]["preset"] = preset;
+    const auto model = testing::load_valid(document);
+    ASSERT_TRUE(model);
+    episode::Settings settings;
+    settings.record = false;
+    episode::Episode run(model, 1, settings);
+    std::vector<double> left_at(model->agents.size(), 0.0);
+    while (!run.over()) {
+      run.tick();
+      for (std::size_t a = 0; a < model->agents.size(); ++a) {
+        if (left_at[a] == 0.0 && !run.session().state().agents[a].active) left_at[a] = run.session().time();
+      }
+    }
+    for (std::size_t a = 0; a < model->agents.size(); ++a) {
+      const double assigned = document["humans"][a]["preferred_speed"];
+      EXPECT_NEAR(left_at[a], 40.0 / assigned, 0.05 * 40.0 / assigned) << preset << ": " << model->agents[a].id;
+    }
+  }
+}
+
+// RiMEA test 10: each person leaves by the exit allocated to them (every other one the farther of two),
+// in the calibrated crowd the scenario asks for.
+TEST_P(BothModels, RimeaTest10EveryoneLeavesByTheirAllocatedExit) {
+  const json document = verification_scenario("rimea_10_exits", GetParam());
+  const auto model = testing::load_valid(document);
+  ASSERT_TRUE(model);
+  episode::Settings settings;
+  settings.record = false;
+  episode::Episode run(model, 1, settings);
+  std::vector<Vec2> last_seen(model->agents.size(), Vec2::Zero());
+  while (!run.over()) {
+    run.tick();
+    for (std::size_t a = 0; a < model->agents.size(); ++a) {
+      const AgentState& agent = run.session().state().agents[a];
+      if (agent.active) last_seen[a] = agent.position;
+    }
+  }
+  EXPECT_EQ(run.session().state().termination, Termination::scenario_end);
+  for (const json& action : document["steps"][0]["actions"]) {
+    const Vec2 out = last_seen[static_cast<std::size_t>(model->find_agent(action["agent"]))];
+    if (action["routine"] == "out_west") {
+      EXPECT_LT(out.x(), 0.0) << action["agent"];
+    } else {
+      EXPECT_GT(out.x(), 10.0) << action["agent"];
+    }
+  }
+}
+
 // The calibrated crowd (locomotion.preset "calibrated") through a 1 m wide, 4 m long corridor out of a
 // room of ninety: every one gets out, nobody through a wall, at a flow within the literature's band.
 // (hrisim's HRI defaults keep 0.3 m from each other and jam there under ORCA.)
