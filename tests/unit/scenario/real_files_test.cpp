@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <ostream>
 
 #include "episode/episode.hpp"
 #include "scenario/import.hpp"
@@ -35,6 +36,9 @@ struct RealFile {
   const char* name;  ///< under ../shared/external
   const char* map;   ///< a HuNavSim file's map, "" for the others
 };
+
+/// GoogleTest prints a parameter by this, instead of its bytes, in test listings and failures.
+void PrintTo(const RealFile& file, std::ostream* out) { *out << file.name; }
 
 /// What a run shows of the people sent somewhere: who walked their routes.
 struct Routes {
