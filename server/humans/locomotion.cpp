@@ -235,7 +235,7 @@ Crowd::Crowd(OrcaParams orca, SocialForceParams social_force, PersonalSpace pers
 constexpr double kLargestBodyRadius = 1.0;
 
 double Crowd::margin(const CrowdAgent& agent, const CrowdAgent& other) const {
-  // Limbs reach beyond the disc whatever margin is asked for: without it, a contact would be a feet's touch.
+  // Limbs reach beyond the disc whatever margin is asked for: without it, a swinging foot would touch.
   const double limbs = kLimbClearance;
   double wanted = 0.0;
   if (other.controlled) {
@@ -334,11 +334,10 @@ Vec2 Crowd::within_headway(std::size_t i, std::span<const CrowdAgent> agents, co
   };
   const double wanted = std::atan2(agent.preferred_velocity.y(), agent.preferred_velocity.x());
   Vec2 best_way = agent.preferred_velocity / speed;
-  const double straight_gap = gap_ahead(best_way);
-  double best_gap = straight_gap;
+  double best_gap = gap_ahead(best_way);
   // Moussaïd et al.'s d(α)²: how far from the destination (at the horizon, the way wanted) walking
   // f(α) along α leaves the agent; ties keep the way nearer the one wanted.
-  double best_miss = horizon * horizon + straight_gap * straight_gap - 2.0 * horizon * straight_gap;
+  double best_miss = horizon * horizon + best_gap * best_gap - 2.0 * horizon * best_gap;
   for (int k = 1; k <= kHeadwayWaysEachSide; ++k) {
     const double turn = headway_.field_of_view * k / kHeadwayWaysEachSide;
     for (const double side : {1.0, -1.0}) {

@@ -367,7 +367,6 @@ bool plan_path(const scenario::Model& model, State& state, int agent) {
   for (std::size_t k = 0; k < clearances.size() && !path; ++k) {
     clearance = clearances[k];
     blocked = blocked_door_cells(model, state, clearance);
-    std::sort(blocked.begin(), blocked.end());
     path = model.planner.plan(self.position, self.navigation.goal, clearance, blocked, state.planning_history);
   }
   self.navigation.path_index = 0;
