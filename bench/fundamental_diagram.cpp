@@ -3,7 +3,8 @@
 //   usage: fundamental_diagram [preset: hrisim|calibrated|crowdnav = calibrated] [seeds = 3]
 //          [time gap, s = the preset's] [margin from people, m = the preset's] [obstacle_sigma, m = the preset's]
 // Prints one line per model and density (the mean over the seeds), then each model's mean absolute
-// error against Weidmann over 0.5–4 people/m².
+// error against Weidmann over 0.5–4 people/m²; then the same in single file (RiMEA test 16: Seyfried et
+// al.'s ring, 15–38 walkers) against Seyfried's fit.
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -42,5 +43,25 @@ int main(int argc, char** argv) {
       std::printf("%-12s %8.2f %8.3f %9.3f %8.3f\n", name, measured, speed, weidmann, measured * speed);
     }
     std::printf("%-12s mean absolute error %.3f m/s\n", name, error / points);
+  }
+  const PeriodicCorridor ring = seyfried_single_file();
+  std::printf("single file: ring %.1f m x %.1f m (periodic), free speeds %.2f +- %.2f m/s\n", ring.length, ring.width, ring.speed_mean,
+              ring.speed_spread);
+  std::printf("%-12s %8s %8s %9s\n", "model", "people/m", "speed", "seyfried");
+  for (const auto& [name, avoidance] : {std::pair{"orca", LocalAvoidance::orca}, std::pair{"social_force", LocalAvoidance::social_force}}) {
+    double error = 0.0;
+    int points = 0;
+    for (const int walkers : {15, 20, 25, 30, 34, 38}) {
+      const double line_density = walkers / ring.length;
+      double speed = 0.0;
+      for (int seed = 1; seed <= seeds; ++seed) {
+        speed += walk_periodic_corridor(ring, line_density / ring.width, avoidance, params, static_cast<std::uint64_t>(seed)).speed / seeds;
+      }
+      const double seyfried = seyfried_single_file_speed(line_density);
+      error += std::abs(speed - seyfried);
+      ++points;
+      std::printf("%-12s %8.2f %8.3f %9.3f\n", name, line_density, speed, seyfried);
+    }
+    std::printf("%-12s single file, mean absolute error %.3f m/s\n", name, error / points);
   }
 }

@@ -192,8 +192,19 @@ std::string scenario_sha256(const std::string& source, const std::map<std::strin
 }
 
 ScenarioRecord Store::put_scenario(ScenarioRecord scenario) {
-  scenario.sha256 = scenario_sha256(scenario.source, scenario.files);
   std::lock_guard lock(mutex_);
+  return insert_scenario(std::move(scenario));
+}
+
+void Store::put_scenario_if_missing(ScenarioRecord scenario) {
+  std::lock_guard lock(mutex_);
+  Statement exists = db_->prepare("SELECT 1 FROM scenarios WHERE id = ?1");
+  exists.bind(1, scenario.id);
+  if (!exists.step()) insert_scenario(std::move(scenario));
+}
+
+ScenarioRecord Store::insert_scenario(ScenarioRecord scenario) {
+  scenario.sha256 = scenario_sha256(scenario.source, scenario.files);
   Transaction transaction(*db_);
   {
     Statement insert = db_->prepare(

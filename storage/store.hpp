@@ -163,6 +163,9 @@ class Store {
   /// Stores a scenario and its files; computes its sha256 (of the source, and of the files when there
   /// are any: see scenario_sha256) and created_at. Returns the stored record.
   ScenarioRecord put_scenario(ScenarioRecord scenario);
+  /// Stores it as put_scenario does unless a scenario with its id is there: one step, so two callers
+  /// storing the same scenario at once store it once.
+  void put_scenario_if_missing(ScenarioRecord scenario);
   /// A scenario; its source and files left empty unless `with_source` (they may be megabytes).
   std::optional<ScenarioRecord> scenario(const std::string& id, bool with_source = true);
   /// The id of a listed or unlisted scenario of `owner` whose id starts with `id_prefix`, of this
@@ -255,6 +258,8 @@ class Store {
   std::unique_ptr<Database> db_;
   std::string write_failure_;  ///< why the last episode could not be written; empty once one has been
   void write_episode_locked(const EpisodeRecord& episode);
+  /// put_scenario with the lock held.
+  ScenarioRecord insert_scenario(ScenarioRecord scenario);
   /// The episode's rows, inside a transaction the caller holds.
   void insert_episode_rows(const EpisodeRecord& episode);
 };

@@ -182,7 +182,7 @@ std::vector<std::pair<json, std::string>> execute(storage::Store& store, const s
   runs::Executor executor(store, jobs, [&](const std::string&, const storage::EpisodeRecord& episode) { progress.episode_done(episode); });
   std::vector<std::pair<std::string, std::string>> ids;
   for (PlannedRun& run : planned) {
-    if (!store.scenario(run.scenario.id)) store.put_scenario(run.scenario);
+    store.put_scenario_if_missing(run.scenario);
     if (!run.spec.id.empty() && store.run(run.spec.id)) {
       ids.emplace_back(run.spec.id, run.label);
       continue;

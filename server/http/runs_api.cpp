@@ -106,7 +106,7 @@ std::string stored_scenario_id(storage::Store& store, const std::string& id, con
                                const std::string& sha256) {
   if (entry.origin == "uploaded") return id;
   const std::string snapshot = "b" + sha256.substr(0, 32);
-  if (!store.scenario(snapshot)) store.put_scenario({snapshot, entry.source.model->name, "json", core::json_text(entry.source.document, 2), "", "", "", "", {}});
+  store.put_scenario_if_missing({snapshot, entry.source.model->name, "json", core::json_text(entry.source.document, 2), "", "", "", "", {}});
   return snapshot;
 }
 

@@ -317,11 +317,25 @@ Vec2 Crowd::within_headway(std::size_t i, std::span<const CrowdAgent> agents, co
   // The nearest obstacle stands for a wall through it, square to the way to it.
   const Vec2 wall_normal = obstacle ? Vec2((agent.position - *obstacle).normalized()) : Vec2::Zero();
   const double wall_room = obstacle ? (agent.position - *obstacle).norm() - agent.radius : 0.0;
+  // A way may run into a wall other than the nearest (across a narrow corridor): the obstacle nearest
+  // the middle of the walk that sets the speed, the way's first time gap at full speed, stands for a
+  // wall through it too. Its disc holds every obstacle the body would meet on that walk.
+  const double walk = std::min(horizon, speed * headway_.time_gap);
+  const auto wall_on_the_way = [&](const Vec2& way) {
+    const Vec2 middle = agent.position + way * (walk / 2.0);
+    const std::optional<Vec2> met = obstacles(middle, walk / 2.0 + agent.radius);
+    if (!met) return horizon;
+    if (*met == middle) return std::max(walk / 2.0 - agent.radius, 0.0);  // the way's middle is in the wall
+    Vec2 normal = (middle - *met).normalized();
+    if ((agent.position - *met).dot(normal) < 0.0) normal = -normal;  // the middle is past the wall
+    const double towards = -way.dot(normal);
+    return towards > 0.0 ? std::max((agent.position - *met).dot(normal) - agent.radius, 0.0) / towards : horizon;
+  };
   // How far the agent walks along `way` before its body touches someone's where they are now (as the
-  // collision-free speed model measures spacing), or that wall: Moussaïd et al.'s f(α), capped at the
+  // collision-free speed model measures spacing), or a wall: Moussaïd et al.'s f(α), capped at the
   // horizon. It both ranks the ways and sets the speed.
   const auto gap_ahead = [&](const Vec2& way) {
-    double gap = horizon;
+    double gap = wall_on_the_way(way);
     for (const auto& [squared_distance, j] : neighbours) {
       const Vec2 offset = agents[j].position - agent.position;
       const double ahead = offset.dot(way), aside = std::abs(cross(way, offset)), touching = agent.radius + agents[j].radius;

@@ -13,6 +13,13 @@ namespace {
 constexpr double kWeidmannFreeSpeed = 1.34;
 constexpr double kWeidmannGamma = 1.913;
 constexpr double kWeidmannJamDensity = 5.4;
+/// Seyfried et al. 2005: the ring's length along its middle, m; the free speed of their walkers and its
+/// spread, m/s; the space a walker takes standing, m (the a of d = a + b·v; b is kSeyfriedTimeGap).
+constexpr double kSeyfriedRingLength = 17.3;
+constexpr double kSeyfriedFreeSpeed = 1.24, kSeyfriedFreeSpeedSpread = 0.15;
+constexpr double kSeyfriedStandingSpace = 0.36;
+/// Wide enough for one RiMEA body (0.4 m) to sway, too narrow for two side by side.
+constexpr double kSingleFileWidth = 0.7;
 /// Free speeds are drawn within this many standard deviations of the mean (none walks backwards).
 constexpr double kSpeedSpreadLimit = 2.0;
 
@@ -87,6 +94,19 @@ CorridorFigures walk_periodic_corridor(const PeriodicCorridor& corridor, double 
   figures.speed = speed_sum / static_cast<double>(people * static_cast<std::size_t>(measure_ticks));
   figures.specific_flow = figures.density * figures.speed;
   return figures;
+}
+
+PeriodicCorridor seyfried_single_file() {
+  PeriodicCorridor ring;
+  ring.length = kSeyfriedRingLength;
+  ring.width = kSingleFileWidth;
+  ring.speed_mean = kSeyfriedFreeSpeed;
+  ring.speed_spread = kSeyfriedFreeSpeedSpread;
+  return ring;
+}
+
+double seyfried_single_file_speed(double line_density) {
+  return std::clamp((1.0 / line_density - kSeyfriedStandingSpace) / kSeyfriedTimeGap, 0.0, kSeyfriedFreeSpeed);
 }
 
 double weidmann_speed(double density) {

@@ -34,6 +34,18 @@ struct CorridorFigures {
 CorridorFigures walk_periodic_corridor(const PeriodicCorridor& corridor, double density, LocalAvoidance avoidance,
                                        const CrowdParams& params, std::uint64_t seed);
 
+/// The time gap of Seyfried et al.'s single-file walkers, s: the b of their fit d = a + b·v below. The
+/// headway's V(s) = min(v0, s/T) is that fit with T = b (and a the body's length).
+inline constexpr double kSeyfriedTimeGap = 1.06;
+
+/// Seyfried et al.'s (2005) single-file experiment, as RiMEA test 16 takes it: a ring of 17.3 m that
+/// no one can pass in, walkers of free speed 1.24 ± 0.15 m/s.
+PeriodicCorridor seyfried_single_file();
+
+/// Their fit of the space a walker takes in single file against speed, d = 0.36 m + 1.06 s · v, as a
+/// speed at a line density (people/m), no faster than their mean free speed.
+double seyfried_single_file_speed(double line_density);
+
 /// Weidmann's (1993) fundamental diagram: speed at a density, m/s (Kladek's form with free speed
 /// 1.34 m/s, γ = 1.913 m⁻², largest density 5.4 people/m²).
 double weidmann_speed(double density);

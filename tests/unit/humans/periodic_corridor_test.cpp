@@ -56,5 +56,38 @@ TEST(FundamentalDiagram, TheSameSeedWalksTheSameAndAnotherDiffers) {
   EXPECT_NE(first.speed, walk_periodic_corridor(shortened, 2.0, LocalAvoidance::orca, params, 8).speed);
 }
 
+/// Mean absolute error of the single-file diagram against Seyfried et al.'s fit at the line densities of
+/// their runs with 15–38 walkers in the ring (0.9–2.2 people/m), m/s.
+double error_in_single_file(LocalAvoidance avoidance, const CrowdParams& params) {
+  const PeriodicCorridor ring = seyfried_single_file();
+  double error = 0.0;
+  int points = 0;
+  for (const int walkers : {15, 20, 25, 30, 34, 38}) {
+    const double line_density = walkers / ring.length;
+    const CorridorFigures figures = walk_periodic_corridor(ring, line_density / ring.width, avoidance, params, 1);
+    error += std::abs(figures.speed - seyfried_single_file_speed(line_density));
+    ++points;
+  }
+  return error / points;
+}
+
+TEST(FundamentalDiagram, SeyfriedsFitIsHisFormula) {
+  EXPECT_NEAR(seyfried_single_file_speed(1.0), 0.604, 0.001);
+  EXPECT_NEAR(seyfried_single_file_speed(2.0), 0.132, 0.001);
+  EXPECT_EQ(seyfried_single_file_speed(0.5), 1.24) << "no faster than walking freely";
+  EXPECT_EQ(seyfried_single_file_speed(3.0), 0.0);
+}
+
+// RiMEA test 16, the single-file diagram: with the time gap Seyfried et al.'s walkers kept (the headway's
+// V(s) = min(v0, s/T) is their fit), people in a ring no one can pass in walk at their speeds, within
+// 0.1 m/s on average, under both models. The calibrated preset's shorter gap (fitted to a bottleneck's
+// flow in 2D) walks faster in single file; crowd-validation.md gives its figures.
+TEST(FundamentalDiagram, RimeaTest16WithSeyfriedsTimeGapASingleFileWalksAtHisSpeeds) {
+  CrowdParams params = crowd_preset(CrowdPreset::calibrated);
+  params.headway.time_gap = kSeyfriedTimeGap;
+  EXPECT_LE(error_in_single_file(LocalAvoidance::orca, params), 0.1);
+  EXPECT_LE(error_in_single_file(LocalAvoidance::social_force, params), 0.1);
+}
+
 }  // namespace
 }  // namespace hrisim::humans

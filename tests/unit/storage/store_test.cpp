@@ -5,6 +5,7 @@
 #include <chrono>
 #include <limits>
 #include <thread>
+#include <vector>
 
 #include "core/error.hpp"
 #include "storage/sqlite.hpp"
@@ -65,6 +66,24 @@ TEST(Store, ScenarioRoundTripWithHash) {
   EXPECT_EQ(loaded->sha256, stored.sha256);
   EXPECT_EQ(loaded->created_at, stored.created_at);
   EXPECT_FALSE(store.scenario("missing"));
+}
+
+// Two runs of the same bundled scenario started at once both store its snapshot "if missing": one
+// stores it, the other finds it, neither fails on the id (it did, with a UNIQUE constraint, when each
+// looked before the other stored).
+TEST(Store, AScenarioStoredIfMissingFromManyThreadsAtOnceIsStoredOnce) {
+  TempDir dir;
+  Store store(dir / "db");
+  std::vector<std::thread> threads;
+  for (int k = 0; k < 8; ++k) {
+    threads.emplace_back([&store] { store.put_scenario_if_missing(make_scenario("snapshot")); });
+  }
+  for (std::thread& thread : threads) thread.join();
+  EXPECT_EQ(store.counts().scenarios, 1);
+  ScenarioRecord changed = make_scenario("snapshot");
+  changed.source = "{}";
+  store.put_scenario_if_missing(changed);
+  EXPECT_EQ(store.scenario("snapshot")->source, make_scenario("snapshot").source) << "the one stored stays";
 }
 
 TEST(Store, FilesUploadedWithAScenarioAreKeptByteForByteAndNamedByItsHash) {
