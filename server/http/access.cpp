@@ -84,11 +84,15 @@ Response refusal(core::ErrorCode code, const std::string& message, nlohmann::jso
   return response;
 }
 
-/// The session a WebSocket path /api/v1/sessions/{id}/ws names, or empty.
+/// The session a WebSocket path /api/v1/sessions/{id}/{socket} names (its own socket or a bridge's),
+/// or empty.
 std::string websocket_session(const std::string& path) {
-  constexpr std::string_view kSessions = "/api/v1/sessions/", kSocket = "/ws";
-  if (!path.starts_with(kSessions) || !path.ends_with(kSocket) || path.size() <= kSessions.size() + kSocket.size()) return "";
-  return path.substr(kSessions.size(), path.size() - kSessions.size() - kSocket.size());
+  constexpr std::string_view kSessions = "/api/v1/sessions/";
+  if (!path.starts_with(kSessions)) return "";
+  const std::string_view rest = std::string_view(path).substr(kSessions.size());
+  const std::size_t slash = rest.find('/');
+  const bool one_socket_segment = slash != std::string_view::npos && slash > 0 && slash + 1 < rest.size() && rest.find('/', slash + 1) == std::string_view::npos;
+  return one_socket_segment ? std::string(rest.substr(0, slash)) : "";
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "http/router.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 
@@ -62,6 +63,35 @@ Response Response::spread_over(std::vector<std::function<Response()>> parts, std
   Response response;
   response.spread = std::make_shared<Spread>(Spread{std::move(parts), std::move(join)});
   return response;
+}
+
+std::vector<std::string> offered_subprotocols(const Request& upgrade) {
+  std::vector<std::string> offered;
+  const auto header = upgrade.headers.find("sec-websocket-protocol");
+  if (header == upgrade.headers.end()) return offered;
+  std::string_view rest = header->second;
+  while (!rest.empty()) {
+    const std::size_t comma = std::min(rest.find(','), rest.size());
+    std::string_view item = rest.substr(0, comma);
+    rest.remove_prefix(std::min(comma + 1, rest.size()));
+    const std::size_t first = item.find_first_not_of(" \t");
+    if (first == std::string_view::npos) continue;
+    item = item.substr(first, item.find_last_not_of(" \t") - first + 1);
+    offered.emplace_back(item);
+  }
+  return offered;
+}
+
+std::string agree_subprotocol(const Request& upgrade, const std::vector<std::string>& accepted) {
+  const std::vector<std::string> offered = offered_subprotocols(upgrade);
+  for (const std::string& mine : accepted) {
+    if (std::find(offered.begin(), offered.end(), mine) != offered.end()) return mine;
+  }
+  throw core::Error(core::ErrorCode::bad_request,
+                    offered.empty() ? "this WebSocket needs a subprotocol (Sec-WebSocket-Protocol): " + core::join(accepted, " or ")
+                                    : "none of the subprotocols offered (" + core::join(offered) + ") is accepted here: " +
+                                          core::join(accepted, " or "),
+                    {{"offered", offered}, {"accepted", accepted}});
 }
 
 void Router::add(std::string method, std::string pattern, Handler handler) {

@@ -60,6 +60,9 @@ struct Response {
   /// An answer joined from parts computed at once on the worker pool (each may throw core::Error and
   /// then gives its error answer to the join).
   static Response spread_over(std::vector<std::function<Response()>> parts, std::function<Response(std::vector<Response>)> join);
+  /// No answer: a WebSocket message that gets none (a pushed frame left out the same way).
+  static Response nothing() { return Response{204, "", "", {}, {}}; }
+  bool is_nothing() const { return status == 204 && body.empty() && !deferred && !spread; }
 };
 
 using Handler = std::function<Response(const Request&)>;
@@ -67,15 +70,27 @@ using Handler = std::function<Response(const Request&)>;
 /// Content type of an answer sent as a binary WebSocket message.
 inline constexpr const char* kBinaryContentType = "application/octet-stream";
 
-/// One WebSocket peer: each text message in gets one answer out, in order (a message is not read
+/// A message a WebSocket client sent: text, or bytes it sent as a binary message.
+struct WebSocketMessage {
+  std::string data;
+  bool binary = false;
+};
+
+/// One WebSocket peer: each message in gets at most one answer out, in order (a message is not read
 /// before the previous one is answered). The answer's body is what is sent back — as a binary message
-/// when its content type is kBinaryContentType — and it may be deferred to the worker pool like an
-/// HTTP answer. A peer may also subscribe to frames pushed at a rate; those are dropped, oldest first,
-/// when the client reads too slowly, answers never are.
+/// when its content type is kBinaryContentType; nothing for Response::nothing() — and it may be
+/// deferred to the worker pool like an HTTP answer. A peer may also subscribe to frames pushed at a
+/// rate; those are dropped, oldest first, when the client reads too slowly, answers never are.
 class WebSocketPeer {
  public:
   virtual ~WebSocketPeer() = default;
-  virtual Response on_message(const std::string& text) = 0;
+  /// The subprotocol agreed at the upgrade (the answer's Sec-WebSocket-Protocol; see
+  /// agree_subprotocol), empty for none.
+  virtual std::string subprotocol() const { return {}; }
+  /// Messages sent first, in order, as soon as the socket is open (a protocol's greeting), before any
+  /// answer; never dropped. Each may be deferred like an answer.
+  virtual std::vector<Response> on_open() { return {}; }
+  virtual Response on_message(const WebSocketMessage& message) = 0;
   /// Pushed frames per second wanted now (0: none); read after every answer and every frame.
   virtual double push_rate() const { return 0.0; }
   /// The frames to push now, in order (none to skip this time): text, or binary by content type, and
@@ -90,6 +105,14 @@ class WebSocketPeer {
   /// reason. Read after every answer and about once a second.
   virtual std::string close_reason() const { return {}; }
 };
+
+/// The subprotocols a WebSocket upgrade offers (its Sec-WebSocket-Protocol, comma-separated), in the
+/// client's order.
+std::vector<std::string> offered_subprotocols(const Request& upgrade);
+/// The first of `accepted` (the server's order of preference) that the upgrade offers. When it offers
+/// none of them (or no subprotocol at all) the upgrade is refused: throws core::Error(bad_request),
+/// a 400 naming what was offered and what is accepted.
+std::string agree_subprotocol(const Request& upgrade, const std::vector<std::string>& accepted);
 
 /// Makes the peer for an upgrade request (throws core::Error to refuse it: 404, 401, …).
 using WebSocketFactory = std::function<std::shared_ptr<WebSocketPeer>(const Request&)>;

@@ -42,7 +42,7 @@ class SessionSocket : public WebSocketPeer {
 
   std::string close_reason() const override { return watcher_.session_live() ? "" : "session " + watcher_.session_id() + " ended"; }
 
-  Response on_message(const std::string& text) override;
+  Response on_message(const WebSocketMessage& message) override;
 
   double push_rate() const override { return rate_; }
 
@@ -212,11 +212,12 @@ const std::array<SessionSocket::MessageType, 13> SessionSocket::kMessageTypes{{
     {"subscribe", &SessionSocket::on_subscribe, false},
 }};
 
-Response SessionSocket::on_message(const std::string& text) {
+Response SessionSocket::on_message(const WebSocketMessage& message) {
   try {
-    Request message;
-    message.body = text;
-    json body = json_object_body(message);
+    if (message.binary) throw core::Error(core::ErrorCode::bad_request, "this socket's messages are JSON text, not binary");
+    Request request;
+    request.body = message.data;
+    json body = json_object_body(request);
     const std::string type = body.contains("type") && body["type"].is_string() ? body["type"].get<std::string>() : "";
     const auto live = registry_->find(watcher_.session_id(), caller_);
     const auto found = std::find_if(kMessageTypes.begin(), kMessageTypes.end(), [&](const MessageType& known) { return known.name == type; });

@@ -1,4 +1,4 @@
-// A session's WebSocket, served on a strand of the worker pool (see server_shared.hpp).
+// A WebSocket peer (router.hpp) served on a strand of the worker pool (see server_shared.hpp).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -30,8 +30,8 @@ constexpr std::chrono::seconds kWebSocketWatchInterval{1};
 constexpr std::chrono::seconds kWebSocketCloseGrace{5};
 constexpr std::chrono::milliseconds kWebSocketShutdownGrace{500};
 
-/// A WebSocket connection: one message read, answered, its answer queued, then the next read — so
-/// answers come in the order of the messages. The socket lives on a strand of the worker pool, so a
+/// A WebSocket connection: the peer's greeting queued, then one message (text or binary) read,
+/// answered, its answer queued, then the next read — so answers come in the order of the messages. The socket lives on a strand of the worker pool, so a
 /// message is read, answered (a step run) and its answer written on one worker thread, with no hand-over
 /// between threads; HTTP connections, on the I/O threads, are never held up by it. Writes go out one at
 /// a time from a queue, each message as one frame; pushed frames join the queue at the peer's rate, and
@@ -58,8 +58,14 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     // 512 KiB camera frame 128 headers and as many writes.
     ws_.auto_fragment(false);
     ws_.text(true);
+    if (std::string subprotocol = peer_->subprotocol(); !subprotocol.empty()) {
+      ws_.set_option(beast::websocket::stream_base::decorator([subprotocol = std::move(subprotocol)](beast::websocket::response_type& answer) {
+        answer.set(bhttp::field::sec_websocket_protocol, subprotocol);
+      }));
+    }
     ws_.async_accept(upgrade, [self = shared_from_this()](beast::error_code ec) {
       if (ec) return;
+      self->greet();
       self->read();
       self->watch();
     });
@@ -71,21 +77,36 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   }
 
  private:
+  /// The peer's greeting, made on this worker and queued before any answer.
+  void greet() {
+    std::vector<Response> greeting;
+    try {
+      greeting = peer_->on_open();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "hrisim: internal error opening a WebSocket: %s\n", e.what());
+      return end(beast::websocket::close_code::internal_error, "internal error");
+    }
+    for (Response& message : greeting) {
+      message = complete(std::move(message), "a WebSocket's greeting");
+      if (!message.is_nothing()) send({std::move(message.body), message.content_type == kBinaryContentType, false});
+    }
+  }
+
   void read() {
     if (closing_) return;
     if (const std::string reason = peer_->close_reason(); !reason.empty()) return end(beast::websocket::close_code::normal, reason);
     ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) return self->drop();  // closed, timed out or too big: Beast has told the peer
-      std::string text = beast::buffers_to_string(self->buffer_.data());
+      WebSocketMessage message{beast::buffers_to_string(self->buffer_.data()), self->ws_.got_binary()};
       self->buffer_.consume(self->buffer_.size());
-      self->answer(std::move(text));
+      self->answer(std::move(message));
     });
   }
 
-  void answer(std::string text) {
+  void answer(WebSocketMessage message) {
     Response response;
     try {
-      response = peer_->on_message(text);
+      response = peer_->on_message(message);
     } catch (const core::Error& e) {
       response = Response::error(e);
     } catch (const std::exception& e) {
@@ -95,7 +116,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     // Already on a worker: deferred work runs here, and the answer is sent from this strand.
     answer_on_workers(*shared_->workers, std::move(response), "a WebSocket", [self = shared_from_this()](Response answer) {
       net::dispatch(self->ws_.get_executor(), [self, answer = std::move(answer)]() mutable {
-        self->send({std::move(answer.body), answer.content_type == kBinaryContentType, false});
+        if (!answer.is_nothing()) self->send({std::move(answer.body), answer.content_type == kBinaryContentType, false});
         self->schedule_push();
         self->read();
       });
@@ -244,7 +265,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     for (Response& frame : frames) {
       if (frame.deferred) frame = complete(std::move(frame), "a pushed WebSocket frame");
       // A frame that failed is left out; the subscription's next push tries again.
-      if (frame.status < 400 && ws_.is_open()) send({std::move(frame.body), frame.content_type == kBinaryContentType, true, group});
+      if (frame.status < 400 && !frame.is_nothing() && ws_.is_open()) send({std::move(frame.body), frame.content_type == kBinaryContentType, true, group});
     }
     pushing_ = false;
     if (ws_.is_open()) schedule_push();

@@ -17,7 +17,9 @@ class WebSocketClient {
  public:
   /// Connects and upgrades; `status` is non-zero when the upgrade was refused (see upgrade() for its reply). A
   /// `receive_buffer` > 0 shrinks the socket's receive buffer (a client that reads slowly fills up sooner).
-  WebSocketClient(std::uint16_t port, const std::string& target, const std::string& authorization = "", int receive_buffer = 0);
+  /// `subprotocols`: the Sec-WebSocket-Protocol offered ("a, b"), none when empty.
+  WebSocketClient(std::uint16_t port, const std::string& target, const std::string& authorization = "", int receive_buffer = 0,
+                  const std::string& subprotocols = "");
   ~WebSocketClient();
   WebSocketClient(const WebSocketClient&) = delete;
   WebSocketClient& operator=(const WebSocketClient&) = delete;
@@ -33,6 +35,9 @@ class WebSocketClient {
     return next();
   }
   void send_text(const std::string& text);
+  void send_binary(const std::string& bytes);
+  /// The subprotocol the server agreed to (its answer's Sec-WebSocket-Protocol), empty for none.
+  std::string subprotocol;
   /// The next message from the server, as bytes; `binary` says whether it came as a binary message.
   /// Throws boost::system::system_error (a std::exception) when the socket closes (see close_code()).
   std::string next(bool* binary = nullptr);
