@@ -32,6 +32,8 @@ std::optional<double> parse_number(std::string_view text);
 
 /// The bytes of standard base64 text (RFC 4648 §4, padded; no whitespace), or nullopt when it is not.
 std::optional<std::string> base64_decode(std::string_view text);
+/// Standard base64 text of bytes (RFC 4648 §4, padded), as base64_decode reads it.
+std::string base64_encode(std::string_view bytes);
 
 /// JSON text of a value; bytes of its strings that are not UTF-8 become U+FFFD instead of throwing,
 /// so text a client sent (a path, a header) can always be quoted back in an error.
