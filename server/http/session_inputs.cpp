@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "core/json_schema.hpp"
 #include "http/request_helpers.hpp"
 #include "http/session_limits.hpp"
 #include "http/session_views.hpp"
@@ -208,6 +209,24 @@ json go_on_from(LiveSession& live, std::unique_ptr<episode::Episode> episode) {
   live.events_reported = live.session().state().events.size();
   live.realtime_origin = Clock::now();
   live.realtime_origin_tick = live.session().state().tick;
+  json reply = status_of(live);
+  add_observation(live, reply);
+  return reply;
+}
+
+json reset_session(LiveSession& live, const json& seed_given, const json& poses) {
+  const std::int64_t seed = seed_given.is_null() ? live.seed : seed_given.get<std::int64_t>();
+  // A fresh episode of the same scenario: everything starts again from tick 0, then the poses given
+  // are set (all or none: a bad one leaves the old session as it was).
+  std::unique_ptr<episode::Episode> fresh = live.new_episode(live.session().shared_model(), seed);
+  for (const auto& [name, pose] : poses.items()) fresh->give(place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name)));
+  live.seed = seed;
+  ++live.generation;
+  live.episode = std::move(fresh);
+  live.snapshots.clear();
+  live.events_reported = 0;
+  live.realtime_origin = Clock::now();
+  live.realtime_origin_tick = 0;
   json reply = status_of(live);
   add_observation(live, reply);
   return reply;

@@ -41,6 +41,10 @@ nlohmann::json restore_snapshot(LiveSession& live, const nlohmann::json& body);
 /// to here are not reported again; a realtime session's clock starts from its tick. Gymnasium's
 /// observation and info, with the status.
 nlohmann::json go_on_from(LiveSession& live, std::unique_ptr<episode::Episode> episode);
+/// Gymnasium's reset: a fresh episode of the same scenario with `seed` (null: the session's), the
+/// `poses` ({name: pose}, as place() reads them, under /options/poses) set before its first tick, all or
+/// none. The first observation and info, with the status.
+nlohmann::json reset_session(LiveSession& live, const nlohmann::json& seed, const nlohmann::json& poses);
 /// Goes to the tick the body names ({"tick"}): back, the episode again from its start with its inputs
 /// up to that tick (a new branch from there); forward (lockstep only, at most kMaxStepsPerRequest
 /// ticks), the ticks a clock would give. Gymnasium's observation and info, with the status.

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "http/frames.hpp"
+#include "metrics/episode_metrics.hpp"
 #include "render/image_codec.hpp"
 #include "sim/activities.hpp"
 #include "sim/seats.hpp"
@@ -411,6 +412,21 @@ Response camera_frame(const sim::Session& session, const std::string& name, int 
   return Response::later([scene = std::move(scene), camera = std::move(camera), tick = session.state().tick, time = session.time(), ids] {
     return Response{200, kBinaryContentType, camera_message(scene, camera, tick, time, ids), {}, {}};
   });
+}
+
+json metrics_so_far(const LiveSession& live) {
+  json metrics = json::object(), null_reasons = json::object();
+  for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(live.episode->recording(live.session().state().finished ? "" : "running"))) {
+    metrics[metric.key] = metric.value ? json(*metric.value) : json();
+    if (!metric.value) null_reasons[metric.key] = metric.null_reason;
+  }
+  return {{"id", live.id},
+          {"tick", live.session().state().tick},
+          {"recorded_until_tick", live.episode->recorder()->recorded_until()},
+          {"recording_stopped", live.episode->recorder()->stopped().empty() ? json() : json(live.episode->recorder()->stopped())},
+          {"time", live.session().time()},
+          {"metrics", metrics},
+          {"null_reasons", null_reasons}};
 }
 
 Response scene_frame(const sim::Session& session, bool all) {

@@ -30,6 +30,9 @@ nlohmann::json segmentation_legend(const sim::Session& session);
 /// the state hash; as members of an object being written, or as a JSON object.
 void write_status(core::JsonWriter& out, const LiveSession& live);
 nlohmann::json status_of(const LiveSession& live);
+/// Every metric of the episode computed from its recording so far (null, with its reason, where one
+/// cannot be yet), with the tick and time: on the worker pool, as a long session has many steps.
+nlohmann::json metrics_so_far(const LiveSession& live);
 /// Every agent's pose and motion, requests waiting for an answer, and the events since a tick.
 nlohmann::json state_of(const LiveSession& live, std::int64_t events_since_tick);
 /// A pose as x, y, z, roll, pitch, yaw (rpy about fixed x, y, z).

@@ -11,10 +11,10 @@
 #include "http/session_work.hpp"
 #include "http/request_helpers.hpp"
 #include "http/session_inputs.hpp"
+#include "http/foxglove_socket.hpp"
 #include "http/session_socket.hpp"
 #include "http/session_views.hpp"
 #include "http/snapshot_files.hpp"
-#include "metrics/episode_metrics.hpp"
 #include "runs/executor.hpp"
 #include "runs/spec.hpp"
 #include "storage/store.hpp"
@@ -334,22 +334,7 @@ Response SessionRoutes::reset(const Request& request) const {
   // A fresh session is built: work for the pool.
   return Response::later([live, seed_given = body.value("seed", json()), poses = options.value("poses", json::object())] {
     std::lock_guard lock(live->mutex);
-    const std::int64_t seed = seed_given.is_null() ? live->seed : seed_given.get<std::int64_t>();
-    // A fresh episode of the same scenario: everything starts again from tick 0, then the poses given
-    // are set (all or none: a bad one leaves the old session as it was).
-    std::unique_ptr<episode::Episode> fresh = live->new_episode(live->session().shared_model(), seed);
-    for (const auto& [name, pose] : poses.items()) fresh->give(place(fresh->session(), name, pose, "/options/poses/" + core::pointer_token(name)));
-    live->seed = seed;
-    ++live->generation;
-    live->episode = std::move(fresh);
-    live->snapshots.clear();
-    live->events_reported = 0;
-    live->realtime_origin = Clock::now();
-    live->realtime_origin_tick = 0;
-    // Gymnasium's reset: the first observation and info, with the session's status.
-    json reply = status_of(*live);
-    add_observation(*live, reply);
-    return Response::json(200, reply);
+    return Response::json(200, reset_session(*live, seed_given, poses));
   });
 }
 
@@ -378,18 +363,7 @@ Response SessionRoutes::metrics(const Request& request) const {
   // Computed from every step so far, on the worker pool: a long session has many.
   return Response::later([live = session_of(request)] {
     std::lock_guard lock(live->mutex);
-    json metrics = json::object(), null_reasons = json::object();
-    for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(live->episode->recording(live->session().state().finished ? "" : "running"))) {
-      metrics[metric.key] = metric.value ? json(*metric.value) : json();
-      if (!metric.value) null_reasons[metric.key] = metric.null_reason;
-    }
-    return Response::json(200, {{"id", live->id},
-                                {"tick", live->session().state().tick},
-                                {"recorded_until_tick", live->episode->recorder()->recorded_until()},
-                                {"recording_stopped", live->episode->recorder()->stopped().empty() ? json() : json(live->episode->recorder()->stopped())},
-                                {"time", live->session().time()},
-                                {"metrics", metrics},
-                                {"null_reasons", null_reasons}});
+    return Response::json(200, metrics_so_far(*live));
   });
 }
 
@@ -436,6 +410,9 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   router.add_websocket("/api/v1/sessions/{id}/ws", [registry = routes->registry()](const Request& request) -> std::shared_ptr<WebSocketPeer> {
     // 404 for an unknown session, before the upgrade; the Origin was checked by the guard.
     return open_session_socket(registry, registry->find(request.path_params.at("id"), request.caller), request.caller);
+  });
+  router.add_websocket("/api/v1/sessions/{id}/foxglove", [registry = routes->registry()](const Request& request) -> std::shared_ptr<WebSocketPeer> {
+    return open_foxglove_socket(registry, registry->find(request.path_params.at("id"), request.caller), request);
   });
 }
 

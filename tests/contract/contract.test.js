@@ -41,6 +41,7 @@ describe('hrisim contract', { timeout: SUITE_LIMIT_MS }, () => {
   require('./areas/scenarios');
   require('./areas/sessions');
   require('./areas/session_socket');
+  require('./areas/foxglove');
   require('./areas/runs');
   require('./areas/tasks');
   require('./areas/videos');
