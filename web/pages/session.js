@@ -32,6 +32,18 @@ function cameraOf(query) {
   return { view, position: numbers.slice(0, 3), target: numbers.slice(3, 6), zoom: numbers[6] };
 }
 
+/**
+ * Where Foxglove or Lichtblick opens this session (docs/foxglove.md): the address to paste into its
+ * "Foxglove WebSocket" connection, this server's own.
+ */
+function foxgloveHint(id) {
+  const scheme = window.location.protocol === 'https:' ? 'wss' : 'ws';
+  const address = `${scheme}://${window.location.host}/api/v1/sessions/${encodeURIComponent(id)}/foxglove`;
+  return h('p', { class: 'subtitle foxglove-hint' },
+    'Open in Foxglove or Lichtblick: Open connection → Foxglove WebSocket → ', h('code', { class: 'foxglove-url' }, address),
+    ' (docs/foxglove.md)');
+}
+
 export async function render(root, { id }, query) {
   const wait = loading(root, 'Loading the session');
   let loaded;
@@ -63,6 +75,7 @@ export async function render(root, { id }, query) {
     h('p', { class: 'subtitle' }, 'Scenario ', scenarioLink, ` · seed ${status.seed} · ${status.mode} · controller: ${controllerText} · dt ${formatNumber(driver.dt)} s`),
     endButton));
   root.append(endMessage);
+  root.append(foxgloveHint(id));
   const connection = h('div', { class: 'message error', role: 'alert', hidden: true });
   root.append(connection);
 

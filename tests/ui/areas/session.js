@@ -6,7 +6,8 @@
 // and forth to its end says why it ended, a task whose actions are no velocity says so, and ending the
 // session goes back to its scenario; the scene draws people's bodies, the robot's links and movable
 // objects as the scene frames have them, moving at the display rate while playing, and goes full screen;
-// the 3D view and its camera are kept in the address.
+// the 3D view and its camera are kept in the address; the page gives the address that opens the session in
+// Foxglove.
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const { describe, it } = require('node:test');
@@ -82,6 +83,8 @@ describe('session', () => {
       assert.ok(await colours(tab.page, '.camera-frame') > 5, 'the camera frame has content');
       assert.match(await tab.page.textContent('.camera-caption'), /robot\.head_rgbd · tick 0 · 320 × 240 px/);
       assert.match(await tab.page.textContent('.step-name'), /step 1 of 6: gather/);
+      assert.equal(await tab.page.textContent('.foxglove-hint .foxglove-url'), `ws://127.0.0.1:${context.server.port}/api/v1/sessions/${id}/foxglove`,
+        'the address to paste into Foxglove');
 
       // A robot request (elevator answers call_elevator_floor2): its fate shows once the session steps.
       assert.equal(await tab.page.inputValue('.robot-request select'), 'call_elevator_floor2');
