@@ -237,12 +237,15 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     });
   }
 
-  /// Starts pushing frames when the peer wants them and no timer runs yet.
+  /// Starts pushing frames when the peer wants them and no timer runs yet: a period after the last push
+  /// was due, so that the time a push takes does not slow the rate (at once when that time is past).
   void schedule_push() {
     const double rate = peer_->push_rate();
     if (rate <= 0.0 || pushing_ || closing_) return;
     pushing_ = true;
-    push_timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate)));
+    const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate));
+    push_due_ = std::max(push_due_ + period, std::chrono::steady_clock::now());
+    push_timer_.expires_at(push_due_);
     push_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
       if (ec || !self->ws_.is_open()) {
         self->pushing_ = false;
@@ -282,6 +285,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   std::deque<Outgoing> outbox_;  ///< waiting to be written, the first one being written
   net::steady_timer push_timer_{ws_.get_executor()};
   bool pushing_ = false;       ///< the push timer runs, or pushed frames are being made
+  std::chrono::steady_clock::time_point push_due_{};  ///< when the last push was due
   std::uint64_t dropped_ = 0;  ///< pushes (a state frame and its image) dropped for a slow reader
   std::uint64_t push_groups_ = 0;
 };
