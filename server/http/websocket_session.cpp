@@ -66,6 +66,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     ws_.async_accept(upgrade, [self = shared_from_this()](beast::error_code ec) {
       if (ec) return;
       self->greet();
+      self->schedule_push();  // a peer that pushes from the start (the time) needs no message first
       self->read();
       self->watch();
     });

@@ -27,6 +27,14 @@ std::string new_session(std::uint16_t port, const std::string& headers = "") {
 
 std::string socket_of(const std::string& id) { return "/api/v1/sessions/" + id + "/foxglove"; }
 
+/// The next text message, past the binary ones (the time) pushed meanwhile.
+json next_text(WebSocketClient& client) {
+  for (bool binary = true;;) {
+    const std::string message = client.next(&binary);
+    if (!binary) return json::parse(message);
+  }
+}
+
 TEST(FoxgloveApi, TheUpgradeAgreesASubprotocolAndTheSocketGreets) {
   TestServer server;
   const std::string id = new_session(server.port());
@@ -43,8 +51,10 @@ TEST(FoxgloveApi, TheUpgradeAgreesASubprotocolAndTheSocketGreets) {
   EXPECT_EQ(json::parse(client.next())["op"], "serverInfo");
   EXPECT_EQ(json::parse(client.next())["op"], "advertise");
   EXPECT_EQ(json::parse(client.next())["op"], "advertiseServices");
-  EXPECT_EQ(json::parse(client.exchange_text("[1]"))["level"], 2) << "an error status, and the socket stays open";
-  EXPECT_EQ(json::parse(client.exchange_text(R"({"op": "getParameters", "parameterNames": []})"))["op"], "status");
+  client.send_text("[1]");
+  EXPECT_EQ(next_text(client)["level"], 2) << "an error status, and the socket stays open";
+  client.send_text(R"({"op": "getParameters", "parameterNames": []})");
+  EXPECT_EQ(next_text(client)["op"], "status");
 }
 
 TEST(FoxgloveApi, TokensTicketsAndOriginAreAsOnTheSessionSocket) {
