@@ -1,5 +1,6 @@
 #include "http/foxglove_messages.hpp"
 
+#include <bit>
 #include <cmath>
 #include <map>
 
@@ -156,6 +157,13 @@ json people_poses(const sim::PeopleReading& reading, double dt) {
 
 json compressed_image(const std::string& bytes, const std::string& format, const std::string& frame, double time) {
   return {{"timestamp", time_json(time)}, {"frame_id", frame}, {"data", core::base64_encode(bytes)}, {"format", format}};
+}
+
+json depth_image(const std::vector<float>& depth, int width, int height, const std::string& frame, double time) {
+  static_assert(std::endian::native == std::endian::little, "32FC1 is little-endian");
+  const std::string_view bytes(reinterpret_cast<const char*>(depth.data()), depth.size() * sizeof(float));
+  return {{"timestamp", time_json(time)}, {"frame_id", frame}, {"width", width}, {"height", height}, {"encoding", "32FC1"},
+          {"step", width * static_cast<int>(sizeof(float))}, {"data", core::base64_encode(bytes)}};
 }
 
 json log_line(const json& event) {

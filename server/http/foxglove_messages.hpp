@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "render/scene_renderer.hpp"
 
@@ -39,6 +40,8 @@ nlohmann::json laser_scan(const sim::LaserReading& reading, double dt);
 /// The people detector's detections as positions in the map frame, heading along their velocity.
 nlohmann::json people_poses(const sim::PeopleReading& reading, double dt);
 nlohmann::json compressed_image(const std::string& bytes, const std::string& format, const std::string& frame, double time);
+/// A depth image as Foxglove's RawImage: 32FC1, metres along the optical axis, 0 where nothing is.
+nlohmann::json depth_image(const std::vector<float>& depth, int width, int height, const std::string& frame, double time);
 /// An event (runs::event_json's shape) as a log line: its subject as the name, its kind and data as
 /// the message.
 nlohmann::json log_line(const nlohmann::json& event);

@@ -71,6 +71,8 @@ std::map<std::string, std::string> all_schemas() {
       {"foxglove.LaserScan", laser_scan()},
       {"foxglove.PosesInFrame", object({{"timestamp", time_schema()}, {"frame_id", of_type("string")}, {"poses", list_of(pose())}})},
       {"foxglove.CompressedImage", object({{"timestamp", time_schema()}, {"frame_id", of_type("string")}, {"data", bytes()}, {"format", of_type("string")}})},
+      {"foxglove.RawImage", object({{"timestamp", time_schema()}, {"frame_id", of_type("string")}, {"width", of_type("integer")}, {"height", of_type("integer")},
+                                    {"encoding", of_type("string")}, {"step", of_type("integer")}, {"data", bytes()}})},
       {"foxglove.Log", object({{"timestamp", time_schema()}, {"level", of_type("integer")}, {"message", of_type("string")}, {"name", of_type("string")},
                                {"file", of_type("string")}, {"line", of_type("integer")}})},
       {"hrisim.Metrics", metrics()},

@@ -37,7 +37,7 @@ constexpr double kMetricsRate = 1.0;
 constexpr double kFixedSceneResend = 1.0;
 
 /// What a channel carries.
-enum class Feed { scene, transforms, laser, people, camera, events, metrics };
+enum class Feed { scene, transforms, laser, people, camera, depth, events, metrics };
 
 struct FeedChannel {
   fg::Channel channel;
@@ -189,7 +189,10 @@ void FoxgloveSocket::find_channels(LiveSession& live) {
       velocity_topics_.emplace("/cmd_vel", robot);  // the first robot that drives
     }
   }
-  for (const sim::CameraInfo& camera : sim::cameras_of(session)) add("/camera/" + camera.name, "foxglove.CompressedImage", Feed::camera, "", camera.name, settings_.image_rate);
+  for (const sim::CameraInfo& camera : sim::cameras_of(session)) {
+    add("/camera/" + camera.name, "foxglove.CompressedImage", Feed::camera, "", camera.name, settings_.image_rate);
+    if (camera.kind == "rgbd_camera") add("/camera/" + camera.name + "/depth", "foxglove.RawImage", Feed::depth, "", camera.name, settings_.image_rate);
+  }
   add("/events", "foxglove.Log", Feed::events, "", "", settings_.rate);
   add("/metrics", "hrisim.Metrics", Feed::metrics, "", "", kMetricsRate);
 }
@@ -398,6 +401,7 @@ void FoxgloveSocket::add_messages(LiveSession& live, std::uint32_t id, Subscript
       subscription.last_reading = runtime->people.tick;
       return sent();
     case Feed::camera:
+    case Feed::depth:
       add_camera(live, id, channel, out);
       return sent();
     case Feed::events:
@@ -410,17 +414,19 @@ void FoxgloveSocket::add_messages(LiveSession& live, std::uint32_t id, Subscript
   }
 }
 
-/// The camera's image, drawn on the worker pool from the scene taken now; a camera gone (its robot
-/// left) sends nothing.
+/// The camera's image (or its depth), drawn on the worker pool from the scene taken now; a camera gone
+/// (its robot left) sends nothing.
 void FoxgloveSocket::add_camera(LiveSession& live, std::uint32_t id, const FeedChannel& channel, std::vector<Response>& out) {
   try {
     sim::CameraInfo camera = sim::camera_of(live.session(), channel.source, settings_.image_width, settings_.image_height);
     render::Scene scene = sim::scene_for(live.session(), camera);
     const std::size_t dot = channel.source.find('.');
     std::string frame = dot == std::string::npos ? fg::kMapFrame : fg::sensor_frame(channel.source.substr(0, dot), channel.source.substr(dot + 1));
-    out.push_back(Response::later([id, time = live.session().time(), scene = std::move(scene), camera = std::move(camera), frame = std::move(frame)] {
+    const bool depth = channel.feed == Feed::depth;
+    out.push_back(Response::later([id, time = live.session().time(), scene = std::move(scene), camera = std::move(camera), frame = std::move(frame), depth] {
       const render::Frame drawn = render::render_on_this_thread(scene, camera.camera);
-      const json image = fg::compressed_image(render::encode_jpeg(drawn.colour), "jpeg", frame, time);
+      const json image = depth ? fg::depth_image(drawn.depth, camera.camera.width, camera.camera.height, frame, time)
+                               : fg::compressed_image(render::encode_jpeg(drawn.colour), "jpeg", frame, time);
       return binary(fg::message_data(id, fg::nanoseconds(time), core::json_text(image)));
     }));
   } catch (const core::Error&) {

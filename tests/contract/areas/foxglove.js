@@ -93,7 +93,7 @@ describe('Foxglove WebSocket', () => {
     assert.deepEqual(foxglove.serverInfo.supportedEncodings, ['json']);
     assert.equal(foxglove.serverInfo.metadata.session, session.id);
     const topics = foxglove.channels.map((c) => c.topic);
-    for (const topic of ['/scene', '/tf', '/robot/base_scan', '/robot/people', '/camera/overview', '/camera/robot.head_rgbd', '/events', '/metrics']) {
+    for (const topic of ['/scene', '/tf', '/robot/base_scan', '/robot/people', '/camera/overview', '/camera/robot.head_rgbd', '/camera/robot.head_rgbd/depth', '/events', '/metrics']) {
       assert.ok(topics.includes(topic), `${topic} in ${topics}`);
     }
     for (const channel of foxglove.channels) {
@@ -120,6 +120,12 @@ describe('Foxglove WebSocket', () => {
       if (channel.schemaName === 'foxglove.CompressedImage') {
         const jpeg = Buffer.from(message.json.data, 'base64');
         assert.deepEqual([...jpeg.subarray(0, 2)], [0xff, 0xd8], `${channel.topic}: a JPEG`);
+      }
+      if (channel.schemaName === 'foxglove.RawImage') {
+        const depth = Buffer.from(message.json.data, 'base64');
+        assert.equal(message.json.encoding, '32FC1');
+        assert.equal(depth.length, message.json.height * message.json.step, `${channel.topic}: a float a pixel`);
+        assert.ok(Array.from({ length: depth.length / 4 }, (_, i) => depth.readFloatLE(4 * i)).some((metres) => metres > 0.1), `${channel.topic}: something in view`);
       }
       if (channel.topic === '/scene') assert.ok(message.json.entities.length > 0);
       if (channel.topic === '/tf') assert.ok(basePosition(message.json.transforms), 'map → robot/base_link');

@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/json_schema.hpp"
+#include "core/text.hpp"
 #include "http/foxglove_messages.hpp"
 #include "http/foxglove_protocol.hpp"
 #include "runs/event_json.hpp"
@@ -178,6 +179,18 @@ TEST(FoxgloveMessages, ImagesAreBase64InJsonAsTheirSchemaSays) {
   EXPECT_EQ(image["frame_id"], "robot/head_rgbd");
   EXPECT_EQ(json::parse(schema_text("foxglove.CompressedImage"))["properties"]["data"]["contentEncoding"], "base64");
   EXPECT_THROW(schema_text("foxglove.Nothing"), core::Error);
+}
+
+TEST(FoxgloveMessages, DepthIsARawImageOfLittleEndianFloats) {
+  const json image = depth_image({0.0f, 1.5f, 2.0f, 0.25f, 3.0f, 4.0f}, 3, 2, "robot/head_rgbd", 2.0);
+  EXPECT_EQ(image["encoding"], "32FC1");
+  EXPECT_EQ(image["width"], 3);
+  EXPECT_EQ(image["height"], 2);
+  EXPECT_EQ(image["step"], 12);
+  const std::string bytes = core::base64_decode(image["data"].get<std::string>()).value();
+  ASSERT_EQ(bytes.size(), 24u);
+  EXPECT_EQ(read_at<float>(bytes, 4), 1.5f);
+  EXPECT_EQ(read_at<float>(bytes, 20), 4.0f);
 }
 
 }  // namespace
