@@ -5,6 +5,7 @@
 #include <span>
 #include <string_view>
 
+#include "core/bounded_json.hpp"
 #include "core/build_info.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
@@ -79,7 +80,7 @@ Response error_status(const std::string& message) { return text(fg::status(fg::L
 /// A Twist-shaped JSON message ({linear: {x, y, z}, angular: {x, y, z}}) as a robot's velocity command:
 /// linear.x forward and angular.z about the vertical (a differential drive's two).
 json velocity_command(const std::string& robot, const std::string& payload) {
-  const json twist = json::parse(payload, nullptr, false);
+  const json twist = core::parse_bounded_json(payload, "the velocity");
   const auto number = [&](const char* part, const char* axis) {
     if (!twist.is_object() || !twist.contains(part) || !twist[part].is_object() || !twist[part].value(axis, json()).is_number()) {
       throw core::Error(core::ErrorCode::bad_request, "a velocity is a Twist in JSON, {\"linear\": {\"x\", \"y\", \"z\"}, \"angular\": {\"x\", \"y\", \"z\"}}; " +
@@ -117,8 +118,13 @@ class FoxgloveSocket : public WebSocketPeer {
   Response on_message(const WebSocketMessage& message) override {
     try {
       if (message.binary) return on_binary(message.data);
-      const json body = json::parse(message.data, nullptr, false);
-      if (body.is_discarded() || !body.is_object()) return error_status("a text message is a JSON object with an op");
+      json body;
+      try {
+        body = core::parse_bounded_json(message.data, "a text message");
+      } catch (const core::Error& e) {
+        return error_status(std::string("a text message is a JSON object with an op: ") + e.what());
+      }
+      if (!body.is_object()) return error_status("a text message is a JSON object with an op");
       const std::string op = body.contains("op") && body["op"].is_string() ? body["op"].get<std::string>() : "";
       if (op == "subscribe") return on_subscribe(body);
       if (op == "unsubscribe") return on_unsubscribe(body);
@@ -281,7 +287,12 @@ Response FoxgloveSocket::on_service_call(const fg::ServiceCall& call) {
   if (call.service < kStep || call.service > kSeek) return failure("no service " + std::to_string(call.service));
   if (call.encoding != "json") return failure("encoding '" + call.encoding + "' is not supported (json is)");
   if (caller_.read_only) return failure("this socket's token may only read");
-  const json request = call.payload.empty() ? json::object() : json::parse(call.payload, nullptr, false);
+  json request = json::object();
+  try {
+    if (!call.payload.empty()) request = core::parse_bounded_json(call.payload, "the request");
+  } catch (const core::Error& e) {
+    return failure(e.what());
+  }
   if (!request.is_object()) return failure("the request is not a JSON object");
   const auto live = registry_->find(watcher_.session_id(), caller_);
   // Each answers with the session's status; a failure, with what went wrong.

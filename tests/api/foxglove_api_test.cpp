@@ -55,6 +55,18 @@ TEST(FoxgloveApi, TheUpgradeAgreesASubprotocolAndTheSocketGreets) {
   EXPECT_EQ(next_text(client)["level"], 2) << "an error status, and the socket stays open";
   client.send_text(R"({"op": "getParameters", "parameterNames": []})");
   EXPECT_EQ(next_text(client)["op"], "status");
+  // Nested deeper than any parser's stack: refused before parsing, as text, as a velocity and as a service call.
+  const std::string deep(200000, '[');
+  client.send_text(deep);
+  EXPECT_NE(next_text(client)["message"].get<std::string>().find("nested"), std::string::npos);
+  client.send_text(R"({"op": "advertise", "channels": [{"id": 1, "topic": "/cmd_vel", "encoding": "json", "schemaName": "Twist"}]})");
+  client.send_binary(std::string("\x01\x01\x00\x00\x00", 5) + deep);
+  EXPECT_NE(next_text(client)["message"].get<std::string>().find("nested"), std::string::npos);
+  client.send_binary(std::string("\x02\x01\x00\x00\x00\x07\x00\x00\x00\x04\x00\x00\x00json", 17) + deep);
+  const json failed = next_text(client);
+  EXPECT_EQ(failed["op"], "serviceCallFailure");
+  EXPECT_EQ(failed["callId"], 7);
+  EXPECT_NE(failed["message"].get<std::string>().find("nested"), std::string::npos);
 }
 
 TEST(FoxgloveApi, TokensTicketsAndOriginAreAsOnTheSessionSocket) {
