@@ -32,9 +32,10 @@ Eigen::Isometry3d planar(const core::Pose2& pose, double height = 0.0) {
 }
 json colour(const std::array<float, 3>& rgb, double alpha = 1.0) { return {{"r", rgb[0]}, {"g", rgb[1]}, {"b", rgb[2]}, {"a", alpha}}; }
 
-/// An entity with every list of primitives present (empty), as Foxglove's panels read them.
-json empty_entity(const std::string& id, double time) {
-  json entity = {{"timestamp", time_json(time)}, {"frame_id", kMapFrame}, {"id", id}, {"lifetime", {{"sec", 0}, {"nsec", 0}}},
+/// An entity with every list of primitives present (empty), as Foxglove's panels read them; a lifetime
+/// of 0 keeps it for good.
+json empty_entity(const std::string& id, double time, double lifetime) {
+  json entity = {{"timestamp", time_json(time)}, {"frame_id", kMapFrame}, {"id", id}, {"lifetime", time_json(lifetime)},
                  {"frame_locked", false}, {"metadata", json::array()}};
   for (const char* primitives : {"arrows", "cubes", "spheres", "cylinders", "lines", "triangles", "texts", "models"}) entity[primitives] = json::array();
   return entity;
@@ -72,7 +73,7 @@ void add_part(json& entity, const render::Part& part) {
 
 /// The path an agent walks, from where it stands through the points it has yet to reach, a little
 /// above the floor.
-void add_paths(json& entities, const sim::Session& session, double time) {
+void add_paths(json& entities, const sim::Session& session, double time, double lifetime) {
   constexpr double kPathHeight = 0.02;
   const auto& agents = session.state().agents;
   for (std::size_t a = 0; a < agents.size(); ++a) {
@@ -82,7 +83,7 @@ void add_paths(json& entities, const sim::Session& session, double time) {
     for (std::size_t p = navigation.path_index; p < navigation.path.size(); ++p) {
       points.push_back(vector3({navigation.path[p].x(), navigation.path[p].y(), kPathHeight}));
     }
-    json entity = empty_entity("path/" + session.model().agents[a].id, time);
+    json entity = empty_entity("path/" + session.model().agents[a].id, time, lifetime);
     const bool robot = session.model().agents[a].kind == scenario::AgentKind::robot;
     entity["lines"].push_back({{"type", kLineStrip}, {"pose", pose(Eigen::Isometry3d::Identity())}, {"thickness", 0.03}, {"scale_invariant", false},
                                {"points", std::move(points)}, {"color", colour(robot ? std::array{0.1f, 0.4f, 0.9f} : std::array{0.9f, 0.5f, 0.1f}, 0.8)},
@@ -103,18 +104,19 @@ json time_json(double seconds) {
   return {{"sec", ns / 1'000'000'000u}, {"nsec", ns % 1'000'000'000u}};
 }
 
-json scene_update(const render::Scene& scene, const sim::Session& session, bool fixed) {
+json scene_update(const render::Scene& scene, const sim::Session& session, bool fixed, double lifetime) {
   const double time = session.time();
+  lifetime = fixed ? 0.0 : lifetime;
   std::map<std::uint32_t, json> by_id;  // a person's capsules share their id: one entity
   for (const render::Part& part : scene) {
     if ((part.id < sim::kDoorIdBase) != fixed) continue;
     auto [entry, added] = by_id.try_emplace(part.id);
-    if (added) entry->second = empty_entity(std::to_string(part.id), time);
+    if (added) entry->second = empty_entity(std::to_string(part.id), time, lifetime);
     add_part(entry->second, part);
   }
   json entities = json::array();
   for (auto& [id, entity] : by_id) entities.push_back(std::move(entity));
-  if (!fixed) add_paths(entities, session, time);
+  if (!fixed) add_paths(entities, session, time, lifetime);
   return {{"deletions", json::array()}, {"entities", std::move(entities)}};
 }
 

@@ -27,10 +27,11 @@ std::uint64_t nanoseconds(double seconds);
 nlohmann::json time_json(double seconds);
 
 /// The scene's solids as entities in the map frame, one per instance id, each replacing the last of
-/// its id: the fixed ones (floor, walls, furniture) or what moves (doors, objects, people's body
-/// capsules as a cylinder and two spheres, robots' links); with what moves, the paths people and robots
-/// walk (from where they stand through the path's points left).
-nlohmann::json scene_update(const render::Scene& scene, const sim::Session& session, bool fixed);
+/// its id: the fixed ones (floor, walls, furniture), kept for good, or what moves (doors, objects,
+/// people's body capsules as a cylinder and two spheres, robots' links) with the paths people and robots
+/// walk (from where they stand through the path's points left), each kept `lifetime` seconds of
+/// simulated time unless sent again (so that someone who left, or a path walked, goes).
+nlohmann::json scene_update(const render::Scene& scene, const sim::Session& session, bool fixed, double lifetime = 0.0);
 /// map → ROBOT/base_link for every robot with a model, and ROBOT/base_link → ROBOT/SENSOR for each
 /// sensor of its description.
 nlohmann::json frame_transforms(const sim::Session& session);

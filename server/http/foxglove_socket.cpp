@@ -34,6 +34,10 @@ struct StreamSettings {
   int image_width = 0, image_height = 0;  ///< 0: the camera's own
 };
 constexpr double kMetricsRate = 1.0;
+/// What moves in the scene is kept this many of its periods unless sent again.
+constexpr double kMovingLifetime = 3.0;
+/// Channels one client may advertise.
+constexpr std::size_t kMaxClientChannels = 16;
 /// The fixed part of the scene is sent again after a push was dropped, at most this often, s.
 constexpr double kFixedSceneResend = 1.0;
 
@@ -243,6 +247,8 @@ Response FoxgloveSocket::on_client_advertise(const json& body) {
       refused.push_back("topic '" + topic + "' drives nothing here" + (topics.empty() ? " (no robot with a drive)" : "; publish a Twist on " + core::join(topics, " or ")));
     } else if (encoding != "json") {
       refused.push_back("channel " + std::to_string(id) + ": encoding '" + encoding + "' is not supported (json is)");
+    } else if (client_channels_.size() >= kMaxClientChannels && !client_channels_.contains(id)) {
+      refused.push_back("channel " + std::to_string(id) + ": at most " + std::to_string(kMaxClientChannels) + " channels a client");
     } else {
       client_channels_[id] = robot->second;
     }
@@ -392,7 +398,7 @@ void FoxgloveSocket::add_messages(LiveSession& live, std::uint32_t id, Subscript
         fixed_scene_wanted_ = false;
         fixed_scene_sent_ = Clock::now();
       }
-      out.push_back(data(id, time, fg::scene_update(*scene, session, false)));
+      out.push_back(data(id, time, fg::scene_update(*scene, session, false, kMovingLifetime * (1.0 / channel.rate))));
       return sent();
     case Feed::transforms:
       out.push_back(data(id, time, fg::frame_transforms(session)));

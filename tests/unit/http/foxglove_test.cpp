@@ -104,14 +104,16 @@ TEST(FoxgloveMessages, TimeIsWholeSecondsAndNanoseconds) {
 TEST(FoxgloveMessages, TheSceneIsItsFixedSolidsOnceAndWhatMovesWithTheRest) {
   const auto session = elevator_session();
   const render::Scene scene = sim::scene_of(*session);
-  const json fixed = scene_update(scene, *session, true), moving = scene_update(scene, *session, false);
+  const json fixed = scene_update(scene, *session, true, 0.1), moving = scene_update(scene, *session, false, 0.1);
   expect_described("foxglove.SceneUpdate", fixed);
   expect_described("foxglove.SceneUpdate", moving);
   ASSERT_FALSE(fixed["entities"].empty());
   for (const json& entity : fixed["entities"]) {
     EXPECT_LT(std::stoul(entity["id"].get<std::string>()), sim::kDoorIdBase);
     EXPECT_EQ(entity["frame_id"], "map");
+    EXPECT_EQ(entity["lifetime"], time_json(0.0)) << "kept for good";
   }
+  for (const json& entity : moving["entities"]) EXPECT_EQ(entity["lifetime"], time_json(0.1)) << "gone unless sent again";
   // A person: one entity of their body's capsules, each a cylinder between its two end spheres.
   const auto capsule = std::find_if(scene.begin(), scene.end(), [](const render::Part& p) { return p.shape == render::Part::Shape::capsule; });
   ASSERT_NE(capsule, scene.end());
