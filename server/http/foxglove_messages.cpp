@@ -24,12 +24,6 @@ json pose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation
   return {{"position", vector3(position)}, {"orientation", quaternion(orientation)}};
 }
 json pose(const Eigen::Isometry3d& transform) { return pose(transform.translation(), Eigen::Quaterniond(transform.linear())); }
-Eigen::Isometry3d planar(const core::Pose2& pose, double height = 0.0) {
-  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
-  transform.translate(Eigen::Vector3d(pose.x, pose.y, height));
-  transform.rotate(Eigen::AngleAxisd(pose.theta, Eigen::Vector3d::UnitZ()));
-  return transform;
-}
 json colour(const std::array<float, 3>& rgb, double alpha = 1.0) { return {{"r", rgb[0]}, {"g", rgb[1]}, {"b", rgb[2]}, {"a", alpha}}; }
 
 /// An entity with every list of primitives present (empty), as Foxglove's panels read them; a lifetime
@@ -94,9 +88,6 @@ void add_paths(json& entities, const sim::Session& session, double time, double 
 
 }  // namespace
 
-std::string base_frame(const std::string& robot) { return robot + "/base_link"; }
-std::string sensor_frame(const std::string& robot, const std::string& sensor) { return robot + "/" + sensor; }
-
 std::uint64_t nanoseconds(double seconds) { return static_cast<std::uint64_t>(std::llround(std::max(0.0, seconds) * 1e9)); }
 
 json time_json(double seconds) {
@@ -121,21 +112,10 @@ json scene_update(const render::Scene& scene, const sim::Session& session, bool 
 }
 
 json frame_transforms(const sim::Session& session) {
-  const double time = session.time();
   json transforms = json::array();
-  const auto transform = [&](const std::string& parent, const std::string& child, const Eigen::Isometry3d& pose) {
-    transforms.push_back({{"timestamp", time_json(time)}, {"parent_frame_id", parent}, {"child_frame_id", child},
-                          {"translation", vector3(pose.translation())}, {"rotation", quaternion(Eigen::Quaterniond(pose.linear()))}});
-  };
-  const auto& agents = session.model().agents;
-  for (std::size_t a = 0; a < agents.size(); ++a) {
-    const sim::RobotRuntime* runtime = agents[a].kind == scenario::AgentKind::robot ? session.robot_runtime(session.agent_at(static_cast<int>(a))) : nullptr;
-    if (!runtime) continue;
-    const Eigen::Isometry3d base = planar(runtime->robot.pose());
-    transform(kMapFrame, base_frame(agents[a].id), base);
-    for (const robots::Sensor& sensor : agents[a].robot_model->sensors) {
-      transform(base_frame(agents[a].id), sensor_frame(agents[a].id, sensor.name), base.inverse() * runtime->robot.sensor_pose(sensor));
-    }
+  for (const FrameTransform& frame : robot_frames(session)) {
+    transforms.push_back({{"timestamp", time_json(session.time())}, {"parent_frame_id", frame.parent}, {"child_frame_id", frame.child},
+                          {"translation", vector3(frame.pose.translation())}, {"rotation", quaternion(Eigen::Quaterniond(frame.pose.linear()))}});
   }
   return {{"transforms", std::move(transforms)}};
 }

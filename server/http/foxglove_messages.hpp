@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "http/robot_frames.hpp"
 #include "render/scene_renderer.hpp"
 
 namespace hrisim::sim {
@@ -18,9 +19,9 @@ struct PeopleReading;
 namespace hrisim::http::foxglove {
 
 /// The fixed frame everything is placed in, and a robot's frames under it.
-inline constexpr const char* kMapFrame = "map";
-std::string base_frame(const std::string& robot);                             ///< ROBOT/base_link
-std::string sensor_frame(const std::string& robot, const std::string& sensor);  ///< ROBOT/SENSOR
+using http::kMapFrame;
+using http::base_frame;
+using http::sensor_frame;
 
 /// Simulated time as Foxglove's nanoseconds and as its {sec, nsec}.
 std::uint64_t nanoseconds(double seconds);

@@ -435,14 +435,11 @@ void FoxgloveSocket::add_messages(LiveSession& live, std::uint32_t id, Subscript
 /// (its robot left) sends nothing.
 void FoxgloveSocket::add_camera(LiveSession& live, std::uint32_t id, const FeedChannel& channel, std::vector<Response>& out) {
   try {
-    sim::CameraInfo camera = sim::camera_of(live.session(), channel.source, settings_.image_width, settings_.image_height);
-    render::Scene scene = sim::scene_for(live.session(), camera);
-    const std::size_t dot = channel.source.find('.');
-    std::string frame = dot == std::string::npos ? fg::kMapFrame : fg::sensor_frame(channel.source.substr(0, dot), channel.source.substr(dot + 1));
+    auto draw = draw_later(live.session(), channel.source, settings_.image_width, settings_.image_height);
     const bool depth = channel.feed == Feed::depth;
-    out.push_back(Response::later([id, time = live.session().time(), scene = std::move(scene), camera = std::move(camera), frame = std::move(frame), depth] {
-      const render::Frame drawn = render::render_on_this_thread(scene, camera.camera);
-      const json image = depth ? fg::depth_image(drawn.depth, camera.camera.width, camera.camera.height, frame, time)
+    out.push_back(Response::later([id, time = live.session().time(), draw = std::move(draw), frame = camera_frame(channel.source), depth] {
+      const render::Frame drawn = draw();
+      const json image = depth ? fg::depth_image(drawn.depth, drawn.colour.width, drawn.colour.height, frame, time)
                                : fg::compressed_image(render::encode_jpeg(drawn.colour), "jpeg", frame, time);
       return binary(fg::message_data(id, fg::nanoseconds(time), core::json_text(image)));
     }));

@@ -414,6 +414,11 @@ Response camera_frame(const sim::Session& session, const std::string& name, int 
   });
 }
 
+std::function<render::Frame()> draw_later(const sim::Session& session, const std::string& name, int width, int height) {
+  sim::CameraInfo camera = sim::camera_of(session, name, width, height);
+  return [scene = sim::scene_for(session, camera), camera = std::move(camera)] { return render::render_on_this_thread(scene, camera.camera); };
+}
+
 json metrics_so_far(const LiveSession& live) {
   json metrics = json::object(), null_reasons = json::object();
   for (const metrics::MetricValue& metric : metrics::compute_episode_metrics(live.episode->recording(live.session().state().finished ? "" : "running"))) {

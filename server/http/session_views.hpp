@@ -2,6 +2,7 @@
 // JSON views of a live session (its lock held by the caller): status, state, sensors, poses, spaces,
 // Gymnasium's observation, snapshots, and the binary laser and camera frames.
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -65,5 +66,8 @@ nlohmann::json camera_json(const sim::CameraInfo& info);
 /// A binary RGB-D frame of a camera, as a deferred answer: the scene is taken now (the caller holds
 /// the session's lock), the worker pool draws it.
 Response camera_frame(const sim::Session& session, const std::string& name, int width, int height, bool ids);
+/// A camera's frame (colour, depth, ids) as work for the worker pool: the scene is taken now (the caller
+/// holds the session's lock), the work draws it. Throws core::Error(not_found) for no such camera.
+std::function<render::Frame()> draw_later(const sim::Session& session, const std::string& name, int width, int height);
 
 }  // namespace hrisim::http

@@ -12,6 +12,7 @@
 #include "http/request_helpers.hpp"
 #include "http/session_inputs.hpp"
 #include "http/foxglove_socket.hpp"
+#include "http/rosbridge_socket.hpp"
 #include "http/session_socket.hpp"
 #include "http/session_views.hpp"
 #include "http/snapshot_files.hpp"
@@ -413,6 +414,9 @@ void add_session_routes(Router& router, std::shared_ptr<ScenarioCatalogue> catal
   });
   router.add_websocket("/api/v1/sessions/{id}/foxglove", [registry = routes->registry()](const Request& request) -> std::shared_ptr<WebSocketPeer> {
     return open_foxglove_socket(registry, registry->find(request.path_params.at("id"), request.caller), request);
+  });
+  router.add_websocket("/api/v1/sessions/{id}/rosbridge", [registry = routes->registry()](const Request& request) -> std::shared_ptr<WebSocketPeer> {
+    return open_rosbridge_socket(registry, registry->find(request.path_params.at("id"), request.caller), request);
   });
 }
 
