@@ -46,9 +46,9 @@ std::string json_text(const json& message) { return core::json_text(with_base64(
 Response publish(const std::string& topic, const std::string& type, const json& message, Compression compression, double seconds) {
   switch (compression) {
     case Compression::none:
-      return Response{200, "application/json", json_text({{"op", "publish"}, {"topic", topic}, {"msg", message}}), {}, {}};
+      return Response{200, "application/json", json_text({{"op", "publish"}, {"topic", topic}, {"msg", ros::conform(type, message)}}), {}, {}};
     case Compression::cbor:
-      return binary(json::to_cbor({{"op", "publish"}, {"topic", topic}, {"msg", message}}));
+      return binary(json::to_cbor({{"op", "publish"}, {"topic", topic}, {"msg", ros::conform(type, message)}}));
     case Compression::cbor_raw: {
       const std::string cdr = ros::encode_cdr(type, message);
       const json time = ros::time_of(seconds);

@@ -24,7 +24,8 @@ nlohmann::json service_response(const std::string& service, const nlohmann::json
 /// writes uint8[] in JSON.
 std::string json_text(const nlohmann::json& message);
 
-/// A message of `type` on `topic` as the subscription's compression wants it: JSON text; a binary
+/// A message of `type` on `topic`, complete (its fields left out at their defaults, ros::conform), as
+/// the subscription's compression wants it: JSON text; a binary
 /// CBOR message; or a binary CBOR message whose msg is {secs, nsecs, bytes} with the message in CDR
 /// and the simulated time it was sent at.
 Response publish(const std::string& topic, const std::string& type, const nlohmann::json& message, Compression compression, double seconds);

@@ -42,6 +42,7 @@ describe('hrisim contract', { timeout: SUITE_LIMIT_MS }, () => {
   require('./areas/sessions');
   require('./areas/session_socket');
   require('./areas/foxglove');
+  require('./areas/rosbridge');
   require('./areas/runs');
   require('./areas/tasks');
   require('./areas/videos');
