@@ -85,9 +85,11 @@ class RosbridgeSocket : public WebSocketPeer {
   double push_rate() const override { return settings_.rate; }
 
   std::vector<Response> on_open() override {
-    const auto live = registry_->find(watcher_.session_id(), caller_);
-    std::lock_guard lock(live->mutex);
-    graph_ = rb::graph_of(live->session());
+    // A session deleted since the upgrade leaves the graph empty; the socket then closes as it ended.
+    if (const auto live = registry_->find_if_live(watcher_.session_id())) {
+      std::lock_guard lock(live->mutex);
+      graph_ = rb::graph_of(live->session());
+    }
     return {};
   }
 
