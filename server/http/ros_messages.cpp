@@ -16,7 +16,7 @@ namespace {
 
 using nlohmann::json;
 
-/// The message types hrisim sends or takes, as ROS 2 (Jazzy) defines their fields; the constants of
+/// The message types hrisim sends or takes, as ROS 2 (Jazzy) and the people stack define their fields; the constants of
 /// the enumerations hrisim fills in are kept, comments and the rest left out. Types from another
 /// package are written in full, as rosapi's definitions text does.
 const std::map<std::string, std::string> kDefinitions = {
@@ -54,6 +54,9 @@ const std::map<std::string, std::string> kDefinitions = {
      "visualization_msgs/UVCoordinate[] uv_coordinates\nstring text\nstring mesh_resource\nvisualization_msgs/MeshFile mesh_file\n"
      "bool mesh_use_embedded_materials\n"},
     {"visualization_msgs/MarkerArray", "visualization_msgs/Marker[] markers\n"},
+    // people_msgs of ROS's people stack (its ROS 2 branch): people as a robot's detector tracks them.
+    {"people_msgs/Person", "string name\ngeometry_msgs/Point position\ngeometry_msgs/Point velocity\nfloat64 reliability\nstring[] tagnames\nstring[] tags\n"},
+    {"people_msgs/People", "std_msgs/Header header\npeople_msgs/Person[] people\n"},
 };
 
 /// Bytes of each primitive type in CDR (a string's are its length's, then its own).

@@ -86,6 +86,19 @@ json people_markers(const sim::Session& session) {
   return {{"markers", std::move(markers)}};
 }
 
+json people_detected(const sim::Session& session, const sim::PeopleReading& reading) {
+  json people = json::array();
+  for (const sensors::Detection& person : reading.people) {
+    people.push_back({{"name", session.model().agents.at(static_cast<std::size_t>(person.agent)).id},
+                      {"position", {{"x", person.position.x()}, {"y", person.position.y()}}},
+                      {"velocity", {{"x", person.velocity.x()}, {"y", person.velocity.y()}}},
+                      {"reliability", 1.0},
+                      {"tagnames", {"face_visible"}},
+                      {"tags", {person.face_visible ? "true" : "false"}}});
+  }
+  return {{"header", header(static_cast<double>(std::max<std::int64_t>(reading.tick, 0)) * session.model().dt, kMapFrame)}, {"people", std::move(people)}};
+}
+
 json log_line(const json& event) {
   const std::string subject = event.value("subject", "");
   return {{"stamp", time_of(event.value("time", 0.0))},

@@ -9,6 +9,7 @@ namespace hrisim::sim {
 class Session;
 struct LaserReading;
 struct OdometryReading;
+struct PeopleReading;
 }  // namespace hrisim::sim
 
 namespace hrisim::http::ros {
@@ -31,6 +32,9 @@ nlohmann::json transforms(const sim::Session& session, bool sensors);
 /// visualization_msgs/msg/MarkerArray: a DELETEALL, then every person in the scene as a cylinder with
 /// their name above it.
 nlohmann::json people_markers(const sim::Session& session);
+/// people_msgs/msg/People: the people a robot's detector sees, in the map frame, by the names of
+/// the people it tracks, with `face_visible` as a tag.
+nlohmann::json people_detected(const sim::Session& session, const sim::PeopleReading& reading);
 /// rcl_interfaces/msg/Log of an event (runs::event_json's shape): its subject as the name, its kind
 /// and data as the text.
 nlohmann::json log_line(const nlohmann::json& event);

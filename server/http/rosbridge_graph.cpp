@@ -62,9 +62,9 @@ Graph graph_of(const sim::Session& session) {
   add("/clock", "rosgraph_msgs/msg/Clock", Feed::clock);
   add("/tf", "tf2_msgs/msg/TFMessage", Feed::transforms);
   add("/tf_static", "tf2_msgs/msg/TFMessage", Feed::static_transforms);
-  add("/people", "visualization_msgs/msg/MarkerArray", Feed::people);
+  add("/people_markers", "visualization_msgs/msg/MarkerArray", Feed::people);
   add("/rosout", "rcl_interfaces/msg/Log", Feed::log);
-  bool first_laser = true, first_odometry = true, first_drive = true;
+  bool first_laser = true, first_odometry = true, first_detector = true, first_drive = true;
   const auto& agents = session.model().agents;
   for (std::size_t a = 0; a < agents.size(); ++a) {
     const sim::RobotRuntime* runtime = agents[a].kind == scenario::AgentKind::robot ? session.robot_runtime(session.agent_at(static_cast<int>(a))) : nullptr;
@@ -76,6 +76,10 @@ Graph graph_of(const sim::Session& session) {
     }
     if (std::exchange(first_odometry, false)) add("/odom", "nav_msgs/msg/Odometry", Feed::odometry, robot);
     add("/" + robot + "/odom", "nav_msgs/msg/Odometry", Feed::odometry, robot);
+    if (runtime->people_detector) {
+      if (std::exchange(first_detector, false)) add("/people", "people_msgs/msg/People", Feed::detections, robot);
+      add("/" + robot + "/people", "people_msgs/msg/People", Feed::detections, robot);
+    }
     if (agents[a].robot_model->drive) {
       if (std::exchange(first_drive, false)) graph.velocity_topics.emplace("/cmd_vel", robot);
       graph.velocity_topics.emplace("/" + robot + "/cmd_vel", robot);

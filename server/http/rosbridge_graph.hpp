@@ -15,12 +15,12 @@ class Session;
 namespace hrisim::http::rosbridge {
 
 /// What a published topic carries.
-enum class Feed { clock, transforms, static_transforms, laser, odometry, people, log, camera };
+enum class Feed { clock, transforms, static_transforms, laser, odometry, people, detections, log, camera };
 
 struct Topic {
   std::string name, type;  ///< type as "pkg/msg/Type"
   Feed feed;
-  std::string robot;   ///< laser, odometry
+  std::string robot;   ///< laser, odometry, detections
   std::string source;  ///< the laser's sensor; the camera's name
 };
 
@@ -29,9 +29,9 @@ inline constexpr const char* kTwist = "geometry_msgs/msg/Twist";
 /// The node everything is published by.
 inline constexpr const char* kNode = "/hrisim";
 
-/// A session's topics: each robot's (ROBOT/LASER, ROBOT/odom, ROBOT/cmd_vel) and the first robot's
-/// under the names ROS drivers use (/scan, /odom, /cmd_vel), /tf, /tf_static, /clock, /people,
-/// /rosout, and a compressed image per camera.
+/// A session's topics: each robot's (ROBOT/LASER, ROBOT/odom, ROBOT/people, ROBOT/cmd_vel) and the
+/// first robot's under the names ROS drivers use (/scan, /odom, /people, /cmd_vel), /tf, /tf_static,
+/// /clock, /people_markers, /rosout, and a compressed image per camera.
 struct Graph {
   std::vector<Topic> published;
   std::map<std::string, std::string> velocity_topics;  ///< topic → the robot it drives

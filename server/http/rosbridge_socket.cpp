@@ -76,6 +76,27 @@ json request_of(const rb::Service& service, const json& args) {
   return request;
 }
 
+/// What a push sends: messages taken from the session while it is locked and written (completed,
+/// encoded) once it is not, so the session waits only for the taking; camera images drawn on the
+/// worker pool.
+struct Outbox {
+  struct Message {
+    const rb::Topic* topic;
+    rb::Compression compression;
+    json message;
+    double time;
+  };
+  std::vector<Message> messages;
+  std::vector<Response> drawn;
+  void add(const Subscription& subscription, json message, double time) {
+    messages.push_back({subscription.topic, subscription.compression, std::move(message), time});
+  }
+  std::vector<Response> written() && {
+    for (const Message& m : messages) drawn.push_back(rb::publish(m.topic->name, m.topic->type, m.message, m.compression, m.time));
+    return std::move(drawn);
+  }
+};
+
 class RosbridgeSocket : public WebSocketPeer {
  public:
   RosbridgeSocket(std::shared_ptr<Registry> registry, const std::shared_ptr<LiveSession>& live, Caller caller, StreamSettings settings)
@@ -126,9 +147,9 @@ class RosbridgeSocket : public WebSocketPeer {
   Response on_publish(const json& body);
   Response on_call_service(const json& body);
   Response call_on_session(const rb::Service& service, const json& request, const json& id);
-  void show(LiveSession& live, bool restarted, std::span<const sim::Event> events, std::vector<Response>& out);
-  void add_message(LiveSession& live, Subscription& subscription, std::vector<Response>& out);
-  void add_camera(LiveSession& live, Subscription& subscription, std::vector<Response>& out);
+  void show(LiveSession& live, bool restarted, std::span<const sim::Event> events, Outbox& out);
+  void add_message(LiveSession& live, Subscription& subscription, Outbox& out);
+  void add_camera(LiveSession& live, Subscription& subscription, Outbox& out);
 
   /// The robot a velocity topic drives; core::Error(bad_request) naming the topics that do.
   const std::string& robot_driven_by(const std::string& topic) const {
@@ -144,9 +165,6 @@ class RosbridgeSocket : public WebSocketPeer {
     if (subscription.topic->feed == rb::Feed::camera) interval = std::max(interval, 1.0 / settings_.image_rate);
     // Half a push's period of slack: a throttle of a third of the push period goes every third push.
     return subscription.fresh || std::chrono::duration<double>(now - subscription.last_sent).count() + 0.5 / settings_.rate >= interval;
-  }
-  Response publish(const Subscription& subscription, const json& message, double seconds) const {
-    return rb::publish(subscription.topic->name, subscription.topic->type, message, subscription.compression, seconds);
   }
 
   std::shared_ptr<Registry> registry_;
@@ -296,7 +314,7 @@ Response RosbridgeSocket::call_on_session(const rb::Service& service, const json
 }
 
 std::vector<Response> RosbridgeSocket::push_frames(std::uint64_t) {
-  std::vector<Response> out;
+  Outbox out;
   const live::Watcher::Outcome outcome =
       watcher_.show_news([&](const live::Watcher::News& news) { show(news.session, news.restarted, news.events, out); });
   const bool fresh = std::any_of(subscriptions_.begin(), subscriptions_.end(), [](const auto& s) { return s.second.fresh; });
@@ -307,10 +325,10 @@ std::vector<Response> RosbridgeSocket::push_frames(std::uint64_t) {
       if (lock) show(*live, false, {}, out);
     }
   }
-  return out;
+  return std::move(out).written();
 }
 
-void RosbridgeSocket::show(LiveSession& live, bool restarted, std::span<const sim::Event> events, std::vector<Response>& out) {
+void RosbridgeSocket::show(LiveSession& live, bool restarted, std::span<const sim::Event> events, Outbox& out) {
   const auto now = Clock::now();
   for (auto& [topic, subscription] : subscriptions_) {
     if (restarted) {
@@ -319,7 +337,7 @@ void RosbridgeSocket::show(LiveSession& live, bool restarted, std::span<const si
     }
     if (subscription.topic->feed == rb::Feed::log) {
       // Every event as it comes: a log line is never throttled away.
-      for (const sim::Event& event : events) out.push_back(publish(subscription, ros::log_line(event_json(event)), live.session().time()));
+      for (const sim::Event& event : events) out.add(subscription, ros::log_line(event_json(event)), live.session().time());
       subscription.fresh = false;
     } else if (due(subscription, now)) {
       add_message(live, subscription, out);
@@ -327,12 +345,12 @@ void RosbridgeSocket::show(LiveSession& live, bool restarted, std::span<const si
   }
 }
 
-void RosbridgeSocket::add_message(LiveSession& live, Subscription& subscription, std::vector<Response>& out) {
+void RosbridgeSocket::add_message(LiveSession& live, Subscription& subscription, Outbox& out) {
   const sim::Session& session = live.session();
   const double time = session.time();
   const rb::Topic& topic = *subscription.topic;
-  const auto send = [&](const json& message) {
-    out.push_back(publish(subscription, message, time));
+  const auto send = [&](json message) {
+    out.add(subscription, std::move(message), time);
     subscription.fresh = false;
     subscription.last_sent = Clock::now();
   };
@@ -365,6 +383,10 @@ void RosbridgeSocket::add_message(LiveSession& live, Subscription& subscription,
       return send(ros::odometry(runtime->odometry_reading, session.model().dt, topic.robot));
     case rb::Feed::people:
       return send(ros::people_markers(session));
+    case rb::Feed::detections:
+      if (!runtime || runtime->people.tick < 0 || runtime->people.tick == subscription.last_reading) return;
+      subscription.last_reading = runtime->people.tick;
+      return send(ros::people_detected(session, runtime->people));
     case rb::Feed::camera:
       return add_camera(live, subscription, out);
     case rb::Feed::log:
@@ -374,11 +396,11 @@ void RosbridgeSocket::add_message(LiveSession& live, Subscription& subscription,
 
 /// The camera's JPEG image, drawn on the worker pool from the scene taken now; a camera gone (its
 /// robot left) sends nothing.
-void RosbridgeSocket::add_camera(LiveSession& live, Subscription& subscription, std::vector<Response>& out) {
+void RosbridgeSocket::add_camera(LiveSession& live, Subscription& subscription, Outbox& out) {
   try {
     const rb::Topic& topic = *subscription.topic;
     // The work may outlive the socket: it holds its own copies.
-    out.push_back(Response::later([draw = draw_later(live.session(), topic.source, 0, 0), name = topic.name, type = topic.type,
+    out.drawn.push_back(Response::later([draw = draw_later(live.session(), topic.source, 0, 0), name = topic.name, type = topic.type,
                                    frame = camera_frame(topic.source), compression = subscription.compression, time = live.session().time()] {
       return rb::publish(name, type, ros::compressed_image(render::encode_jpeg(draw().colour), "jpeg", frame, time), compression, time);
     }));

@@ -75,7 +75,7 @@ TEST(RosbridgeApi, AClientThatReadsNothingNeverHoldsTheSessionUp) {
   const std::string id = new_session(server.port());
   WebSocketClient idle(server.port(), socket_of(id) + "?rate=60&image_rate=60", "", 4096);
   ASSERT_EQ(idle.status, 0);
-  for (const char* topic : {"/clock", "/tf", "/tf_static", "/people", "/rosout", "/scan", "/odom", "/camera/overview/compressed"}) {
+  for (const char* topic : {"/clock", "/tf", "/tf_static", "/people_markers", "/people", "/rosout", "/scan", "/odom", "/camera/overview/compressed"}) {
     idle.send({{"op", "subscribe"}, {"topic", topic}, {"compression", "cbor-raw"}});
   }
   // Its messages pile up unread while the session is stepped as fast as REST asks.

@@ -162,7 +162,8 @@ TEST(RosbridgeProtocol, PublishInJsonCborAndCborRaw) {
 TEST(RosbridgeGraph, TheElevatorsTopicsAndWhatRosapiSaysOfThem) {
   const auto session = elevator_session();
   const rosbridge::Graph graph = rosbridge::graph_of(*session);
-  for (const char* topic : {"/clock", "/tf", "/tf_static", "/people", "/rosout", "/scan", "/robot/base_scan", "/odom", "/robot/odom", "/camera/overview/compressed"}) {
+  for (const char* topic : {"/clock", "/tf", "/tf_static", "/people_markers", "/people", "/robot/people", "/rosout", "/scan", "/robot/base_scan", "/odom", "/robot/odom",
+                            "/camera/overview/compressed"}) {
     EXPECT_NE(graph.find(topic), nullptr) << topic;
   }
   EXPECT_EQ(graph.velocity_topics.at("/cmd_vel"), "robot");
@@ -204,6 +205,11 @@ TEST(RosTopics, TheElevatorsMessagesConformToTheirTypes) {
   EXPECT_EQ(markers[1]["type"], 3) << "a cylinder";
   EXPECT_EQ(markers[2]["type"], 9) << "and their name";
   ros::conform("visualization_msgs/msg/MarkerArray", {{"markers", markers}});
+
+  const json detected = ros::people_detected(*session, runtime->people);
+  EXPECT_EQ(detected["people"].size(), runtime->people.people.size());
+  for (const json& person : detected["people"]) EXPECT_EQ(person["tags"].size(), person["tagnames"].size());
+  ros::conform("people_msgs/msg/People", detected);
 
   const json log = ros::log_line(runs::event_json(sim::Event{}));
   EXPECT_EQ(log["level"], 20);
