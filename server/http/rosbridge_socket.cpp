@@ -42,7 +42,7 @@ struct Subscription {
   Clock::time_point last_sent{};
   std::int64_t last_reading = -1;  ///< the laser's or odometry's tick last sent
   json static_sent;                ///< the sensors' transforms last sent (on /tf_static)
-  bool fresh = true;               ///< nothing sent yet: its first message goes with the next push
+  bool fresh = true;               ///< not served yet: what there is now goes with the next push
   double throttle() const {
     double least = 1e9;
     for (const auto& [id, seconds] : throttles) least = std::min(least, seconds);
@@ -196,7 +196,10 @@ Response RosbridgeSocket::on_subscribe(const json& body) {
   const std::string id = body.value("id", json()).is_null() ? "" : core::json_text(body["id"]);
   subscription.throttles[id] = throttle;
   subscription.compression = compression.value_or(rb::Compression::none);
+  // A new subscriber is owed what is there now, even what was sent to the last one.
   subscription.fresh = true;
+  subscription.last_reading = -1;
+  subscription.static_sent = nullptr;
   if (!compression) return text(rb::status("warning", "compression '" + compression_name + "' is not supported (none, cbor and cbor-raw are): sending " + topic + " uncompressed", body.value("id", json())));
   return Response::nothing();
 }
@@ -341,6 +344,7 @@ void RosbridgeSocket::show(LiveSession& live, bool restarted, std::span<const si
       subscription.fresh = false;
     } else if (due(subscription, now)) {
       add_message(live, subscription, out);
+      subscription.fresh = false;  // served what there is (a laser may have no reading yet)
     }
   }
 }
@@ -351,7 +355,6 @@ void RosbridgeSocket::add_message(LiveSession& live, Subscription& subscription,
   const rb::Topic& topic = *subscription.topic;
   const auto send = [&](json message) {
     out.add(subscription, std::move(message), time);
-    subscription.fresh = false;
     subscription.last_sent = Clock::now();
   };
   const sim::RobotRuntime* runtime = topic.robot.empty() ? nullptr : session.robot_runtime(session.agent_id(topic.robot));
@@ -404,7 +407,6 @@ void RosbridgeSocket::add_camera(LiveSession& live, Subscription& subscription, 
                                    frame = camera_frame(topic.source), compression = subscription.compression, time = live.session().time()] {
       return rb::publish(name, type, ros::compressed_image(render::encode_jpeg(draw().colour), "jpeg", frame, time), compression, time);
     }));
-    subscription.fresh = false;
     subscription.last_sent = Clock::now();
   } catch (const core::Error&) {
   }

@@ -49,6 +49,22 @@ TEST(RosbridgeApi, TheUpgradeNeedsNoSubprotocolAndAnswersOps) {
   EXPECT_EQ(clock["msg"]["clock"]["nanosec"], std::llround(stepped["values"]["time"].get<double>() * 1e9)) << clock << " at " << stepped;
 }
 
+TEST(RosbridgeApi, EachNewSubscriberGetsWhatIsThereNowThenOnlyWhatChanges) {
+  TestServer server;
+  const std::string id = new_session(server.port());
+  WebSocketClient client(server.port(), socket_of(id));
+  ASSERT_EQ(client.status, 0);
+  const json first = client.exchange({{"op", "subscribe"}, {"topic", "/tf_static"}, {"id", "a"}});
+  EXPECT_EQ(first["topic"], "/tf_static");
+  // The session stands still: the latched transforms come again only for a new subscription.
+  const json again = client.exchange({{"op", "subscribe"}, {"topic", "tf_static"}, {"id", "b"}});
+  EXPECT_EQ(again, first);
+  EXPECT_EQ(client.exchange({{"op", "unsubscribe"}, {"topic", "/tf_static"}, {"id", "c"}})["level"], "warning");
+  client.send({{"op", "unsubscribe"}, {"topic", "/tf_static"}, {"id", "a"}});
+  client.send({{"op", "unsubscribe"}, {"topic", "/tf_static"}, {"id", "b"}});
+  EXPECT_EQ(client.exchange({{"op", "unsubscribe"}, {"topic", "/tf_static"}})["msg"], "unsubscribe: /tf_static is not subscribed");
+}
+
 TEST(RosbridgeApi, TokensTicketsAndOriginAreAsOnTheSessionSocket) {
   TestServer server({"--token", "ana:" + kToken, "--token", "ana:" + kReader + ":read"});
   const std::string auth = "Authorization: Bearer " + kToken + "\r\n";
