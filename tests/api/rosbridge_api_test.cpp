@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include "test_server.hpp"
@@ -63,6 +64,28 @@ TEST(RosbridgeApi, EachNewSubscriberGetsWhatIsThereNowThenOnlyWhatChanges) {
   client.send({{"op", "unsubscribe"}, {"topic", "/tf_static"}, {"id", "a"}});
   client.send({{"op", "unsubscribe"}, {"topic", "/tf_static"}, {"id", "b"}});
   EXPECT_EQ(client.exchange({{"op", "unsubscribe"}, {"topic", "/tf_static"}})["msg"], "unsubscribe: /tf_static is not subscribed");
+}
+
+TEST(RosbridgeApi, ARealtimeSessionIsDrivenAsARobotIs) {
+  TestServer server;
+  const HttpReply created = http(server.port(), "POST", "/api/v1/sessions", R"({"scenario": "elevator", "seed": 2, "mode": "realtime", "realtime_factor": 4})");
+  ASSERT_EQ(created.status, 201) << created.body;
+  const std::string id = json_of(created)["id"];
+  WebSocketClient client(server.port(), socket_of(id));
+  ASSERT_EQ(client.status, 0);
+  const json refused = client.exchange({{"op", "call_service"}, {"service", "/hrisim/step"}, {"id", 1}});
+  EXPECT_EQ(refused["result"], false);
+  EXPECT_NE(refused["values"].get<std::string>().find("the server steps it"), std::string::npos) << refused;
+  // Published and left: the server's clock moves the robot, as a robot's own would.
+  client.send({{"op", "publish"}, {"topic", "/cmd_vel"}, {"msg", {{"linear", {{"x", 0.15}}}}}});
+  const auto seconds = [](const json& odometry) { return odometry["header"]["stamp"]["sec"].get<double>() + odometry["header"]["stamp"]["nanosec"].get<double>() * 1e-9; };
+  const json start = client.exchange({{"op", "subscribe"}, {"topic", "/odom"}})["msg"];
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  // Two simulated seconds on at four times real time: the first odometry a second after the start.
+  json later = start;
+  for (int read = 0; read < 1000 && seconds(later) < seconds(start) + 1.0; ++read) later = json::parse(client.next())["msg"];
+  EXPECT_GT(later["pose"]["pose"]["position"]["x"].get<double>() - start["pose"]["pose"]["position"]["x"].get<double>(), 0.1) << later;
+  EXPECT_NEAR(later["twist"]["twist"]["linear"]["x"].get<double>(), 0.15, 0.03);
 }
 
 TEST(RosbridgeApi, TokensTicketsAndOriginAreAsOnTheSessionSocket) {
