@@ -4,6 +4,7 @@
 #include <map>
 #include <span>
 
+#include "core/bounded_json.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "http/request_helpers.hpp"
@@ -118,8 +119,13 @@ class RosbridgeSocket : public WebSocketPeer {
     json id;
     try {
       if (message.binary) return text(rb::status("error", "binary messages are not read here: send each op as JSON text"));
-      const json body = json::parse(message.data, nullptr, false);
-      if (body.is_discarded() || !body.is_object()) return text(rb::status("error", "a message is a JSON object with an op"));
+      json body;
+      try {
+        body = core::parse_bounded_json(message.data, "a message");  // nesting checked first: never the stack's end
+      } catch (const core::Error& e) {
+        return text(rb::status("error", std::string("a message is a JSON object with an op: ") + e.what()));
+      }
+      if (!body.is_object()) return text(rb::status("error", "a message is a JSON object with an op"));
       id = body.value("id", json());
       const std::string op = body.contains("op") && body["op"].is_string() ? body["op"].get<std::string>() : "";
       if (op == "subscribe") return on_subscribe(body);

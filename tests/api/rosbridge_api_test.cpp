@@ -45,6 +45,9 @@ TEST(RosbridgeApi, TheUpgradeNeedsNoSubprotocolAndAnswersOps) {
   const json stepped = client.exchange({{"op", "call_service"}, {"service", "/hrisim/step"}, {"args", {{"n", 3}}}});
   EXPECT_EQ(stepped["values"]["tick"], 3) << stepped;
   EXPECT_EQ(json::parse(client.exchange_text("[1]"))["level"], "error") << "an error status, and the socket stays open";
+  const json deep = json::parse(client.exchange_text(std::string(100000, '[') + std::string(100000, ']')));
+  EXPECT_EQ(deep["level"], "error") << "text nested too deep is refused before it is parsed";
+  EXPECT_NE(deep["msg"].get<std::string>().find("nested"), std::string::npos) << deep;
   const json clock = client.exchange({{"op", "subscribe"}, {"topic", "/clock"}});
   EXPECT_EQ(clock["op"], "publish");
   EXPECT_EQ(clock["msg"]["clock"]["nanosec"], std::llround(stepped["values"]["time"].get<double>() * 1e9)) << clock << " at " << stepped;
