@@ -89,6 +89,17 @@ TEST(RosbridgeApi, ARealtimeSessionIsDrivenAsARobotIs) {
   for (int read = 0; read < 1000 && seconds(later) < seconds(start) + 1.0; ++read) later = json::parse(client.next())["msg"];
   EXPECT_GT(later["pose"]["pose"]["position"]["x"].get<double>() - start["pose"]["pose"]["position"]["x"].get<double>(), 0.1) << later;
   EXPECT_NEAR(later["twist"]["twist"]["linear"]["x"].get<double>(), 0.15, 0.03);
+  client.send({{"op", "unsubscribe"}, {"topic", "/odom"}});
+
+  // throttle_rate: at most one clock a half second, where the socket pushes 30 a second.
+  client.send({{"op", "subscribe"}, {"topic", "/clock"}, {"throttle_rate", 500}});
+  const auto start_reading = std::chrono::steady_clock::now();
+  int clocks = 0;
+  while (std::chrono::steady_clock::now() - start_reading < std::chrono::milliseconds(1200)) {
+    if (json::parse(client.next())["topic"] == "/clock") ++clocks;
+  }
+  EXPECT_GE(clocks, 2);
+  EXPECT_LE(clocks, 4);
 }
 
 TEST(RosbridgeApi, TokensTicketsAndOriginAreAsOnTheSessionSocket) {
