@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "core/error.hpp"
 #include "http/ros_messages.hpp"
+#include "http/rosbridge_protocol.hpp"
 #include "sim/camera_scene.hpp"
 #include "sim/session.hpp"
 
@@ -16,11 +16,6 @@ using nlohmann::json;
 std::string camera_topic(std::string camera) {
   std::replace(camera.begin(), camera.end(), '.', '/');
   return "/camera/" + camera + "/compressed";
-}
-
-std::string string_field(const json& request, const char* key) {
-  if (!request.contains(key) || !request[key].is_string()) throw core::Error(core::ErrorCode::bad_request, std::string(key) + " must be a string");
-  return request[key].get<std::string>();
 }
 
 json topics_and_types(const Graph& graph, bool definitions) {

@@ -1,5 +1,6 @@
 #include "http/rosbridge_protocol.hpp"
 
+#include "core/error.hpp"
 #include "core/text.hpp"
 #include "http/ros_messages.hpp"
 #include "http/ros_topics.hpp"
@@ -27,6 +28,11 @@ std::optional<Compression> compression_named(const std::string& name) {
   if (name == "cbor") return Compression::cbor;
   if (name == "cbor-raw") return Compression::cbor_raw;
   return std::nullopt;
+}
+
+std::string string_field(const json& message, const char* key) {
+  if (!message.contains(key) || !message[key].is_string()) throw core::Error(core::ErrorCode::bad_request, std::string(key) + " must be a string");
+  return message[key].get<std::string>();
 }
 
 json status(const std::string& level, const std::string& message, const json& id) {

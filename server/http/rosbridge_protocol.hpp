@@ -15,6 +15,10 @@ enum class Compression { none, cbor, cbor_raw };
 /// for another.
 std::optional<Compression> compression_named(const std::string& name);
 
+/// The string `key` of a client's op or service request; core::Error(bad_request) "KEY must be a
+/// string" when it is missing or not one.
+std::string string_field(const nlohmann::json& message, const char* key);
+
 /// {"op": "status", "level", "msg"}, with the id of the operation it answers when it had one.
 nlohmann::json status(const std::string& level, const std::string& message, const nlohmann::json& id = nullptr);
 /// {"op": "service_response", "service", "values", "result"}, with the call's id when it had one.

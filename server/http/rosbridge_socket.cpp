@@ -51,11 +51,6 @@ struct Subscription {
   }
 };
 
-std::string string_field(const json& body, const char* key) {
-  if (!body.contains(key) || !body[key].is_string()) throw core::Error(core::ErrorCode::bad_request, std::string(key) + " must be a string");
-  return body[key].get<std::string>();
-}
-
 /// An optional non-negative integer field, or `fallback`.
 std::int64_t count_field(const json& body, const char* key, std::int64_t fallback) {
   if (!body.contains(key) || body[key].is_null()) return fallback;
@@ -184,7 +179,7 @@ class RosbridgeSocket : public WebSocketPeer {
 };
 
 Response RosbridgeSocket::on_subscribe(const json& body) {
-  const std::string topic = rb::absolute_name(string_field(body, "topic"));
+  const std::string topic = rb::absolute_name(rb::string_field(body, "topic"));
   const rb::Topic* found = graph_.find(topic);
   if (!found) {
     if (graph_.velocity_topics.contains(topic)) throw core::Error(core::ErrorCode::bad_request, "topic " + topic + " is one hrisim takes (publish on it), not one it publishes");
@@ -193,7 +188,7 @@ Response RosbridgeSocket::on_subscribe(const json& body) {
   if (body.contains("type") && !body["type"].is_null() && ros::canonical_type(body.value("type", "")) != found->type) {
     throw core::Error(core::ErrorCode::bad_request, "topic " + topic + " is " + found->type + ", not " + core::json_text(body["type"]));
   }
-  const std::string compression_name = body.contains("compression") && !body["compression"].is_null() ? string_field(body, "compression") : "none";
+  const std::string compression_name = body.contains("compression") && !body["compression"].is_null() ? rb::string_field(body, "compression") : "none";
   const auto compression = rb::compression_named(compression_name);
   const double throttle = static_cast<double>(count_field(body, "throttle_rate", 0)) / 1000.0;
   count_field(body, "queue_length", 0);  // checked; a slow reader loses old messages instead of queueing
@@ -211,7 +206,7 @@ Response RosbridgeSocket::on_subscribe(const json& body) {
 }
 
 Response RosbridgeSocket::on_unsubscribe(const json& body) {
-  const std::string topic = rb::absolute_name(string_field(body, "topic"));
+  const std::string topic = rb::absolute_name(rb::string_field(body, "topic"));
   const auto subscription = subscriptions_.find(topic);
   if (subscription == subscriptions_.end()) return text(rb::status("warning", "unsubscribe: " + topic + " is not subscribed", body.value("id", json())));
   // With an id, that subscription ends; without, all of them on the topic.
@@ -224,8 +219,8 @@ Response RosbridgeSocket::on_unsubscribe(const json& body) {
 }
 
 Response RosbridgeSocket::on_advertise(const json& body) {
-  const std::string topic = rb::absolute_name(string_field(body, "topic"));
-  const std::string type = ros::canonical_type(string_field(body, "type"));
+  const std::string topic = rb::absolute_name(rb::string_field(body, "topic"));
+  const std::string type = ros::canonical_type(rb::string_field(body, "type"));
   if (caller_.read_only) throw core::Error(core::ErrorCode::forbidden, "advertise: this socket's token may only read");
   robot_driven_by(topic);
   if (type != rb::kTwist) throw core::Error(core::ErrorCode::bad_request, "topic " + topic + " is " + rb::kTwist + ", not " + core::json_text(body["type"]));
@@ -234,13 +229,13 @@ Response RosbridgeSocket::on_advertise(const json& body) {
 }
 
 Response RosbridgeSocket::on_unadvertise(const json& body) {
-  const std::string topic = rb::absolute_name(string_field(body, "topic"));
+  const std::string topic = rb::absolute_name(rb::string_field(body, "topic"));
   if (advertised_.erase(topic) == 0) return text(rb::status("warning", "unadvertise: " + topic + " is not advertised", body.value("id", json())));
   return Response::nothing();
 }
 
 Response RosbridgeSocket::on_publish(const json& body) {
-  const std::string topic = rb::absolute_name(string_field(body, "topic"));
+  const std::string topic = rb::absolute_name(rb::string_field(body, "topic"));
   if (caller_.read_only) throw core::Error(core::ErrorCode::forbidden, "publish: this socket's token may only read");
   const std::string& robot = robot_driven_by(topic);
   // A Twist as ROS fills one in: the fields left out are 0. A differential drive takes its forward
@@ -258,7 +253,7 @@ Response RosbridgeSocket::on_publish(const json& body) {
 }
 
 Response RosbridgeSocket::on_call_service(const json& body) {
-  const std::string name = rb::absolute_name(string_field(body, "service"));
+  const std::string name = rb::absolute_name(rb::string_field(body, "service"));
   const json id = body.value("id", json());
   const rb::Service* service = rb::find_service(name);
   if (!service) return text(rb::service_response(name, "no service " + name + " here: /rosapi/services lists them", false, id));
