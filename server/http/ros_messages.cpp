@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -137,16 +138,26 @@ json conform_primitive(const std::string& type, const json& value, const std::st
     if (!value.is_number()) throw wrong("a number");
     return value.get<double>();
   }
-  // An integer type: its range from its name.
+  // An integer type: its range from its name, [low, high], the bounds held exactly (no double).
   const bool is_signed = type.starts_with("int");
-  const std::size_t bits = type == "byte" || type == "char" ? 8 : std::stoul(type.substr(is_signed ? 3 : 4));
-  const double low = is_signed ? -std::ldexp(1.0, static_cast<int>(bits) - 1) : 0.0, high = std::ldexp(1.0, static_cast<int>(bits - (is_signed ? 1 : 0))) - 1.0;
-  const bool integral = value.is_number_integer() || (value.is_number_float() && std::trunc(value.get<double>()) == value.get<double>());
-  if (!integral || value.get<double>() < low || value.get<double>() > high) {
-    throw wrong("an integer from " + std::to_string(static_cast<std::int64_t>(low)) + " to " + std::to_string(static_cast<std::uint64_t>(high)));
+  const int bits = type == "byte" || type == "char" ? 8 : std::stoi(type.substr(is_signed ? 3 : 4));
+  const std::int64_t low = !is_signed ? 0 : bits == 64 ? std::numeric_limits<std::int64_t>::min() : -(std::int64_t{1} << (bits - 1));
+  const std::uint64_t high = bits == 64 ? (is_signed ? std::numeric_limits<std::int64_t>::max() : std::numeric_limits<std::uint64_t>::max())
+                                        : (std::uint64_t{1} << (is_signed ? bits - 1 : bits)) - 1;
+  const auto out_of_range = [&] { return wrong("an integer from " + std::to_string(low) + " to " + std::to_string(high)); };
+  if (value.is_number_unsigned()) {
+    if (value.get<std::uint64_t>() > high) throw out_of_range();
+    return value;
   }
-  if (value.is_number_unsigned() || value.is_number_integer()) return value;
-  return is_signed ? json(static_cast<std::int64_t>(value.get<double>())) : json(static_cast<std::uint64_t>(value.get<double>()));
+  if (value.is_number_integer()) {
+    const auto number = value.get<std::int64_t>();
+    if (number < low || (number > 0 && static_cast<std::uint64_t>(number) > high)) throw out_of_range();
+    return value;
+  }
+  // A float only when it is a whole number within range: 2^bits (2^(bits-1) signed) is the first out.
+  const double number = value.is_number_float() ? value.get<double>() : 0.5;
+  if (std::trunc(number) != number || number < static_cast<double>(low) || number >= std::ldexp(1.0, is_signed ? bits - 1 : bits)) throw out_of_range();
+  return is_signed ? json(static_cast<std::int64_t>(number)) : json(static_cast<std::uint64_t>(number));
 }
 
 json default_of(const Field& field) {

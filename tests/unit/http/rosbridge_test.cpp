@@ -124,6 +124,12 @@ TEST(RosMessages, ConformFillsDefaultsAndNamesWhatIsWrong) {
   EXPECT_EQ(bad_request_of([] { ros::conform("geometry_msgs/Twist", {{"angular", {{"z", "left"}}}}); }), "angular.z must be a number");
   EXPECT_EQ(bad_request_of([] { ros::conform("geometry_msgs/Twist", {{"speed", 1}}); }), "speed is not a field of geometry_msgs/msg/Twist");
   EXPECT_EQ(bad_request_of([] { ros::conform("rcl_interfaces/Log", {{"level", 300}}); }), "level must be an integer from 0 to 255");
+  EXPECT_EQ(bad_request_of([] { ros::conform("rcl_interfaces/Log", {{"line", -1}}); }), "line must be an integer from 0 to 4294967295");
+  EXPECT_EQ(bad_request_of([] { ros::conform("rcl_interfaces/Log", {{"level", 2.5}}); }), "level must be an integer from 0 to 255");
+  EXPECT_EQ(bad_request_of([] { ros::conform("rcl_interfaces/Log", {{"level", "20"}}); }), "level must be an integer from 0 to 255");
+  EXPECT_EQ(bad_request_of([] { ros::conform("std_msgs/Header", {{"stamp", {{"sec", 2147483648.0}}}}); }), "stamp.sec must be an integer from -2147483648 to 2147483647");
+  EXPECT_EQ(ros::conform("rcl_interfaces/Log", {{"level", 20.0}})["level"], 20) << "a whole float is the integer";
+  EXPECT_EQ(ros::conform("visualization_msgs/Marker", {{"id", -7}})["id"], -7);
   EXPECT_EQ(bad_request_of([] { ros::conform("nav_msgs/Odometry", {{"pose", {{"covariance", {1, 2}}}}}); }), "pose.covariance must hold 36 items, not 2");
   EXPECT_EQ(bad_request_of([] { ros::conform("tf2_msgs/TFMessage", {{"transforms", {{{"child_frame_id", 3}}}}}); }), "transforms[0].child_frame_id must be a string");
   // uint8[] as rosbridge writes it in JSON (base64), as a list, or as bytes.
