@@ -18,12 +18,6 @@ using nlohmann::json;
 constexpr int kLineStrip = 0;
 constexpr int kLogInfo = 2;
 
-json vector3(const Eigen::Vector3d& v) { return {{"x", v.x()}, {"y", v.y()}, {"z", v.z()}}; }
-json quaternion(const Eigen::Quaterniond& q) { return {{"x", q.x()}, {"y", q.y()}, {"z", q.z()}, {"w", q.w()}}; }
-json pose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation) {
-  return {{"position", vector3(position)}, {"orientation", quaternion(orientation)}};
-}
-json pose(const Eigen::Isometry3d& transform) { return pose(transform.translation(), Eigen::Quaterniond(transform.linear())); }
 json colour(const std::array<float, 3>& rgb, double alpha = 1.0) { return {{"r", rgb[0]}, {"g", rgb[1]}, {"b", rgb[2]}, {"a", alpha}}; }
 
 /// An entity with every list of primitives present (empty), as Foxglove's panels read them; a lifetime

@@ -1,5 +1,7 @@
 #include "http/robot_frames.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include "sim/session.hpp"
 
 namespace hrisim::http {
@@ -33,5 +35,15 @@ std::vector<FrameTransform> robot_frames(const sim::Session& session) {
   }
   return frames;
 }
+
+nlohmann::json vector3(const Eigen::Vector3d& v) { return {{"x", v.x()}, {"y", v.y()}, {"z", v.z()}}; }
+
+nlohmann::json quaternion(const Eigen::Quaterniond& q) { return {{"x", q.x()}, {"y", q.y()}, {"z", q.z()}, {"w", q.w()}}; }
+
+nlohmann::json pose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation) {
+  return {{"position", vector3(position)}, {"orientation", quaternion(orientation)}};
+}
+
+nlohmann::json pose(const Eigen::Isometry3d& transform) { return pose(transform.translation(), Eigen::Quaterniond(transform.linear())); }
 
 }  // namespace hrisim::http

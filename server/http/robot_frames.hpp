@@ -2,6 +2,7 @@
 // The frames a bridge places a session's robots and sensors in (the Foxglove and rosbridge sockets
 // share them): the fixed map frame, each robot's base under it, each sensor under its robot's base.
 #include <Eigen/Geometry>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -32,5 +33,12 @@ struct FrameTransform {
 /// map → ROBOT/base_link for every robot with a model, and ROBOT/base_link → ROBOT/SENSOR for each
 /// sensor of its description, as they are now.
 std::vector<FrameTransform> robot_frames(const sim::Session& session);
+
+/// Positions, rotations and poses as both bridges' messages spell them (ROS's geometry_msgs and
+/// Foxglove's schemas agree: x, y, z; x, y, z, w; position and orientation).
+nlohmann::json vector3(const Eigen::Vector3d& v);
+nlohmann::json quaternion(const Eigen::Quaterniond& q);
+nlohmann::json pose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation);
+nlohmann::json pose(const Eigen::Isometry3d& transform);
 
 }  // namespace hrisim::http

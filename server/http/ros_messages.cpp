@@ -202,8 +202,9 @@ json conform_field(const Field& field, const json& value, const std::string& pat
 json conform_message(const std::string& type, const json& message, const std::string& path) {
   if (!message.is_object()) throw core::Error(core::ErrorCode::bad_request, (path.empty() ? std::string("the message") : path) + " must be an object (" + type + ")");
   const std::vector<Field>& fields = fields_of(type);
-  for (const auto& [key, value] : message.items()) {
-    if (std::none_of(fields.begin(), fields.end(), [&](const Field& f) { return f.name == key; })) {
+  for (const auto& item : message.items()) {
+    const std::string& key = item.key();  // a name, not a structured binding: clang 14's lambdas cannot capture those
+    if (std::none_of(fields.begin(), fields.end(), [&key](const Field& f) { return f.name == key; })) {
       throw core::Error(core::ErrorCode::bad_request, path_of(path, key) + " is not a field of " + canonical_type(type));
     }
   }

@@ -17,11 +17,6 @@ constexpr int kLogInfo = 20;
 /// How tall a person's marker stands, m.
 constexpr double kPersonHeight = 1.7;
 
-json vector3(const Eigen::Vector3d& v) { return {{"x", v.x()}, {"y", v.y()}, {"z", v.z()}}; }
-json quaternion(const Eigen::Quaterniond& q) { return {{"x", q.x()}, {"y", q.y()}, {"z", q.z()}, {"w", q.w()}}; }
-json pose(const Eigen::Isometry3d& transform) {
-  return {{"position", vector3(transform.translation())}, {"orientation", quaternion(Eigen::Quaterniond(transform.linear()))}};
-}
 json header(double seconds, const std::string& frame) { return {{"stamp", time_of(seconds)}, {"frame_id", frame}}; }
 
 json marker(double seconds, int id, int type, const Eigen::Isometry3d& where, const Eigen::Vector3d& scale) {

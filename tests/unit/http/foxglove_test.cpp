@@ -17,27 +17,17 @@
 #include "scenario/load.hpp"
 #include "sim/camera_scene.hpp"
 #include "sim/session.hpp"
+#include "support/bytes.hpp"
+#include "support/sessions.hpp"
 
 namespace hrisim::http::foxglove {
 namespace {
 
 using nlohmann::json;
 
-template <typename Integer>
-Integer read_at(const std::string& bytes, std::size_t at) {
-  Integer value;
-  std::memcpy(&value, bytes.data() + at, sizeof value);
-  return value;
-}
+using testing::elevator_session;
+using testing::read_at;
 
-/// The elevator with its robot, a couple of seconds in (people walking, a laser reading taken).
-std::unique_ptr<sim::Session> elevator_session() {
-  const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/elevator.json");
-  for (const auto& e : loaded.errors) ADD_FAILURE() << e.pointer << ": " << e.message;
-  auto session = std::make_unique<sim::Session>(loaded.model, 1);
-  for (int tick = 0; tick < 120; ++tick) session->tick();
-  return session;
-}
 
 /// Whether `message` is what the schema hrisim advertises `schema_name` with allows.
 void expect_described(const std::string& schema_name, const json& message) {

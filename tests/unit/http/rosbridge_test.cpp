@@ -16,18 +16,16 @@
 #include "runs/event_json.hpp"
 #include "scenario/load.hpp"
 #include "sim/session.hpp"
+#include "support/bytes.hpp"
+#include "support/sessions.hpp"
 
 namespace hrisim::http {
 namespace {
 
 using nlohmann::json;
 
-template <typename Number>
-Number read_at(const std::string& bytes, std::size_t at) {
-  Number value;
-  std::memcpy(&value, bytes.data() + at, sizeof value);
-  return value;
-}
+using testing::elevator_session;
+using testing::read_at;
 
 /// The error message `work` throws as core::Error(bad_request), or a failure.
 template <typename Work>
@@ -42,14 +40,6 @@ std::string bad_request_of(Work work) {
   return {};
 }
 
-/// The elevator with its robot, a couple of seconds in (people walking, a laser reading taken).
-std::unique_ptr<sim::Session> elevator_session() {
-  const auto loaded = scenario::load_scenario_file(std::string(HRISIM_SOURCE_DIR) + "/scenarios/elevator.json");
-  for (const auto& e : loaded.errors) ADD_FAILURE() << e.pointer << ": " << e.message;
-  auto session = std::make_unique<sim::Session>(loaded.model, 1);
-  for (int tick = 0; tick < 120; ++tick) session->tick();
-  return session;
-}
 
 TEST(RosMessages, TypeNamesInBothSpellings) {
   EXPECT_EQ(ros::canonical_type("sensor_msgs/LaserScan"), "sensor_msgs/msg/LaserScan");
